@@ -1,0 +1,69 @@
+;;;; player.asd -- the system definition; read in order, it is the pipeline:
+;;;; spec language -> canonical expressions -> planner -> code generators -> runtime -> CLI.
+
+(defsystem "player"
+  :description "Planning-based animation controllers: declare operators with
+preconditions and effects, precompile plans from every state to every goal, and
+run the resulting state machine as Lisp closures."
+  :version "0.1.0"
+  :license "MIT"
+  :depends-on ("alexandria")
+  :serial t
+  :components
+  ((:module "src"
+    :serial t
+    :components
+    ((:file "package")
+     (:module "spec"
+      :serial t
+      :components ((:file "conditions")
+                   (:file "printing")
+                   (:file "model")
+                   (:file "syntax")
+                   (:file "expressions")
+                   (:file "canonical")
+                   (:file "classes")
+                   (:file "parse")
+                   (:file "directives")
+                   (:file "validate")
+                   (:file "registry")))
+     (:module "planner"
+      :serial t
+      :components ((:file "encoding")
+                   (:file "regression")
+                   (:file "goals")
+                   (:file "machine")
+                   (:file "diagnostics")))
+     (:module "runtime-protocol"
+      :pathname "runtime"
+      :serial t
+      :components ((:file "presenter")
+                   (:file "controller-state")))
+     (:module "codegen"
+      :serial t
+      :components ((:file "ir")
+                   (:file "lisp-closures")))
+     (:module "runtime"
+      :serial t
+      :components ((:file "controller")))
+     (:file "cli"))))
+  :in-order-to ((test-op (test-op "player/tests"))))
+
+(defsystem "player/tests"
+  :description "FiveAM suite for Player; run with (asdf:test-system :player)."
+  :depends-on ("player" "fiveam")
+  :serial t
+  :components
+  ((:module "t"
+    :serial t
+    :components ((:file "package")
+                 (:file "random-specs")
+                 (:file "reference-bfs")
+                 (:file "test-language")
+                 (:file "test-errors")
+                 (:file "test-planner")
+                 (:file "test-controller")
+                 (:file "test-peedy")
+                 (:file "test-properties")
+                 (:file "test-cli"))))
+  :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -1,0 +1,170 @@
+;;;; cli.lisp -- the bin/player command line: run, plans and check.
+;;;; Every error becomes one "player: error: ..." line on stderr with exit
+;;;; status 1 (2 for usage mistakes); never a debugger or a backtrace.
+
+(in-package #:player)
+
+(define-condition usage-error (player-error)
+  ((message :initarg :message :reader usage-error-message))
+  (:report (lambda (condition stream) (write-string (usage-error-message condition) stream)))
+  (:documentation "The command line itself is wrong."))
+
+(defun usage-fail (control &rest arguments)
+  "Signal a USAGE-ERROR with a formatted message."
+  (error 'usage-error :message (apply #'format nil control arguments)))
+
+(defparameter *usage*
+  "usage: player COMMAND SPEC-FILE [OPTIONS]
+commands:
+  run SPEC-FILE [--spec NAME] [--initial var=value,...] [--events ev1,ev2,...]
+      play events in simulated time and print the trace
+  plans SPEC-FILE [--spec NAME]    print every goal's plan table
+  check SPEC-FILE [--spec NAME]    print the spec's diagnostics
+  help                             print this text"
+  "What `player help` prints.")
+
+(defparameter *command-options*
+  '(("run" "--spec" "--initial" "--events")
+    ("plans" "--spec")
+    ("check" "--spec"))
+  "Each command with the options it accepts (all take a value).")
+
+(defun parse-command-line (arguments)
+  "Split ARGUMENTS into (VALUES COMMAND FILE OPTIONS-ALIST)."
+  (let* ((command (or (first arguments) (usage-fail "no command given~%~A" *usage*)))
+         (allowed (or (rest (assoc command *command-options* :test #'string=))
+                      (usage-fail "unknown command ~A~%~A" command *usage*)))
+         (file nil)
+         (options '()))
+    (loop with rest = (rest arguments)
+          while rest
+          do (let ((argument (pop rest)))
+               (cond ((member argument allowed :test #'string=)
+                      (when (assoc argument options :test #'string=)
+                        (usage-fail "option ~A given twice" argument))
+                      (push (cons argument (or (pop rest) (usage-fail "option ~A needs a value" argument)))
+                            options))
+                     ((and (plusp (length argument)) (char= (char argument 0) #\-))
+                      (usage-fail "unknown option ~A for ~A (allowed: ~{~A~^ ~})" argument command allowed))
+                     (file (usage-fail "unexpected argument ~A" argument))
+                     (t (setf file argument)))))
+    (unless file (usage-fail "~A needs a SPEC-FILE" command))
+    (values command file options)))
+
+(defun option (name options)
+  "The value of command-line option NAME, or NIL."
+  (cdr (assoc name options :test #'string=)))
+
+(defun split-list (string)
+  "STRING split at commas, blanks trimmed, empty parts dropped."
+  (loop for start = 0 then (1+ comma)
+        for comma = (position #\, string :start start)
+        for part = (string-trim " " (subseq string start comma))
+        unless (string= part "") collect part
+        while comma))
+
+(defun read-cli-value (text)
+  "The value TEXT denotes on the command line: a number, or a symbol in PLAYER-USER."
+  (let ((*package* (find-package '#:player-user))
+        (*read-eval* nil)
+        (*read-default-float-format* 'double-float))
+    (handler-case (multiple-value-bind (value end) (read-from-string text)
+                    (if (= end (length text)) value (error "trailing text")))
+      (error () (usage-fail "cannot read value ~S" text)))))
+
+(defun parse-initial-option (text)
+  "--initial var=value,... as an alist of symbols to values."
+  (mapcar (lambda (part)
+            (let ((equals (position #\= part)))
+              (unless (and equals (plusp equals) (< equals (1- (length part))))
+                (usage-fail "--initial takes var=value pairs, not ~S" part))
+              (cons (intern (string-upcase (subseq part 0 equals)) '#:player-user)
+                    (read-cli-value (subseq part (1+ equals))))))
+          (split-list text)))
+
+(defun choose-spec (file options)
+  "Load FILE and return the spec to use: --spec NAME, or the file's only spec."
+  (let ((specs (load-spec file))
+        (name (option "--spec" options)))
+    (cond (name (or (find (string-upcase name) specs :key (lambda (s) (name-key (spec-name s)))
+                                                     :test #'string=)
+                    (usage-fail "~A defines no spec ~A (it defines ~{~A~^, ~})"
+                                file (string-downcase name)
+                                (mapcar (lambda (s) (lisp-text (spec-name s))) specs))))
+          ((null specs) (usage-fail "~A defines no spec" file))
+          ((rest specs) (usage-fail "~A defines several specs (~{~A~^, ~}); choose one with --spec"
+                                    file (mapcar (lambda (s) (lisp-text (spec-name s))) specs)))
+          (t (first specs)))))
+
+(defun command-run (spec options)
+  "Play --events from --initial on SPEC, printing the trace."
+  (let* ((machine (compile-spec spec))
+         (controller (make-controller machine
+                                      :initial-state (parse-initial-option (or (option "--initial" options) ""))
+                                      :presenter (make-trace-presenter :stream *standard-output*)))
+         (events (split-list (or (option "--events" options) ""))))
+    (dolist (event events)
+      (find-compiled-event controller event))
+    (dolist (event events)
+      (send-event controller event))))
+
+(defun command-plans (spec options)
+  "Print every goal's plan table."
+  (declare (ignore options))
+  (let ((machine (compile-spec spec)))
+    (format t "spec ~A: ~D goals, ~D states, max-depth ~D~%"
+            (lisp-text (spec-name spec)) (length (machine-goal-table machine))
+            (machine-state-count machine) (spec-max-depth spec))
+    (loop for goal across (machine-goal-table machine)
+          do (format t "~%goal ~D: ~A~%" (1+ (goal-id goal)) (lisp-text (goal-expression goal)))
+             (format t "  requested as: ~{~A~^, ~}~%" (mapcar #'lisp-text (reverse (goal-forms goal))))
+             (loop for (condition . ops) in (goal-plan-table goal spec)
+                   for i from 1
+                   do (format t "  ~3D. if ~A~%       run ~A~%" i (lisp-text condition)
+                              (if ops (lisp-text ops) "nothing (already true)")))
+             (let ((missing (- (machine-state-count machine) (goal-solved-count goal))))
+               (when (plusp missing)
+                 (format t "  unreachable from ~D of ~D states~%" missing
+                         (machine-state-count machine)))))))
+
+(defun command-check (spec options)
+  "Print SPEC's diagnostics."
+  (declare (ignore options))
+  (let ((diagnostics (check-spec spec)))
+    (if diagnostics
+        (dolist (d diagnostics)
+          (format t "warning: ~A~%" (diagnostic-message d)))
+        (format t "~A: no problems found~%" (lisp-text (spec-name spec))))))
+
+(defun run-command (arguments)
+  "Run the command ARGUMENTS name."
+  (when (member (first arguments) '("help" "--help" "-h") :test #'equal)
+    (write-line *usage*)
+    (return-from run-command))
+  (multiple-value-bind (command file options) (parse-command-line arguments)
+    (let ((spec (choose-spec file options)))
+      (funcall (cond ((string= command "run") #'command-run)
+                     ((string= command "plans") #'command-plans)
+                     ((string= command "check") #'command-check))
+               spec options))))
+
+(defun one-line (condition)
+  "CONDITION's report on one line."
+  (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) (princ-to-string condition))))
+
+(defun main (&optional (arguments (rest sb-ext:*posix-argv*)))
+  "Entry point of bin/player: run ARGUMENTS, exit 0 on success, 1 on an error, 2 on misuse."
+  (flet ((fail (status condition)
+           (finish-output *standard-output*)
+           (format *error-output* "player: error: ~A~%" (if (typep condition 'usage-error)
+                                                            (usage-error-message condition)
+                                                            (one-line condition)))
+           (finish-output *error-output*)
+           (sb-ext:exit :code status :abort t)))
+    (handler-case
+        (progn (run-command arguments)
+               (finish-output *standard-output*)
+               (sb-ext:exit :code 0))
+      (usage-error (e) (fail 2 e))
+      (sb-sys:interactive-interrupt () (sb-ext:exit :code 130 :abort t))
+      (error (e) (fail 1 e)))))

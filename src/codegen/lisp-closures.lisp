@@ -1,0 +1,282 @@
+;;;; lisp-closures.lisp -- the Lisp backend: compile a machine into closures.
+;;;;
+;;;; As in the paper's generated C++, each goal gets one shared state-achieving
+;;;; procedure (its plans as a chain of cube tests), each op one operator-
+;;;; execution procedure, each event one procedure. Steps compile right to
+;;;; left into a chain, each closure calling NEXT on success (cl-ppcre's
+;;;; CREATE-MATCHER-AUX style). A chain returns T, or the FAILURE of the goal
+;;;; that could not be achieved.
+
+(in-package #:player)
+
+(defstruct (compiled-event (:constructor make-compiled-event (event run)))
+  "An event compiled to a closure of one argument, the controller."
+  (event nil :type event-def)
+  (run nil :type function))
+
+(defvar *procedures* nil
+  "While a machine compiles: hash table of GOAL or OP-DEF -> box (a cons whose
+CAR is the procedure), so procedures can call each other before they exist.")
+
+(defun procedure-box (key)
+  "The box of KEY's shared procedure, created empty on first request."
+  (or (gethash key *procedures*)
+      (setf (gethash key *procedures*) (list nil))))
+
+(defun compile-spec (spec)
+  "Plan SPEC (a spec or the name of one) and compile it into a MACHINE whose
+events run as Lisp closures. Signals SPEC-ERROR for an unknown name and
+STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
+  (let* ((spec (if (spec-p spec) spec (find-spec spec)))
+         (start (get-internal-real-time))
+         (machine (plan-spec spec))
+         (*procedures* (make-hash-table :test 'eq)))
+    (loop for goal across (machine-goal-table machine)
+          do (setf (car (procedure-box goal)) (compile-achiever goal)))
+    (dolist (op (spec-ops spec))
+      (setf (car (procedure-box op)) (compile-executor op machine)))
+    (dolist (event (spec-events spec))
+      (setf (gethash (name-key (event-name event)) (machine-events machine))
+            (make-compiled-event event (compile-steps (directive-steps (event-directives event) machine)
+                                                      machine))))
+    (setf (machine-compile-seconds machine)
+          (/ (float (- (get-internal-real-time) start) 1d0) internal-time-units-per-second))
+    machine))
+
+(defun compile-steps (steps machine &optional (final (constantly t)))
+  "Chain STEPS into one closure that ends by calling FINAL."
+  (reduce (lambda (step next) (compile-step step next machine))
+          steps :from-end t :initial-value final))
+
+(defun call-box (box controller)
+  "Run the procedure in BOX on CONTROLLER."
+  (funcall (the function (car box)) controller))
+
+;;; State-achieving procedures
+
+(defun compile-achiever (goal)
+  "GOAL's state-achieving procedure: run the first plan whose condition holds.
+Returns T, NIL when no plan applies, or a FAILURE from inside a macro-op."
+  (let* ((plans (goal-plans goal))
+         (conditions (map 'simple-vector #'plan-condition plans))
+         (runners (map 'simple-vector (lambda (plan) (compile-plan-runner (plan-ops plan))) plans))
+         (count (length plans)))
+    (lambda (controller)
+      (let ((bits (controller-bits controller)))
+        (dotimes (i count nil)
+          (when (state-in-cube-p bits (svref conditions i))
+            (return (funcall (the function (svref runners i)) controller))))))))
+
+(defun compile-plan-runner (ops)
+  "A closure running OPS in order, stopping at the first failure."
+  (if (null ops)
+      (constantly t)
+      (let ((boxes (mapcar #'procedure-box ops)))
+        (lambda (controller)
+          (dolist (box boxes t)
+            (let ((result (call-box box controller)))
+              (unless (eq result t) (return result))))))))
+
+;;; Operator-execution procedures
+
+(defun effects-transform (op)
+  "(VALUES MASK BITS) of OP's effects on the one-hot state."
+  (values (loop for (var) in (op-effects op) sum (var-field-mask var))
+          (loop for (var . index) in (op-effects op) sum (var-value-bit var index))))
+
+(defun compile-executor (op machine)
+  "OP's execution procedure: play it (a macro: run its :seq), then apply its
+effects. Its precondition is the caller's business."
+  (if (eq (op-kind op) :macro)
+      (compile-macro-executor op machine)
+      (multiple-value-bind (mask bits) (effects-transform op)
+        (let ((code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
+          (lambda (controller)
+            (when code (funcall (the function code)))
+            (let* ((start (controller-schedule controller))
+                   (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
+              (note-op-end controller end)
+              (unless (zerop mask)
+                (transition-state controller
+                                  (logior (logandc2 (controller-bits controller) mask) bits)
+                                  end))
+              t))))))
+
+(defun compile-macro-executor (op machine)
+  "A macro-op's procedure: run its :SEQ on its own span; then the state is the
+one it started from with the declared effects applied (changes the sub-ops
+made along the way are internal to the macro)."
+  (multiple-value-bind (mask bits) (effects-transform op)
+    (let ((seq (compile-steps (directive-steps (op-seq op) machine) machine))
+          (bit (ash 1 (position op (spec-ops (machine-spec machine)))))
+          (reentered (make-failure (op-name op))))
+      (lambda (controller)
+        (if (logtest bit (controller-active-macros controller))
+            reentered
+            (let ((presenter (controller-presenter controller))
+                  (start (controller-schedule controller))
+                  (outer-start (controller-span-start controller))
+                  (outer-end (controller-span-end controller))
+                  (before (controller-bits controller)))
+              (present-macro-start presenter op start)
+              (setf (controller-span-start controller) start
+                    (controller-span-end controller) start
+                    (controller-active-macros controller)
+                    (logior bit (controller-active-macros controller)))
+              (let* ((result (funcall (the function seq) controller))
+                     (end (controller-span-end controller)))
+                (setf (controller-active-macros controller)
+                      (logandc2 (controller-active-macros controller) bit)
+                      (controller-span-start controller) outer-start
+                      (controller-span-end controller) (max outer-end end)
+                      (controller-schedule controller) end)
+                (present-macro-end presenter op start end)
+                (when (eq result t)
+                  (transition-state controller (logior (logandc2 before mask) bits) end))
+                result)))))))
+
+(defun compile-code (form)
+  "FORM compiled into a function of no arguments."
+  (compile nil `(lambda () ,form)))
+
+;;; Steps
+
+(defgeneric compile-step (step next machine)
+  (:documentation "A closure of one argument (the controller) that performs
+STEP and, on success, returns what NEXT returns; on failure, a FAILURE."))
+
+(defun achieve-then (box failure next)
+  "A closure achieving the goal in BOX, then calling NEXT; FAILURE if no plan."
+  (lambda (controller)
+    (let ((result (call-box box controller)))
+      (cond ((eq result t) (funcall (the function next) controller))
+            ((null result) failure)
+            (t result)))))
+
+(defmethod compile-step ((step achieve-step) next machine)
+  (declare (ignore machine))
+  (achieve-then (procedure-box (achieve-step-goal step)) (achieve-step-failure step) next))
+
+(defmethod compile-step ((step op-step) next machine)
+  (declare (ignore machine))
+  (let* ((box (procedure-box (op-step-op step)))
+         (run (lambda (controller)
+                (let ((result (call-box box controller)))
+                  (if (eq result t) (funcall (the function next) controller) result)))))
+    (if (op-step-goal step)
+        (achieve-then (procedure-box (op-step-goal step)) (op-step-failure step) run)
+        run)))
+
+(defmethod compile-step ((step label-step) next machine)
+  (declare (ignore machine))
+  (let ((slot (label-step-slot step)))
+    (lambda (controller)
+      (setf (aref (controller-labels controller) slot) (controller-schedule controller))
+      (funcall (the function next) controller))))
+
+(defmethod compile-step ((step time-step) next machine)
+  (destructuring-bind (kind argument) (time-step-time step)
+    (let ((value (if (eq kind :relative) nil (compile-number argument machine))))
+      (lambda (controller)
+        (let ((time (if value
+                        (funcall (the function value) controller)
+                        (+ (controller-span-start controller) argument))))
+          (when time
+            (setf (controller-schedule controller) (to-double time))))
+        (funcall (the function next) controller)))))
+
+(defmethod compile-step ((step if-step) next machine)
+  (let ((condition (compile-condition (if-step-condition step) machine))
+        (body (compile-steps (if-step-body step) machine next)))
+    (lambda (controller)
+      (if (funcall (the function condition) controller)
+          (funcall (the function body) controller)
+          (funcall (the function next) controller)))))
+
+(defmethod compile-step ((step assign-step) next machine)
+  (declare (ignore machine))
+  (let* ((var (assign-step-variable step))
+         (mask (var-field-mask var))
+         (bit (var-value-bit var (assign-step-index step))))
+    (lambda (controller)
+      (transition-state controller (logior (logandc2 (controller-bits controller) mask) bit)
+                        (controller-schedule controller))
+      (funcall (the function next) controller))))
+
+(defmethod compile-step ((step increment-step) next machine)
+  (declare (ignore machine))
+  (let* ((var (increment-step-variable step))
+         (slot (var-slot var))
+         (delta (increment-step-delta step)))
+    (lambda (controller)
+      (set-runtime-value controller var (+ (svref (controller-values controller) slot) delta)
+                         (controller-schedule controller))
+      (funcall (the function next) controller))))
+
+(defmethod compile-step ((step code-step) next machine)
+  (declare (ignore machine))
+  (let ((code (compile-code (code-step-form step))))
+    (lambda (controller)
+      (funcall (the function code))
+      (funcall (the function next) controller))))
+
+(defmethod compile-step ((step c++-step) next machine)
+  (declare (ignore step machine))
+  next)
+
+;;; Runtime conditions (:if)
+
+(defun state-only-p (ast)
+  "True when AST mentions no numeric comparison."
+  (case (first ast)
+    (:cmp nil)
+    ((:not :and :or) (every #'state-only-p (rest ast)))
+    (t t)))
+
+(defun compile-condition (ast machine)
+  "A predicate of the controller for :IF condition AST."
+  (let ((spec (machine-spec machine)))
+    (if (state-only-p ast)
+        (let ((cubes (expression-cubes ast spec)))
+          (lambda (controller)
+            (let ((bits (controller-bits controller)))
+              (dolist (cube cubes nil)
+                (when (state-in-cube-p bits cube) (return t))))))
+        (ecase (first ast)
+          (:not (let ((inner (compile-condition (second ast) machine)))
+                  (lambda (controller) (not (funcall (the function inner) controller)))))
+          (:and (let ((parts (mapcar (lambda (a) (compile-condition a machine)) (rest ast))))
+                  (lambda (controller) (every (lambda (p) (funcall (the function p) controller)) parts))))
+          (:or (let ((parts (mapcar (lambda (a) (compile-condition a machine)) (rest ast))))
+                 (lambda (controller) (some (lambda (p) (funcall (the function p) controller)) parts))))
+          (:cmp (compile-comparison (second ast) (cddr ast) machine))))))
+
+(defun compile-comparison (operator operands machine)
+  "A predicate comparing OPERANDS with OPERATOR. An unset time variable is like
+NaN: every comparison with it is false, except /=."
+  (let ((values (mapcar (lambda (a) (compile-number a machine)) operands))
+        (function (symbol-function operator)))
+    (lambda (controller)
+      (let ((numbers (mapcar (lambda (v) (funcall (the function v) controller)) values)))
+        (if (member nil numbers)
+            (eq operator '/=)
+            (apply function numbers))))))
+
+(defun compile-number (ast machine)
+  "A function of the controller computing numeric AST, or NIL for an unset time."
+  (ecase (first ast)
+    (:num (let ((x (second ast))) (constantly x)))
+    (:now (lambda (controller) (controller-schedule controller)))
+    (:label (let ((slot (second ast)))
+              (lambda (controller) (aref (controller-labels controller) slot))))
+    (:value (let ((var (second ast)))
+              (if (plannable-p var)
+                  (lambda (controller) (variable-value controller var))
+                  (let ((slot (var-slot var)))
+                    (lambda (controller) (svref (controller-values controller) slot))))))
+    (:arith (let ((parts (mapcar (lambda (a) (compile-number a machine)) (cddr ast)))
+                  (function (symbol-function (second ast))))
+              (lambda (controller)
+                (let ((numbers (mapcar (lambda (p) (funcall (the function p) controller)) parts)))
+                  (unless (member nil numbers)
+                    (apply function numbers))))))))

@@ -1,0 +1,43 @@
+;;;; package.lisp -- the PLAYER API package and PLAYER-USER, where spec files live.
+
+(defpackage #:player
+  (:use #:cl)
+  (:import-from #:alexandria
+                #:when-let #:if-let #:ensure-list #:hash-table-keys
+                #:with-gensyms #:once-only #:appendf #:read-file-into-string)
+  (:export
+   ;; The language
+   #:defspec #:define-spec #:find-spec #:load-spec #:list-specs #:remove-spec
+   #:spec #:spec-name #:spec-documentation #:spec-max-depth #:spec-options
+   #:spec-source-file
+   ;; Compilation
+   #:compile-spec #:machine #:machine-spec #:machine-goals #:plans
+   #:machine-state-count #:check-spec #:diagnostic #:diagnostic-kind
+   #:diagnostic-message #:diagnostic-details
+   #:*default-max-depth*
+   ;; Controllers
+   #:make-controller #:controller #:send-event #:state-value #:controller-state
+   #:controller-clock #:controller-machine #:controller-presenter #:recompile
+   #:event-names #:*controller*
+   ;; Presenter protocol
+   #:presenter #:present-op #:start-autoscript #:stop-autoscript #:run-director
+   #:present-macro-start #:present-macro-end #:present-event
+   #:present-failure #:present-state
+   #:null-presenter #:make-null-presenter
+   #:trace-presenter #:make-trace-presenter #:trace-lines #:clear-trace
+   #:write-trace-line #:trace-line-string
+   ;; Op objects, as presenters see them
+   #:op-name #:op-script #:op-director #:op-duration #:op-kind
+   ;; Conditions
+   #:player-error #:spec-error #:spec-error-form #:spec-error-spec
+   #:spec-error-position #:spec-syntax-error #:unknown-name-error
+   #:domain-error #:type-error-in-spec #:duplicate-definition
+   #:class-cycle-error #:label-error #:effect-error #:goal-error
+   #:spec-reader-error #:unknown-event #:unknown-event-name
+   #:state-space-too-large #:state-transfer-error
+   ;; Command line
+   #:main))
+
+(defpackage #:player-user
+  (:use #:cl #:player)
+  (:documentation "The package spec files are read in: CL plus the PLAYER API."))

@@ -1,0 +1,140 @@
+;;;; diagnostics.lisp -- what an author wants to know about a planned spec:
+;;;; plan tables, and CHECK-SPEC's warnings (unreachable goals, unused ops,
+;;;; depth truncation, states the agent can never get into).
+
+(in-package #:player)
+
+(defstruct (diagnostic (:constructor make-diagnostic (kind message &optional details)))
+  "One finding of CHECK-SPEC. KIND is :UNREACHABLE-GOAL, :UNUSED-OP,
+:TRUNCATED or :UNREACHABLE-STATES."
+  (kind nil :type keyword)
+  (message "" :type string)
+  (details nil))
+
+(defun goal-plan-table (goal spec)
+  "GOAL's plans as a list of (CONDITION-EXPRESSION . OP-NAMES)."
+  (map 'list (lambda (plan)
+               (cons (cube-expression (plan-condition plan) spec)
+                     (mapcar #'op-name (plan-ops plan))))
+       (goal-plans goal)))
+
+(defun plans (machine goal)
+  "The plans MACHINE uses for GOAL (a state expression, as in :state), as a list
+of (CONDITION . OPS) in the order they are tried. A goal no event asks for is
+planned on the spot."
+  (let* ((spec (machine-spec machine))
+         (cubes (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
+                  (expression-cubes (parse-expression goal) spec)))
+         (known (find-goal cubes (coerce (machine-goal-table machine) 'list))))
+    (goal-plan-table (or known
+                         (solve-goal (%make-goal :cubes cubes :forms (list goal)
+                                                 :expression (cubes-expression cubes spec))
+                                     (machine-operators machine) (machine-layout machine)
+                                     (spec-max-depth spec)))
+                     spec)))
+
+(defun used-ops (machine)
+  "The ops some plan, event or macro :seq can run."
+  (let ((used '())
+        (spec (machine-spec machine)))
+    (loop for goal across (machine-goal-table machine)
+          do (loop for plan across (goal-plans goal)
+                   do (dolist (op (plan-ops plan)) (pushnew op used))))
+    (flet ((collect (directive)
+             (when (eq (first directive) :op) (pushnew (second directive) used))))
+      (dolist (event (spec-events spec)) (map-directives #'collect (event-directives event)))
+      (dolist (op (spec-ops spec)) (map-directives #'collect (op-seq op))))
+    used))
+
+(defun reachable-states (machine)
+  "Bitmap of the states reachable from the initial state by any op (must-ask
+too) or event :add/:sub, with every precondition respected."
+  (let* ((spec (machine-spec machine))
+         (layout (machine-layout machine))
+         (transitions (append (mapcar (lambda (op) (make-planner-op op spec))
+                                      (remove nil (spec-ops spec) :key #'op-effects))
+                              (event-assignment-ops spec)))
+         (seen (make-array (layout-state-count layout) :element-type 'bit :initial-element 0))
+         (queue (list (machine-initial-state machine))))
+    (setf (sbit seen (state-to-dense (first queue) layout)) 1)
+    (loop while queue
+          do (let ((state (pop queue)))
+               (dolist (op transitions)
+                 (when (some (lambda (cube) (state-in-cube-p state cube))
+                             (planner-op-precondition op))
+                   (let* ((next (apply-effects state op))
+                          (dense (state-to-dense next layout)))
+                     (when (zerop (sbit seen dense))
+                       (setf (sbit seen dense) 1)
+                       (push next queue)))))))
+    seen))
+
+(defun event-assignment-ops (spec)
+  "Unconditional pseudo-ops for every :add/:sub of a plannable literal in an event."
+  (let ((ops '()))
+    (dolist (event (spec-events spec) ops)
+      (map-directives (lambda (directive)
+                        (when (eq (first directive) :assign)
+                          (push (make-planner-op
+                                 (make-op-def :name (event-name event)
+                                              :effects (list (cons (second directive)
+                                                                   (third directive))))
+                                 spec)
+                                ops)))
+                      (event-directives event)))))
+
+(defun goal-description (goal)
+  "GOAL as its author wrote it (first writing), for messages."
+  (lisp-text (first (last (goal-forms goal)))))
+
+(defun check-spec (spec)
+  "Plan SPEC (a spec, its name, or a machine) and return a list of DIAGNOSTICs:
+goals unreachable from some or all states, ops nothing uses, goals whose search
+MAX-DEPTH truncated, and states unreachable from the initial state."
+  (let* ((machine (if (machine-p spec) spec (plan-spec (if (spec-p spec) spec (find-spec spec)))))
+         (spec (machine-spec machine))
+         (total (machine-state-count machine))
+         (used (used-ops machine))
+         (diagnostics '()))
+    (loop for goal across (machine-goal-table machine)
+          for missing = (- total (goal-solved-count goal))
+          when (plusp missing)
+            do (push (make-diagnostic
+                      :unreachable-goal
+                      (if (= missing total)
+                          (format nil "goal ~A is unreachable from every state" (goal-description goal))
+                          (format nil "goal ~A is unreachable from ~D of ~D states, e.g. ~A"
+                                  (goal-description goal) missing total
+                                  (lisp-text (cube-expression
+                                              (dense-to-state (position 0 (goal-solved goal))
+                                                              (machine-layout machine))
+                                              spec))))
+                      (goal-expression goal))
+                     diagnostics)
+          when (goal-truncatedp goal)
+            do (push (make-diagnostic
+                      :truncated
+                      (format nil "planning for goal ~A stopped at :max-depth ~D; longer plans may exist"
+                              (goal-description goal) (spec-max-depth spec))
+                      (goal-expression goal))
+                     diagnostics))
+    (dolist (op (spec-ops spec))
+      (unless (member op used)
+        (push (make-diagnostic :unused-op
+                               (format nil "op ~A is used by no plan, event or macro-op~:[~; (it is must-ask)~]"
+                                       (lisp-text (op-name op)) (op-must-ask op))
+                               (op-name op))
+              diagnostics)))
+    (let* ((reachable (reachable-states machine))
+           (unreachable (count 0 reachable)))
+      (when (plusp unreachable)
+        (push (make-diagnostic :unreachable-states
+                               (format nil "~D of ~D states cannot be reached from the initial state, e.g. ~A"
+                                       unreachable total
+                                       (lisp-text (cube-expression
+                                                   (dense-to-state (position 0 reachable)
+                                                                   (machine-layout machine))
+                                                   spec)))
+                               unreachable)
+              diagnostics)))
+    (nreverse diagnostics)))

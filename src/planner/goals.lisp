@@ -1,0 +1,78 @@
+;;;; goals.lisp -- the distinct goals a spec needs plans for.
+;;;; Every :state argument and the precondition of every op an event or macro
+;;;; requests is a goal; goals are put in canonical cube form so that the same
+;;;; condition written twice is planned once.
+
+(in-package #:player)
+
+(defstruct (goal (:constructor %make-goal))
+  "A distinct goal and its plans."
+  (id 0 :type (integer 0))
+  ;; Canonical DNF.
+  (cubes '() :type list)
+  ;; Readable canonical expression.
+  (expression nil)
+  ;; The goal as written, once per distinct writing.
+  (forms '() :type list)
+  ;; PLANs in breadth-first order.
+  (plans #() :type simple-vector)
+  ;; States from which the goal is reachable.
+  (solved-count 0 :type (integer 0))
+  ;; Bitmap of those states (dense numbering).
+  (solved nil)
+  ;; True when :MAX-DEPTH cut the search short.
+  (truncatedp nil))
+
+(defun map-directives (function directives)
+  "Call FUNCTION on every directive of DIRECTIVES, inside :IF bodies too."
+  (dolist (directive directives)
+    (funcall function directive)
+    (when (eq (first directive) :if)
+      (map-directives function (third directive)))))
+
+(defun op-goal-form (op)
+  "What to call OP's precondition goal in messages: the :precond as written."
+  (op-precond-form op))
+
+(defun spec-goal-sources (spec)
+  "Every (AST . FORM) a goal must be planned for, in spec order: the :state
+arguments of events and the preconditions of the ops events and macros request."
+  (let ((sources '()))
+    (flet ((collect (directive)
+             (case (first directive)
+               (:achieve (push (cons (second directive) (third directive)) sources))
+               (:op (let ((op (second directive)))
+                      (when (op-precond op)
+                        (push (cons (op-precond op) (op-goal-form op)) sources)))))))
+      (dolist (event (spec-events spec))
+        (map-directives #'collect (event-directives event)))
+      (dolist (op (spec-ops spec))
+        (map-directives #'collect (op-seq op))))
+    (nreverse sources)))
+
+(defun find-goal (cubes goals)
+  "The goal among GOALS with canonical CUBES, or NIL."
+  (find cubes goals :key #'goal-cubes :test #'equal))
+
+(defun intern-goal (ast form goals spec)
+  "The goal for AST in GOALS (a list, most recent first), adding a new one if needed.
+Returns (VALUES GOAL GOALS)."
+  (let* ((cubes (expression-cubes ast spec))
+         (goal (find-goal cubes goals)))
+    (if goal
+        (progn (pushnew form (goal-forms goal) :test #'equal)
+               (values goal goals))
+        (let ((goal (%make-goal :id (length goals) :cubes cubes
+                                :expression (cubes-expression cubes spec)
+                                :forms (list form))))
+          (values goal (cons goal goals))))))
+
+(defun solve-goal (goal operators layout max-depth)
+  "Plan GOAL, filling in its plans and coverage."
+  (multiple-value-bind (plans solved truncatedp)
+      (plan-goal (goal-cubes goal) operators layout max-depth)
+    (setf (goal-plans goal) (coerce plans 'simple-vector)
+          (goal-solved goal) solved
+          (goal-solved-count goal) (count 1 solved)
+          (goal-truncatedp goal) truncatedp)
+    goal))

@@ -1,0 +1,61 @@
+;;;; machine.lisp -- a planned spec: every goal with its plan table.
+;;;; PLAN-SPEC is the planner's whole job; a code generator then turns the
+;;;; machine into something that runs (Lisp closures, or C++ source).
+
+(in-package #:player)
+
+(defstruct (machine (:constructor %make-machine))
+  "A spec with plans from every state to every goal, ready for a code generator."
+  (spec nil :type spec)
+  (layout nil :type layout)
+  ;; GOALs, by id.
+  (goal-table #() :type simple-vector)
+  ;; Goal AST -> GOAL.
+  (goal-of (make-hash-table :test 'eq))
+  ;; The PLANNER-OPs plans are built from.
+  (operators '() :type list)
+  ;; One-hot state of the declared initial values.
+  (initial-state 0 :type integer)
+  ;; Event name key -> compiled event (backend's).
+  (events (make-hash-table :test 'equal))
+  ;; Fields of plannable variables some autoscript watches.
+  (autoscript-mask 0 :type integer)
+  (compile-seconds 0d0 :type double-float))
+
+(defun machine-state-count (machine)
+  "How many plannable states MACHINE's spec has."
+  (layout-state-count (machine-layout machine)))
+
+(defun initial-state (spec)
+  "The one-hot state of SPEC's declared initial values."
+  (loop for var in (plannable-variables spec)
+        sum (var-value-bit var (var-initial var))))
+
+(defun plan-spec (spec)
+  "Plan every goal of SPEC and return the MACHINE (without compiled events)."
+  (let* ((layout (make-layout spec))
+         (operators (planner-ops spec))
+         (goal-of (make-hash-table :test 'eq))
+         (goals '()))
+    (loop for (ast . form) in (spec-goal-sources spec)
+          do (multiple-value-bind (goal all) (intern-goal ast form goals spec)
+               (setf goals all
+                     (gethash ast goal-of) goal)))
+    (let ((goals (coerce (reverse goals) 'simple-vector)))
+      (loop for goal across goals
+            do (solve-goal goal operators layout (spec-max-depth spec)))
+      (%make-machine :spec spec :layout layout :goal-table goals :goal-of goal-of
+                     :operators operators :initial-state (initial-state spec)
+                     :autoscript-mask (loop for var in (remove-duplicates
+                                                        (mapcar #'autoscript-variable
+                                                                (spec-autoscripts spec)))
+                                            when (plannable-p var) sum (var-field-mask var))))))
+
+(defun machine-goal-for (machine ast)
+  "The goal MACHINE planned for goal AST (a :state argument or precondition)."
+  (or (gethash ast (machine-goal-of machine))
+      (error "internal: no goal was planned for ~S" ast)))
+
+(defun machine-goals (machine)
+  "The distinct goals of MACHINE, as readable canonical expressions, in the order planned."
+  (map 'list #'goal-expression (machine-goal-table machine)))

@@ -1,0 +1,108 @@
+;;;; controller-state.lisp -- a controller instance and the primitive changes
+;;;; compiled events make to it. Every change of a watched variable goes
+;;;; through here, so autoscripts start and stop exactly when values change.
+
+(in-package #:player)
+
+(defvar *controller* nil
+  "The controller whose event is running, for :code forms and presenters.")
+
+(defstruct (controller (:constructor %make-controller))
+  "One running agent: a machine (shared, read-only) plus this agent's state."
+  (machine nil :type machine)
+  ;; One-hot plannable state.
+  (bits 0 :type integer)
+  ;; Runtime numbers and times, by slot.
+  (values #() :type simple-vector)
+  (labels (make-array 0 :element-type 'double-float)
+   :type (simple-array double-float (*)))
+  ;; When the next event starts: the end of the last one.
+  (clock 0d0 :type double-float)
+  ;; The scheduling clock of the running event.
+  (schedule 0d0 :type double-float)
+  ;; Start of the running event or macro.
+  (span-start 0d0 :type double-float)
+  ;; Latest end of an op in the running event or macro.
+  (span-end 0d0 :type double-float)
+  ;; Bit per macro-op now running, against re-entry.
+  (active-macros 0 :type integer)
+  (presenter nil))
+
+(defun spec-of (controller)
+  "CONTROLLER's spec."
+  (machine-spec (controller-machine controller)))
+
+(defun variable-value (controller var)
+  "The current value of VAR in CONTROLLER, as the user sees it."
+  (if (plannable-p var)
+      (let ((field (ldb (byte (var-domain-size var) (var-bit-offset var))
+                        (controller-bits controller))))
+        (aref (var-domain var) (1- (integer-length field))))
+      (svref (controller-values controller) (var-slot var))))
+
+(defun value-index-of (controller var)
+  "The domain index of plannable VAR's current value in CONTROLLER."
+  (1- (integer-length (ldb (byte (var-domain-size var) (var-bit-offset var))
+                           (controller-bits controller)))))
+
+(defun notify-autoscripts (controller var old new time)
+  "Stop the autoscripts of VAR = OLD, then start those of VAR = NEW, at TIME.
+OLD and NEW are value indices (plannable) or numbers."
+  (let ((presenter (controller-presenter controller)))
+    (dolist (auto (spec-autoscripts (spec-of controller)))
+      (when (and (eq (autoscript-variable auto) var) (eql (autoscript-value-index auto) old))
+        (dolist (proc (autoscript-procs auto))
+          (stop-autoscript presenter proc (var-name var) (autoscript-value auto) time))))
+    (dolist (auto (spec-autoscripts (spec-of controller)))
+      (when (and (eq (autoscript-variable auto) var) (eql (autoscript-value-index auto) new))
+        (dolist (proc (autoscript-procs auto))
+          (start-autoscript presenter proc (var-name var) (autoscript-value auto) time))))))
+
+(defun autoscript-value (auto)
+  "The value AUTO watches for, as written in the trace."
+  (let ((var (autoscript-variable auto)))
+    (if (plannable-p var)
+        (aref (var-domain var) (autoscript-value-index auto))
+        (autoscript-value-index auto))))
+
+(defun transition-state (controller new-bits time)
+  "Make NEW-BITS CONTROLLER's plannable state at TIME, telling autoscripts."
+  (let* ((machine (controller-machine controller))
+         (old-bits (controller-bits controller))
+         (watched (logand (logxor old-bits new-bits) (machine-autoscript-mask machine))))
+    (if (zerop watched)
+        (setf (controller-bits controller) new-bits)
+        (let ((changed (loop for var in (plannable-variables (machine-spec machine))
+                             unless (zerop (logand watched (var-field-mask var)))
+                               collect (cons var (value-index-of controller var)))))
+          (setf (controller-bits controller) new-bits)
+          (loop for (var . old) in changed
+                do (notify-autoscripts controller var old (value-index-of controller var) time))))
+    new-bits))
+
+(defun set-runtime-value (controller var value time)
+  "Set runtime variable VAR to VALUE at TIME, telling autoscripts that watch it."
+  (let ((old (svref (controller-values controller) (var-slot var))))
+    (setf (svref (controller-values controller) (var-slot var)) value)
+    (unless (eql old value)
+      (when (find var (spec-autoscripts (spec-of controller)) :key #'autoscript-variable)
+        (notify-autoscripts controller var old value time)))
+    value))
+
+(defun start-initial-autoscripts (controller time)
+  "Start, at TIME, the autoscripts whose values CONTROLLER holds now."
+  (dolist (auto (spec-autoscripts (spec-of controller)))
+    (let ((var (autoscript-variable auto)))
+      (when (eql (autoscript-value-index auto)
+                 (if (plannable-p var)
+                     (value-index-of controller var)
+                     (svref (controller-values controller) (var-slot var))))
+        (dolist (proc (autoscript-procs auto))
+          (start-autoscript (controller-presenter controller) proc (var-name var)
+                            (autoscript-value auto) time))))))
+
+(defun note-op-end (controller end)
+  "Advance the scheduling clock to END and extend the running span."
+  (setf (controller-schedule controller) end)
+  (when (> end (controller-span-end controller))
+    (setf (controller-span-end controller) end)))

@@ -1,0 +1,174 @@
+;;;; presenter.lisp -- the presenter protocol: how a controller's decisions reach
+;;;; the screen. A controller never draws; it tells its presenter which op to
+;;;; play when, and the presenter answers how long it took. The null presenter
+;;;; reports declared durations and records nothing (for benchmarks and
+;;;; embedding); the trace presenter records the trace lines the CLI prints.
+
+(in-package #:player)
+
+(defclass presenter () ()
+  (:documentation "Base class of presenters. Every protocol function has a
+method here, so a presenter overrides only what it needs."))
+
+(defgeneric present-op (presenter op start)
+  (:documentation "Play OP (an op or a macro's sub-op) starting at time START
+(seconds); return its duration in seconds. The default returns OP's declared
+:duration, or what RUN-DIRECTOR returns for a :director op."))
+
+(defgeneric run-director (presenter director op start)
+  (:documentation "Run DIRECTOR (a symbol) for OP at time START; return the duration."))
+
+(defgeneric present-macro-start (presenter op start)
+  (:documentation "Macro-op OP begins at START; its sub-ops follow."))
+
+(defgeneric present-macro-end (presenter op start end)
+  (:documentation "Macro-op OP, begun at START, ended at END."))
+
+(defgeneric start-autoscript (presenter proc variable value time)
+  (:documentation "Start autoscript procedure PROC because VARIABLE took VALUE at TIME."))
+
+(defgeneric stop-autoscript (presenter proc variable value time)
+  (:documentation "Stop autoscript procedure PROC because VARIABLE left VALUE at TIME."))
+
+(defgeneric present-event (presenter event time)
+  (:documentation "Event EVENT (a symbol) is processed from TIME on."))
+
+(defgeneric present-failure (presenter event goal time)
+  (:documentation "EVENT could not achieve GOAL (the goal as written) at TIME; the rest of it is skipped."))
+
+(defgeneric present-state (presenter controller)
+  (:documentation "An event has finished; CONTROLLER holds the resulting state."))
+
+(defmethod present-op ((presenter presenter) op start)
+  (if (eq (op-kind op) :director)
+      (run-director presenter (op-director op) op start)
+      (op-duration op)))
+
+(defmethod run-director ((presenter presenter) director op start)
+  (declare (ignore director start))
+  (op-duration op))
+
+(defmethod present-macro-start ((presenter presenter) op start)
+  (declare (ignore op start)))
+
+(defmethod present-macro-end ((presenter presenter) op start end)
+  (declare (ignore op start end)))
+
+(defmethod start-autoscript ((presenter presenter) proc variable value time)
+  (declare (ignore proc variable value time)))
+
+(defmethod stop-autoscript ((presenter presenter) proc variable value time)
+  (declare (ignore proc variable value time)))
+
+(defmethod present-event ((presenter presenter) event time)
+  (declare (ignore event time)))
+
+(defmethod present-failure ((presenter presenter) event goal time)
+  (declare (ignore event goal time)))
+
+(defmethod present-state ((presenter presenter) controller)
+  (declare (ignore controller)))
+
+;;; The null presenter
+
+(defclass null-presenter (presenter) ()
+  (:documentation "Plays nothing and records nothing; ops take their declared durations."))
+
+(defun make-null-presenter ()
+  "A presenter that does nothing, for benchmarks and headless embedding."
+  (make-instance 'null-presenter))
+
+;;; The trace presenter
+
+(defclass trace-presenter (presenter)
+  ((lines :initform (make-array 16 :adjustable t :fill-pointer 0) :reader trace-line-vector)
+   (flushed :initform 0 :accessor trace-flushed
+            :documentation "Lines already written to STREAM.")
+   (open-macros :initform '() :accessor trace-open-macros
+                :documentation "Lines of the macros still running, innermost first; their :end is filled in when they finish.")
+   (stream :initarg :stream :initform nil :reader trace-stream
+           :documentation "Where finished lines are written as they happen, or NIL."))
+  (:documentation "Records every decision as a trace line (a list such as
+(:op bow :script bow :start 0 :end 1)); with a STREAM, also writes them there."))
+
+(defun make-trace-presenter (&key stream)
+  "A presenter recording trace lines; with STREAM (T for *STANDARD-OUTPUT*), writing them too."
+  (make-instance 'trace-presenter :stream (if (eq stream t) *standard-output* stream)))
+
+(defun trace-lines (presenter)
+  "The trace lines PRESENTER has recorded, oldest first."
+  (coerce (trace-line-vector presenter) 'list))
+
+(defun clear-trace (presenter)
+  "Forget PRESENTER's recorded lines."
+  (setf (fill-pointer (trace-line-vector presenter)) 0
+        (trace-flushed presenter) 0))
+
+(defun trace-line-string (line)
+  "LINE as the text the CLI prints (lower case, no package prefixes). The pairs
+of a :state line always print dotted, so a false boolean reads (var . nil)."
+  (if (eq (first line) :state)
+      (format nil "(:state~{ (~A . ~A)~})"
+              (loop for (name . value) in (rest line)
+                    collect (lisp-text name) collect (lisp-text value)))
+      (lisp-text line)))
+
+(defun write-trace-line (line &optional (stream *standard-output*))
+  "Write LINE and a newline to STREAM."
+  (write-string (trace-line-string line) stream)
+  (terpri stream))
+
+(defun record-line (presenter line)
+  "Append LINE to PRESENTER's trace and write what is finished."
+  (vector-push-extend line (trace-line-vector presenter))
+  (flush-trace presenter)
+  line)
+
+(defun flush-trace (presenter)
+  "Write recorded lines to the stream, stopping at a macro line still open."
+  (when (and (trace-stream presenter) (null (trace-open-macros presenter)))
+    (let ((lines (trace-line-vector presenter)))
+      (loop while (< (trace-flushed presenter) (length lines))
+            do (write-trace-line (aref lines (trace-flushed presenter)) (trace-stream presenter))
+               (incf (trace-flushed presenter)))
+      (force-output (trace-stream presenter)))))
+
+(defun op-line (op start end)
+  "The trace line of OP played from START to END."
+  (list* :op (op-name op)
+         (append (ecase (op-kind op)
+                   ((:script :macro) (list :script (op-script op)))
+                   (:director (list :director (op-director op)))
+                   (:code (list :code t)))
+                 (list :start start :end end))))
+
+(defmethod present-op ((presenter trace-presenter) op start)
+  (let ((duration (call-next-method)))
+    (record-line presenter (op-line op start (+ start duration)))
+    duration))
+
+(defmethod present-macro-start ((presenter trace-presenter) op start)
+  (let ((line (op-line op start start)))
+    (push line (trace-open-macros presenter))
+    (record-line presenter line)))
+
+(defmethod present-macro-end ((presenter trace-presenter) op start end)
+  (declare (ignore op start))
+  (let ((line (pop (trace-open-macros presenter))))
+    (setf (getf (cddr line) :end) end))
+  (flush-trace presenter))
+
+(defmethod start-autoscript ((presenter trace-presenter) proc variable value time)
+  (record-line presenter (list :autoscript-start proc :var variable :value value :time time)))
+
+(defmethod stop-autoscript ((presenter trace-presenter) proc variable value time)
+  (record-line presenter (list :autoscript-stop proc :var variable :value value :time time)))
+
+(defmethod present-event ((presenter trace-presenter) event time)
+  (record-line presenter (list :event event :time time)))
+
+(defmethod present-failure ((presenter trace-presenter) event goal time)
+  (record-line presenter (list :fail event :goal goal :time time)))
+
+(defmethod present-state ((presenter trace-presenter) controller)
+  (record-line presenter (cons :state (controller-state controller))))

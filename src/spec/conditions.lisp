@@ -1,0 +1,102 @@
+;;;; conditions.lisp -- Player's one condition tree.
+;;;; Every error a user can cause is a PLAYER-ERROR whose report reads as a
+;;;; sentence and names the offending form; the CLI prints that report as one line.
+
+(in-package #:player)
+
+(define-condition player-error (error)
+  ()
+  (:documentation "Root of every error Player signals on purpose."))
+
+(defvar *source-position* nil
+  "While a spec file is loaded: (FILE . CHARACTER-POSITION) of the form being read.")
+
+(defvar *current-spec-name* nil
+  "While a spec is parsed: its name, so errors can say which spec they are in.")
+
+(define-condition spec-error (player-error)
+  ((message :initarg :message :reader spec-error-message)
+   (form :initarg :form :initform nil :reader spec-error-form
+         :documentation "The offending form, as written.")
+   (spec :initarg :spec :initform *current-spec-name* :reader spec-error-spec
+         :documentation "The name of the spec being defined, or NIL.")
+   (position :initarg :position :initform *source-position*
+             :reader spec-error-position
+             :documentation "(FILE . CHARACTER-POSITION) of the enclosing top-level form, or NIL."))
+  (:report report-spec-error)
+  (:documentation "A spec is malformed or inconsistent. FORM is the offending form."))
+
+(defun report-spec-error (condition stream)
+  "Write CONDITION as one sentence: where, which spec, what, and the form."
+  (let ((position (spec-error-position condition))
+        (spec (spec-error-spec condition))
+        (form (spec-error-form condition)))
+    (when position
+      (format stream "~A:~@[~D: ~]" (file-namestring (car position))
+              (and (cdr position) (position-line (car position) (cdr position)))))
+    (when spec
+      (format stream "in spec ~A: " (lisp-text spec)))
+    (write-string (spec-error-message condition) stream)
+    (when form
+      (format stream " in ~A" (truncate-text (lisp-text form) 160)))))
+
+(defun position-line (file position)
+  "The 1-based line of character POSITION in FILE, or NIL if FILE can't be read."
+  (ignore-errors
+   (with-open-file (in file)
+     (loop with line = 1
+           repeat position
+           for char = (read-char in nil nil)
+           while char
+           when (char= char #\Newline) do (incf line)
+           finally (return line)))))
+
+(defun truncate-text (string limit)
+  "STRING, cut to LIMIT characters with an ellipsis when longer."
+  (if (> (length string) limit)
+      (concatenate 'string (subseq string 0 (- limit 3)) "...")
+      string))
+
+(macrolet ((define-spec-errors (&rest names-and-docs)
+             `(progn
+                ,@(loop for (name doc) on names-and-docs by #'cddr
+                        collect `(define-condition ,name (spec-error) ()
+                                   (:documentation ,doc))))))
+  (define-spec-errors
+    spec-syntax-error "A form does not have the shape the language requires."
+    unknown-name-error "A form names a variable, class, op, event or label that is not defined."
+    domain-error "A value lies outside its variable's domain."
+    type-error-in-spec "A value has the wrong type for its variable or argument."
+    duplicate-definition "A name is defined twice in one spec."
+    class-cycle-error "State classes inherit from each other in a cycle."
+    label-error "A label is used before it is set."
+    effect-error "An op's or event's effects are impossible or contradictory."
+    goal-error "A goal or precondition mentions a runtime-only variable."
+    spec-reader-error "The Lisp reader could not read a spec file."))
+
+(defun spec-fail (class form control &rest arguments)
+  "Signal a spec error of CLASS about FORM, with a message from CONTROL and ARGUMENTS."
+  (error class :form form :message (apply #'format nil control arguments)))
+
+(define-condition unknown-event (player-error)
+  ((name :initarg :name :reader unknown-event-name)
+   (known :initarg :known :initform nil :reader unknown-event-known))
+  (:report (lambda (condition stream)
+             (format stream "unknown event ~A~@[ (known events: ~{~A~^, ~})~]"
+                     (lisp-text (unknown-event-name condition))
+                     (mapcar #'lisp-text (unknown-event-known condition)))))
+  (:documentation "SEND-EVENT was given an event the controller's spec does not define."))
+
+(define-condition state-space-too-large (player-error)
+  ((states :initarg :states :reader too-large-states)
+   (limit :initarg :limit :reader too-large-limit))
+  (:report (lambda (condition stream)
+             (format stream "the plannable state space has ~:D states, over the planner's limit of ~:D"
+                     (too-large-states condition) (too-large-limit condition))))
+  (:documentation "The product of the plannable domains is too large to plan for."))
+
+(define-condition state-transfer-error (player-error)
+  ((message :initarg :message :reader state-transfer-message))
+  (:report (lambda (condition stream)
+             (write-string (state-transfer-message condition) stream)))
+  (:documentation "RECOMPILE or :INITIAL-STATE cannot express a state in the new machine."))

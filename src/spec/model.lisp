@@ -1,0 +1,113 @@
+;;;; model.lisp -- the parsed, validated form of a spec: plain structures.
+;;;; PARSE turns a DEFSPEC's forms into these; the planner and code generators
+;;;; read only these, never the raw forms (except to quote them in messages).
+
+(in-package #:player)
+
+(defstruct (spec (:constructor %make-spec))
+  "A parsed controller spec."
+  (name nil :type symbol)
+  (documentation nil :type (or null string))
+  (max-depth 16 :type (integer 0))
+  ;; Plist of (:KEY VALUE) options besides :MAX-DEPTH.
+  (options '() :type list)
+  ;; VARIABLE-DEFs in declaration order.
+  (variables '() :type list)
+  ;; Name string -> CLASS-DEF.
+  (classes (make-hash-table :test 'equal))
+  ;; OP-DEFs (ops and macro-ops) in declaration order.
+  (ops '() :type list)
+  ;; AUTOSCRIPT-DEFs in declaration order.
+  (autoscripts '() :type list)
+  ;; EVENT-DEFs in declaration order.
+  (events '() :type list)
+  ;; Slots in the labels array.
+  (label-count 0 :type (integer 0))
+  ;; Bits of the one-hot plannable state.
+  (bit-count 0 :type (integer 0))
+  ;; The DEFSPEC body as written.
+  (forms '() :type list)
+  ;; Pathname the spec was loaded from, or NIL.
+  (source-file nil)
+  ;; Package the spec's forms were read in.
+  (package *package*))
+
+(defstruct (variable-def (:conc-name var-))
+  "A state or time variable. KIND is :BOOLEAN or :ENUMERATED (plannable),
+:NUMBER (runtime-only integer/float) or :TIME."
+  (name nil :type symbol)
+  (type :boolean :type (member :boolean :integer :float :string :time))
+  (kind :boolean :type (member :boolean :enumerated :number :time))
+  (initial nil)
+  ;; Values of a plannable variable, by value index.
+  (domain #() :type simple-vector)
+  ;; For a time variable: the event names that set it.
+  (events '() :type list)
+  ;; First bit of a plannable variable's one-hot field.
+  (bit-offset 0 :type (integer 0))
+  ;; Index in the runtime values vector (numbers and times).
+  (slot 0 :type (integer 0))
+  (form nil))
+
+(defun plannable-p (var)
+  "True when VAR is part of the planned (one-hot encoded) state."
+  (member (var-kind var) '(:boolean :enumerated)))
+
+(defun var-domain-size (var)
+  "Number of values of plannable VAR."
+  (length (var-domain var)))
+
+(defun var-field-mask (var)
+  "The bits of plannable VAR's one-hot field."
+  (ash (1- (ash 1 (var-domain-size var))) (var-bit-offset var)))
+
+(defun var-value-bit (var index)
+  "The single bit meaning 'VAR has its INDEXth value'."
+  (ash 1 (+ (var-bit-offset var) index)))
+
+(defstruct (class-def (:conc-name state-class-))
+  "A state class: a named conjunction where later elements override earlier ones."
+  (name nil :type symbol)
+  ;; Parsed expressions, in order.
+  (elements '() :type list)
+  (form nil)
+  ;; Cached canonical DNF (list of cubes), computed on first use.
+  (dnf nil))
+
+(defstruct (op-def (:conc-name op-))
+  "An operator or macro-operator. KIND is :SCRIPT, :DIRECTOR, :CODE or :MACRO."
+  (name nil :type symbol)
+  (kind :script :type (member :script :director :code :macro))
+  (script nil :type symbol)
+  (director nil :type symbol)
+  ;; Lisp form run for a :CODE op.
+  (code nil)
+  (c++ nil :type (or null string))
+  ;; The :PRECOND expression as written, or NIL.
+  (precond-form nil)
+  ;; Parsed :PRECOND expression, or NIL for none.
+  (precond nil)
+  ;; ((VARIABLE-DEF . VALUE-INDEX) ...), adds and subs merged.
+  (effects '() :type list)
+  (must-ask nil :type boolean)
+  (duration 1d0 :type double-float)
+  ;; For a macro: parsed directives of :SEQ.
+  (seq '() :type list)
+  (form nil))
+
+(defstruct (autoscript-def (:conc-name autoscript-))
+  "Procedures that run while a variable holds a value."
+  (variable nil :type (or null variable-def))
+  ;; Value index (plannable) or number (runtime variable).
+  (value-index 0)
+  (procs '() :type list)
+  (form nil))
+
+(defstruct (event-def (:conc-name event-))
+  "An event: a named sequence of directives."
+  (name nil :type symbol)
+  ;; Parsed directives (see PARSE-DIRECTIVES).
+  (directives '() :type list)
+  ;; Time variables this event sets.
+  (time-variables '() :type list)
+  (form nil))

@@ -1,0 +1,380 @@
+;;;; parse.lisp -- turn a DEFSPEC body into a SPEC structure.
+;;;; Two passes: declarations first (so forms may refer to names defined later),
+;;;; then the bodies of classes, ops, autoscripts and events.
+
+(in-package #:player)
+
+(defparameter *default-max-depth* 16
+  "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
+
+(defparameter *spec-option-keys* '(:max-depth :scripts :body)
+  "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
+
+(defun parse-spec (name body &key source-file (package *package*))
+  "Parse BODY, the forms after DEFSPEC NAME, into a validated SPEC.
+Signals a SPEC-ERROR naming the offending form when BODY is malformed."
+  (let* ((*current-spec-name* name)
+         (*spec* (%make-spec :name name :forms body :source-file source-file
+                             :package package :max-depth *default-max-depth*))
+         (forms (parse-spec-header body)))
+    (dolist (form forms) (declare-form form))
+    (assign-layout *spec*)
+    (dolist (form forms) (define-form form))
+    (validate-spec *spec*)
+    *spec*))
+
+(defun parse-spec-header (body)
+  "Read the docstring and (:KEY VALUE) options at the head of BODY; return the rest."
+  (when (stringp (first body))
+    (setf (spec-documentation *spec*) (pop body)))
+  (loop while (and (consp (first body)) (keywordp (first (first body))))
+        do (let ((option (pop body)))
+             (unless (and (proper-list-p option) (= (length option) 2)
+                          (member (first option) *spec-option-keys*))
+               (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~})"
+                          (mapcar #'lisp-text *spec-option-keys*)))
+             (if (eq (first option) :max-depth)
+                 (let ((depth (second option)))
+                   (unless (typep depth '(integer 0 1000))
+                     (spec-fail 'type-error-in-spec option ":max-depth must be an integer from 0 to 1000"))
+                   (setf (spec-max-depth *spec*) depth))
+                 (setf (getf (spec-options *spec*) (first option)) (second option)))))
+  body)
+
+(defun form-kind (form)
+  "The keyword naming FORM's kind, or a syntax error."
+  (unless (and (consp form) (proper-list-p form) (symbolp (first form)))
+    (spec-fail 'spec-syntax-error form "expected a spec form such as (state-variable ...) or (op ...)"))
+  (or (loop for kind in '(:state-variable :time-variable :state-class :op :macro-op
+                          :autoscript :event)
+            when (word-p (first form) (symbol-name kind)) return kind)
+      (spec-fail 'spec-syntax-error form
+                 "unknown form ~A (expected state-variable, time-variable, state-class, op, macro-op, autoscript or event)"
+                 (lisp-text (first form)))))
+
+;;; Pass 1: declarations
+
+(defun declare-form (form)
+  "Register the name FORM defines; variables are parsed whole."
+  (ecase (form-kind form)
+    (:state-variable (add-variable (parse-state-variable form)))
+    (:time-variable (add-variable (parse-time-variable form)))
+    (:state-class (declare-class form))
+    ((:op :macro-op) (declare-op form))
+    (:autoscript)
+    (:event (declare-event form))))
+
+(defun check-new-expression-name (name form)
+  "Signal DUPLICATE-DEFINITION if NAME already names a variable or class."
+  (when (or (find-variable-named name) (find-class-named name))
+    (spec-fail 'duplicate-definition form "~A is already defined as a ~:[state class~;variable~]"
+               (lisp-text name) (find-variable-named name))))
+
+(defun add-variable (var)
+  "Append VAR to the spec's variables."
+  (check-new-expression-name (var-name var) (var-form var))
+  (setf (spec-variables *spec*) (append (spec-variables *spec*) (list var))))
+
+(defun parse-variable-type (word form)
+  "The type keyword WORD names."
+  (or (loop for type in '(:boolean :integer :float :string)
+            when (word-p (unquote word) (symbol-name type)) return type)
+      (spec-fail 'type-error-in-spec form "unknown type ~A (expected boolean, integer, float or string)"
+                 (lisp-text word))))
+
+(defun parse-state-variable (form)
+  "Parse (state-variable NAME TYPE INITIAL [VALUES])."
+  (unless (<= 4 (length form) 5)
+    (spec-fail 'spec-syntax-error form "expected (state-variable NAME TYPE INITIAL [VALUES])"))
+  (destructuring-bind (name type initial &optional (values nil values-p)) (rest form)
+    (let* ((name (require-name name form "a variable name"))
+           (type (parse-variable-type type form))
+           (initial (unquote initial))
+           (values (unquote values))
+           (var (make-variable-def :name name :type type :form form)))
+      (when (and values-p (not (and (proper-list-p values) values)))
+        (spec-fail 'spec-syntax-error form "VALUES must be a non-empty list"))
+      (ecase type
+        (:boolean
+         (when values-p
+           (spec-fail 'spec-syntax-error form "a boolean variable takes no VALUES list"))
+         (multiple-value-bind (truth ok) (boolean-word initial)
+           (unless ok
+             (spec-fail 'type-error-in-spec form "initial value ~A of boolean ~A is not true, false, t or nil"
+                        (lisp-text initial) (lisp-text name)))
+           (setf (var-kind var) :boolean (var-domain var) (vector nil t)
+                 (var-initial var) (if truth 1 0))))
+        ((:integer :string)
+         (if values-p
+             (setf (var-kind var) :enumerated
+                   (var-domain var) (parse-domain values type form)
+                   (var-initial var) (initial-index var initial form))
+             (if (eq type :string)
+                 (spec-fail 'spec-syntax-error form "a string variable needs a VALUES list")
+                 (setf (var-kind var) :number
+                       (var-initial var) (check-number initial 'integer form name)))))
+        (:float
+         (when values-p
+           (spec-fail 'spec-syntax-error form "a float variable cannot be enumerated; use integer or string values"))
+         (setf (var-kind var) :number
+               (var-initial var) (to-double (check-number initial 'real form name)))))
+      var)))
+
+(defun check-number (value type form name)
+  "VALUE if it is of TYPE, else a type error naming variable NAME."
+  (unless (typep value type)
+    (spec-fail 'type-error-in-spec form "initial value ~A of ~A is not ~:[a number~;an integer~]"
+               (lisp-text value) (lisp-text name) (eq type 'integer)))
+  value)
+
+(defun parse-domain (values type form)
+  "The domain vector of an enumerated variable, checked for type and duplicates."
+  (dolist (value values)
+    (unless (if (eq type :integer)
+                (integerp value)
+                (or (stringp value) (and (symbolp value) value (not (keywordp value)))))
+      (spec-fail 'type-error-in-spec form "value ~A is not ~:[a name~;an integer~]"
+                 (lisp-text value) (eq type :integer))))
+  (let ((names (mapcar (lambda (v) (string-upcase (value-name v))) values)))
+    (when (/= (length names) (length (remove-duplicates names :test #'string=)))
+      (spec-fail 'duplicate-definition form "VALUES lists a value twice")))
+  (coerce values 'simple-vector))
+
+(defun initial-index (var initial form)
+  "The domain index of enumerated VAR's INITIAL value."
+  (when (and (eq (var-type var) :integer) (not (integerp initial)))
+    (spec-fail 'type-error-in-spec form "initial value ~A of ~A is not an integer"
+               (lisp-text initial) (lisp-text (var-name var))))
+  (value-index var initial form))
+
+(defun parse-time-variable (form)
+  "Parse (time-variable NAME (EVENT...))."
+  (unless (and (= (length form) 3) (proper-list-p (unquote (third form))))
+    (spec-fail 'spec-syntax-error form "expected (time-variable NAME (EVENT...))"))
+  (make-variable-def :name (require-name (second form) form "a variable name")
+                     :type :time :kind :time :initial nil
+                     :events (mapcar (lambda (e) (require-name e form "an event name"))
+                                     (unquote (third form)))
+                     :form form))
+
+(defun declare-class (form)
+  "Register (state-class NAME (STATE...)); its elements are parsed in pass 2."
+  (unless (= (length form) 3)
+    (spec-fail 'spec-syntax-error form "expected (state-class NAME (STATE...))"))
+  (let ((name (require-name (second form) form "a class name")))
+    (check-new-expression-name name form)
+    (setf (gethash (name-key name) (spec-classes *spec*))
+          (make-class-def :name name :form form))))
+
+(defun find-op-named (name)
+  "The op or macro-op of *SPEC* named NAME, or NIL."
+  (and (symbolp name)
+       (find (name-key name) (spec-ops *spec*) :key (lambda (op) (name-key (op-name op)))
+                                               :test #'string=)))
+
+(defun find-event-named (name)
+  "The event of *SPEC* named NAME, or NIL."
+  (and (symbolp name)
+       (find (name-key name) (spec-events *spec*) :key (lambda (e) (name-key (event-name e)))
+                                                  :test #'string=)))
+
+(defun declare-op (form)
+  "Register an op or macro-op by name."
+  (unless (cdr form)
+    (spec-fail 'spec-syntax-error form "expected (~A NAME ...)" (lisp-text (first form))))
+  (let ((name (require-name (second form) form "an op name")))
+    (when (find-op-named name)
+      (spec-fail 'duplicate-definition form "op ~A is defined twice" (lisp-text name)))
+    (setf (spec-ops *spec*)
+          (append (spec-ops *spec*)
+                  (list (make-op-def :name name :script name :form form
+                                     :kind (if (eq (form-kind form) :macro-op) :macro :script)))))))
+
+(defun declare-event (form)
+  "Register an event by name."
+  (unless (cdr form)
+    (spec-fail 'spec-syntax-error form "expected (event NAME DIRECTIVE...)"))
+  (let ((name (require-name (second form) form "an event name")))
+    (when (find-event-named name)
+      (spec-fail 'duplicate-definition form "event ~A is defined twice" (lisp-text name)))
+    (setf (spec-events *spec*)
+          (append (spec-events *spec*) (list (make-event-def :name name :form form))))))
+
+(defun assign-layout (spec)
+  "Give each plannable variable its one-hot bit field and each runtime variable its slot."
+  (let ((bit 0) (slot 0))
+    (dolist (var (spec-variables spec))
+      (if (plannable-p var)
+          (setf (var-bit-offset var) bit
+                bit (+ bit (var-domain-size var)))
+          (setf (var-slot var) slot
+                slot (1+ slot))))
+    (setf (spec-bit-count spec) bit)))
+
+;;; Pass 2: bodies
+
+(defun define-form (form)
+  "Parse the body of FORM into the structure pass 1 registered."
+  (ecase (form-kind form)
+    ((:state-variable :time-variable))
+    (:state-class (define-class form))
+    (:op (define-op form))
+    (:macro-op (define-macro-op form))
+    (:autoscript (define-autoscript form))
+    (:event (define-event form))))
+
+(defun expression-form-p (list)
+  "True when LIST reads as one expression rather than a list of elements."
+  (or (word-p (first list) "NOT" "AND" "OR")
+      (and (cddr list) (word-p (second list) "AND" "OR"))))
+
+(defun define-class (form)
+  "Parse a state class's elements."
+  (let ((class (find-class-named (second form)))
+        (states (unquote (third form))))
+    (setf (state-class-elements class)
+          (mapcar #'parse-expression
+                  (cond ((not (listp states)) (list states))
+                        ((not (proper-list-p states))
+                         (spec-fail 'spec-syntax-error form "STATES must be a list"))
+                        ((expression-form-p states) (list states))
+                        (t states))))))
+
+(defun literal-list (lits)
+  "LITS (one literal or a list of them) as a list."
+  (if (and (listp lits) (not (expression-form-p lits))) lits (list lits)))
+
+(defun parse-effect (lit addp form)
+  "Parse one :ADD (ADDP true) or :SUB literal of an op: (VARIABLE-DEF . VALUE-INDEX)."
+  (let ((lit (unquote lit)))
+    (unless (and (symbolp lit) lit)
+      (spec-fail 'spec-syntax-error form "~:[:sub~;:add~] takes a boolean variable or var.value, not ~A"
+                 addp (lisp-text lit)))
+    (let ((ast (handler-case (parse-expression lit)
+                 (goal-error ()
+                   (spec-fail 'effect-error form "ops cannot change runtime-only variable ~A; use :add (~A N) in an event"
+                              (lisp-text lit) (lisp-text lit))))))
+      (unless (eq (first ast) :lit)
+        (spec-fail 'effect-error form "~A is not a variable literal" (lisp-text lit)))
+      (destructuring-bind (var index) (rest ast)
+        (cond (addp (cons var index))
+              ((eq (var-kind var) :enumerated)
+               (spec-fail 'effect-error form ":sub cannot be used on enumerated variable ~A; :add ~A.VALUE instead"
+                          (lisp-text (var-name var)) (lisp-text (var-name var))))
+              ((word-p lit (symbol-name (var-name var))) (cons var 0))
+              (t (spec-fail 'effect-error form ":sub takes a bare boolean variable, not ~A"
+                            (lisp-text lit))))))))
+
+(defun parse-effects (options form)
+  "The merged :ADD and :SUB effects of an op; contradictions are errors."
+  (let ((effects (append (mapcar (lambda (l) (parse-effect l t form))
+                                 (literal-list (getf options :add)))
+                         (mapcar (lambda (l) (parse-effect l nil form))
+                                 (literal-list (getf options :sub))))))
+    (loop for ((var . index) . rest) on effects
+          for clash = (find var rest :key #'car)
+          when (and clash (/= index (cdr clash)))
+            do (spec-fail 'effect-error form "contradictory effects: ~A is set to both ~A and ~A"
+                          (lisp-text (var-name var))
+                          (lisp-text (aref (var-domain var) index))
+                          (lisp-text (aref (var-domain var) (cdr clash)))))
+    (remove-duplicates effects :test #'equal)))
+
+(defun parse-precondition (options form)
+  "The parsed :PRECOND of OPTIONS, or NIL when absent."
+  (declare (ignore form))
+  (when (member :precond options)
+    (parse-expression (getf options :precond))))
+
+(defun define-op (form)
+  "Parse (op NAME [:script S | :director D | :code FORM] ...)."
+  (let* ((op (find-op-named (second form)))
+         (options (parse-options form (cddr form)
+                                 '(:script :director :code :precond :add :sub :must-ask
+                                   :duration :c++))))
+    (when (> (count-if (lambda (k) (member k options)) '(:script :director :code)) 1)
+      (spec-fail 'spec-syntax-error form "give only one of :script, :director and :code"))
+    (cond ((member :director options)
+           (setf (op-kind op) :director
+                 (op-director op) (require-name (getf options :director) form "a director name")))
+          ((member :code options)
+           (setf (op-kind op) :code (op-code op) (getf options :code)))
+          ((member :script options)
+           (setf (op-script op) (require-name (getf options :script) form "a script name"))))
+    (setf (op-precond-form op) (getf options :precond)
+          (op-precond op) (parse-precondition options form)
+          (op-effects op) (parse-effects options form)
+          (op-must-ask op) (parse-flag (getf options :must-ask) form)
+          (op-duration op) (parse-duration options form)
+          (op-c++ op) (parse-c++ (getf options :c++) form))))
+
+(defun parse-flag (value form)
+  "A boolean option's value."
+  (multiple-value-bind (truth ok) (boolean-word value)
+    (unless ok
+      (spec-fail 'type-error-in-spec form "~A is not true or false" (lisp-text value)))
+    truth))
+
+(defun parse-duration (options form)
+  "The :DURATION of OPTIONS in seconds (default 1)."
+  (let ((duration (getf options :duration 1)))
+    (unless (and (realp duration) (>= duration 0))
+      (spec-fail 'type-error-in-spec form ":duration must be a non-negative number of seconds"))
+    (to-double duration)))
+
+(defun parse-c++ (text form)
+  "A :C++ option's text, which must be a string."
+  (unless (or (null text) (stringp text))
+    (spec-fail 'type-error-in-spec form ":c++ takes a string of C++ code"))
+  text)
+
+(defun define-macro-op (form)
+  "Parse (macro-op NAME :precond EXPR [:add LITS] [:sub LITS] :seq (DIRECTIVE...))."
+  (let ((op (find-op-named (second form)))
+        (options (parse-options form (cddr form) '(:precond :add :sub :seq :c++))))
+    (dolist (key '(:precond :seq))
+      (unless (member key options)
+        (spec-fail 'spec-syntax-error form "a macro-op needs ~A" (lisp-text key))))
+    (let ((seq (getf options :seq)))
+      (unless (and (proper-list-p seq) seq)
+        (spec-fail 'spec-syntax-error form ":seq must be a non-empty list of directives"))
+      (setf (op-precond-form op) (getf options :precond)
+            (op-precond op) (parse-precondition options form)
+            (op-effects op) (parse-effects options form)
+            (op-c++ op) (parse-c++ (getf options :c++) form)
+            (op-seq op) (parse-directives seq form :allowed '(:op :label :time))))))
+
+(defun define-autoscript (form)
+  "Parse (autoscript VAR VALUE (PROC...))."
+  (unless (= (length form) 4)
+    (spec-fail 'spec-syntax-error form "expected (autoscript VARIABLE VALUE (PROC...))"))
+  (destructuring-bind (var-name value procs) (mapcar #'unquote (rest form))
+    (let ((var (and (symbolp var-name) (find-variable-named var-name))))
+      (unless var
+        (spec-fail 'unknown-name-error form "unknown variable ~A" (lisp-text var-name)))
+      (when (eq (var-kind var) :time)
+        (spec-fail 'type-error-in-spec form "autoscripts cannot watch time variable ~A"
+                   (lisp-text var-name)))
+      (unless (and (proper-list-p procs) procs)
+        (spec-fail 'spec-syntax-error form "PROCs must be a non-empty list of names"))
+      (setf (spec-autoscripts *spec*)
+            (append (spec-autoscripts *spec*)
+                    (list (make-autoscript-def
+                           :variable var
+                           :value-index (if (plannable-p var)
+                                            (value-index var value form)
+                                            (runtime-number var value form))
+                           :procs (mapcar (lambda (p) (require-name p form "a procedure name")) procs)
+                           :form form)))))))
+
+(defun runtime-number (var value form)
+  "VALUE as a value of number variable VAR: an integer, or a double for floats."
+  (cond ((and (eq (var-type var) :integer) (integerp value)) value)
+        ((and (eq (var-type var) :float) (realp value)) (to-double value))
+        (t (spec-fail 'type-error-in-spec form "~A is not ~:[a number~;an integer~] for ~A"
+                      (lisp-text value) (eq (var-type var) :integer) (lisp-text (var-name var))))))
+
+(defun define-event (form)
+  "Parse (event NAME DIRECTIVE...)."
+  (setf (event-directives (find-event-named (second form)))
+        (parse-directives (cddr form) form)))
