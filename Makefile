@@ -1,0 +1,31 @@
+# Player -- the two commands a newcomer needs: `make demo` and `make test`.
+SBCL ?= sbcl
+LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
+       --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)'
+DEBIAN_PACKAGES = sbcl cl-alexandria cl-fiveam
+
+.PHONY: demo test bench deps check-deps
+
+# Install the Debian packages Player needs, when some are missing.
+deps:
+	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+	  dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:$$missing"; \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=""; else SUDO=sudo; fi; \
+	  $$SUDO apt-get update -q && $$SUDO apt-get install -y -q $$missing; \
+	fi
+
+# Peedy's scenario from the papers: asleep; ev-search; ev-search; ev-bad-speech; ev-thanks.
+demo: deps
+	bin/player run specs/peedy.lisp --initial alert=snore,posture=sit \
+	  --events ev-search,ev-search,ev-bad-speech,ev-thanks
+
+test: deps
+	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
+	  --eval '(asdf:test-system "player")' \
+	  --eval '(sb-ext:exit :code (if (symbol-value (find-symbol "*LAST-RUN-FAILED*" "PLAYER-TESTS")) 1 0))'
+
+bench: deps
+	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
+	  --load bench/run.lisp --eval '(player-bench:run-benchmarks)'

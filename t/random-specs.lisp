@@ -1,0 +1,3 @@
+;;;; random-specs.lisp
+
+(in-package #:player-tests)

@@ -1,0 +1,3 @@
+;;;; reference-bfs.lisp
+
+(in-package #:player-tests)

@@ -1,0 +1,3 @@
+;;;; test-cli.lisp
+
+(in-package #:player-tests)

@@ -1,0 +1,3 @@
+;;;; test-controller.lisp
+
+(in-package #:player-tests)

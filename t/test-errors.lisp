@@ -1,0 +1,3 @@
+;;;; test-errors.lisp
+
+(in-package #:player-tests)

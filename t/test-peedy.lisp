@@ -1,0 +1,3 @@
+;;;; test-peedy.lisp
+
+(in-package #:player-tests)

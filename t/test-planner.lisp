@@ -1,0 +1,3 @@
+;;;; test-planner.lisp
+
+(in-package #:player-tests)

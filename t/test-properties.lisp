@@ -1,0 +1,3 @@
+;;;; test-properties.lisp
+
+(in-package #:player-tests)
