@@ -230,7 +230,7 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
 
 (defun define-class (form)
   "Parse a state class's elements."
-  (let ((class (find-class-named (second form)))
+  (let ((class (find-class-named (unquote (second form))))
         (states (unquote (third form))))
     (setf (state-class-elements class)
           (mapcar #'parse-expression
@@ -288,7 +288,7 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
 
 (defun define-op (form)
   "Parse (op NAME [:script S | :director D | :code FORM] ...)."
-  (let* ((op (find-op-named (second form)))
+  (let* ((op (find-op-named (unquote (second form))))
          (options (parse-options form (cddr form)
                                  '(:script :director :code :precond :add :sub :must-ask
                                    :duration :c++))))
@@ -330,7 +330,7 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
 
 (defun define-macro-op (form)
   "Parse (macro-op NAME :precond EXPR [:add LITS] [:sub LITS] :seq (DIRECTIVE...))."
-  (let ((op (find-op-named (second form)))
+  (let ((op (find-op-named (unquote (second form))))
         (options (parse-options form (cddr form) '(:precond :add :sub :seq :c++))))
     (dolist (key '(:precond :seq))
       (unless (member key options)
@@ -376,5 +376,5 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
 
 (defun define-event (form)
   "Parse (event NAME DIRECTIVE...)."
-  (setf (event-directives (find-event-named (second form)))
+  (setf (event-directives (find-event-named (unquote (second form))))
         (parse-directives (cddr form) form)))
