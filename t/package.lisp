@@ -32,7 +32,7 @@
 
 (defmacro with-spec ((var name &rest body-forms) &body body)
   "Define a throwaway spec NAME from BODY-FORMS, bind VAR to it, run BODY, forget it."
-  `(let ((,var (define-spec ',name ',body-forms :package (find-package '#:player-user))))
+  `(let ((,var (define-spec ',name ',body-forms :package (find-package '#:player-tests))))
      (unwind-protect (progn ,@body)
        (remove-spec ',name))))
 
