@@ -83,7 +83,8 @@
    (known :initarg :known :initform nil :reader unknown-event-known))
   (:report (lambda (condition stream)
              (format stream "unknown event ~A~@[ (known events: ~{~A~^, ~})~]"
-                     (lisp-text (unknown-event-name condition))
+                     (let ((name (unknown-event-name condition)))
+                       (if (stringp name) name (lisp-text name)))
                      (mapcar #'lisp-text (unknown-event-known condition)))))
   (:documentation "SEND-EVENT was given an event the controller's spec does not define."))
 
