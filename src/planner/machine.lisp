@@ -19,6 +19,8 @@
   ;; Event name key -> compiled event (backend's).
   (events (make-hash-table :test 'equal))
   ;; Fields of plannable variables some autoscript watches.
+  ;; event symbol -> compiled event, filled as events are sent
+  (event-symbols (make-hash-table :test 'eq :synchronized t))
   (autoscript-mask 0 :type integer)
   (compile-seconds 0d0 :type double-float))
 

@@ -67,11 +67,18 @@ outside its domain."
     (mapcar #'event-name (spec-events (machine-spec machine)))))
 
 (defun find-compiled-event (controller name)
-  "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none."
-  (or (and (or (symbolp name) (stringp name))
-           (gethash (if (stringp name) (string-upcase name) (name-key name))
-                    (machine-events (controller-machine controller))))
-      (error 'unknown-event :name name :known (event-names controller))))
+  "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none.
+Symbols are remembered in an EQ table so the usual lookup allocates nothing."
+  (let ((machine (controller-machine controller)))
+    (or (and (symbolp name) (gethash name (machine-event-symbols machine)))
+        (let ((compiled (and (or (symbolp name) (stringp name))
+                             (gethash (if (stringp name) (string-upcase name) (name-key name))
+                                      (machine-events machine)))))
+          (cond ((null compiled)
+                 (error 'unknown-event :name name :known (event-names controller)))
+                ((symbolp name)
+                 (setf (gethash name (machine-event-symbols machine)) compiled))
+                (t compiled))))))
 
 (defun send-event (controller event &key at)
   "Process EVENT (a symbol or string) on CONTROLLER, starting at time AT
