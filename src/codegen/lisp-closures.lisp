@@ -136,8 +136,12 @@ made along the way are internal to the macro)."
                 result)))))))
 
 (defun compile-code (form)
-  "FORM compiled into a function of no arguments."
-  (compile nil `(lambda () ,form)))
+  "A function of no arguments evaluating FORM. FORM is compiled the first time
+it runs, so machines with :code compile as fast as those without."
+  (let ((function nil))
+    (lambda ()
+      (funcall (or function
+                   (setf function (compile nil `(lambda () ,form))))))))
 
 ;;; Steps
 
