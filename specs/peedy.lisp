@@ -114,7 +114,7 @@
   ;;; Operators: camera moves (no state, only when an event asks)
 
   (op camhello :must-ask true :duration 1.5)            ; push in for a close-up
-  (op camgoodbye :must-ask true :duration 2)            ; pull back to the goodbye shot
+  (op camgoodbye :must-ask true :duration 1.5)           ; pull back to the goodbye shot
   (op camwide :must-ask true :duration 2)               ; the whole room
 
   ;;; Autoscripts

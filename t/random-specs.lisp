@@ -18,11 +18,14 @@
 ;;;; Everything random comes from RS-PRNG, a 64-bit LCG seeded explicitly, so a
 ;;;; seed names the same spec on every Lisp and every run.
 ;;;;
-;;;; Reuse: build extra events yourself and push them onto (MODEL-EVENTS MODEL);
-;;;; a directive that is not (:state AST) or (:op NAME) is rendered verbatim
-;;;; (e.g. (:label l1), (:time 2), (:if FORM), (:add FORM)), then call
-;;;; MODEL-SPEC-FORMS to render the model again. RENDER-EXPRESSION and
-;;;; RENDER-LITERAL turn model ASTs and effects into spec syntax.
+;;;; Reuse: pass RANDOM-SPEC an :EVENT-GENERATOR, a function of (PRNG MODEL)
+;;;; returning more MODEL-EVENTs (drawn from the same seeded PRNG, so they are
+;;;; deterministic too). Event directives are data: (:state AST), (:op NAME),
+;;;; (:assign VAR-INDEX VALUE-INDEX) for :add/:sub, (:if AST DIRECTIVE...), and
+;;;; anything else as (KEY ARGUMENT) verbatim, e.g. (:label l1) or (:time 2).
+;;;; MODEL-SPEC-FORMS renders a (possibly edited) model again; RANDOM-EXPRESSION,
+;;;; RANDOM-CONDITION and RANDOM-EFFECTS make random pieces, RENDER-EXPRESSION
+;;;; and RENDER-LITERAL turn model ASTs and effects into spec syntax.
 
 (in-package #:player-tests)
 
@@ -35,18 +38,18 @@
 (defparameter *rs-lcg-multiplier* 6364136223846793005)
 (defparameter *rs-lcg-increment* 1442695040888963407)
 
-(defun make-rs-prng (seed)
-  "A generator whose whole output is determined by the integer SEED."
-  (let ((prng (%make-rs-prng (ldb (byte 64 0) (logxor seed #x9E3779B97F4A7C15)))))
-    (dotimes (i 4) (rs-next prng))      ; mix small seeds
-    prng))
-
 (defun rs-next (prng)
   "The next 31-bit output of PRNG (the high bits of the LCG state)."
   (let ((state (ldb (byte 64 0) (+ (* (rs-prng-state prng) *rs-lcg-multiplier*)
                                    *rs-lcg-increment*))))
     (setf (rs-prng-state prng) state)
     (ldb (byte 31 33) state)))
+
+(defun make-rs-prng (seed)
+  "A generator whose whole output is determined by the integer SEED."
+  (let ((prng (%make-rs-prng (ldb (byte 64 0) (logxor seed #x9E3779B97F4A7C15)))))
+    (loop repeat 4 do (rs-next prng))      ; mix small seeds
+    prng))
 
 (defun rs-below (prng n)
   "A pseudo-random integer in [0, N)."
@@ -101,8 +104,9 @@
   (seq '()))
 
 (defstruct (model-event (:conc-name mevent-))
-  "An event of a model: a name and directives, each (:state AST), (:op NAME),
-or any other (KEY ARGUMENT) rendered verbatim."
+  "An event of a model: a name and directives (see RENDER-DIRECTIVE): (:state
+AST), (:op NAME), (:assign VAR-INDEX VALUE-INDEX), (:if AST DIRECTIVE...), or
+any other (KEY ARGUMENT), rendered verbatim."
   (name nil :type symbol)
   (directives '()))
 
@@ -193,11 +197,23 @@ or any other (KEY ARGUMENT) rendered verbatim."
                      (when (mop-must-ask op) (list :must-ask (rs-symbol "true")))))))
 
 (defun render-directive (model directive)
-  "One model directive as the KEY ARGUMENT pair of an event form."
-  (destructuring-bind (key argument) directive
-    (case key
-      (:state (list :state (render-expression model argument)))
-      (t (list key argument)))))
+  "One model directive as the KEY ARGUMENT pair of an event form:
+  (:state AST)          -> :state EXPR
+  (:op NAME)            -> :op NAME
+  (:assign I K)         -> :add LITERAL, or :sub V for a boolean set to false
+  (:if AST DIRECTIVE...) -> :if (EXPR KEY ARGUMENT ...)
+  (KEY ARGUMENT)        -> KEY ARGUMENT verbatim (:label, :time, :code, ...)."
+  (case (first directive)
+    (:state (list :state (render-expression model (second directive))))
+    (:assign (destructuring-bind (i k) (rest directive)
+               (if (and (eq (mvar-kind (svref (model-variables model) i)) :boolean) (= k 0))
+                   (list :sub (render-literal model i k))
+                   (list :add (render-literal model i k)))))
+    (:if (list :if (cons (render-expression model (second directive))
+                         (loop for inner in (cddr directive)
+                               append (render-directive model inner)))))
+    (t (destructuring-bind (key argument) directive
+         (list key argument)))))
 
 (defun render-event (model event)
   "The event form of model event EVENT."
@@ -297,7 +313,7 @@ values ENUM-VALUES; enumerated ones turn boolean until at most MAX-STATES states
                               op-count (precondition-probability 0.75)
                               (must-ask-probability 0.15) (no-effect-probability 0.04)
                               macro-count goal-count op-event-count
-                              (max-depth nil max-depth-p))
+                              (max-depth nil max-depth-p) event-generator)
   "A random spec for SEED. Returns (VALUES FORMS MODEL): the DEFINE-SPEC body
 and its plain-data SPEC-MODEL.
 
@@ -309,7 +325,9 @@ MUST-ASK-PROBABILITY; MACRO-COUNT macro-ops M0... whose :seq runs helper ops
 S0... that have no precondition (so a macro can never fail halfway); GOAL-COUNT
 events G0... of one (:state GOAL) each; OP-EVENT-COUNT events DO-X of one
 (:op X) each, preferring must-ask ops and macros. Unless MAX-DEPTH is given, it
-is usually 30 and sometimes 0..3. Everything not given is drawn from the seed."
+is usually 30 and sometimes 0..3. Everything not given is drawn from the seed.
+EVENT-GENERATOR, when given, is called last with the PRNG and the model and
+returns MODEL-EVENTs to append (see RENDER-DIRECTIVE for their directives)."
   (let* ((prng (make-rs-prng seed))
          (model (make-spec-model
                  :name name :seed seed
@@ -364,4 +382,7 @@ is usually 30 and sometimes 0..3. Everything not given is drawn from the seed."
                     (loop for op in requested
                           collect (make-model-event :name (rs-symbol "do-~A" (mop-name op))
                                                     :directives `((:op ,(mop-name op))))))))
+    (when event-generator
+      (setf (model-events model)
+            (append (model-events model) (funcall event-generator prng model))))
     (values (model-spec-forms model) model)))

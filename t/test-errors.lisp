@@ -54,6 +54,10 @@
     (state-variable posture string sit (sit stand)) (event e :state posture.run))
   (check-spec-error domain-error "jump is not a value of posture"
     (state-variable posture string jump (sit stand)))
+  (check-spec-error domain-error "zorblax is not a value of flag"
+    (state-variable flag boolean true) (event e :state flag.zorblax))
+  (check-spec-error domain-error "zorblax is not a value of flag"
+    (state-variable flag boolean true) (op lower :add flag.zorblax))
   (check-spec-error type-error-in-spec "initial value 3 of boolean x is not true, false"
     (state-variable x boolean 3))
   (check-spec-error type-error-in-spec "is not an integer"
