@@ -7,7 +7,7 @@ preconditions and effects, precompile plans from every state to every goal, and
 run the resulting state machine as Lisp closures."
   :version "0.1.0"
   :license "MIT"
-  :depends-on ("alexandria")
+  :depends-on ("alexandria" "sb-md5")
   :serial t
   :components
   ((:module "src"
@@ -46,6 +46,13 @@ run the resulting state machine as Lisp closures."
      (:module "runtime"
       :serial t
       :components ((:file "controller")))
+     (:module "codegen-c++"
+      :pathname "codegen"
+      :serial t
+      :components ((:file "cpp-names")
+                   (:file "cpp")
+                   (:file "cpp-source")
+                   (:file "cpp-build")))
      (:file "cli"))))
   :in-order-to ((test-op (test-op "player/tests"))))
 

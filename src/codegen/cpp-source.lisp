@@ -1,0 +1,412 @@
+;;;; cpp-source.lisp -- the C++ backend's .cpp: procedures for goals, ops, events.
+
+(in-package #:player)
+
+(defun op-index (op machine) (position op (spec-ops-of machine)))
+
+(defun field-index-expression (var bits)
+  "C++ for the value index of plannable VAR in the one-hot BITS expression."
+  (format nil "field_index(~A, ~D, ~D)" bits (var-bit-offset var) (var-domain-size var)))
+
+(defun emit-source (machine name namespace)
+  "The .cpp: helpers, tables, and every procedure."
+  (let ((spec (machine-spec machine)))
+    (emit-banner machine (format nil "~A.cpp" name))
+    (emit "#include \"~A.hpp\"~%~%#include <cmath>~%#include <cstdlib>~%#include <string>~%" name)
+    (emit "namespace ~A {~%namespace {~%" namespace)
+    (emit "// Times print as Player's Lisp side prints them: rounded to the microsecond,
+// integral values without a fraction, trailing zeros dropped.
+[[maybe_unused]] std::string format_number(double x) {
+  const long long micros = static_cast<long long>(std::floor(x * 1e6 + 0.5));
+  const long long magnitude = micros < 0 ? -micros : micros;
+  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(magnitude / 1000000);
+  long long fraction = magnitude % 1000000;
+  if (fraction == 0) return text;
+  std::string digits = std::to_string(fraction);
+  digits = std::string(6 - digits.size(), '0') + digits;
+  while (digits.back() == '0') digits.pop_back();
+  return text + \".\" + digits;
+}
+
+[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
+  for (int i = 0; i < size; ++i)
+    if (bits >> (offset + i) & 1u) return i;
+  return -1;
+}
+")
+    (dolist (var (plannable-vars machine))
+      (when (and (eq (var-kind var) :enumerated) (every #'integerp (var-domain var)))
+        (emit "[[maybe_unused]] const long long kValues_~A[] = {~{~D~^, ~}};" (var-id var)
+              (coerce (var-domain var) 'list))))
+    (emit "[[maybe_unused]] const Op kOps[] = {")
+    (dolist (op (spec-ops spec))
+      (emit "  {~A, ~A, ~A, ~A},  // ~A" (c++-string (lisp-text (op-name op)))
+            (c++-string (string-downcase (symbol-name (op-kind op))))
+            (c++-string (lisp-text (case (op-kind op)
+                                     (:director (op-director op))
+                                     ((:script :macro) (op-script op))
+                                     (t (op-name op)))))
+            (c++-double (op-duration op)) (op-id op)))
+    (when (null (spec-ops spec)) (emit "  {\"\", \"script\", \"\", 0.0}"))
+    (emit "};~%~%const char* const kEventNames[] = {~{~A, ~}nullptr};~%"
+          (mapcar (lambda (e) (c++-string (lisp-text (event-name e)))) (spec-events spec)))
+    (emit "}  // namespace~%")
+    (emit "const char* event_name(Event e) { return kEventNames[static_cast<int>(e)]; }~%")
+    (emit "bool find_event(const std::string& name, Event& out) {")
+    (emit "  for (int i = 0; i < event_count; ++i)")
+    (emit "    if (name == kEventNames[i]) { out = static_cast<Event>(i); return true; }")
+    (emit "  return false;~%}~%")
+    (emit-initial-state machine)
+    (emit-assign machine)
+    (emit-controller-basics machine)
+    (emit-transition machine)
+    (loop for goal across (machine-goal-table machine) do (emit-achiever goal machine))
+    (dolist (op (spec-ops spec)) (emit-executor op machine))
+    (dolist (event (spec-events spec)) (emit-event event machine))
+    (emit "}  // namespace ~A" namespace)))
+
+(defun emit-initial-state (machine)
+  "initial_state(): the declared initial values."
+  (emit "State initial_state() {~%  State s;")
+  (emit "  s.bits = ~A;" (c++-hex (machine-initial-state machine)))
+  (dolist (var (runtime-vars machine))
+    (emit "  s.~A = ~A;" (var-id var)
+          (if (eq (var-kind var) :time)
+              "std::nan(\"\")"
+              (if (integerp (var-initial var))
+                  (format nil "~D" (var-initial var))
+                  (c++-double (var-initial var))))))
+  (emit "  return s;~%}~%"))
+
+(defun emit-assign (machine)
+  "assign(): set one variable from its printed name and value."
+  (emit "bool assign(State& s, const std::string& variable, const std::string& value) {")
+  (dolist (var (spec-variables (machine-spec machine)))
+    (emit "  if (variable == ~A) {" (c++-string (lisp-text (var-name var))))
+    (if (plannable-p var)
+        (progn
+          (loop for i below (var-domain-size var)
+                for texts = (if (eq (var-kind var) :boolean)
+                                (if (= i 1) '("t" "true") '("nil" "false"))
+                                (list (value-text var i)))
+                do (emit "    if (~{value == ~A~^ || ~}) { s.bits = (s.bits & ~~~A) | ~A; return true; }"
+                         (mapcar #'c++-string texts) (c++-hex (var-field-mask var))
+                         (c++-hex (var-value-bit var i))))
+          (emit "    return false;"))
+        (emit "    char* end = nullptr;~%    const ~A v = std::~A(value.c_str(), &end~A);~%    if (end == value.c_str() || *end != 0) return false;~%    s.~A = v;~%    return true;"
+              (runtime-c++-type var)
+              (if (string= (runtime-c++-type var) "long long") "strtoll" "strtod")
+              (if (string= (runtime-c++-type var) "long long") ", 10" "")
+              (var-id var)))
+    (emit "  }"))
+  (emit "  return false;~%}~%"))
+
+(defun emit-controller-basics (machine)
+  "Constructor, send, accessors and state_line."
+  (let ((spec (machine-spec machine)))
+    (emit "Controller::Controller(Presenter& presenter, const State& state, double clock)")
+    (emit "    : presenter_(presenter), state_(state), clock_(clock) {")
+    (emit "  start_initial_autoscripts(clock);~%}~%")
+    (emit "bool Controller::send(Event e) { return send_at(e, clock_); }~%")
+    (emit "bool Controller::send_at(Event e, double at) {")
+    (emit "  schedule_ = span_start_ = span_end_ = at;")
+    (emit "  failed_goal_ = \"\";")
+    (emit "  presenter_.event_start(event_name(e), at);")
+    (emit "  int result = 1;")
+    (emit "  switch (e) {")
+    (dolist (event (spec-events spec))
+      (emit "    case Event::~A:" (event-enum event))
+      (dolist (var (event-time-variables event))
+        (emit "      state_.~A = at;" (var-id var)))
+      (emit "      result = ~A();~%      break;" (event-id event)))
+    (emit "  }")
+    (emit "  if (result != 1) presenter_.event_failed(event_name(e), failed_goal_, schedule_);")
+    (emit "  clock_ = span_end_;")
+    (emit "  presenter_.event_end(*this);")
+    (emit "  return result == 1;~%}~%")
+    (dolist (var (spec-variables spec))
+      (let ((getter (id (cons :get var) (var-name var))))
+        (ecase (var-kind var)
+          (:boolean (emit "bool Controller::~A() const { return (state_.bits & ~A) != 0; }"
+                          getter (c++-hex (var-value-bit var 1))))
+          (:enumerated (emit "~A Controller::~A() const { return static_cast<~A>(~A); }"
+                             (enum-type var) getter (enum-type var)
+                             (field-index-expression var "state_.bits")))
+          ((:number :time) (emit "~A Controller::~A() const { return state_.~A; }"
+                                 (accessor-type var) getter (var-id var))))))
+    (emit "~%std::string Controller::state_line() const {~%  std::string line = \"(:state\";")
+    (dolist (var (spec-variables spec))
+      (emit "  line += ~A;" (c++-string (format nil " (~A . " (lisp-text (var-name var)))))
+      (ecase (var-kind var)
+        ((:boolean :enumerated)
+         (emit "  switch (~A) {" (field-index-expression var "state_.bits"))
+         (loop for i below (var-domain-size var)
+               do (emit "    case ~D: line += ~A; break;" i (c++-string (value-text var i))))
+         (emit "    default: break;~%  }"))
+        (:number (if (eq (var-type var) :integer)
+                     (emit "  line += std::to_string(state_.~A);" (var-id var))
+                     (emit "  line += format_number(state_.~A);" (var-id var))))
+        (:time (emit "  line += std::isnan(state_.~A) ? std::string(\"nil\") : format_number(state_.~A);"
+                     (var-id var) (var-id var))))
+      (emit "  line += \")\";"))
+    (emit "  return line + \")\";~%}~%")))
+
+(defun autoscript-calls (machine var function-name value-expression)
+  "C++ lines calling FUNCTION-NAME for VAR's autoscripts whose value equals VALUE-EXPRESSION."
+  (loop for auto in (spec-autoscripts (machine-spec machine))
+        when (eq (autoscript-variable auto) var)
+          append (loop for proc in (autoscript-procs auto)
+                       collect (format nil "if (~A == ~A) presenter_.~A(~A, ~A, ~A, time);"
+                                       value-expression
+                                       (let ((v (autoscript-value-index auto)))
+                                         (if (realp v)
+                                             (if (integerp v) (format nil "~D" v) (c++-double v))
+                                             (format nil "~D" v)))
+                                       function-name
+                                       (c++-string (lisp-text proc))
+                                       (c++-string (lisp-text (var-name var)))
+                                       (c++-string (lisp-text (autoscript-value auto)))))))
+
+(defun watched-vars (machine)
+  "Variables some autoscript watches, in declaration order."
+  (let ((watched (mapcar #'autoscript-variable (spec-autoscripts (machine-spec machine)))))
+    (remove-if-not (lambda (var) (member var watched)) (spec-variables (machine-spec machine)))))
+
+(defun emit-transition (machine)
+  "transition(), number setters and the initial autoscripts."
+  (emit "void Controller::transition(std::uint64_t next, double time) {")
+  (emit "  const std::uint64_t before = state_.bits;")
+  (emit "  state_.bits = next;")
+  (emit "  const std::uint64_t changed = (before ^ next) & ~A;" (c++-hex (machine-autoscript-mask machine)))
+  (emit "  if (changed == 0) return;")
+  (dolist (var (watched-vars machine))
+    (when (plannable-p var)
+      (emit "  if (changed & ~A) {" (c++-hex (var-field-mask var)))
+      (emit "    const int old_value = ~A;" (field-index-expression var "before"))
+      (emit "    const int new_value = ~A;" (field-index-expression var "next"))
+      (dolist (line (autoscript-calls machine var "stop_autoscript" "old_value")) (emit "    ~A" line))
+      (dolist (line (autoscript-calls machine var "start_autoscript" "new_value")) (emit "    ~A" line))
+      (emit "  }")))
+  (emit "}~%")
+  (dolist (var (runtime-vars machine))
+    (when (eq (var-kind var) :number)
+      (emit "void Controller::set_~A(~A value, double time) {" (var-id var) (runtime-c++-type var))
+      (emit "  const ~A old_value = state_.~A;" (runtime-c++-type var) (var-id var))
+      (emit "  state_.~A = value;" (var-id var))
+      (emit "  if (old_value == value) return;")
+      (emit "  const ~A new_value = value;" (runtime-c++-type var))
+      (emit "  (void)time; (void)new_value;")
+      (dolist (line (autoscript-calls machine var "stop_autoscript" "old_value")) (emit "  ~A" line))
+      (dolist (line (autoscript-calls machine var "start_autoscript" "new_value")) (emit "  ~A" line))
+      (emit "}~%")))
+  (emit "void Controller::start_initial_autoscripts(double time) {")
+  (emit "  (void)time;")
+  (dolist (auto (spec-autoscripts (machine-spec machine)))
+    (let* ((var (autoscript-variable auto))
+           (current (if (plannable-p var)
+                        (field-index-expression var "state_.bits")
+                        (format nil "state_.~A" (var-id var)))))
+      (dolist (proc (autoscript-procs auto))
+        (emit "  if (~A == ~A) presenter_.start_autoscript(~A, ~A, ~A, time);"
+              current (let ((v (autoscript-value-index auto)))
+                        (if (and (realp v) (not (integerp v))) (c++-double v) (format nil "~D" v)))
+              (c++-string (lisp-text proc)) (c++-string (lisp-text (var-name var)))
+              (c++-string (lisp-text (autoscript-value auto)))))))
+  (emit "}~%"))
+
+(defun emit-achiever (goal machine)
+  "GOAL's state-achieving procedure: 1 reached, 0 no plan, 2 a macro inside failed."
+  (let ((spec (machine-spec machine)))
+    (emit "// Goal ~A" (lisp-text (goal-expression goal)))
+    (emit "int Controller::~A() {" (goal-fn-id goal))
+    (emit "  const std::uint64_t s = state_.bits;")
+    (emit "  (void)s;")
+    (loop for plan across (goal-plans goal)
+          for keyword = "if" then "else if"
+          do (emit "  ~A ((s & ~~~A) == 0) {  // ~A" keyword (c++-hex (plan-condition plan))
+                   (lisp-text (cube-expression (plan-condition plan) spec)))
+             (dolist (op (plan-ops plan))
+               (emit "    if (~A() != 1) return 2;" (op-id op)))
+             (emit "    return 1;~%  }"))
+    (emit "  return 0;~%}~%")))
+
+(defun effects-expression (op bits-expression)
+  "C++ for BITS-EXPRESSION with OP's effects applied."
+  (multiple-value-bind (mask bits) (effects-transform op)
+    (format nil "(~A & ~~~A) | ~A" bits-expression (c++-hex mask) (c++-hex bits))))
+
+(defun emit-executor (op machine)
+  "OP's operator-execution procedure (its precondition is the caller's business)."
+  (let ((index (op-index op machine)))
+    (if (eq (op-kind op) :macro)
+        (emit-macro-executor op index machine)
+        (progn
+          (emit "int Controller::~A() {" (op-id op))
+          (when (op-c++ op) (emit "  ~A" (op-c++ op)))
+          (when (eq (op-kind op) :code)
+            (emit "  // :code ~A has no C++ meaning: the embedder implements the hook."
+                  (substitute #\Space #\Newline (lisp-text (op-code op))))
+            (emit "  presenter_.code_hook(~A);" (c++-string (lisp-text (op-name op)))))
+          (emit "  const double start = schedule_;")
+          (emit "  const double end = start + presenter_.~A(kOps[~D], start);"
+                (if (eq (op-kind op) :director) "run_director" "play") index)
+          (emit "  note_op_end(end);")
+          (when (op-effects op)
+            (emit "  transition(~A, end);" (effects-expression op "state_.bits")))
+          (emit "  return 1;~%}~%")))))
+
+(defun emit-macro-executor (op index machine)
+  "A macro-op: its :SEQ on its own span, then the declared effects on the state it started from."
+  (emit "int Controller::~A() {" (op-id op))
+  (emit "  if (active_[~D]) return fail(~A);" index (c++-string (lisp-text (op-name op))))
+  (when (op-c++ op) (emit "  ~A" (op-c++ op)))
+  (emit "  const double start = schedule_, outer_start = span_start_, outer_end = span_end_;")
+  (emit "  const std::uint64_t before = state_.bits;")
+  (emit "  presenter_.macro_start(kOps[~D], start);" index)
+  (emit "  span_start_ = span_end_ = start;")
+  (emit "  active_[~D] = true;" index)
+  (emit "  const int result = ~A_seq();" (op-id op))
+  (emit "  const double end = span_end_;")
+  (emit "  active_[~D] = false;" index)
+  (emit "  span_start_ = outer_start;")
+  (emit "  span_end_ = outer_end > end ? outer_end : end;")
+  (emit "  schedule_ = end;")
+  (emit "  presenter_.macro_end(kOps[~D], start, end);" index)
+  (emit "  if (result == 1) transition(~A, end);" (effects-expression op "before"))
+  (emit "  return result;~%}~%")
+  (emit "int Controller::~A_seq() {" (op-id op))
+  (emit-steps (directive-steps (op-seq op) machine) "  " machine (op-name op))
+  (emit "  return 1;~%}~%"))
+
+(defun emit-event (event machine)
+  "An event procedure: its steps in order; 1 on success, 2 after a failure."
+  (emit "int Controller::~A() {" (event-id event))
+  (emit-steps (directive-steps (event-directives event) machine) "  " machine (event-name event))
+  (emit "  return 1;~%}~%"))
+
+;;; Steps
+
+(defvar *indent* "  ")
+(defvar *owner* nil "Name of the event or macro whose steps are emitted, for hook names.")
+(defvar *hook-count* 0)
+
+(defun emit-steps (steps indent machine owner)
+  "Emit STEPS at INDENT."
+  (let ((*indent* indent) (*owner* owner) (*hook-count* 0))
+    (dolist (step steps) (emit-step step machine))))
+
+(defun emit-line (control &rest arguments)
+  "One line of C++ at the current indentation."
+  (write-string *indent* *out*)
+  (apply #'emit control arguments))
+
+(defgeneric emit-step (step machine)
+  (:documentation "Write the C++ for STEP; on failure the code returns 2."))
+
+(defun emit-achieve-call (goal failure)
+  "Call GOAL's achiever, failing with FAILURE's goal text when there is no plan."
+  (emit-line "{ const int r = ~A(); if (r == 0) return fail(~A); if (r != 1) return 2; }"
+             (goal-fn-id goal) (c++-string (lisp-text (failure-goal-form failure)))))
+
+(defmethod emit-step ((step achieve-step) machine)
+  (declare (ignore machine))
+  (emit-achieve-call (achieve-step-goal step) (achieve-step-failure step)))
+
+(defmethod emit-step ((step op-step) machine)
+  (declare (ignore machine))
+  (when (op-step-goal step)
+    (emit-achieve-call (op-step-goal step) (op-step-failure step)))
+  (emit-line "if (~A() != 1) return 2;" (op-id (op-step-op step))))
+
+(defmethod emit-step ((step label-step) machine)
+  (declare (ignore machine))
+  (emit-line "state_.labels[~D] = schedule_;  // :label ~A" (label-step-slot step)
+             (lisp-text (label-step-name step))))
+
+(defmethod emit-step ((step time-step) machine)
+  (destructuring-bind (kind argument) (time-step-time step)
+    (if (eq kind :relative)
+        (emit-line "schedule_ = span_start_ + ~A;" (c++-double argument))
+        (emit-line "{ const double t = ~A; if (!std::isnan(t)) schedule_ = t; }"
+                   (c++-number argument machine)))))
+
+(defmethod emit-step ((step if-step) machine)
+  (emit-line "if (~A) {" (c++-condition (if-step-condition step) machine))
+  (let ((*indent* (concatenate 'string *indent* "  ")))
+    (dolist (inner (if-step-body step)) (emit-step inner machine)))
+  (emit-line "}"))
+
+(defmethod emit-step ((step assign-step) machine)
+  (declare (ignore machine))
+  (let ((var (assign-step-variable step)))
+    (emit-line "transition((state_.bits & ~~~A) | ~A, schedule_);"
+               (c++-hex (var-field-mask var)) (c++-hex (var-value-bit var (assign-step-index step))))))
+
+(defmethod emit-step ((step increment-step) machine)
+  (declare (ignore machine))
+  (let ((var (increment-step-variable step))
+        (delta (increment-step-delta step)))
+    (emit-line "set_~A(state_.~A + ~A, schedule_);" (var-id var) (var-id var)
+               (if (integerp delta) (format nil "~DLL" delta) (c++-double delta)))))
+
+(defmethod emit-step ((step code-step) machine)
+  (declare (ignore machine))
+  (emit-line "// :code ~A has no C++ meaning: the embedder implements the hook."
+             (substitute #\Space #\Newline (lisp-text (code-step-form step))))
+  (emit-line "presenter_.code_hook(~A);"
+             (c++-string (format nil "~A/~D" (lisp-text *owner*) (incf *hook-count*)))))
+
+(defmethod emit-step ((step c++-step) machine)
+  (declare (ignore machine))
+  (emit-line "~A" (c++-step-text step)))
+
+;;; Conditions and numbers
+
+(defun c++-cube-test (cubes)
+  "C++ testing the state against the disjunction CUBES."
+  (if (null cubes)
+      "false"
+      (format nil "(~{(state_.bits & ~~~A) == 0~^ || ~})" (mapcar #'c++-hex cubes))))
+
+(defun c++-condition (ast machine)
+  "C++ for the :IF condition AST."
+  (if (state-only-p ast)
+      (c++-cube-test (expression-cubes ast (machine-spec machine)))
+      (ecase (first ast)
+        (:not (format nil "!~A" (c++-condition (second ast) machine)))
+        (:and (format nil "(~{~A~^ && ~})" (mapcar (lambda (a) (c++-condition a machine)) (rest ast))))
+        (:or (format nil "(~{~A~^ || ~})" (mapcar (lambda (a) (c++-condition a machine)) (rest ast))))
+        (:cmp (c++-comparison (second ast) (mapcar (lambda (a) (c++-number a machine)) (cddr ast)))))))
+
+(defun c++-comparison (operator operands)
+  "C++ comparing OPERANDS as Lisp's OPERATOR does (chains; /= is all-distinct)."
+  (if (eq operator '/=)
+      (format nil "(~{~A~^ && ~})"
+              (loop for (a . rest) on operands
+                    append (loop for b in rest collect (format nil "~A != ~A" a b))))
+      (format nil "(~{~A~^ && ~})"
+              (loop for (a b) on operands while b
+                    collect (format nil "~A ~A ~A" a (if (eq operator '=) "==" (symbol-name operator)) b)))))
+
+(defun c++-number (ast machine)
+  "C++ (a double expression; NaN for a time never set) for numeric AST."
+  (ecase (first ast)
+    (:num (c++-double (second ast)))
+    (:now "schedule_")
+    (:label (format nil "state_.labels[~D]" (second ast)))
+    (:value (let ((var (second ast)))
+              (if (plannable-p var)
+                  (format nil "static_cast<double>(~A)"
+                          (enum-integer-expression var))
+                  (format nil "static_cast<double>(state_.~A)" (var-id var)))))
+    (:arith (let ((parts (mapcar (lambda (a) (c++-number a machine)) (cddr ast))))
+              (if (and (eq (second ast) '-) (null (rest parts)))
+                  (format nil "(-~A)" (first parts))
+                  (format nil "(~{~A~^ ~})"
+                          (loop for (p . rest) on parts
+                                collect p
+                                when rest collect (symbol-name (second ast)))))))))
+
+(defun enum-integer-expression (var)
+  "C++ for the integer value of enumerated integer VAR."
+  (format nil "kValues_~A[~A]" (var-id var) (field-index-expression var "state_.bits")))
