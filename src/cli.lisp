@@ -16,15 +16,18 @@
 (defparameter *usage*
   "usage: player COMMAND SPEC-FILE [OPTIONS]
 commands:
-  run SPEC-FILE [--spec NAME] [--initial var=value,...] [--events ev1,ev2,...]
+  run SPEC-FILE [--spec NAME] [--initial var=value,...] [--events ev1,ev2,...] [--backend lisp|c++]
       play events in simulated time and print the trace
+  emit-c++ SPEC-FILE [--spec NAME] --out DIR [--name NAME] [--namespace NS]
+      write NAME.hpp and NAME.cpp, a standalone C++17 controller
   plans SPEC-FILE [--spec NAME]    print every goal's plan table
   check SPEC-FILE [--spec NAME]    print the spec's diagnostics
   help                             print this text"
   "What `player help` prints.")
 
 (defparameter *command-options*
-  '(("run" "--spec" "--initial" "--events")
+  '(("run" "--spec" "--initial" "--events" "--backend")
+    ("emit-c++" "--spec" "--out" "--name" "--namespace")
     ("plans" "--spec")
     ("check" "--spec"))
   "Each command with the options it accepts (all take a value).")
@@ -97,16 +100,32 @@ commands:
           (t (first specs)))))
 
 (defun command-run (spec options)
-  "Play --events from --initial on SPEC, printing the trace."
-  (let* ((machine (compile-spec spec))
-         (controller (make-controller machine
-                                      :initial-state (parse-initial-option (or (option "--initial" options) ""))
-                                      :presenter (make-trace-presenter :stream *standard-output*)))
-         (events (split-list (or (option "--events" options) ""))))
+  "Play --events from --initial on SPEC with the --backend (lisp or c++), printing the trace."
+  (let* ((backend (or (option "--backend" options) "lisp"))
+         (machine (compile-spec spec))
+         (initial (parse-initial-option (or (option "--initial" options) "")))
+         (events (split-list (or (option "--events" options) "")))
+         (controller (make-controller machine :initial-state initial
+                                              :presenter (make-trace-presenter
+                                                          :stream (and (string= backend "lisp")
+                                                                       *standard-output*)))))
     (dolist (event events)
       (find-compiled-event controller event))
-    (dolist (event events)
-      (send-event controller event))))
+    (cond ((string= backend "lisp")
+           (dolist (event events)
+             (send-event controller event)))
+          ((string= backend "c++")
+           (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events)))
+          (t (usage-fail "unknown backend ~A (expected lisp or c++)" backend)))))
+
+(defun command-emit-c++ (spec options)
+  "Write SPEC's C++ controller into --out."
+  (let ((directory (or (option "--out" options) (usage-fail "emit-c++ needs --out DIR"))))
+    (format t "~{~A~%~}"
+            (mapcar #'namestring
+                    (emit-c++ (compile-spec spec) directory
+                              :name (option "--name" options)
+                              :namespace (option "--namespace" options))))))
 
 (defun command-plans (spec options)
   "Print every goal's plan table."
@@ -144,6 +163,7 @@ commands:
   (multiple-value-bind (command file options) (parse-command-line arguments)
     (let ((spec (choose-spec file options)))
       (funcall (cond ((string= command "run") #'command-run)
+                     ((string= command "emit-c++") #'command-emit-c++)
                      ((string= command "plans") #'command-plans)
                      ((string= command "check") #'command-check))
                spec options))))

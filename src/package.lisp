@@ -15,6 +15,8 @@
    #:machine-state-count #:check-spec #:diagnostic #:diagnostic-kind
    #:diagnostic-message #:diagnostic-details
    #:*default-max-depth*
+   ;; C++ backend
+   #:emit-c++ #:run-c++-trace #:*c++-flags*
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile

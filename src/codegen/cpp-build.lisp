@@ -208,7 +208,9 @@ return the trace as a list of lines."
     (multiple-value-bind (code out err)
         (run-program-capturing (namestring executable)
                                (list (initial-state-text spec initial-state)
-                                     (format nil "~{~A~^,~}" (mapcar #'lisp-text events))))
+                                     (format nil "~{~A~^,~}"
+                                             (mapcar (lambda (e) (if (stringp e) (string-downcase e) (lisp-text e)))
+                                                     events))))
       (unless (eql code 0)
         (error 'player-error-with-message
                :message (format nil "the generated C++ controller failed (exit ~A): ~A" code err)))
