@@ -2,9 +2,10 @@
 SBCL ?= sbcl
 LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
        --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)'
-DEBIAN_PACKAGES = sbcl cl-alexandria cl-fiveam
+DEBIAN_PACKAGES = sbcl cl-alexandria cl-fiveam g++
+CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo test bench deps check-deps
+.PHONY: demo test bench deps embed-example
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -29,3 +30,10 @@ test: deps
 bench: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
 	  --load bench/run.lisp --eval '(player-bench:run-benchmarks)'
+
+# Generate Peedy's controller as C++ and run examples/embed-cpp/main.cpp on it.
+embed-example: deps
+	bin/player emit-c++ specs/peedy.lisp --out build/embed-cpp
+	g++ $(CXXFLAGS) -Ibuild/embed-cpp examples/embed-cpp/main.cpp build/embed-cpp/peedy.cpp \
+	  -o build/embed-cpp/peedy-demo
+	build/embed-cpp/peedy-demo
