@@ -51,6 +51,7 @@ run the resulting state machine as Lisp closures."
       :serial t
       :components ((:file "cpp-names")
                    (:file "cpp")
+                   (:file "cpp-steps")
                    (:file "cpp-source")
                    (:file "cpp-build")))
      (:file "cli"))))

@@ -1,0 +1,131 @@
+;;;; cpp-steps.lisp -- the C++ backend's EMIT-STEP methods, one per IR step
+;;;; class (the twins of lisp-closures.lisp's COMPILE-STEP), and :if conditions.
+
+(in-package #:player)
+
+;;; Steps
+
+(defvar *indent* "  ")
+(defvar *owner* nil "Name of the event or macro whose steps are emitted, for hook names.")
+(defvar *hook-count* 0)
+
+(defun emit-steps (steps indent machine owner)
+  "Emit STEPS at INDENT."
+  (let ((*indent* indent) (*owner* owner) (*hook-count* 0))
+    (dolist (step steps) (emit-step step machine))))
+
+(defun emit-line (control &rest arguments)
+  "One line of C++ at the current indentation."
+  (write-string *indent* *out*)
+  (apply #'emit control arguments))
+
+(defgeneric emit-step (step machine)
+  (:documentation "Write the C++ for STEP; on failure the code returns 2."))
+
+(defun emit-achieve-call (goal failure)
+  "Call GOAL's achiever, failing with FAILURE's goal text when there is no plan."
+  (emit-line "{ const int r = ~A(); if (r == 0) return fail(~A); if (r != 1) return 2; }"
+             (goal-fn-id goal) (c++-string (lisp-text (failure-goal-form failure)))))
+
+(defmethod emit-step ((step achieve-step) machine)
+  (declare (ignore machine))
+  (emit-achieve-call (achieve-step-goal step) (achieve-step-failure step)))
+
+(defmethod emit-step ((step op-step) machine)
+  (declare (ignore machine))
+  (when (op-step-goal step)
+    (emit-achieve-call (op-step-goal step) (op-step-failure step)))
+  (emit-line "if (~A() != 1) return 2;" (op-id (op-step-op step))))
+
+(defmethod emit-step ((step label-step) machine)
+  (declare (ignore machine))
+  (emit-line "state_.labels[~D] = schedule_;  // :label ~A" (label-step-slot step)
+             (lisp-text (label-step-name step))))
+
+(defmethod emit-step ((step time-step) machine)
+  (destructuring-bind (kind argument) (time-step-time step)
+    (if (eq kind :relative)
+        (emit-line "schedule_ = span_start_ + ~A;" (c++-double argument))
+        (emit-line "{ const double t = ~A; if (!std::isnan(t)) schedule_ = t; }"
+                   (c++-number argument machine)))))
+
+(defmethod emit-step ((step if-step) machine)
+  (emit-line "if (~A) {" (c++-condition (if-step-condition step) machine))
+  (let ((*indent* (concatenate 'string *indent* "  ")))
+    (dolist (inner (if-step-body step)) (emit-step inner machine)))
+  (emit-line "}"))
+
+(defmethod emit-step ((step assign-step) machine)
+  (declare (ignore machine))
+  (let ((var (assign-step-variable step)))
+    (emit-line "transition((state_.bits & ~~~A) | ~A, schedule_);"
+               (c++-hex (var-field-mask var)) (c++-hex (var-value-bit var (assign-step-index step))))))
+
+(defmethod emit-step ((step increment-step) machine)
+  (declare (ignore machine))
+  (let ((var (increment-step-variable step))
+        (delta (increment-step-delta step)))
+    (emit-line "set_~A(state_.~A + ~A, schedule_);" (var-id var) (var-id var)
+               (if (integerp delta) (format nil "~DLL" delta) (c++-double delta)))))
+
+(defmethod emit-step ((step code-step) machine)
+  (declare (ignore machine))
+  (emit-line "// :code ~A has no C++ meaning: the embedder implements the hook."
+             (substitute #\Space #\Newline (lisp-text (code-step-form step))))
+  (emit-line "presenter_.code_hook(~A);"
+             (c++-string (format nil "~A/~D" (lisp-text *owner*) (incf *hook-count*)))))
+
+(defmethod emit-step ((step c++-step) machine)
+  (declare (ignore machine))
+  (emit-line "~A" (c++-step-text step)))
+
+;;; Conditions and numbers
+
+(defun c++-cube-test (cubes)
+  "C++ testing the state against the disjunction CUBES."
+  (if (null cubes)
+      "false"
+      (format nil "(~{(state_.bits & ~~~A) == 0~^ || ~})" (mapcar #'c++-hex cubes))))
+
+(defun c++-condition (ast machine)
+  "C++ for the :IF condition AST."
+  (if (state-only-p ast)
+      (c++-cube-test (expression-cubes ast (machine-spec machine)))
+      (ecase (first ast)
+        (:not (format nil "!~A" (c++-condition (second ast) machine)))
+        (:and (format nil "(~{~A~^ && ~})" (mapcar (lambda (a) (c++-condition a machine)) (rest ast))))
+        (:or (format nil "(~{~A~^ || ~})" (mapcar (lambda (a) (c++-condition a machine)) (rest ast))))
+        (:cmp (c++-comparison (second ast) (mapcar (lambda (a) (c++-number a machine)) (cddr ast)))))))
+
+(defun c++-comparison (operator operands)
+  "C++ comparing OPERANDS as Lisp's OPERATOR does (chains; /= is all-distinct)."
+  (if (eq operator '/=)
+      (format nil "(~{~A~^ && ~})"
+              (loop for (a . rest) on operands
+                    append (loop for b in rest collect (format nil "~A != ~A" a b))))
+      (format nil "(~{~A~^ && ~})"
+              (loop for (a b) on operands while b
+                    collect (format nil "~A ~A ~A" a (if (eq operator '=) "==" (symbol-name operator)) b)))))
+
+(defun c++-number (ast machine)
+  "C++ (a double expression; NaN for a time never set) for numeric AST."
+  (ecase (first ast)
+    (:num (c++-double (second ast)))
+    (:now "schedule_")
+    (:label (format nil "state_.labels[~D]" (second ast)))
+    (:value (let ((var (second ast)))
+              (if (plannable-p var)
+                  (format nil "static_cast<double>(~A)"
+                          (enum-integer-expression var))
+                  (format nil "static_cast<double>(state_.~A)" (var-id var)))))
+    (:arith (let ((parts (mapcar (lambda (a) (c++-number a machine)) (cddr ast))))
+              (if (and (eq (second ast) '-) (null (rest parts)))
+                  (format nil "(-~A)" (first parts))
+                  (format nil "(~{~A~^ ~})"
+                          (loop for (p . rest) on parts
+                                collect p
+                                when rest collect (symbol-name (second ast)))))))))
+
+(defun enum-integer-expression (var)
+  "C++ for the integer value of enumerated integer VAR."
+  (format nil "kValues_~A[~A]" (var-id var) (field-index-expression var "state_.bits")))
