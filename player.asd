@@ -73,5 +73,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-controller")
                  (:file "test-peedy")
                  (:file "test-properties")
+                 (:file "test-c++")
                  (:file "test-cli"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -156,7 +156,7 @@ or NIL when the program cannot be started."
 (defun build-c++-driver (machine)
   "Generate MACHINE's C++ with a driver and compile it (once per content);
 return the executable's pathname."
-  (let* ((name (c++-base-identifier (spec-name (machine-spec machine))))
+  (let* ((name (c++-safe-identifier (spec-name (machine-spec machine))))
          (namespace name))
     (multiple-value-bind (header source) (c++-sources machine name namespace)
       (let* ((driver (driver-source name namespace))

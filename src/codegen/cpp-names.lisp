@@ -24,9 +24,25 @@
           ((digit-char-p (char id 0)) (concatenate 'string "n" id))
           (t id))))
 
+(defparameter *c++-reserved-members*
+  '("state" "clock" "send" "send_at" "failed_goal" "state_line" "presenter_" "state_"
+    "clock_" "schedule_" "span_start_" "span_end_" "failed_goal_" "active_" "fail"
+    "note_op_end" "transition" "start_initial_autoscripts" "Controller" "Presenter" "State"
+    "Op" "Event" "event_count" "event_name" "find_event" "initial_state" "assign"
+    "format_number" "field_index" "kOps" "kEventNames")
+  "Names the generated code uses itself, so no Lisp name may take them.")
+
 (defun make-identifier-table ()
-  "A table giving each Lisp object its own C++ identifier."
-  (cons (make-hash-table :test 'equal) (make-hash-table :test 'equal)))
+  "A table giving each Lisp object its own C++ identifier; the generated code's
+own member and helper names are taken from the start."
+  (let ((used (make-hash-table :test 'equal)))
+    (dolist (name *c++-reserved-members*) (setf (gethash name used) t))
+    (cons (make-hash-table :test 'equal) used)))
+
+(defun c++-safe-identifier (name)
+  "NAME mangled into an identifier that is not a C++ keyword (for file and namespace names)."
+  (let ((id (c++-base-identifier name)))
+    (if (member id *c++-keywords* :test #'string=) (concatenate 'string id "_") id)))
 
 (defun c++-identifier (object name table &key (prefix ""))
   "The identifier for OBJECT (named NAME) in TABLE, made once: PREFIX plus the

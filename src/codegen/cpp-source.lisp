@@ -31,7 +31,7 @@
 [[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
   for (int i = 0; i < size; ++i)
     if (bits >> (offset + i) & 1u) return i;
-  return -1;
+  return 0;  // unreachable for a valid one-hot state; 0 keeps every table index in bounds
 }
 ")
     (dolist (var (plannable-vars machine))
@@ -177,6 +177,7 @@
   (emit "void Controller::transition(std::uint64_t next, double time) {")
   (emit "  const std::uint64_t before = state_.bits;")
   (emit "  state_.bits = next;")
+  (emit "  (void)time;")
   (emit "  const std::uint64_t changed = (before ^ next) & ~A;" (c++-hex (machine-autoscript-mask machine)))
   (emit "  if (changed == 0) return;")
   (dolist (var (watched-vars machine))

@@ -49,8 +49,8 @@ DIRECTORY: standalone C++17 with a Presenter to implement and a Controller
 class. NAME defaults to the spec's name, NAMESPACE to NAME as an identifier.
 Returns the two pathnames."
   (let* ((machine (if (machine-p machine) machine (compile-spec machine)))
-         (name (or name (c++-base-identifier (spec-name (machine-spec machine)))))
-         (namespace (or namespace (c++-base-identifier name)))
+         (name (or name (c++-safe-identifier (spec-name (machine-spec machine)))))
+         (namespace (or namespace (c++-safe-identifier name)))
          (directory (ensure-directories-exist (uiop-directory directory))))
     (multiple-value-bind (header source) (c++-sources machine name namespace)
       (let ((hpp (merge-pathnames (format nil "~A.hpp" name) directory))
