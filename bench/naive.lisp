@@ -19,6 +19,9 @@ and the op that reached it."
   (queue (make-array 0 :element-type 'fixnum) :type (simple-array fixnum (*)))
   (parent (make-array 0 :element-type 'fixnum) :type (simple-array fixnum (*)))
   (via (make-array 0 :element-type 'fixnum) :type (simple-array fixnum (*)))
+  ;; Searches run and states expanded, for reporting.
+  (searches 0 :type fixnum)
+  (expanded 0 :type fixnum)
   ;; Dense number -> one-hot state, for NAIVE-PLAN.
   (states (make-array 0 :element-type 'fixnum) :type (simple-array fixnum (*))))
 
@@ -65,6 +68,8 @@ for each successor. Returns the plan (op indices, first first), or :NONE."
                                (incf ,tail))))
                       (declare (inline visit))
                       ,@expand))))
+       (incf (search-space-searches ,s))
+       (incf (search-space-expanded ,s) ,head)
        (if (minusp ,found)
            :none
            (loop with plan = '()

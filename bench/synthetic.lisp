@@ -2,11 +2,11 @@
 ;;;; variables, in two forms built from one description: a DEFSPEC body for
 ;;;; Player, and an explicit-state encoding for the naive planner (naive.lisp).
 ;;;;
-;;;; The family: variables X0..X(N-1) on a ring. Each variable has
+;;;; The family: variables X0..X(N-1) on a ring. Each variable but X0 has
 ;;;;   SET-i   :precond <literal on X(i-1)>            :add X(i)
-;;;;   CLR-i   :precond <literal on X(i+1)>            :sub X(i)
+;;;;   CLR-i   :precond <literal on X(i+1 mod N)>      :sub X(i)
 ;;;; with the literal's polarity drawn from the seed (a neighbour must be on,
-;;;; or off), plus a few "token moves"
+;;;; or off); SET-0 and CLR-0 need nothing. Plus a few "token moves"
 ;;;;   MV-i    :precond (X(i) and (not X(i+1)))        :add X(i+1) :sub X(i)
 ;;;; Every op touches one or two variables and looks at one neighbour, so goal
 ;;;; regression stays a walk along the ring (tractable), while reaching a
@@ -24,7 +24,7 @@ afterwards S is (logior (logandc2 S EFF-MASK) EFF-BITS)."
   (eff-mask 0 :type fixnum) (eff-bits 0 :type fixnum)
   form)
 
-(defstruct (synth-family (:constructor make-synth-family (n ops goals body)))
+(defstruct (synth-family (:constructor %make-synth-family (n ops goals body)))
   "One member of the family: N variables, SYNTH-OPs, goals as lists of
 (MASK . BITS) cubes over the N-bit state, and the DEFSPEC body."
   n ops goals body)
@@ -35,7 +35,8 @@ afterwards S is (logior (logandc2 S EFF-MASK) EFF-BITS)."
 (defun synth-literal-form (i value)
   (if value (synth-var i) (list 'not (synth-var i))))
 
-(defun make-synthetic-family (n &key (seed 1995) (events 6) (moves (max 2 (floor n 4))))
+(defun make-synthetic-family (n &key (seed 1995) (events 6) (moves (max 2 (floor n 4)))
+                                    (chain 0.7) (max-depth 16))
   "The synthetic spec of N boolean variables drawn with SEED: its ops, goals
 and DEFSPEC body."
   (let ((*random-state* (sb-ext:seed-random-state seed))
@@ -62,10 +63,11 @@ and DEFSPEC body."
                                :duration 0.5)))
                  (push (make-synth-op name pre-mask pre-bits eff-mask eff-bits form) ops)))))
       (dotimes (i n)
+        ;; X0 is the free end of the ring: its ops need nothing.
         (let ((name (intern (format nil "SET-~D" i) '#:player-user)))
-          (op name (list (cons (mod (1- i) n) (< (random 10) 7))) (list (cons i t))))
+          (op name (if (zerop i) '() (list (cons (1- i) (< (random 1.0) chain)))) (list (cons i t))))
         (let ((name (intern (format nil "CLR-~D" i) '#:player-user)))
-          (op name (list (cons (mod (1+ i) n) (< (random 10) 3))) (list (cons i nil)))))
+          (op name (if (zerop i) '() (list (cons (mod (1+ i) n) (>= (random 1.0) chain)))) (list (cons i nil)))))
       (loop for k below moves
             for i = (random n)
             for j = (mod (1+ i) n)
@@ -90,9 +92,10 @@ and DEFSPEC body."
                    :state (and ,@(loop for (i . v) in lits collect (synth-literal-form i v)))
                    :op ,(synth-op-name op))
                 event-forms))))
-    (make-synthetic-family
+    (%make-synth-family
      n ops (remove-duplicates (nreverse goals) :test #'equal)
      `(,(format nil "Synthetic family, ~D boolean variables." n)
+       (:max-depth ,max-depth)
        ,@(loop for i below n collect `(player-user::state-variable ,(synth-var i) player-user::boolean player-user::false))
        ,@(mapcar #'synth-op-form ops)
        ,@(nreverse event-forms)))))
