@@ -57,42 +57,84 @@
         ;; a one-hot field holding value I is 2^I
         sum (* stride (1- (integer-length (ldb (byte size offset) state))))))
 
-(defun cube-choices (cube layout)
-  "Per variable, the dense-index contributions of the values CUBE allows."
-  (map 'simple-vector
-       (lambda (size offset stride)
-         (coerce (loop for i below size
-                       when (logbitp (+ offset i) cube) collect (* i stride))
-                 'simple-vector))
-       (layout-sizes layout) (layout-offsets layout) (layout-strides layout)))
+;;; The planner spends most of its time on the states of cubes. The variables
+;;; a cube leaves free at the low end of the numbering make its states come in
+;;; contiguous runs, which bit-vector COUNT and FILL handle a word at a time;
+;;; the other variables turn like an odometer over fixnums.
+
+(defun cube-runs (cube layout)
+  "(VALUES CHOICES RUN): CUBE's states are the runs [BASE, BASE+RUN) for every
+BASE that sums one entry of each vector in CHOICES (the constrained and higher
+variables' dense contributions)."
+  (let* ((sizes (layout-sizes layout))
+         (offsets (layout-offsets layout))
+         (free (loop for k below (length sizes)
+                     while (= (ldb (byte (svref sizes k) (svref offsets k)) cube)
+                              (1- (ash 1 (svref sizes k))))
+                     count t)))
+    (values (coerce (loop for k from free below (length sizes)
+                          collect (coerce (loop for i below (svref sizes k)
+                                                when (logbitp (+ (svref offsets k) i) cube)
+                                                  collect (* i (svref (layout-strides layout) k)))
+                                          '(simple-array fixnum (*))))
+                    'simple-vector)
+            (if (< free (length sizes))
+                (svref (layout-strides layout) free)
+                (layout-state-count layout)))))
+
+(defmacro do-cube-runs ((start end cube layout) &body body)
+  "Run BODY with START and END bound to each run [START, END) of CUBE's dense states."
+  (with-gensyms (choices run count counters base k digits)
+    `(multiple-value-bind (,choices ,run) (cube-runs ,cube ,layout)
+       (declare (type simple-vector ,choices) (type fixnum ,run))
+       (let* ((,count (length ,choices))
+              (,counters (make-array ,count :element-type 'fixnum :initial-element 0)))
+         (declare (type fixnum ,count))
+         (loop
+           (let ((,base 0))
+             (declare (type fixnum ,base))
+             (loop for ,k of-type fixnum below ,count
+                   do (incf ,base (aref (the (simple-array fixnum (*)) (svref ,choices ,k))
+                                        (aref ,counters ,k))))
+             (let ((,start ,base) (,end (+ ,base ,run)))
+               (declare (type fixnum ,start ,end))
+               ,@body))
+           (unless (loop for ,k of-type fixnum below ,count
+                         for ,digits = (length (the (simple-array fixnum (*)) (svref ,choices ,k)))
+                         do (if (< (incf (aref ,counters ,k)) ,digits)
+                                (return t)
+                                (setf (aref ,counters ,k) 0)))
+             (return)))))))
 
 (defun map-cube-states (function cube layout)
   "Call FUNCTION on the dense number of every state in CUBE."
-  (let ((choices (cube-choices cube layout)))
-    (labels ((walk (k base)
-               (if (minusp k)
-                   (funcall function base)
-                   (loop for c across (the simple-vector (aref choices k))
-                         do (walk (1- k) (+ base c))))))
-      (walk (1- (length choices)) 0))))
+  (do-cube-runs (start end cube layout)
+    (loop for dense from start below end do (funcall function dense))))
 
 (defun mark-cube (bitmap cube layout)
   "Set CUBE's states in BITMAP; return how many were not set before."
-  (declare (type simple-bit-vector bitmap))
+  (declare (type simple-bit-vector bitmap)
+           (optimize speed))
   (let ((new 0))
     (declare (type fixnum new))
-    (map-cube-states (lambda (dense)
-                       (when (zerop (sbit bitmap dense))
-                         (setf (sbit bitmap dense) 1)
-                         (incf new)))
-                     cube layout)
+    (do-cube-runs (start end cube layout)
+      (if (< (- end start) 64)
+          (loop for dense of-type fixnum from start below end
+                when (zerop (sbit bitmap dense))
+                  do (setf (sbit bitmap dense) 1)
+                     (incf new))
+          (let ((unset (count 0 bitmap :start start :end end)))
+            (declare (type fixnum unset))
+            (when (plusp unset)
+              (incf new unset)
+              (fill bitmap 1 :start start :end end)))))
     new))
 
 (defun cube-has-unmarked-p (bitmap cube layout)
   "True when some state of CUBE is not set in BITMAP."
-  (declare (type simple-bit-vector bitmap))
-  (map-cube-states (lambda (dense)
-                     (when (zerop (sbit bitmap dense))
-                       (return-from cube-has-unmarked-p t)))
-                   cube layout)
+  (declare (type simple-bit-vector bitmap)
+           (optimize speed))
+  (do-cube-runs (start end cube layout)
+    (when (position 0 bitmap :start start :end end)
+      (return-from cube-has-unmarked-p t)))
   nil)

@@ -111,12 +111,20 @@ not yet solved start state to RESULT-Q. Returns true if MAX-DEPTH truncated the 
                      (setf truncatedp (could-extend-p root-state solved-states operators layout)))
                    (dolist (operator operators)
                      (dolist (new-state (regress root-state operator layout))
-                       (when (plusp (mark-cube solved-states new-state layout))
+                       (when (and (not (covered-by-plan-p new-state root-plan result-q))
+                                  (plusp (mark-cube solved-states new-state layout)))
                          (let ((new-plan (make-plan new-state
                                                     (cons (planner-op-op operator) root-ops))))
                            (enqueue new-plan result-q)
                            (enqueue new-plan working-q))))))))
     truncatedp))
+
+(defun covered-by-plan-p (cube root-plan result-q)
+  "True when one plan's condition already contains CUBE, so SolvedStates holds
+all of it: a cheap first test before counting CUBE's states one by one."
+  (or (cube-subset-p cube (plan-condition root-plan))
+      (loop for plan in (queue-items result-q)
+              thereis (cube-subset-p cube (plan-condition plan)))))
 
 (defun could-extend-p (root-state solved-states operators layout)
   "True when one more operator before ROOT-STATE would solve new states."
