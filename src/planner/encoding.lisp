@@ -118,7 +118,7 @@ variables' dense contributions)."
   (let ((new 0))
     (declare (type fixnum new))
     (do-cube-runs (start end cube layout)
-      (if (< (- end start) 64)
+      (if (< (- end start) 4096)
           (loop for dense of-type fixnum from start below end
                 when (zerop (sbit bitmap dense))
                   do (setf (sbit bitmap dense) 1)
