@@ -21,6 +21,8 @@
   ;; Fields of plannable variables some autoscript watches.
   ;; event symbol -> compiled event, filled as events are sent
   (event-symbols (make-hash-table :test 'eq :synchronized t))
+  ;; plannable variables some autoscript watches, in declaration order
+  (watched-variables '() :type list)
   (autoscript-mask 0 :type integer)
   (compile-seconds 0d0 :type double-float))
 
@@ -48,10 +50,14 @@
             do (solve-goal goal operators layout (spec-max-depth spec)))
       (%make-machine :spec spec :layout layout :goal-table goals :goal-of goal-of
                      :operators operators :initial-state (initial-state spec)
-                     :autoscript-mask (loop for var in (remove-duplicates
-                                                        (mapcar #'autoscript-variable
-                                                                (spec-autoscripts spec)))
-                                            when (plannable-p var) sum (var-field-mask var))))))
+                     :watched-variables (watched-plannable-variables spec)
+                     :autoscript-mask (reduce #'logior (watched-plannable-variables spec)
+                                              :key #'var-field-mask :initial-value 0)))))
+
+(defun watched-plannable-variables (spec)
+  "SPEC's plannable variables that some autoscript watches, in declaration order."
+  (let ((watched (mapcar #'autoscript-variable (spec-autoscripts spec))))
+    (remove-if-not (lambda (var) (member var watched)) (plannable-variables spec))))
 
 (defun machine-goal-for (machine ast)
   "The goal MACHINE planned for goal AST (a :state argument or precondition)."

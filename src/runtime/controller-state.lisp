@@ -72,12 +72,14 @@ OLD and NEW are value indices (plannable) or numbers."
          (watched (logand (logxor old-bits new-bits) (machine-autoscript-mask machine))))
     (if (zerop watched)
         (setf (controller-bits controller) new-bits)
-        (let ((changed (loop for var in (plannable-variables (machine-spec machine))
-                             unless (zerop (logand watched (var-field-mask var)))
-                               collect (cons var (value-index-of controller var)))))
+        (progn
           (setf (controller-bits controller) new-bits)
-          (loop for (var . old) in changed
-                do (notify-autoscripts controller var old (value-index-of controller var) time))))
+          (dolist (var (machine-watched-variables machine))
+            (unless (zerop (logand watched (var-field-mask var)))
+              (notify-autoscripts controller var
+                                  (1- (integer-length (ldb (byte (var-domain-size var) (var-bit-offset var))
+                                                           old-bits)))
+                                  (value-index-of controller var) time)))))
     new-bits))
 
 (defun set-runtime-value (controller var value time)
