@@ -16,11 +16,11 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive"))
+    (dolist (file '("synthetic" "naive" "cpp"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *peedy-file* (merge-pathnames "../specs/peedy.lisp" *bench-directory*))
-(defparameter *fallback-file* (merge-pathnames "mini-peedy.lisp" *bench-directory*)
+(defparameter *fallback-file* (merge-pathnames "../t/fixtures/mini.lisp" *bench-directory*)
   "A small Peedy, used (with a note) when specs/peedy.lisp is missing.")
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -262,11 +262,15 @@ closures and through run-time planning; add the rows; return the ratio."
       (row "   events/s, planning each goal at run time (forward BFS)" (format-count naive-rate) "" "")
       (row "   ratio compiled / run-time planning" (format-ratio ratio)
            (if target ">= 1000x" "") (if target (>= ratio 1000) ""))
+      (when target (setf *in-order-rate* compiled-rate))
       (note "~A: ~D of ~D events fail (goal unreachable); compiled and run-time-planning agents in the same plannable state after ~D of ~D events; run-time planning does ~,1F BFS searches per event, expanding ~,1F states per search"
             label failures count same count
             (/ (search-space-searches space) (* count 1d0))
             (/ (search-space-expanded space) (max 1 (search-space-searches space))))
       ratio)))
+
+(defvar *in-order-rate* nil
+  "Events per second of the compiled closures on all events in spec order, for the C++ comparison.")
 
 (defun bench-events (machine)
   (let ((count (length (player:event-names machine))))
@@ -309,7 +313,7 @@ closures and through run-time planning; add the rows; return the ratio."
     (format t "~&Player benchmarks (~A ~A)~%" (lisp-implementation-type) (lisp-implementation-version))
     (multiple-value-bind (spec realp) (load-peedy)
       (unless realp
-        (note "specs/peedy.lisp not found: Peedy rows use bench/mini-peedy.lisp instead"))
+        (note "specs/peedy.lisp not found: Peedy rows use t/fixtures/mini.lisp instead"))
       (let ((machine (bench-peedy-compile spec)))
         (rule)
         (dolist (n *synthetic-sizes*)
@@ -318,7 +322,9 @@ closures and through run-time planning; add the rows; return the ratio."
         (rule)
         (bench-events machine)
         (rule)
-        (bench-bytes machine)))
+        (bench-bytes machine)
+        (rule)
+        (bench-c++ machine *in-order-rate*)))
     (format t "~%")
     (print-table)
     (format t "~%Total benchmark time: ~,1F s~%" (- (now) start))
