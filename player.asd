@@ -46,6 +46,16 @@ run the resulting state machine as Lisp closures."
      (:module "runtime"
       :serial t
       :components ((:file "controller")))
+     (:module "anim"
+      :pathname "runtime/anim"
+      :serial t
+      :components ((:file "math")
+                   (:file "controls")))
+     (:module "body"
+      :pathname "runtime/body"
+      :serial t
+      :components ((:file "skeleton")
+                   (:file "arbitration")))
      (:module "codegen-c++"
       :pathname "codegen"
       :serial t
@@ -74,5 +84,7 @@ run the resulting state machine as Lisp closures."
                  (:file "test-peedy")
                  (:file "test-properties")
                  (:file "test-c++")
-                 (:file "test-cli"))))
+                 (:file "test-cli")
+                 (:file "test-anim")
+                 (:file "test-body"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

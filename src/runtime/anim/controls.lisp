@@ -1,0 +1,3 @@
+;;;; controls.lisp
+
+(in-package #:player)

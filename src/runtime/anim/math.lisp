@@ -1,0 +1,3 @@
+;;;; math.lisp
+
+(in-package #:player)

@@ -1,0 +1,3 @@
+;;;; arbitration.lisp
+
+(in-package #:player)

@@ -1,0 +1,3 @@
+;;;; skeleton.lisp
+
+(in-package #:player)

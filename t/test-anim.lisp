@@ -1,0 +1,3 @@
+;;;; test-anim.lisp
+
+(in-package #:player-tests)

@@ -1,0 +1,3 @@
+;;;; test-body.lisp
+
+(in-package #:player-tests)
