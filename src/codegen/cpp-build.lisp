@@ -19,17 +19,7 @@ Arguments: \"var=value,...\" and \"ev1,ev2,...\" as Player prints them."
 
 namespace {
 
-std::string number(double x) {
-  const long long micros = static_cast<long long>(std::floor(x * 1e6 + 0.5));
-  const long long magnitude = micros < 0 ? -micros : micros;
-  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(magnitude / 1000000);
-  long long fraction = magnitude % 1000000;
-  if (fraction == 0) return text;
-  std::string digits = std::to_string(fraction);
-  digits = std::string(6 - digits.size(), '0') + digits;
-  while (digits.back() == '0') digits.pop_back();
-  return text + \".\" + digits;
-}
+std::string number(double x) { return ~A::format_number(x); }
 
 std::vector<std::string> split(const std::string& text) {
   std::vector<std::string> parts;
@@ -122,7 +112,7 @@ int main(int argc, char** argv) {
 }
 "
           name name namespace namespace namespace namespace namespace namespace namespace namespace
-          namespace namespace namespace namespace namespace namespace))
+          namespace namespace namespace namespace namespace namespace namespace))
 
 (defun c++-cache-root ()
   "Where compiled drivers are kept: $XDG_CACHE_HOME/player/c++/ or ~/.cache/player/c++/."

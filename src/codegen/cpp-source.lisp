@@ -14,21 +14,7 @@
     (emit-banner machine (format nil "~A.cpp" name))
     (emit "#include \"~A.hpp\"~%~%#include <cmath>~%#include <cstdlib>~%#include <string>~%" name)
     (emit "namespace ~A {~%namespace {~%" namespace)
-    (emit "// Times print as Player's Lisp side prints them: rounded to the microsecond,
-// integral values without a fraction, trailing zeros dropped.
-[[maybe_unused]] std::string format_number(double x) {
-  const long long micros = static_cast<long long>(std::floor(x * 1e6 + 0.5));
-  const long long magnitude = micros < 0 ? -micros : micros;
-  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(magnitude / 1000000);
-  long long fraction = magnitude % 1000000;
-  if (fraction == 0) return text;
-  std::string digits = std::to_string(fraction);
-  digits = std::string(6 - digits.size(), '0') + digits;
-  while (digits.back() == '0') digits.pop_back();
-  return text + \".\" + digits;
-}
-
-[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
+    (emit "[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
   for (int i = 0; i < size; ++i)
     if (bits >> (offset + i) & 1u) return i;
   return 0;  // unreachable for a valid one-hot state; 0 keeps every table index in bounds
@@ -51,6 +37,17 @@
     (emit "};~%~%const char* const kEventNames[] = {~{~A, ~}nullptr};~%"
           (mapcar (lambda (e) (c++-string (lisp-text (event-name e)))) (spec-events spec)))
     (emit "}  // namespace~%")
+    (emit "std::string format_number(double x) {
+  const long long micros = static_cast<long long>(std::floor(x * 1e6 + 0.5));
+  const long long magnitude = micros < 0 ? -micros : micros;
+  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(magnitude / 1000000);
+  long long fraction = magnitude % 1000000;
+  if (fraction == 0) return text;
+  std::string digits = std::to_string(fraction);
+  digits = std::string(6 - digits.size(), '0') + digits;
+  while (digits.back() == '0') digits.pop_back();
+  return text + \".\" + digits;
+}~%")
     (emit "const char* event_name(Event e) { return kEventNames[static_cast<int>(e)]; }~%")
     (emit "bool find_event(const std::string& name, Event& out) {")
     (emit "  for (int i = 0; i < event_count; ++i)")
