@@ -16,7 +16,7 @@
    #:diagnostic-message #:diagnostic-details
    #:*default-max-depth*
    ;; C++ backend
-   #:emit-c++ #:run-c++-trace #:*c++-flags*
+   #:emit-c++ #:run-c++-trace #:*c++-flags* #:*c++-compiler*
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile

@@ -583,3 +583,13 @@ parameter must not be unused) and behaves as in Lisp."
                (event e2 :if ((/= gear gear) :add gear.2) :if ((> gear 2) :add v0)))
     (let ((problem (compare-backends (compile-spec spec) '() '(e2 e1 e2))))
       (is (null problem) "~A" problem))))
+
+(test c++-missing-compiler-names-the-debian-package
+  (with-spec (spec no-compiler (state-variable on boolean false) (op switch-on :add on)
+                               (event ev :state on) (event ev-2 :c++ "/* unique to this test */"))
+    (let* ((player:*c++-compiler* "g++-that-does-not-exist")
+           (e (handler-case (progn (run-c++-trace (compile-spec spec) :events '(ev)) nil)
+                (player-error (e) e))))
+      (is (typep e 'player-error))
+      (is (search "g++-that-does-not-exist is not installed; install the Debian package g++"
+                  (princ-to-string e))))))

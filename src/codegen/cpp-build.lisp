@@ -6,6 +6,9 @@
 (defparameter *c++-flags* '("-std=c++17" "-O2" "-Wall" "-Wextra" "-Werror" "-pedantic")
   "How generated code is compiled; it must build cleanly with these.")
 
+(defparameter *c++-compiler* "g++"
+  "The compiler command, looked up on PATH.")
+
 (defun driver-source (name namespace)
   "A main() printing Player's trace for the controller NAME in NAMESPACE.
 Arguments: \"var=value,...\" and \"ev1,ev2,...\" as Player prints them."
@@ -116,15 +119,11 @@ int main(int argc, char** argv) {
 
 (defun c++-cache-root ()
   "Where compiled drivers are kept: $XDG_CACHE_HOME/player/c++/ or ~/.cache/player/c++/."
-  (let ((xdg (sb-posix-getenv "XDG_CACHE_HOME")))
+  (let ((xdg (sb-ext:posix-getenv "XDG_CACHE_HOME")))
     (merge-pathnames "player/c++/"
                      (if (and xdg (plusp (length xdg)))
                          (uiop-directory xdg)
                          (merge-pathnames ".cache/" (user-homedir-pathname))))))
-
-(defun sb-posix-getenv (name)
-  "The environment variable NAME, or NIL."
-  (sb-ext:posix-getenv name))
 
 (defun content-key (&rest texts)
   "A hex digest of TEXTS, naming a cache entry."
@@ -166,12 +165,13 @@ return the executable's pathname."
 (defun compile-c++ (directory sources output)
   "Compile SOURCES in DIRECTORY into OUTPUT with *C++-FLAGS*; clear errors if not."
   (multiple-value-bind (code out err)
-      (run-program-capturing "g++" (append *c++-flags* sources (list "-o" output))
+      (run-program-capturing *c++-compiler* (append *c++-flags* sources (list "-o" output))
                              :directory (namestring directory))
     (declare (ignore out))
     (cond ((null code)
            (error 'player-error-with-message
-                  :message "g++ is not installed; install the Debian package g++"))
+                  :message (format nil "~A is not installed; install the Debian package g++"
+                                   *c++-compiler*)))
           ((/= code 0)
            (error 'player-error-with-message
                   :message (format nil "g++ failed on the generated code in ~A: ~A"

@@ -85,11 +85,6 @@ Returns the two pathnames."
     (values (with-output-to-string (*out*) (emit-header machine name namespace))
             (with-output-to-string (*out*) (emit-source machine name namespace)))))
 
-(define-condition player-error-with-message (player-error)
-  ((message :initarg :message :reader player-error-message))
-  (:report (lambda (c s) (write-string (player-error-message c) s)))
-  (:documentation "A PLAYER-ERROR carrying just a message."))
-
 ;;; Header
 
 (defun emit-banner (machine file)

@@ -88,6 +88,11 @@
                      (mapcar #'lisp-text (unknown-event-known condition)))))
   (:documentation "SEND-EVENT was given an event the controller's spec does not define."))
 
+(define-condition player-error-with-message (player-error)
+  ((message :initarg :message :reader player-error-message))
+  (:report (lambda (condition stream) (write-string (player-error-message condition) stream)))
+  (:documentation "A PLAYER-ERROR that is just its message (tool failures such as g++'s)."))
+
 (define-condition state-space-too-large (player-error)
   ((states :initarg :states :reader too-large-states)
    (limit :initarg :limit :reader too-large-limit))
