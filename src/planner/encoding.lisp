@@ -66,21 +66,32 @@
   "(VALUES CHOICES RUN): CUBE's states are the runs [BASE, BASE+RUN) for every
 BASE that sums one entry of each vector in CHOICES (the constrained and higher
 variables' dense contributions)."
+  (declare (optimize speed))
   (let* ((sizes (layout-sizes layout))
          (offsets (layout-offsets layout))
-         (free (loop for k below (length sizes)
-                     while (= (ldb (byte (svref sizes k) (svref offsets k)) cube)
-                              (1- (ash 1 (svref sizes k))))
-                     count t)))
-    (values (coerce (loop for k from free below (length sizes)
-                          collect (coerce (loop for i below (svref sizes k)
-                                                when (logbitp (+ (svref offsets k) i) cube)
-                                                  collect (* i (svref (layout-strides layout) k)))
-                                          '(simple-array fixnum (*))))
-                    'simple-vector)
-            (if (< free (length sizes))
-                (svref (layout-strides layout) free)
-                (layout-state-count layout)))))
+         (strides (layout-strides layout))
+         (n (length sizes))
+         (free (loop for k of-type fixnum below n
+                     for size of-type fixnum = (svref sizes k)
+                     while (= (ldb (byte size (the fixnum (svref offsets k))) cube)
+                              (1- (ash 1 size)))
+                     count t))
+         (choices (make-array (- n free))))
+    (declare (type simple-vector sizes offsets strides) (type fixnum n free))
+    (loop for k of-type fixnum from free below n
+          for size of-type fixnum = (svref sizes k)
+          for offset of-type fixnum = (svref offsets k)
+          for stride of-type fixnum = (svref strides k)
+          for field = (ldb (byte size offset) cube)
+          for values = (make-array (logcount field) :element-type 'fixnum)
+          do (loop with j of-type fixnum = 0
+                   for i of-type fixnum below size
+                   when (logbitp i field)
+                     do (setf (aref values j) (* i stride))
+                        (incf j))
+             (setf (svref choices (- k free)) values))
+    (values choices
+            (if (< free n) (svref strides free) (layout-state-count layout)))))
 
 (defmacro do-cube-runs ((start end cube layout) &body body)
   "Run BODY with START and END bound to each run [START, END) of CUBE's dense states."
@@ -111,30 +122,64 @@ variables' dense contributions)."
   (do-cube-runs (start end cube layout)
     (loop for dense from start below end do (funcall function dense))))
 
+;;; SolvedStates is marked and tested a 64-bit word at a time: SBCL stores a
+;;; bit vector's bit I as bit (MOD I 64) of word (FLOOR I 64).
+
+(declaim (inline range-word-mask))
+(defun range-word-mask (start end)
+  "(VALUES WORD MASK COUNT): the word holding bit START, the mask of bits
+[START, END) within it, and how many bits that is."
+  (declare (type fixnum start end) (optimize speed))
+  (multiple-value-bind (word bit) (floor start 64)
+    (let ((count (min (- 64 bit) (- end start))))
+      (values word
+              (ldb (byte 64 0) (ash (ldb (byte count 0) (1- (ash 1 64))) bit))
+              count))))
+
+(defun mark-range (bitmap start end)
+  "Set bits [START, END) of BITMAP; return how many of them were clear."
+  (declare (type simple-bit-vector bitmap) (type fixnum start end) (optimize speed))
+  (let ((new 0))
+    (declare (type fixnum new))
+    (loop while (< start end)
+          do (multiple-value-bind (word mask count) (range-word-mask start end)
+               (declare (type (unsigned-byte 64) mask) (type fixnum count))
+               (let ((old (sb-kernel:%vector-raw-bits bitmap word)))
+                 (declare (type (unsigned-byte 64) old))
+                 (incf new (logcount (logandc1 old mask)))
+                 (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old mask))
+                 (incf start count))))
+    new))
+
+(defun range-has-clear-p (bitmap start end)
+  "True when some bit of [START, END) in BITMAP is clear."
+  (declare (type simple-bit-vector bitmap) (type fixnum start end) (optimize speed))
+  (loop while (< start end)
+        do (multiple-value-bind (word mask count) (range-word-mask start end)
+             (declare (type (unsigned-byte 64) mask) (type fixnum count))
+             (unless (zerop (logandc1 (sb-kernel:%vector-raw-bits bitmap word) mask))
+               (return-from range-has-clear-p t))
+             (incf start count)))
+  nil)
+
 (defun mark-cube (bitmap cube layout)
   "Set CUBE's states in BITMAP; return how many were not set before."
-  (declare (type simple-bit-vector bitmap)
-           (optimize speed))
+  (declare (type simple-bit-vector bitmap))
   (let ((new 0))
     (declare (type fixnum new))
     (do-cube-runs (start end cube layout)
-      (if (< (- end start) 4096)
+      (if (< (- end start) 64)
           (loop for dense of-type fixnum from start below end
                 when (zerop (sbit bitmap dense))
                   do (setf (sbit bitmap dense) 1)
                      (incf new))
-          (let ((unset (count 0 bitmap :start start :end end)))
-            (declare (type fixnum unset))
-            (when (plusp unset)
-              (incf new unset)
-              (fill bitmap 1 :start start :end end)))))
+          (incf new (mark-range bitmap start end))))
     new))
 
 (defun cube-has-unmarked-p (bitmap cube layout)
   "True when some state of CUBE is not set in BITMAP."
-  (declare (type simple-bit-vector bitmap)
-           (optimize speed))
+  (declare (type simple-bit-vector bitmap))
   (do-cube-runs (start end cube layout)
-    (when (position 0 bitmap :start start :end end)
+    (when (range-has-clear-p bitmap start end)
       (return-from cube-has-unmarked-p t)))
   nil)
