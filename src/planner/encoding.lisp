@@ -16,7 +16,10 @@
   (offsets #() :type simple-vector)
   (masks #() :type simple-vector)
   (strides #() :type simple-vector)
-  (state-count 1 :type (integer 1)))
+  (state-count 1 :type (integer 1))
+  ;; leading variables spanning exactly one 64-bit word, or NIL (see MARK-CUBE-WORDS)
+  (word-prefix nil)
+  (word-masks #() :type simple-vector))
 
 (defun make-layout (spec)
   "The layout of SPEC's plannable state; STATE-SPACE-TOO-LARGE past *STATE-LIMIT*."
@@ -29,10 +32,14 @@
                    count (* count (aref sizes i))))
     (when (> count *state-limit*)
       (error 'state-space-too-large :states count :limit *state-limit*))
-    (%make-layout :spec spec :variables vars :sizes sizes
-                  :offsets (map 'simple-vector #'var-bit-offset vars)
-                  :masks (map 'simple-vector #'var-field-mask vars)
-                  :strides strides :state-count count)))
+    (let ((layout (%make-layout :spec spec :variables vars :sizes sizes
+                                :offsets (map 'simple-vector #'var-bit-offset vars)
+                                :masks (map 'simple-vector #'var-field-mask vars)
+                                :strides strides :state-count count)))
+      (when-let ((prefix (word-prefix layout)))
+        (setf (layout-word-prefix layout) prefix
+              (layout-word-masks layout) (word-value-masks layout prefix)))
+      layout)))
 
 (defun layout-cube-empty-p (cube layout)
   "True when CUBE allows no state."
@@ -93,29 +100,99 @@ variables' dense contributions)."
     (values choices
             (if (< free n) (svref strides free) (layout-state-count layout)))))
 
+(defmacro do-odometer ((base choices) &body body)
+  "Run BODY with BASE bound to every sum of one entry from each vector of
+CHOICES (a simple-vector of fixnum vectors), kept up to date digit by digit."
+  (with-gensyms (count counters k digit values)
+    `(let* ((,count (length ,choices))
+            (,counters (make-array ,count :element-type 'fixnum :initial-element 0))
+            (,base (loop for ,k of-type fixnum below ,count
+                         sum (aref (the (simple-array fixnum (*)) (svref ,choices ,k)) 0)
+                           of-type fixnum)))
+       (declare (type fixnum ,count ,base))
+       (loop
+         (progn ,@body)
+         (unless (loop for ,k of-type fixnum below ,count
+                       for ,values = (the (simple-array fixnum (*)) (svref ,choices ,k))
+                       for ,digit of-type fixnum = (aref ,counters ,k)
+                       do (if (< (1+ ,digit) (length ,values))
+                              (progn (incf ,base (- (aref ,values (1+ ,digit)) (aref ,values ,digit)))
+                                     (setf (aref ,counters ,k) (1+ ,digit))
+                                     (return t))
+                              (progn (decf ,base (- (aref ,values ,digit) (aref ,values 0)))
+                                     (setf (aref ,counters ,k) 0))))
+           (return))))))
+
 (defmacro do-cube-runs ((start end cube layout) &body body)
   "Run BODY with START and END bound to each run [START, END) of CUBE's dense states."
-  (with-gensyms (choices run count counters base k digits)
+  (with-gensyms (choices run base)
     `(multiple-value-bind (,choices ,run) (cube-runs ,cube ,layout)
        (declare (type simple-vector ,choices) (type fixnum ,run))
-       (let* ((,count (length ,choices))
-              (,counters (make-array ,count :element-type 'fixnum :initial-element 0)))
-         (declare (type fixnum ,count))
-         (loop
-           (let ((,base 0))
-             (declare (type fixnum ,base))
-             (loop for ,k of-type fixnum below ,count
-                   do (incf ,base (aref (the (simple-array fixnum (*)) (svref ,choices ,k))
-                                        (aref ,counters ,k))))
-             (let ((,start ,base) (,end (+ ,base ,run)))
-               (declare (type fixnum ,start ,end))
-               ,@body))
-           (unless (loop for ,k of-type fixnum below ,count
-                         for ,digits = (length (the (simple-array fixnum (*)) (svref ,choices ,k)))
-                         do (if (< (incf (aref ,counters ,k)) ,digits)
-                                (return t)
-                                (setf (aref ,counters ,k) 0)))
-             (return)))))))
+       (do-odometer (,base ,choices)
+         (let ((,start ,base) (,end (+ ,base ,run)))
+           (declare (type fixnum ,start ,end))
+           ,@body)))))
+
+;;; When the first variables of the dense numbering span exactly 64 states
+;;; (six booleans, say), every word of SolvedStates holds all their
+;;; combinations for one assignment of the others: a cube then marks a fixed
+;;; 64-bit pattern in each of the words its other variables select.
+
+(defun word-prefix (layout)
+  "How many leading variables of LAYOUT span exactly 64 states, or NIL."
+  (loop with product = 1
+        for size across (layout-sizes layout)
+        for k from 1
+        do (setf product (* product size))
+        when (= product 64) return k
+        while (< product 64)))
+
+(defun word-value-masks (layout prefix)
+  "For each of the first PREFIX variables, a vector giving for each value the
+64-bit mask of the word positions where the variable has that value."
+  (coerce (loop for k below prefix
+                collect (coerce (loop for i below (svref (layout-sizes layout) k)
+                                      collect (loop for low below 64
+                                                    when (= i (mod (floor low (svref (layout-strides layout) k))
+                                                                   (svref (layout-sizes layout) k)))
+                                                      sum (ash 1 low)))
+                                'simple-vector))
+          'simple-vector))
+
+(defun cube-word-pattern (cube layout prefix)
+  "The 64-bit mask of the combinations of the first PREFIX variables CUBE allows."
+  (let ((pattern (1- (ash 1 64)))
+        (masks (layout-word-masks layout)))
+    (dotimes (k prefix pattern)
+      (let ((offset (svref (layout-offsets layout) k))
+            (allowed 0))
+        (loop for i below (svref (layout-sizes layout) k)
+              when (logbitp (+ offset i) cube)
+                do (setf allowed (logior allowed (svref (svref masks k) i))))
+        (setf pattern (logand pattern allowed))))))
+
+(defun cube-word-choices (cube layout prefix)
+  "Per variable after the first PREFIX, the word-index contributions of the values CUBE allows."
+  (coerce (loop for k from prefix below (length (layout-sizes layout))
+                collect (coerce (loop for i below (svref (layout-sizes layout) k)
+                                      when (logbitp (+ (svref (layout-offsets layout) k) i) cube)
+                                        collect (/ (* i (svref (layout-strides layout) k)) 64))
+                                '(simple-array fixnum (*))))
+          'simple-vector))
+
+(defun mark-cube-words (bitmap cube layout prefix)
+  "MARK-CUBE for a layout whose first PREFIX variables span one word."
+  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (let ((pattern (cube-word-pattern cube layout prefix))
+        (choices (cube-word-choices cube layout prefix))
+        (new 0))
+    (declare (type (unsigned-byte 64) pattern) (type simple-vector choices) (type fixnum new))
+    (do-odometer (word choices)
+      (let ((old (sb-kernel:%vector-raw-bits bitmap word)))
+        (declare (type (unsigned-byte 64) old))
+        (incf new (logcount (logandc1 old pattern)))
+        (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old pattern))))
+    new))
 
 (defun map-cube-states (function cube layout)
   "Call FUNCTION on the dense number of every state in CUBE."
@@ -164,7 +241,9 @@ variables' dense contributions)."
 
 (defun mark-cube (bitmap cube layout)
   "Set CUBE's states in BITMAP; return how many were not set before."
-  (declare (type simple-bit-vector bitmap))
+  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (when-let ((prefix (layout-word-prefix layout)))
+    (return-from mark-cube (mark-cube-words bitmap cube layout prefix)))
   (let ((new 0))
     (declare (type fixnum new))
     (do-cube-runs (start end cube layout)
@@ -178,8 +257,18 @@ variables' dense contributions)."
 
 (defun cube-has-unmarked-p (bitmap cube layout)
   "True when some state of CUBE is not set in BITMAP."
-  (declare (type simple-bit-vector bitmap))
+  (declare (type simple-bit-vector bitmap) (optimize speed))
   (do-cube-runs (start end cube layout)
     (when (range-has-clear-p bitmap start end)
       (return-from cube-has-unmarked-p t)))
   nil)
+
+(defun count-marked (bitmap)
+  "How many bits of BITMAP are set, a word at a time."
+  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (multiple-value-bind (words rest) (floor (length bitmap) 64)
+    (+ (loop for i of-type fixnum below words
+             sum (logcount (the (unsigned-byte 64) (sb-kernel:%vector-raw-bits bitmap i)))
+               of-type fixnum)
+       (loop for i of-type fixnum from (* words 64) below (+ (* words 64) rest)
+             count (= 1 (sbit bitmap i))))))

@@ -73,6 +73,6 @@ Returns (VALUES GOAL GOALS)."
       (plan-goal (goal-cubes goal) operators layout max-depth)
     (setf (goal-plans goal) (coerce plans 'simple-vector)
           (goal-solved goal) solved
-          (goal-solved-count goal) (count 1 solved)
+          (goal-solved-count goal) (count-marked solved)
           (goal-truncatedp goal) truncatedp)
     goal))

@@ -26,6 +26,7 @@
   (loop for var in (plannable-variables spec)
           thereis (zerop (logand cube (var-field-mask var)))))
 
+(declaim (inline cube-subset-p))
 (defun cube-subset-p (inner outer)
   "True when every state of cube INNER lies in cube OUTER."
   (zerop (logandc2 inner outer)))
