@@ -17,6 +17,12 @@
    #:*default-max-depth*
    ;; C++ backend
    #:emit-c++ #:run-c++-trace #:*c++-flags* #:*c++-compiler*
+   ;; Animation engine and body model (issue 5, in progress)
+   #:vec3 #:quat #:qslerp #:qsquad #:world-transforms
+   #:control-value #:parse-control #:make-keys-control #:anim-error #:anim-control-error
+   #:load-skeleton #:skeleton-error #:find-joint #:skeleton-joints #:skeleton-role
+   #:make-arbitrator #:request-channels #:release-channels #:release-driver #:channel-owner
+   #:channel-blend-weight #:on-channel-loss #:on-channel-grant #:add-slave #:arbitration-error
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile
