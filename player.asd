@@ -49,8 +49,13 @@ run the resulting state machine as Lisp closures."
      (:module "anim"
       :pathname "runtime/anim"
       :serial t
-      :components ((:file "math")
-                   (:file "controls")))
+      :components ((:file "vectors")
+                   (:file "quaternions")
+                   (:file "transforms")
+                   (:file "controls")
+                   (:file "keyframes")
+                   (:file "noise")
+                   (:file "control-forms")))
      (:module "body"
       :pathname "runtime/body"
       :serial t
