@@ -82,6 +82,7 @@ run the resulting state machine as Lisp closures."
     :components ((:file "package")
                  (:file "random-specs")
                  (:file "reference-bfs")
+                 (:file "random-events")
                  (:file "test-language")
                  (:file "test-errors")
                  (:file "test-planner")
