@@ -55,12 +55,17 @@ run the resulting state machine as Lisp closures."
                    (:file "controls")
                    (:file "keyframes")
                    (:file "noise")
-                   (:file "control-forms")))
+                   (:file "control-forms")
+                   (:file "scene")))
      (:module "body"
       :pathname "runtime/body"
       :serial t
       :components ((:file "skeleton")
-                   (:file "arbitration")))
+                   (:file "arbitration")
+                   (:file "pose")
+                   (:file "motor-functions")
+                   (:file "driver")
+                   (:file "body")))
      (:module "codegen-c++"
       :pathname "codegen"
       :serial t

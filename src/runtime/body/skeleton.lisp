@@ -98,13 +98,15 @@ the offending clause."))
   (center #(0.0 0.0 0.0) :type (simple-vector 3) :read-only t)
   (dofs '() :type list :read-only t)
   (radius *default-joint-radius* :type real :read-only t)
-  (index 0 :type fixnum))
+  (index 0 :type fixnum)
+  (dof-start 0 :type fixnum))
 
 (defstruct (skeleton (:constructor %make-skeleton))
   "A loaded skeleton: JOINTS parent before child, lookup tables by name and role."
   (name nil :type symbol :read-only t)
   (documentation nil :type (or null string) :read-only t)
   (joints #() :type simple-vector)
+  (dof-count 0 :type fixnum)
   (joint-table (make-hash-table :test #'equalp) :type hash-table)
   (roles '() :type list)
   (source nil))
@@ -213,6 +215,8 @@ empty, unreadable or holds more than one form."
            (handler-case
                (with-standard-io-syntax
                  (let ((*read-eval* nil)
+                       ;; Centres are given to 0.1 mm; single floats would blur them.
+                       (*read-default-float-format* 'double-float)
                        (*package* (find-package '#:player-user)))
                    (read stream nil stream)))
              (error (condition)
@@ -253,10 +257,14 @@ role."
                                  name))
            (skeleton (%make-skeleton :name name :documentation documentation
                                      :joints joints :source source)))
-      (loop for joint across joints
+      (loop with start = 0
+            for joint across joints
             do (setf (gethash (string (body-joint-name joint))
                               (skeleton-joint-table skeleton))
-                     joint))
+                     joint
+                     (body-joint-dof-start joint) start)
+               (incf start (length (body-joint-dofs joint)))
+            finally (setf (skeleton-dof-count skeleton) start))
       (setf (skeleton-roles skeleton)
             (parse-role-clauses (nreverse role-clauses) skeleton))
       skeleton)))
@@ -314,7 +322,17 @@ limits and that DOF names are unique within the joint."
           when (find (body-dof-name dof) later :key #'body-dof-name :test #'string-equal)
             do (skeleton-fail clause "joint ~A has two DOFs called ~A"
                               (lisp-text name) (lisp-text (body-dof-name dof))))
+    ;; BVH and Euler decompositions need each axis at most once per joint.
+    (loop for (dof . later) on parsed
+          for line = (dof-axis-line dof)
+          when (find line later :key #'dof-axis-line)
+            do (skeleton-fail clause "joint ~A turns twice about the ~A axis"
+                              (lisp-text name) (lisp-text line)))
     parsed))
+
+(defun dof-axis-line (dof)
+  "The unsigned axis (:x, :y or :z) DOF turns about."
+  (ecase (body-dof-axis dof) ((:x :-x) :x) ((:y :-y) :y) ((:z :-z) :z)))
 
 (defun parse-dof (dof name clause)
   "One BODY-DOF from DOF, (AXIS MIN MAX [:name DOF-NAME])."

@@ -1,0 +1,117 @@
+;;;; driver.lisp -- the driver protocol: Pantomime's BaseDriver.  A driver
+;;;; performs one motor-function call on one body: it names the DOF channels it
+;;;; drives, captures what it needs from the pose at its start, and writes
+;;;; target angles for any later time.  The body arbitrates, blends and clamps.
+
+(in-package #:player)
+
+(defclass driver ()
+  ((body :initarg :body :reader driver-body
+         :documentation "The body this driver moves.")
+   (call :initarg :call :reader driver-call
+         :documentation "The checked MOTOR-CALL it performs.")
+   (start :initarg :start :reader driver-start
+          :documentation "Absolute time (seconds) it starts.")
+   (stop :initarg :stop :initform nil :accessor driver-stop
+         :documentation "Absolute time its script stops it, or NIL.")
+   (channels :initform '() :accessor driver-channels
+             :documentation "The pose indices it drives, from DRIVER-SETUP.")
+   (sequence :initform 0 :accessor driver-sequence
+             :documentation "When it started in its body, for the order of composition."))
+  (:documentation "Base class of drivers.  A subclass implements DRIVER-SETUP and
+DRIVER-DRIVE, and where it needs them DRIVER-BEGIN, DRIVER-END-TIME,
+DRIVER-ADDITIVE-P, SLAVE-DRIVERS and DRIVER-REPORT."))
+
+(defmethod print-object ((driver driver) stream)
+  (print-unreadable-object (driver stream :type t :identity t)
+    (format stream "~A from ~A" (lisp-text (motor-call-function (driver-call driver)))
+            (format-number (driver-start driver)))))
+
+(defun driver-arg (driver key)
+  "The value of DRIVER's motor-call parameter KEY."
+  (motor-arg (driver-call driver) key))
+
+(defmethod driver-priority ((driver driver))
+  (driver-arg driver :priority))
+
+(defun driver-skeleton (driver)
+  "The skeleton of DRIVER's body."
+  (body-skeleton (driver-body driver)))
+
+;;;# The protocol
+
+(defgeneric driver-setup (driver)
+  (:documentation "Check DRIVER against its body's skeleton and return the pose
+indices it drives.  Called once, when the driver is made; may signal
+MOTOR-ERROR (the skeleton lacks a role, say)."))
+
+(defgeneric driver-begin (driver pose time)
+  (:documentation "DRIVER starts at TIME; POSE is its body's pose then (read it,
+do not keep it).  Capture what DRIVE needs, such as where the eyes looked.")
+  (:method ((driver driver) pose time)
+    (declare (ignore pose time))
+    nil))
+
+(defgeneric driver-drive (driver time pose)
+  (:documentation "Write DRIVER's target angles (degrees) for absolute TIME into
+its channels of POSE.  A pure function of TIME, what DRIVER-BEGIN captured and
+the scene at TIME: the same time gives the same angles."))
+
+(defgeneric driver-end-time (driver)
+  (:documentation "The absolute time DRIVER finishes on its own, or NIL when it
+runs until its script stops it.")
+  (:method ((driver driver))
+    nil))
+
+(defgeneric driver-additive-p (driver)
+  (:documentation "True for a driver that adds offsets to the composed pose (idle
+noise) instead of owning its channels through arbitration.")
+  (:method ((driver driver))
+    nil))
+
+(defgeneric slave-drivers (driver)
+  (:documentation "The slave drivers DRIVER made in DRIVER-BEGIN (BaseDriver's
+master/slave: gaze drives the head for large shifts).  They start with their
+master, take its priority and end with it.")
+  (:method ((driver driver))
+    nil))
+
+(defgeneric driver-report (driver)
+  (:documentation "NIL, or a line of text about how DRIVER went that a presenter
+should show (a reach that fell short, say).")
+  (:method ((driver driver))
+    nil))
+
+(defun make-driver (call body start &key stop)
+  "A driver performing the MOTOR-CALL CALL on BODY from START (until STOP, when
+given), set up against BODY's skeleton."
+  (let* ((function (find-motor-function (motor-call-function call)))
+         (driver (make-instance (motor-function-driver-class function)
+                                :call call :body body :start start :stop stop)))
+    (setf (driver-channels driver) (driver-setup driver))
+    driver))
+
+(defun driver-finish-time (driver)
+  "When DRIVER ends: the earlier of its own end and its stop, or NIL."
+  (let ((end (driver-end-time driver))
+        (stop (driver-stop driver)))
+    (cond ((and end stop) (min end stop))
+          (t (or end stop)))))
+
+;;;# Helpers for driver classes
+
+(defun role-joint (driver role &optional (errorp t))
+  "The joint (or joint list) filling ROLE in DRIVER's skeleton; a MOTOR-ERROR
+naming DRIVER's frame when the skeleton leaves ROLE unfilled, unless ERRORP is NIL."
+  (or (skeleton-role (driver-skeleton driver) role)
+      (and errorp
+           (motor-fail (motor-call-frame (driver-call driver))
+                       "skeleton ~A has no ~A (motor function ~A needs it)"
+                       (lisp-text (skeleton-name (driver-skeleton driver))) (lisp-text role)
+                       (lisp-text (motor-call-function (driver-call driver)))))))
+
+(defun ramp (time start duration)
+  "0 before START, rising smoothly (smoothstep) to 1 at START + DURATION."
+  (if (<= duration 0)
+      (if (>= time start) 1d0 0d0)
+      (smoothstep (max 0d0 (min 1d0 (/ (- time start) duration))))))
