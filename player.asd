@@ -67,6 +67,18 @@ run the resulting state machine as Lisp closures."
                    (:file "motor-functions")
                    (:file "driver")
                    (:file "body")))
+     (:module "scripts"
+      :pathname "runtime/anim"
+      :serial t
+      :components ((:file "scripts")
+                   (:file "directors")
+                   (:file "script-library")))
+     (:module "performance"
+      :pathname "runtime"
+      :serial t
+      :components ((:file "performance")
+                   (:file "body-presenter")
+                   (:file "simulation")))
      (:module "codegen-c++"
       :pathname "codegen"
       :serial t

@@ -20,6 +20,10 @@ commands:
       play events in simulated time and print the trace
   emit-c++ SPEC-FILE [--spec NAME] --out DIR [--name NAME] [--namespace NS]
       write NAME.hpp and NAME.cpp, a standalone C++17 controller
+  simulate SPEC-FILE [--spec NAME] [--initial ...] --events ev1,... [--fps 30] [--seed N]
+           [--bvh FILE] [--frames FILE] [--scripts FILE] [--body NAME]
+      play the events on the spec's body in simulated time; print the trace,
+      write the motion as BVH and, with --frames, one s-expression per frame
   plans SPEC-FILE [--spec NAME]    print every goal's plan table
   check SPEC-FILE [--spec NAME]    print the spec's diagnostics
   help                             print this text"
@@ -28,8 +32,10 @@ commands:
 (defparameter *command-options*
   '(("run" "--spec" "--initial" "--events" "--backend")
     ("emit-c++" "--spec" "--out" "--name" "--namespace")
+    ("simulate" "--spec" "--initial" "--events" "--fps" "--seed" "--bvh" "--frames"
+     "--scripts" "--body")
     ("plans" "--spec")
-    ("check" "--spec"))
+    ("check" "--spec" "--scripts"))
   "Each command with the options it accepts (all take a value).")
 
 (defun parse-command-line (arguments)
@@ -118,6 +124,39 @@ commands:
            (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events)))
           (t (usage-fail "unknown backend ~A (expected lisp or c++)" backend)))))
 
+(defun number-option (name options default &key (test #'realp) (what "a number"))
+  "The value of option NAME read as a number passing TEST, or DEFAULT when absent."
+  (let ((text (option name options)))
+    (if text
+        (let ((value (read-cli-value text)))
+          (unless (funcall test value)
+            (usage-fail "~A takes ~A, not ~A" name what text))
+          value)
+        default)))
+
+(defun command-simulate (spec options)
+  "Play --events on SPEC's body in simulated time: print the trace and what the
+drivers reported, write --bvh and --frames."
+  (let* ((simulation
+           (simulate spec :initial (parse-initial-option (or (option "--initial" options) ""))
+                          :events (split-list (or (option "--events" options) ""))
+                          :fps (number-option "--fps" options 30
+                                              :test (lambda (x) (and (realp x) (plusp x) (<= x 1000)))
+                                              :what "a frame rate from 0 to 1000")
+                          :seed (number-option "--seed" options 0 :test #'integerp :what "an integer")
+                          :scripts (option "--scripts" options)
+                          :body (let ((body (option "--body" options)))
+                                  (and body (intern (string-upcase body) '#:player-user)))
+                          :stream *standard-output*))
+         (written (write-simulation simulation :bvh (option "--bvh" options)
+                                               :frames (option "--frames" options))))
+    (loop for (time text) in (simulation-reports simulation)
+          do (format t "; ~A s: ~A~%" (format-number time) text))
+    (format t "; ~D frames at ~A fps over ~A s~%" (simulation-frame-count simulation)
+            (format-number (simulation-fps simulation)) (format-number (simulation-end simulation)))
+    (dolist (path written)
+      (format t "; wrote ~A~%" (namestring path)))))
+
 (defun command-emit-c++ (spec options)
   "Write SPEC's C++ controller into --out."
   (let ((directory (or (option "--out" options) (usage-fail "emit-c++ needs --out DIR"))))
@@ -147,9 +186,9 @@ commands:
                          (machine-state-count machine)))))))
 
 (defun command-check (spec options)
-  "Print SPEC's diagnostics."
-  (declare (ignore options))
-  (let ((diagnostics (check-spec spec)))
+  "Print SPEC's diagnostics, and with a script library (its (:scripts FILE) or
+--scripts) the scripts it lacks and the ops whose :duration disagrees with their script."
+  (let ((diagnostics (append (check-spec spec) (script-diagnostics spec (option "--scripts" options)))))
     (if diagnostics
         (dolist (d diagnostics)
           (format t "warning: ~A~%" (diagnostic-message d)))
@@ -165,6 +204,7 @@ commands:
       (funcall (cond ((string= command "run") #'command-run)
                      ((string= command "emit-c++") #'command-emit-c++)
                      ((string= command "plans") #'command-plans)
+                     ((string= command "simulate") #'command-simulate)
                      ((string= command "check") #'command-check))
                spec options))))
 

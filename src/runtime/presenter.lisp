@@ -39,10 +39,19 @@ method here, so a presenter overrides only what it needs."))
 (defgeneric present-state (presenter controller)
   (:documentation "An event has finished; CONTROLLER holds the resulting state."))
 
+(defgeneric play-script (presenter script op start)
+  (:documentation "Play SCRIPT (a symbol: OP's :script, or its name) for OP from
+START; return the duration.  The default returns OP's declared :duration."))
+
 (defmethod present-op ((presenter presenter) op start)
-  (if (eq (op-kind op) :director)
-      (run-director presenter (op-director op) op start)
-      (op-duration op)))
+  (case (op-kind op)
+    (:director (run-director presenter (op-director op) op start))
+    (:script (play-script presenter (or (op-script op) (op-name op)) op start))
+    (t (op-duration op))))
+
+(defmethod play-script ((presenter presenter) script op start)
+  (declare (ignore script start))
+  (op-duration op))
 
 (defmethod run-director ((presenter presenter) director op start)
   (declare (ignore director start))

@@ -26,6 +26,8 @@
    (pending :initform '() :accessor body-pending :documentation "Drivers not yet started, by start time.")
    (active :initform '() :accessor body-active :documentation "Started drivers, least precedence first.")
    (serial :initform 0 :accessor body-serial)
+   (seed :initarg :seed :initform 0 :accessor body-seed
+         :documentation "Mixed into the seeds of random drivers (blink), so a run can be varied.")
    (reports :initform '() :accessor body-reports :documentation "(TIME DRIVER TEXT) of finished drivers, newest first.")
    (time :initform nil :accessor body-time :documentation "The time last evaluated, or NIL."))
   (:default-initargs :kind :body)

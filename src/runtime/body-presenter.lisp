@@ -1,0 +1,144 @@
+;;;; body-presenter.lisp -- a presenter that moves a body: an op plays the
+;;;; script its :script names (or runs its director), autoscripts loop their
+;;;; scripts while their value holds, and the op's duration is its script's,
+;;;; so the controller's clock follows the animation.  It prints the same trace
+;;;; lines as the trace presenter.
+
+(in-package #:player)
+
+(defparameter *default-body* 'humanoid
+  "The skeleton a spec's character gets when neither its (:body NAME) option nor the caller names one.")
+
+(defclass body-presenter (trace-presenter)
+  ((performance :initarg :performance :reader presenter-performance)
+   (autoscript-runs :initform (make-hash-table :test #'equal) :reader autoscript-runs
+                    :documentation "(PROC VARIABLE VALUE) -> the looping run playing it."))
+  (:documentation "Plays a controller's ops as scripts of a library on a body.
+PRESENTER-PERFORMANCE gives the frames."))
+
+(defun spec-option-path (spec key)
+  "SPEC's option KEY as a pathname, relative to the spec's file, or NIL."
+  (let ((value (getf (spec-options spec) key)))
+    (when value
+      (unless (stringp value)
+        (error 'spec-error :form (list key value) :spec (spec-name spec)
+                           :message (format nil "(~A ~A) needs a file name in a string"
+                                            (lisp-text key) (lisp-text value))))
+      (merge-pathnames value (or (spec-source-file spec) *default-pathname-defaults*)))))
+
+(defun spec-body-name (spec)
+  "The skeleton SPEC's (:body NAME) option names, or NIL."
+  (getf (spec-options spec) :body))
+
+(defun spec-script-names (spec)
+  "Every script or director SPEC's ops and autoscripts need, each once, in spec order."
+  (remove-duplicates
+   (append (loop for op in (spec-ops spec)
+                 append (case (op-kind op)
+                          (:script (list (or (op-script op) (op-name op))))
+                          (:director (list (op-director op)))))
+           (loop for auto in (spec-autoscripts spec)
+                 append (copy-list (autoscript-procs auto))))
+   :test #'string-equal :from-end t))
+
+(defun spec-script-library (spec &key scripts)
+  "The script library for SPEC: the file SCRIPTS, else SPEC's (:scripts FILE) option.
+Signals a SPEC-ERROR when there is neither."
+  (let ((path (or (and scripts (pathname scripts)) (spec-option-path spec :scripts))))
+    (unless path
+      (error 'spec-error :form (spec-name spec) :spec (spec-name spec)
+                         :message (format nil "spec ~A names no script library: give (:scripts \"FILE\") in its defspec, or --scripts FILE"
+                                          (lisp-text (spec-name spec)))))
+    (load-script-library path)))
+
+(defun check-spec-scripts (spec library)
+  "Signal a SCRIPT-ERROR listing every script or director SPEC needs that LIBRARY lacks."
+  (let ((missing (missing-scripts library (spec-script-names spec))))
+    (when missing
+      (error 'script-error :form (spec-name spec) :spec (spec-name spec)
+                           :message (format nil "spec ~A needs scripts that ~A does not define: ~{~A~^, ~}"
+                                            (lisp-text (spec-name spec))
+                                            (if (script-library-source library)
+                                                (file-namestring (script-library-source library))
+                                                "its script library")
+                                            (mapcar #'lisp-text missing))))))
+
+(defun make-body-presenter (spec &key scripts body (seed 0) stream
+                                      (blend-time *default-blend-time*))
+  "A body presenter for SPEC: its character, named after SPEC, has the skeleton
+BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
+SCRIPTS (else SPEC's (:scripts FILE)).  Trace lines go to STREAM when given.
+Signals an error listing every missing script before anything plays."
+  (let* ((spec (if (spec-p spec) spec (find-spec spec)))
+         (library (spec-script-library spec :scripts scripts)))
+    (check-spec-scripts spec library)
+    (make-instance 'body-presenter
+                   :stream stream
+                   :performance (make-performance
+                                 library
+                                 (list (list (spec-name spec)
+                                             (or body (spec-body-name spec) *default-body*)))
+                                 :seed seed :blend-time blend-time))))
+
+(defun presenter-library (presenter)
+  "The script library PRESENTER plays."
+  (performance-library (presenter-performance presenter)))
+
+(defmethod play-script ((presenter body-presenter) script op start)
+  (declare (ignore op))
+  (let ((library (presenter-library presenter)))
+    (if (find-director library script nil)
+        (run-director presenter script nil start)
+        (script-duration (script-run-script
+                          (perform-script (presenter-performance presenter) script start))))))
+
+(defmethod run-director ((presenter body-presenter) director op start)
+  (declare (ignore op))
+  (or (perform-director (presenter-performance presenter) director start)
+      (error 'script-error :form director
+                           :message (format nil "director ~A never ends (a script it starts loops unstopped), so it cannot play an op"
+                                            (lisp-text director)))))
+
+(defmethod start-autoscript :after ((presenter body-presenter) proc variable value time)
+  (setf (gethash (list proc variable value) (autoscript-runs presenter))
+        (perform-script (presenter-performance presenter) proc time :loop t)))
+
+(defmethod stop-autoscript :after ((presenter body-presenter) proc variable value time)
+  (let ((key (list proc variable value)))
+    (let ((run (gethash key (autoscript-runs presenter))))
+      (when run
+        (stop-script-run (presenter-performance presenter) run time)
+        (remhash key (autoscript-runs presenter))))))
+
+;;;# Checking declared durations
+
+(defun op-declares-duration-p (op)
+  "Did OP's form give :duration?"
+  (let ((form (op-form op)))
+    (and (consp form) (member :duration (cddr form)))))
+
+(defun script-duration-diagnostics (spec library)
+  "Warnings for ops whose declared :duration differs from their script's duration."
+  (loop for op in (spec-ops spec)
+        for name = (and (eq (op-kind op) :script) (or (op-script op) (op-name op)))
+        for script = (and name (find-script library name nil))
+        when (and script (op-declares-duration-p op)
+                  (> (abs (- (op-duration op) (script-duration script))) 1d-6))
+          collect (make-diagnostic :duration-mismatch
+                                   (format nil "op ~A declares :duration ~A but its script ~A lasts ~A s"
+                                           (lisp-text (op-name op)) (format-number (op-duration op))
+                                           (lisp-text name) (format-number (script-duration script)))
+                                   (list (op-name op) (op-duration op) (script-duration script)))))
+
+(defun script-diagnostics (spec &optional scripts)
+  "CHECK's findings about SPEC's script library (SCRIPTS, else its (:scripts FILE)):
+missing scripts and durations that disagree.  NIL when SPEC names no library."
+  (when (or scripts (getf (spec-options spec) :scripts))
+    (let* ((library (spec-script-library spec :scripts scripts))
+           (missing (missing-scripts library (spec-script-names spec))))
+      (append (and missing
+                   (list (make-diagnostic :missing-scripts
+                                          (format nil "the script library lacks ~{~A~^, ~}"
+                                                  (mapcar #'lisp-text missing))
+                                          missing)))
+              (script-duration-diagnostics spec library)))))

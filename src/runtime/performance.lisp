@@ -1,0 +1,301 @@
+;;;; performance.lisp -- scripts played on a scene: which scripts started when
+;;;; (and stopped when), and the frame that follows for any time.  Evaluation
+;;;; is a pure function of the time and the runs: a performance replays from
+;;;; the start whenever asked for an earlier time, so a user can scrub and two
+;;;; evaluations of the same time give the same frame.
+
+(in-package #:player)
+
+(defstruct (script-run (:constructor make-script-run (script start stop body loop)))
+  "SCRIPT started at START on BODY (a body's name), until STOP (or NIL), repeated when LOOP.
+The rest is what the current replay has made of it."
+  (script nil :read-only t)
+  (start 0d0 :type double-float :read-only t)
+  (stop nil)
+  (body nil :read-only t)
+  (loop nil :read-only t)
+  (iterations 0 :type fixnum)
+  (drivers '())
+  (bindings '())
+  (children '()))
+
+(defstruct (binding (:constructor make-binding (object property control start end)))
+  "CONTROL (or a constant value) drives OBJECT's PROPERTY from START until END (or NIL)."
+  object property control start end)
+
+(defstruct (cue (:constructor make-cue (time item run iteration-end)))
+  "A script item due at TIME in RUN, whose iteration ends at ITERATION-END."
+  (time 0d0 :type double-float) item run iteration-end)
+
+(defstruct (character-spec (:constructor make-character-spec (name skeleton position rotation)))
+  "A body the performance puts in its scene."
+  name skeleton position rotation)
+
+(defclass performance ()
+  ((library :initarg :library :reader performance-library)
+   (characters :initarg :characters :reader performance-characters
+               :documentation "CHARACTER-SPECs, the first one playing scripts by default.")
+   (seed :initarg :seed :initform 0 :reader performance-seed)
+   (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
+   (runs :initform '() :accessor performance-runs :documentation "Top-level runs, newest first.")
+   ;; The replay: rebuilt from the runs whenever time goes back.
+   (scene :initform nil :accessor performance-scene)
+   (all-runs :initform '() :accessor replay-runs)
+   (cues :initform '() :accessor replay-cues)
+   (bindings :initform '() :accessor replay-bindings)
+   (time :initform nil :accessor performance-time)
+   (stale :initform t :accessor replay-stale))
+  (:documentation "A script library, the characters it is played on, and the
+scripts started so far.  PERFORMANCE-FRAME gives the scene at any time."))
+
+(defun make-performance (library characters &key (seed 0) (blend-time *default-blend-time*))
+  "A performance of LIBRARY on CHARACTERS, each (NAME SKELETON [POSITION [ROTATION]])
+with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
+  (let ((performance
+          (make-instance 'performance
+                         :library library :seed seed :blend-time blend-time
+                         :characters (mapcar (lambda (entry)
+                                               (destructuring-bind (name skeleton &optional (position (vec3))
+                                                                                    (rotation (quat)))
+                                                   entry
+                                                 (make-character-spec name (if (skeleton-p skeleton)
+                                                                               skeleton
+                                                                               (load-skeleton skeleton))
+                                                                      position rotation)))
+                                             characters))))
+    (rebuild-scene performance)
+    performance))
+
+(defun performance-character (performance)
+  "The name of the body scripts play on unless told otherwise."
+  (character-spec-name (first (performance-characters performance))))
+
+(defun performance-body (performance &optional (name (performance-character performance)))
+  "The body called NAME in PERFORMANCE's current scene."
+  (find-object (performance-scene performance) name))
+
+;;;# Starting and stopping
+
+(defun perform-script (performance name start &key stop body loop)
+  "Start the script NAME of PERFORMANCE's library at START on BODY (default: the
+first character); LOOP repeats it even when the script does not loop.
+Returns the SCRIPT-RUN; its duration is the script's."
+  (let* ((script (find-script (performance-library performance) name t))
+         (run (make-script-run script (float start 1d0) (and stop (float stop 1d0))
+                               (or body (performance-character performance))
+                               (or loop (script-loop script)))))
+    (push run (performance-runs performance))
+    (unless (replay-stale performance)
+      (if (and (performance-time performance) (< start (performance-time performance)))
+          (setf (replay-stale performance) t)
+          (push run (replay-runs performance))))
+    run))
+
+(defun perform-director (performance name start &key body)
+  "Start the director NAME at START: its scripts at the times its schedule gives.
+Returns its duration (NIL when it loops for ever)."
+  (multiple-value-bind (schedule duration)
+      (director-schedule (find-director (performance-library performance) name t)
+                         (performance-library performance) start)
+    (loop for (script script-start script-stop) in schedule
+          do (perform-script performance script script-start :stop script-stop :body body))
+    duration))
+
+(defun stop-script-run (performance run time)
+  "Stop RUN (and what it started) at TIME."
+  (let ((time (float time 1d0)))
+    (setf (script-run-stop run) (if (script-run-stop run) (min time (script-run-stop run)) time))
+    (if (and (performance-time performance) (< time (performance-time performance)))
+        (setf (replay-stale performance) t)
+        (stop-run-effects performance run time))))
+
+(defun stop-run-effects (performance run time)
+  "Cut what the replay made of RUN at TIME: its drivers, bindings and children."
+  (dolist (driver (script-run-drivers run))
+    (body-stop-driver (driver-body driver) driver time))
+  (dolist (binding (script-run-bindings run))
+    (when (or (null (binding-end binding)) (> (binding-end binding) time))
+      (setf (binding-end binding) time)))
+  (dolist (child (script-run-children run))
+    (setf (script-run-stop child) (if (script-run-stop child) (min time (script-run-stop child)) time))
+    (stop-run-effects performance child time)))
+
+;;;# The replay
+
+(defun rebuild-scene (performance)
+  "Start the replay over: a fresh scene at its initial state, every run unplayed."
+  (let ((scene (make-instance 'scene))
+        (library (performance-library performance)))
+    (dolist (spec (performance-characters performance))
+      (let ((body (make-body (character-spec-name spec) (character-spec-skeleton spec)
+                             :scene scene :position (character-spec-position spec)
+                             :rotation (character-spec-rotation spec)
+                             :blend-time (performance-blend-time performance))))
+        (setf (body-seed body) (performance-seed performance))))
+    (dolist (spec (script-library-objects library))
+      (let ((object (make-instance 'scene-object :name (scene-object-spec-name spec)
+                                                 :kind (scene-object-spec-kind spec)
+                                                 :position (scene-object-spec-position spec)
+                                                 :rotation (scene-object-spec-rotation spec))))
+        (loop for (name type value) in (scene-object-spec-properties spec)
+              do (define-property object name type value))
+        (add-object scene object)))
+    (setf (performance-scene performance) scene)
+    (dolist (spec (script-library-objects library))
+      (when (scene-object-spec-parent spec)
+        (setf (object-parent (find-object scene (scene-object-spec-name spec)))
+              (resolve-parent performance (scene-object-spec-parent spec) nil))))
+    (dolist (run (performance-runs performance))
+      (reset-run run))
+    (setf (replay-runs performance) (reverse (performance-runs performance))
+          (replay-cues performance) '()
+          (replay-bindings performance) '()
+          (performance-time performance) nil
+          (replay-stale performance) nil)))
+
+(defun reset-run (run)
+  "Forget what an earlier replay made of RUN."
+  (setf (script-run-iterations run) 0
+        (script-run-drivers run) '()
+        (script-run-bindings run) '()
+        (script-run-children run) '()))
+
+(defun resolve-parent (performance parent body-name)
+  "The scene parent PARENT (NIL, an object's name or (OBJECT JOINT-OR-ROLE)) names,
+:SELF being the body BODY-NAME."
+  (let ((scene (performance-scene performance)))
+    (flet ((object (name)
+             (find-object scene (if (eq name :self) (or body-name (performance-character performance)) name))))
+      (cond ((null parent) nil)
+            ((symbolp parent) (object parent))
+            (t (let ((object (object (first parent))))
+                 (cons object (joint-name-for object (second parent) parent))))))))
+
+(defun joint-name-for (object joint-or-role form)
+  "The name of OBJECT's joint JOINT-OR-ROLE (a role keyword gives its joint, or a
+chain's last joint)."
+  (unless (typep object 'body)
+    (anim-fail 'anim-error form "~A is not a body, so nothing can hang from its joints"
+               (lisp-text (object-name object))))
+  (let ((joint (if (keywordp joint-or-role)
+                   (skeleton-role (body-skeleton object) joint-or-role)
+                   (find-joint (body-skeleton object) joint-or-role))))
+    (when (consp joint) (setf joint (car (last joint))))
+    (unless joint
+      (anim-fail 'anim-error form "body ~A has no joint or role ~A" (lisp-text (object-name object))
+                 (lisp-text joint-or-role)))
+    (body-joint-name joint)))
+
+(defun expand-runs (performance time)
+  "Turn into cues every iteration of every run that starts by TIME."
+  (dolist (run (replay-runs performance))
+    (expand-run performance run time)))
+
+(defun expand-run (performance run time)
+  "Add RUN's cues for its iterations starting at or before TIME (and before its stop)."
+  (let* ((script (script-run-script run))
+         (duration (script-duration script)))
+    (loop for k = (script-run-iterations run)
+          for begin = (+ (script-run-start run) (* k duration))
+          while (and (<= begin time)
+                     (or (zerop k) (and (script-run-loop run) (plusp duration)))
+                     (or (null (script-run-stop run)) (< begin (script-run-stop run))))
+          do (incf (script-run-iterations run))
+             (dolist (item (script-items script))
+               (push (make-cue (+ begin (script-item-at item)) item run (+ begin duration))
+                     (replay-cues performance))))
+    (setf (replay-cues performance)
+          (stable-sort (replay-cues performance) #'< :key #'cue-time))))
+
+(defun item-end (cue)
+  "When CUE's item ends: its :for, its iteration's end, its run's stop, whichever is first."
+  (let* ((item (cue-item cue))
+         (run (cue-run cue))
+         (ends (remove nil (list (and (script-item-until item)
+                                      (+ (cue-time cue) (script-item-until item)))
+                                 (cue-iteration-end cue)
+                                 (script-run-stop run)))))
+    (reduce #'min ends)))
+
+(defun bring-to (performance time)
+  "Set every bound property and evaluate every body for TIME."
+  (let ((scene (performance-scene performance)))
+    (setf (replay-bindings performance)
+          (loop for binding in (replay-bindings performance)
+                for end = (binding-end binding)
+                for at = (if (and end (< end time)) end time)
+                do (setf (property-value (binding-object binding) (binding-property binding))
+                         (let ((control (binding-control binding)))
+                           (if (control-p control)
+                               (control-value control (- at (binding-start binding)))
+                               control)))
+                unless (and end (<= end time)) collect binding))
+    (dolist (object (scene-objects scene))
+      (when (typep object 'body)
+        (body-evaluate object time)))
+    (setf (performance-time performance) time)))
+
+(defun play-cue (performance cue)
+  "Carry out CUE's item at its time."
+  (let* ((item (cue-item cue))
+         (run (cue-run cue))
+         (time (cue-time cue))
+         (end (item-end cue))
+         (body-name (script-run-body run)))
+    (flet ((object (name)
+             (find-object (performance-scene performance) (if (eq name :self) body-name name))))
+      (etypecase item
+        (motor-item
+         (let* ((body (performance-body performance body-name))
+                (driver (make-driver (motor-item-call item) body time :stop end)))
+           (push driver (script-run-drivers run))
+           (body-add-driver body driver)))
+        (animate-item
+         (add-binding performance run (object (animate-item-object item)) (animate-item-property item)
+                      (animate-item-control item) time end))
+        (set-item
+         (add-binding performance run (object (set-item-object item)) (set-item-property item)
+                      (set-item-value item) time time))
+        (play-item
+         (let* ((script (find-script (performance-library performance) (play-item-script item) t))
+                (child (make-script-run script time end body-name (script-loop script))))
+           (push child (script-run-children run))
+           (push child (replay-runs performance))
+           (expand-run performance child time)))
+        (attach-item
+         (reparent-object (object (attach-item-object item))
+                          (resolve-parent performance (attach-item-parent item) body-name)
+                          :keep-world (attach-item-keep-world item)))))))
+
+(defun add-binding (performance run object property control start end)
+  "Bind CONTROL (or a constant) to OBJECT's PROPERTY from START to END; the
+newest binding of a property replaces the older ones."
+  (let ((binding (make-binding object property control start end)))
+    (setf (replay-bindings performance)
+          (append (remove-if (lambda (b) (and (eq (binding-object b) object)
+                                              (string-equal (binding-property b) property)))
+                             (replay-bindings performance))
+                  (list binding)))
+    (push binding (script-run-bindings run))
+    (bring-to performance start)))
+
+(defun performance-frame (performance time)
+  "PERFORMANCE's scene at TIME (seconds): every run's cues due by then played in
+order, every body evaluated.  An earlier TIME than the last replays from the
+start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next call)."
+  (let ((time (float time 1d0)))
+    (when (or (replay-stale performance)
+              (and (performance-time performance) (< time (performance-time performance))))
+      (rebuild-scene performance))
+    (loop
+      (expand-runs performance time)
+      (let ((cue (first (replay-cues performance))))
+        (unless (and cue (<= (cue-time cue) time))
+          (return))
+        (pop (replay-cues performance))
+        (when (or (null (script-run-stop (cue-run cue)))
+                  (< (cue-time cue) (script-run-stop (cue-run cue))))
+          (bring-to performance (cue-time cue))
+          (play-cue performance cue))))
+    (bring-to performance time)
+    (performance-scene performance)))

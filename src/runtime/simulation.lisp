@@ -1,0 +1,125 @@
+;;;; simulation.lisp -- a scenario played in simulated time: a controller on a
+;;;; body presenter takes a list of events, then the performance is sampled at
+;;;; a frame rate.  What `bin/player simulate` (and later `render`) runs.
+
+(in-package #:player)
+
+(defstruct (simulation (:constructor %make-simulation))
+  "A played scenario: the CONTROLLER, its PRESENTER, the END time (when the last
+op finished) and FPS.  Frames are sampled from the presenter's performance."
+  controller presenter (end 0d0) (fps 30))
+
+(defun simulate (spec &key initial events (fps 30) (seed 0) scripts body stream)
+  "Play EVENTS (names, in order, each when the previous finished) on a controller
+of SPEC from INITIAL (an alist, as for MAKE-CONTROLLER) with a body presenter
+(SCRIPTS, BODY and SEED as for MAKE-BODY-PRESENTER; trace lines to STREAM).
+Returns a SIMULATION; SIMULATION-FRAMES samples it."
+  (unless (and (realp fps) (plusp fps))
+    (error 'player-error-with-message :message (format nil "the frame rate must be a positive number, not ~A" fps)))
+  (let* ((presenter (make-body-presenter spec :scripts scripts :body body :seed seed :stream stream))
+         (controller (make-controller (compile-spec (if (spec-p spec) spec (find-spec spec)))
+                                      :initial-state initial :presenter presenter)))
+    (dolist (event events)
+      (find-compiled-event controller event))
+    (dolist (event events)
+      (send-event controller event))
+    (%make-simulation :controller controller :presenter presenter
+                      :end (controller-clock controller) :fps fps)))
+
+(defun simulation-performance (simulation)
+  "The performance SIMULATION's presenter played."
+  (presenter-performance (simulation-presenter simulation)))
+
+(defun simulation-frame-count (simulation)
+  "How many frames cover SIMULATION, the first at time 0 and the last at or after its end."
+  (1+ (ceiling (* (simulation-end simulation) (simulation-fps simulation)))))
+
+(defun simulation-frame-time (simulation index)
+  "The time of frame INDEX of SIMULATION."
+  (/ index (float (simulation-fps simulation) 1d0)))
+
+(defun map-simulation-frames (function simulation)
+  "Call FUNCTION with each frame's index, time and scene, in order."
+  (let ((performance (simulation-performance simulation)))
+    (dotimes (index (simulation-frame-count simulation))
+      (let ((time (simulation-frame-time simulation index)))
+        (funcall function index time (performance-frame performance time))))))
+
+(defun simulation-body (simulation)
+  "The character's body in SIMULATION's current scene."
+  (performance-body (simulation-performance simulation)))
+
+;;;# Output
+
+(defun frame-form (index time scene)
+  "Frame INDEX at TIME as an s-expression: every body's placement and every
+joint's rotation (as a quaternion and as its DOF angles in degrees), every
+other object's parent, position and rotation."
+  (flet ((numbers (&rest xs) (mapcar (lambda (x) (/ (round x 1d-6) 1d6)) xs))
+         (vector-list (v) (list (vec3-x v) (vec3-y v) (vec3-z v)))
+         (quat-list (q) (list (quat-w q) (quat-x q) (quat-y q) (quat-z q))))
+    (list :frame index :time (/ (round time 1d-6) 1d6)
+          :bodies
+          (loop for object in (scene-objects scene)
+                when (typep object 'body)
+                  collect (let ((pose (body-pose object)))
+                            (list (object-name object)
+                                  :position (apply #'numbers (vector-list (property-value object 'position)))
+                                  :rotation (apply #'numbers (quat-list (property-value object 'rotation)))
+                                  :joints
+                                  (loop for joint across (skeleton-joints (body-skeleton object))
+                                        collect (list (body-joint-name joint)
+                                                      :rotation (apply #'numbers (quat-list (joint-local-rotation joint pose)))
+                                                      :dofs (loop for dof in (body-joint-dofs joint)
+                                                                  for i from (body-joint-dof-start joint)
+                                                                  append (list (body-dof-name dof)
+                                                                               (first (numbers (aref pose i))))))))))
+          :objects
+          (loop for object in (scene-objects scene)
+                unless (typep object 'body)
+                  collect (let ((parent (object-parent object)))
+                            (list (object-name object)
+                                  :parent (etypecase parent
+                                            (null nil)
+                                            (scene-object (object-name parent))
+                                            (cons (list (object-name (car parent)) (cdr parent))))
+                                  :position (apply #'numbers (vector-list (object-world-position object)))
+                                  :rotation (apply #'numbers (quat-list (transform-rotation (object-world-transform object))))))))))
+
+(defun write-simulation (simulation &key bvh frames)
+  "Sample SIMULATION once and write the character's motion as BVH to the file BVH
+and, to the file FRAMES, one FRAME-FORM per line.  Returns the paths written."
+  (let ((poses '()) (placements '()) (frame-stream nil))
+    (unwind-protect
+         (progn
+           (when frames
+             (ensure-directories-exist frames)
+             (setf frame-stream (handler-case (open frames :direction :output :if-exists :supersede)
+                                  (file-error (e)
+                                    (error 'player-error-with-message
+                                           :message (format nil "cannot write the frames file ~A: ~A" frames e))))))
+           (map-simulation-frames
+            (lambda (index time scene)
+              (let ((body (simulation-body simulation)))
+                (push (copy-pose (body-pose body)) poses)
+                (push (object-world-transform body) placements)
+                (when frame-stream
+                  (with-standard-io-syntax
+                    (let ((*package* (find-package '#:player-user))
+                          (*read-default-float-format* 'double-float)
+                          (*print-case* :downcase)
+                          (*print-readably* nil))
+                      (prin1 (frame-form index time scene) frame-stream)
+                      (terpri frame-stream))))))
+            simulation))
+      (when frame-stream (close frame-stream)))
+    (append (and bvh (list (write-bvh-file bvh (body-skeleton (simulation-body simulation))
+                                           (nreverse poses)
+                                           :frame-time (/ 1d0 (simulation-fps simulation))
+                                           :placements (nreverse placements))))
+            (and frames (list (truename frames))))))
+
+(defun simulation-reports (simulation)
+  "What the drivers reported (reaches that fell short), oldest first, as (TIME TEXT)."
+  (mapcar (lambda (entry) (list (first entry) (third entry)))
+          (reverse (body-reports (simulation-body simulation)))))
