@@ -112,5 +112,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-anim")
                  (:file "test-body")
                  (:file "test-bvh")
-                 (:file "test-scene"))))
+                 (:file "test-scene")
+                 (:file "test-scripts"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

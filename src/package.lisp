@@ -17,12 +17,34 @@
    #:*default-max-depth*
    ;; C++ backend
    #:emit-c++ #:run-c++-trace #:*c++-flags* #:*c++-compiler*
-   ;; Animation engine and body model (issue 5, in progress)
+   ;; Animation engine and body model
    #:vec3 #:quat #:qslerp #:qsquad #:world-transforms
    #:control-value #:parse-control #:make-keys-control #:anim-error #:anim-control-error
    #:load-skeleton #:skeleton-error #:find-joint #:skeleton-joints #:skeleton-role
    #:make-arbitrator #:request-channels #:release-channels #:release-driver #:channel-owner
    #:channel-blend-weight #:on-channel-loss #:on-channel-grant #:add-slave #:arbitration-error
+   ;; Scenes
+   #:scene #:scene-object #:add-object #:find-object #:scene-objects #:object-name #:object-kind
+   #:object-parent #:reparent-object #:define-property #:property-value
+   #:object-world-transform #:object-world-position
+   ;; Poses and bodies
+   #:pose #:make-pose #:dof-index #:clamp-pose #:pose-within-limits-p #:pose-world-transforms
+   #:joint-world-position #:body #:make-body #:body-skeleton #:body-pose #:body-evaluate
+   #:body-add-driver #:body-stop-driver #:body-joint-position #:body-transforms
+   #:*default-blend-time*
+   ;; Motor functions and drivers
+   #:define-motor-function #:parse-motor-frame #:motor-error #:describe-motor-function
+   #:motor-function-names #:make-driver #:driver #:driver-setup #:driver-begin #:driver-drive
+   #:driver-end-time #:driver-additive-p #:slave-drivers #:driver-report #:driver-arg
+   #:resolve-target
+   ;; Scripts, directors, performances
+   #:load-script-library #:script-error #:find-script #:find-director #:script-duration
+   #:script-critical-time #:director-schedule
+   #:make-performance #:perform-script #:perform-director #:stop-script-run
+   #:performance-frame #:performance-body #:performance-scene
+   #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
+   #:simulate #:write-simulation #:map-simulation-frames #:simulation-frame-count
+   #:write-bvh #:write-bvh-file
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile

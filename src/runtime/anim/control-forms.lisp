@@ -89,7 +89,7 @@ kinds otherwise."
 (defun parse-value (form)
   "The control value FORM denotes: a real; a VEC3 or QUAT object; (:vec3 X Y Z);
 (:quat W X Y Z) (normalized); (:axis-angle (X Y Z) ANGLE); (:euler X Y Z)
-(radians, see QUAT-FROM-EULER). Signals a ANIM-CONTROL-ERROR naming FORM otherwise."
+(radians, see QUAT-FROM-EULER); (:degrees X Y Z) (the same in degrees). Signals a ANIM-CONTROL-ERROR naming FORM otherwise."
   (flet ((reals (list count)
            (unless (and (listp list) (null (cdr (last list))) (= (length list) count)
                         (every #'realp list))
@@ -97,16 +97,19 @@ kinds otherwise."
            list))
     (cond ((or (realp form) (vec3-p form) (quat-p form)) (canonical-value form))
           ((not (consp form))
-           (control-fail form "a control value must be a number, (:vec3 x y z), (:quat w x y z), (:axis-angle (x y z) angle) or (:euler x y z)"))
+           (control-fail form "a control value must be a number, (:vec3 x y z), (:quat w x y z), (:axis-angle (x y z) angle), (:euler x y z) or (:degrees x y z)"))
           (t (case (first form)
                (:vec3 (apply #'make-vec3 (reals (rest form) 3)))
                (:quat (canonical-value (apply #'make-quat (reals (rest form) 4))))
                (:euler (apply #'quat-from-euler (reals (rest form) 3)))
+               ;; The same in degrees, as authors think of turns.
+               (:degrees (apply #'quat-from-euler
+                                (mapcar (lambda (d) (* d (/ pi 180))) (reals (rest form) 3))))
                (:axis-angle
                 (unless (and (= (length form) 3) (realp (third form)))
                   (control-fail form "(:axis-angle (x y z) angle) takes an axis and a real angle"))
                 (quat-from-axis-angle (apply #'make-vec3 (reals (second form) 3)) (third form)))
-               (t (control-fail form "unknown value form (expected :vec3, :quat, :axis-angle or :euler)")))))))
+               (t (control-fail form "unknown value form (expected :vec3, :quat, :axis-angle, :euler or :degrees)")))))))
 
 (defun parse-plist (form plist allowed)
   "Check that PLIST (from FORM) is a property list of keywords among ALLOWED; return it."
