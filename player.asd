@@ -113,5 +113,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-body")
                  (:file "test-bvh")
                  (:file "test-scene")
-                 (:file "test-scripts"))))
+                 (:file "test-scripts")
+                 (:file "test-performance"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -42,8 +42,10 @@ PRESENTER-PERFORMANCE gives the frames."))
    :test #'string-equal :from-end t))
 
 (defun spec-script-library (spec &key scripts)
-  "The script library for SPEC: the file SCRIPTS, else SPEC's (:scripts FILE) option.
-Signals a SPEC-ERROR when there is neither."
+  "The script library for SPEC: SCRIPTS (a SCRIPT-LIBRARY or a file), else SPEC's
+(:scripts FILE) option.  Signals a SPEC-ERROR when there is neither."
+  (when (script-library-p scripts)
+    (return-from spec-script-library scripts))
   (let ((path (or (and scripts (pathname scripts)) (spec-option-path spec :scripts))))
     (unless path
       (error 'spec-error :form (spec-name spec) :spec (spec-name spec)
