@@ -114,5 +114,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-bvh")
                  (:file "test-scene")
                  (:file "test-scripts")
-                 (:file "test-performance"))))
+                 (:file "test-performance")
+                 (:file "test-simulate"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -57,9 +57,8 @@ PRESENTER-PERFORMANCE gives the frames."))
   "Signal a SCRIPT-ERROR listing every script or director SPEC needs that LIBRARY lacks."
   (let ((missing (missing-scripts library (spec-script-names spec))))
     (when missing
-      (error 'script-error :form (spec-name spec) :spec (spec-name spec)
-                           :message (format nil "spec ~A needs scripts that ~A does not define: ~{~A~^, ~}"
-                                            (lisp-text (spec-name spec))
+      (error 'script-error :spec (spec-name spec)
+                           :message (format nil "its ops need scripts that ~A does not define: ~{~A~^, ~}"
                                             (if (script-library-source library)
                                                 (file-namestring (script-library-source library))
                                                 "its script library")

@@ -51,7 +51,7 @@ strictly increasing times and values of one kind. Return that kind."
   "Signal a ANIM-CONTROL-ERROR unless INTERPOLATION is a known mode."
   (unless (typep interpolation 'interpolation)
     (control-fail interpolation
-                  "unknown interpolation mode (expected :step, :linear, :ease-in-out or :catmull-rom)")))
+                  "unknown interpolation mode (expected :step, :linear, :ease-in-out (or :ease) or :catmull-rom)")))
 
 (defun align-quats (quats)
   "Negate, in place, each quaternion of the simple-vector QUATS that lies in the
@@ -101,12 +101,15 @@ quaternions the SQUAD control points."
 increasing real TIME, whose VALUEs are all reals, all VEC3s or all QUATs.
 INTERPOLATION is :step (hold each key until the next), :linear, :ease-in-out
 (smoothstep between each pair of keys: zero slope at every key) or :catmull-rom
-(a C1 cubic through the keys; slopes from the neighbouring keys). Rotations
+(a C1 cubic through the keys; slopes from the neighbouring keys); :ease is
+short for :ease-in-out. Rotations
 interpolate by QSLERP for :linear and :ease-in-out and by QSQUAD for
 :catmull-rom. Before the first key and after the last the end values hold;
 when LOOP is true, time wraps instead with period (last time - first time), so
 the last key should repeat the first. Signals a ANIM-CONTROL-ERROR for an empty,
 unsorted or malformed key list, values of mixed kinds, or an unknown mode."
+  (when (eq interpolation :ease)         ; the short name authors reach for
+    (setf interpolation :ease-in-out))
   (check-interpolation interpolation)
   (let* ((kind (check-keys keys))
          (times (map '(simple-array double-float (*)) (lambda (key) (float (car key) 1d0)) keys))
