@@ -67,6 +67,14 @@ run the resulting state machine as Lisp closures."
                    (:file "motor-functions")
                    (:file "driver")
                    (:file "body")))
+     (:module "drivers"
+      :pathname "runtime/body/drivers"
+      :serial t
+      :components ((:file "head")
+                   (:file "gaze")
+                   (:file "blink")
+                   (:file "facing")
+                   (:file "eyebrows")))
      (:module "scripts"
       :pathname "runtime/anim"
       :serial t
@@ -113,6 +121,8 @@ run the resulting state machine as Lisp closures."
                  (:file "test-body")
                  (:file "test-bvh")
                  (:file "test-scene")
+                 (:file "test-gaze")
+                 (:file "test-face-drivers")
                  (:file "test-scripts")
                  (:file "test-performance")
                  (:file "test-simulate"))))

@@ -107,7 +107,7 @@ too) and joins the active drivers."
   (setf (body-pending body) (remove driver (body-pending body)))
   (driver-begin driver (body-base body) time)
   (let ((arbitrator (body-arbitrator body))
-        (blend (or (driver-arg driver :blend) (body-blend-time body))))
+        (blend (or (driver-arg driver :blend) (driver-default-blend driver) (body-blend-time body))))
     (dolist (d (cons driver (slave-drivers driver)))
       ;; A slave sorts just before its master, so a master sees its slave's angles.
       (setf (driver-sequence d) (+ (incf (body-serial body)) (if (eq d driver) 0.5 0)))
@@ -123,7 +123,7 @@ too) and joins the active drivers."
 (defun finish-driver (body driver time)
   "End DRIVER (and its slaves) at TIME, releasing their channels."
   (let ((arbitrator (body-arbitrator body))
-        (blend (or (driver-arg driver :blend) (body-blend-time body))))
+        (blend (or (driver-arg driver :blend) (driver-default-blend driver) (body-blend-time body))))
     (dolist (d (cons driver (slave-drivers driver)))
       (release-driver arbitrator d :time time :blend blend)
       (setf (body-active body) (remove d (body-active body))))

@@ -76,6 +76,13 @@ master, take its priority and end with it.")
   (:method ((driver driver))
     nil))
 
+(defgeneric driver-default-blend (driver)
+  (:documentation "Seconds DRIVER's changes of channel owner crossfade over when
+its call gives no :blend; NIL (the default) for the body's blend time.  A
+driver that starts from the angles it captured needs no crossfade: 0.")
+  (:method ((driver driver))
+    nil))
+
 (defgeneric driver-report (driver)
   (:documentation "NIL, or a line of text about how DRIVER went that a presenter
 should show (a reach that fell short, say).")
