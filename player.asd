@@ -66,11 +66,17 @@ run the resulting state machine as Lisp closures."
                    (:file "bvh")
                    (:file "motor-functions")
                    (:file "driver")
-                   (:file "body")))
+                   (:file "body")
+                   (:file "pose-library")))
      (:module "drivers"
       :pathname "runtime/body/drivers"
       :serial t
-      :components ((:file "head")
+      :components ((:file "direct")
+                   (:file "keyframe")
+                   (:file "lips")
+                   (:file "beat")
+                   (:file "idle")
+                   (:file "head")
                    (:file "gaze")
                    (:file "blink")
                    (:file "facing")
@@ -121,6 +127,7 @@ run the resulting state machine as Lisp closures."
                  (:file "test-body")
                  (:file "test-bvh")
                  (:file "test-scene")
+                 (:file "test-pose-drivers")
                  (:file "test-gaze")
                  (:file "test-face-drivers")
                  (:file "test-scripts")

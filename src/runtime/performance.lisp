@@ -36,6 +36,8 @@ The rest is what the current replay has made of it."
    (characters :initarg :characters :reader performance-characters
                :documentation "CHARACTER-SPECs, the first one playing scripts by default.")
    (seed :initarg :seed :initform 0 :reader performance-seed)
+   (poses :initform nil :accessor performance-poses
+          :documentation "The pose library the library's (poses FILE) names, loaded, or NIL.")
    (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
    (runs :initform '() :accessor performance-runs :documentation "Top-level runs, newest first.")
    ;; The replay: rebuilt from the runs whenever time goes back.
@@ -63,6 +65,11 @@ with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
                                                                                (load-skeleton skeleton))
                                                                       position rotation)))
                                              characters))))
+    (when (script-library-poses library)
+      (setf (performance-poses performance)
+            (load-pose-library (script-library-poses library)
+                               :skeleton (character-spec-skeleton
+                                          (first (performance-characters performance))))))
     (rebuild-scene performance)
     performance))
 
@@ -131,7 +138,9 @@ Returns its duration (NIL when it loops for ever)."
                              :scene scene :position (character-spec-position spec)
                              :rotation (character-spec-rotation spec)
                              :blend-time (performance-blend-time performance))))
-        (setf (body-seed body) (performance-seed performance))))
+        (setf (body-seed body) (performance-seed performance))
+        (when (performance-poses performance)
+          (setf (body-pose-library body) (performance-poses performance)))))
     (dolist (spec (script-library-objects library))
       (let ((object (make-instance 'scene-object :name (scene-object-spec-name spec)
                                                  :kind (scene-object-spec-kind spec)
