@@ -124,3 +124,7 @@ retraction eases back over RETRACT."
 
 (defmethod driver-end-time ((driver beat-driver))
   (+ (driver-start driver) (car (last (driver-arg driver :times))) (driver-arg driver :retract)))
+
+(defmethod driver-default-blend ((driver beat-driver))
+  ;; It eases from the angles it captured at its start: a crossfade would only slow it.
+  0d0)

@@ -90,3 +90,7 @@ for clauses that do not fit."
     (loop for (index . target) in (direct-targets driver)
           for start across from
           do (setf (aref pose index) (+ start (* u (- target start)))))))
+
+(defmethod driver-default-blend ((driver direct-driver))
+  ;; It eases from the angles it captured at its start: a crossfade would only slow it.
+  0d0)

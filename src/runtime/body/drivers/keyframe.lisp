@@ -138,3 +138,7 @@ where a key does not name it, START at :start keys and before the first."
 (defmethod driver-end-time ((driver keyframe-driver))
   (unless (or (keyframe-loop-p driver) (keyframe-hold-p driver))
     (+ (driver-start driver) (car (last (keyframe-times driver))))))
+
+(defmethod driver-default-blend ((driver pose-driver))
+  ;; It eases from the angles it captured at its start: a crossfade would only slow it.
+  0d0)

@@ -116,3 +116,7 @@ Visemes and their openings (fractions of the jaw's range): :rest :mm 0, :ff 0.1,
   (let ((ramp (float (driver-arg driver :ramp) 1d0)))
     (+ (driver-start driver)
        (+ (viseme-ramp-start (car (last (lips-times driver))) ramp) ramp))))
+
+(defmethod driver-default-blend ((driver lips-driver))
+  ;; Visemes are short: a long crossfade would swallow the first ones.
+  0.05d0)
