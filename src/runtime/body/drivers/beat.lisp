@@ -15,7 +15,9 @@
   ((from :initform nil :accessor beat-from
          :documentation "The angles of the driven DOFs at the start.")
    (flicks :initform '() :accessor beat-flicks
-           :documentation "(INDEX . DEGREES): the DOFs a beat turns and how far, chosen in DRIVER-BEGIN."))
+           :documentation "(INDEX . DEGREES): the DOFs a beat turns and how far, chosen in DRIVER-BEGIN.")
+   (time-vector :initform nil :accessor beat-time-vector
+                :documentation "The :times as a vector, for bisection."))
   (:documentation "Beats an arm: at each time the forearm (elbow flexion) and the
 hand (the wrist DOF that lowers it most) dip by a few degrees and return; all
 other elbow and wrist DOFs hold their start angles."))
@@ -115,8 +117,12 @@ retraction eases back over RETRACT."
          (stroke (float (driver-arg driver :stroke) 1d0))
          (retract (float (driver-arg driver :retract) 1d0))
          ;; Beats closer than a stroke and retraction merge rather than add.
-         (pulse (loop for at in (driver-arg driver :times)
-                      maximize (beat-pulse local (float at 1d0) stroke retract))))
+         (times (beat-times driver))
+         ;; Only beats whose stroke or retraction covers LOCAL can move the arm.
+         (pulse (loop for i from (first-time-after times (- local retract)) below (length times)
+                      for at = (svref times i)
+                      while (<= (- at stroke) local)
+                      maximize (beat-pulse local at stroke retract))))
     (loop for index in (driver-channels driver)
           for start across (beat-from driver)
           for flick = (assoc index (beat-flicks driver))
@@ -128,3 +134,9 @@ retraction eases back over RETRACT."
 (defmethod driver-default-blend ((driver beat-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
   0d0)
+
+(defun beat-times (driver)
+  "DRIVER's :times as a simple-vector of double-floats, made once."
+  (or (beat-time-vector driver)
+      (setf (beat-time-vector driver)
+            (map 'simple-vector (lambda (at) (float at 1d0)) (driver-arg driver :times)))))

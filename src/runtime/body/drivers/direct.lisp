@@ -61,6 +61,16 @@ for clauses that do not fit."
 
 ;;;# The direct driver
 
+(defun first-time-after (times time)
+  "The index of the first of the increasing TIMES (a simple-vector) after TIME, by bisection."
+  (let ((low 0) (high (length times)))
+    (loop while (< low high)
+          do (let ((middle (floor (+ low high) 2)))
+               (if (<= (svref times middle) time)
+                   (setf low (1+ middle))
+                   (setf high middle))))
+    low))
+
 (defclass direct-driver (driver)
   ((targets :initform '() :accessor direct-targets
             :documentation "(INDEX . DEGREES) per driven DOF, sorted by index.")

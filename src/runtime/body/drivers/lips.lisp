@@ -74,9 +74,9 @@ Visemes and their openings (fractions of the jaw's range): :rest :mm 0, :ff 0.1,
       (driver-frame-fail driver ":visemes must be a nonempty list of (SECONDS VISEME) pairs"))
     (check-increasing-times driver (mapcar #'first visemes) "viseme times")
     (multiple-value-bind (jaw dof) (jaw-open-dof driver)
-      (setf (lips-times driver) (mapcar (lambda (entry) (float (first entry) 1d0)) visemes)
+      (setf (lips-times driver) (map 'simple-vector (lambda (entry) (float (first entry) 1d0)) visemes)
             (lips-angles driver)
-            (mapcar (lambda (entry)
+            (map 'simple-vector (lambda (entry)
                       (let ((opening (viseme-opening (second entry))))
                         (unless opening
                           (driver-frame-fail driver "unknown viseme ~A (known: ~{~A~^ ~})"
@@ -101,21 +101,27 @@ Visemes and their openings (fractions of the jaw's range): :rest :mm 0, :ff 0.1,
 ;;; angles: it never leaves their range, and overlapping ramps in fast speech
 ;;; blend rather than overshoot.
 (defmethod driver-drive ((driver lips-driver) time pose)
-  (let ((local (driver-local-time driver time))
-        (ramp (float (driver-arg driver :ramp) 1d0))
-        (previous (lips-from driver))
-        (angle (lips-from driver)))
-    (loop for at in (lips-times driver)
-          for target in (lips-angles driver)
+  ;; Ramps that have finished telescope to their viseme's angle and ramps not
+  ;; yet begun add nothing, so only the few in progress need summing.
+  (let* ((local (driver-local-time driver time))
+         (ramp (float (driver-arg driver :ramp) 1d0))
+         (times (lips-times driver))
+         (angles (lips-angles driver))
+         (next (first-time-after times local))
+         (previous (if (plusp next) (svref angles (1- next)) (lips-from driver)))
+         (angle previous))
+    (loop for i from next below (length times)
+          for at = (svref times i)
+          while (< (viseme-ramp-start at ramp) local)
           do (incf angle (* (eased-fraction local (viseme-ramp-start at ramp) ramp)
-                            (- target previous)))
-             (setf previous target))
+                            (- (svref angles i) previous)))
+             (setf previous (svref angles i)))
     (setf (aref pose (first (driver-channels driver))) angle)))
 
 (defmethod driver-end-time ((driver lips-driver))
   (let ((ramp (float (driver-arg driver :ramp) 1d0)))
     (+ (driver-start driver)
-       (+ (viseme-ramp-start (car (last (lips-times driver))) ramp) ramp))))
+       (+ (viseme-ramp-start (svref (lips-times driver) (1- (length (lips-times driver)))) ramp) ramp))))
 
 (defmethod driver-default-blend ((driver lips-driver))
   ;; Visemes are short: a long crossfade would swallow the first ones.
