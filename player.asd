@@ -7,7 +7,7 @@ preconditions and effects, precompile plans from every state to every goal, and
 run the resulting state machine as Lisp closures."
   :version "0.1.0"
   :license "MIT"
-  :depends-on ("alexandria" "sb-md5")
+  :depends-on ("alexandria" "sb-md5" "cffi" "salza2")
   :serial t
   :components
   ((:module "src"
@@ -93,6 +93,14 @@ run the resulting state machine as Lisp closures."
       :components ((:file "performance")
                    (:file "body-presenter")
                    (:file "simulation")))
+     (:module "render"
+      :pathname "runtime/render"
+      :serial t
+      :components ((:file "libraries")
+                   (:file "gl")
+                   (:file "osmesa")
+                   (:file "framebuffer")
+                   (:file "png")))
      (:module "codegen-c++"
       :pathname "codegen"
       :serial t
@@ -132,5 +140,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-face-drivers")
                  (:file "test-scripts")
                  (:file "test-performance")
-                 (:file "test-simulate"))))
+                 (:file "test-simulate")
+                 (:file "test-render-base"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -45,6 +45,11 @@
    #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
    #:simulate #:write-simulation #:map-simulation-frames #:simulation-frame-count
    #:write-bvh #:write-bvh-file
+   ;; Rendering
+   #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
+   #:compile-shader-program #:write-png #:png-octets
+   #:make-msaa-target #:bind-msaa-target #:resolve-msaa-target #:delete-msaa-target
+   #:load-gl-functions #:with-gl-traps-masked #:osmesa-proc-address #:glfw-proc-address
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile
