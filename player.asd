@@ -96,7 +96,11 @@ run the resulting state machine as Lisp closures."
      (:module "render"
       :pathname "runtime/render"
       :serial t
-      :components ((:file "libraries")
+      :components ((:file "mesh")
+                   (:file "appearance")
+                   (:file "body-mesh")
+                   (:file "scene-mesh")
+                   (:file "libraries")
                    (:file "gl")
                    (:file "osmesa")
                    (:file "framebuffer")
@@ -141,5 +145,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-scripts")
                  (:file "test-performance")
                  (:file "test-simulate")
-                 (:file "test-render-base"))))
+                 (:file "test-render-base")
+                 (:file "test-mesh"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
