@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = sbcl cl-alexandria cl-fiveam cl-cffi cl-salza2 g++ libosmesa6 libglfw3 xvfb xauth python3
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo test bench deps embed-example
+.PHONY: demo test bench deps embed-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -17,10 +17,10 @@ deps:
 	  $$SUDO apt-get update -q && $$SUDO apt-get install -y -q $$missing; \
 	fi
 
-# Peedy's scenario from the papers: asleep; ev-search; ev-search; ev-bad-speech; ev-thanks.
+# Peedy's scenario from the papers, drawn: asleep; ev-search; ev-search; ev-bad-speech; ev-thanks.
 demo: deps
-	bin/player run specs/peedy.lisp --initial alert=snore,posture=sit \
-	  --events ev-search,ev-search,ev-bad-speech,ev-thanks
+	bin/player render specs/peedy.lisp --initial alert=snore,posture=sit \
+	  --events ev-search,ev-search,ev-bad-speech,ev-thanks --out demo
 
 test: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
@@ -37,3 +37,8 @@ embed-example: deps
 	g++ $(CXXFLAGS) -Ibuild/embed-cpp examples/embed-cpp/main.cpp build/embed-cpp/peedy.cpp \
 	  -o build/embed-cpp/peedy-demo
 	build/embed-cpp/peedy-demo
+
+# Regenerate t/golden/*.png after an intended change of the look; look at them before committing.
+golden: deps
+	PLAYER_REGENERATE_GOLDEN=1 $(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
+	  --eval "(fiveam:run! 'player-tests::render)"

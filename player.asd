@@ -67,7 +67,8 @@ run the resulting state machine as Lisp closures."
                    (:file "motor-functions")
                    (:file "driver")
                    (:file "body")
-                   (:file "pose-library")))
+                   (:file "pose-library")
+                   (:file "ik")))
      (:module "drivers"
       :pathname "runtime/body/drivers"
       :serial t
@@ -80,7 +81,8 @@ run the resulting state machine as Lisp closures."
                    (:file "gaze")
                    (:file "blink")
                    (:file "facing")
-                   (:file "eyebrows")))
+                   (:file "eyebrows")
+                   (:file "reach")))
      (:module "scripts"
       :pathname "runtime/anim"
       :serial t
@@ -104,7 +106,14 @@ run the resulting state machine as Lisp closures."
                    (:file "gl")
                    (:file "osmesa")
                    (:file "framebuffer")
-                   (:file "png")))
+                   (:file "png")
+                   (:file "camera")
+                   (:file "antialias")
+                   (:file "shaders")
+                   (:file "renderer")
+                   (:file "render-command")
+                   (:file "glfw")
+                   (:file "viewer")))
      (:module "codegen-c++"
       :pathname "codegen"
       :serial t
@@ -132,6 +141,7 @@ run the resulting state machine as Lisp closures."
                  (:file "test-planner")
                  (:file "test-controller")
                  (:file "test-peedy")
+                 (:file "test-peedy-body")
                  (:file "test-properties")
                  (:file "test-c++")
                  (:file "test-cli")
@@ -146,5 +156,8 @@ run the resulting state machine as Lisp closures."
                  (:file "test-performance")
                  (:file "test-simulate")
                  (:file "test-render-base")
-                 (:file "test-mesh"))))
+                 (:file "test-mesh")
+                 (:file "test-reach")
+                 (:file "test-render")
+                 (:file "test-viewer"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -17,6 +17,8 @@
 
 (defspec peedy
   "Peedy, the parrot who finds and plays CDs (Kurlander & Ling, CHI '95)."
+  (:scripts "peedy-scripts.lisp")
+  (:body parrot)
 
   ;;; State variables
 

@@ -14,7 +14,7 @@
   (error 'usage-error :message (apply #'format nil control arguments)))
 
 (defparameter *usage*
-  "usage: player COMMAND SPEC-FILE [OPTIONS]
+  (format nil "usage: player COMMAND SPEC-FILE [OPTIONS]
 commands:
   run SPEC-FILE [--spec NAME] [--initial var=value,...] [--events ev1,ev2,...] [--backend lisp|c++]
       play events in simulated time and print the trace
@@ -24,16 +24,20 @@ commands:
            [--bvh FILE] [--frames FILE] [--scripts FILE] [--body NAME]
       play the events on the spec's body in simulated time; print the trace,
       write the motion as BVH and, with --frames, one s-expression per frame
+~A
+~A
   plans SPEC-FILE [--spec NAME]    print every goal's plan table
   check SPEC-FILE [--spec NAME]    print the spec's diagnostics
-  help                             print this text"
+  help                             print this text" *render-usage* *view-usage*)
   "What `player help` prints.")
 
 (defparameter *command-options*
-  '(("run" "--spec" "--initial" "--events" "--backend")
+  `(("run" "--spec" "--initial" "--events" "--backend")
     ("emit-c++" "--spec" "--out" "--name" "--namespace")
     ("simulate" "--spec" "--initial" "--events" "--fps" "--seed" "--bvh" "--frames"
      "--scripts" "--body")
+    ,*render-command-options*
+    ,*view-command-options*
     ("plans" "--spec")
     ("check" "--spec" "--scripts"))
   "Each command with the options it accepts (all take a value).")
@@ -205,6 +209,8 @@ drivers reported, write --bvh and --frames."
                      ((string= command "emit-c++") #'command-emit-c++)
                      ((string= command "plans") #'command-plans)
                      ((string= command "simulate") #'command-simulate)
+                     ((string= command "render") #'command-render)
+                     ((string= command "view") #'command-view)
                      ((string= command "check") #'command-check))
                spec options))))
 

@@ -47,7 +47,7 @@
 (test scripts-play-their-motor-calls-in-time
   (let ((performance (elbow-performance)))
     (player:perform-script performance 'flex 0)
-    (is (= 0 (elbow-at performance 0)))
+    (is (= -90 (elbow-at performance 0)) "what starts at the first frame is the initial pose: no crossfade")
     (is (= -90 (elbow-at performance 0.5)))
     (is (= -20 (elbow-at performance 1.4)) "the :for call usurps at its higher priority")
     (is (= -90 (elbow-at performance 1.9)) "and gives the channel back when its :for ends")

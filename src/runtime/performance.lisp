@@ -95,7 +95,8 @@ Returns the SCRIPT-RUN; its duration is the script's."
     (unless (replay-stale performance)
       (if (and (performance-time performance) (< start (performance-time performance)))
           (setf (replay-stale performance) t)
-          (push run (replay-runs performance))))
+          ;; Oldest first, as a replay has them: equal-time cues keep the order runs started in.
+          (setf (replay-runs performance) (append (replay-runs performance) (list run)))))
     run))
 
 (defun perform-director (performance name start &key body)
@@ -210,11 +211,14 @@ chain's last joint)."
                      (or (zerop k) (and (script-run-loop run) (plusp duration)))
                      (or (null (script-run-stop run)) (< begin (script-run-stop run))))
           do (incf (script-run-iterations run))
-             (dolist (item (script-items script))
-               (push (make-cue (+ begin (script-item-at item)) item run (+ begin duration))
-                     (replay-cues performance))))
-    (setf (replay-cues performance)
-          (stable-sort (replay-cues performance) #'< :key #'cue-time))))
+             ;; Items due at the same time play in the order they are written.
+             (setf (replay-cues performance)
+                   (merge 'list (replay-cues performance)
+                          (stable-sort (loop for item in (script-items script)
+                                             collect (make-cue (+ begin (script-item-at item)) item
+                                                               run (+ begin duration)))
+                                       #'< :key #'cue-time)
+                          #'< :key #'cue-time)))))
 
 (defun item-end (cue)
   "When CUE's item ends: its :for, its iteration's end, its run's stop, whichever is first."
@@ -269,7 +273,7 @@ chain's last joint)."
          (let* ((script (find-script (performance-library performance) (play-item-script item) t))
                 (child (make-script-run script time end body-name (script-loop script))))
            (push child (script-run-children run))
-           (push child (replay-runs performance))
+           (setf (replay-runs performance) (append (replay-runs performance) (list child)))
            (expand-run performance child time)))
         (attach-item
          (reparent-object (object (attach-item-object item))

@@ -29,7 +29,9 @@
    (seed :initarg :seed :initform 0 :accessor body-seed
          :documentation "Mixed into the seeds of random drivers (blink), so a run can be varied.")
    (reports :initform '() :accessor body-reports :documentation "(TIME DRIVER TEXT) of finished drivers, newest first.")
-   (time :initform nil :accessor body-time :documentation "The time last evaluated, or NIL."))
+   (time :initform nil :accessor body-time :documentation "The time last evaluated, or NIL.")
+   (birth :initform nil :accessor body-birth
+          :documentation "The first time evaluated: drivers starting then set the initial pose, with no crossfade."))
   (:default-initargs :kind :body)
   (:documentation "A character: a scene object with a skeleton and drivers.  Its
 POSITION and ROTATION place the skeleton's rest frame in the world."))
@@ -107,7 +109,9 @@ too) and joins the active drivers."
   (setf (body-pending body) (remove driver (body-pending body)))
   (driver-begin driver (body-base body) time)
   (let ((arbitrator (body-arbitrator body))
-        (blend (or (driver-arg driver :blend) (driver-default-blend driver) (body-blend-time body))))
+        (blend (if (and (body-birth body) (= time (body-birth body)))
+                   0d0
+                   (or (driver-arg driver :blend) (driver-default-blend driver) (body-blend-time body)))))
     (dolist (d (cons driver (slave-drivers driver)))
       ;; A slave sorts just before its master, so a master sees its slave's angles.
       (setf (driver-sequence d) (+ (incf (body-serial body)) (if (eq d driver) 0.5 0)))
@@ -156,6 +160,8 @@ has now and stamp the crossfade."
     (declare (type pose base pose held))
     (replace base held)
     (setf (body-time body) time)
+    (unless (body-birth body)
+      (setf (body-birth body) time))
     ;; Geometric drivers read the pose so far, so each sees the writes of those before it.
     (dolist (driver (body-active body))
       (unless (driver-additive-p driver)

@@ -142,3 +142,8 @@ where a key does not name it, START at :start keys and before the first."
 (defmethod driver-default-blend ((driver pose-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
   0d0)
+
+(defmethod driver-default-blend ((driver keyframe-driver))
+  ;; Keys that begin from the captured start pose need no crossfade; a first
+  ;; key at 0 that jumps to a pose keeps the body's, so nothing pops.
+  (and (eq (first (keyframe-keys driver)) :start) 0d0))

@@ -43,15 +43,14 @@ which makes a still target cost one solve."))
 
 (defmethod driver-setup ((driver reach-driver))
   (multiple-value-bind (arm-role hand-role) (reach-roles driver)
-    (let ((arm (role-joint driver arm-role))
-          (hand (role-joint driver hand-role)))
-      (let ((problem (arm-chain-problem (first arm) (second arm) hand)))
-        (when problem
-          (motor-fail (motor-call-frame (driver-call driver)) "skeleton ~A cannot reach with ~A: ~A"
-                      (lisp-text (skeleton-name (driver-skeleton driver))) (lisp-text arm-role)
-                      problem)))
-      (setf (reach-chain driver) (make-arm-chain (first arm) (second arm) hand))
-      (append (joint-dof-indices (first arm)) (joint-dof-indices (second arm))))))
+    (let ((arm (role-joint driver arm-role)))
+      (multiple-value-bind (chain problem)
+          (make-arm-chain (first arm) (second arm) (role-joint driver hand-role))
+        (unless chain
+          (motor-fail (motor-call-frame (driver-call driver)) "skeleton ~A cannot reach with its ~A: ~A"
+                      (lisp-text (skeleton-name (driver-skeleton driver))) (lisp-text arm-role) problem))
+        (setf (reach-chain driver) chain)
+        (append (joint-dof-indices (first arm)) (joint-dof-indices (second arm)))))))
 
 (defmethod driver-begin ((driver reach-driver) pose time)
   (declare (ignore time))
@@ -84,7 +83,8 @@ the shoulder's parent frame and the angles in POSE of the held joints."
 (defun reach-solve (driver pose)
   "DRIVER's solution now: the chain's angles reaching the target where it is
 at the time being composed, from the angles at the start, POSE (being
-composed) giving the frame of the arm and the held joints.  Reuses the last solution when nothing it depends on moved."
+composed) giving the frame of the arm and the held joints.  Reuses the last
+solution while nothing it depends on has moved."
   (let* ((chain (reach-chain driver))
          (body (driver-body driver))
          (target (resolve-target (driver-arg driver :target) body pose))

@@ -1,0 +1,279 @@
+;;;; render-command.lisp -- `bin/player render`: a simulated scenario drawn
+;;;; offscreen to numbered PNG frames, a contact sheet of frames spread over
+;;;; the whole scenario, and optionally a video piped through ffmpeg.
+
+(in-package #:player)
+
+(defparameter *ffmpeg-program* "ffmpeg"
+  "The ffmpeg executable --video runs: a name looked up in PATH, or a path.")
+
+(defparameter *sheet-columns* 4 "Thumbnails per row of the contact sheet.")
+(defparameter *sheet-rows* 3 "Rows of thumbnails of the contact sheet, at most.")
+(defparameter *thumbnail-width* 320 "The widest a contact-sheet thumbnail may be, in pixels.")
+
+;;;# Checking what the user asked for
+
+(defun parse-size (text)
+  "The width and height (two values) TEXT, like \"640x480\", asks for.
+Signals a USAGE-ERROR unless both are integers from 1 to 4096."
+  (let* ((x (position #\x (string-downcase text)))
+         (width (and x (ignore-errors (parse-integer text :end x))))
+         (height (and x (ignore-errors (parse-integer text :start (1+ x))))))
+    (unless (and width height (<= 1 width 4096) (<= 1 height 4096))
+      (usage-fail "bad size ~S: give WIDTHxHEIGHT, two integers from 1 to 4096 (e.g. 640x480)" text))
+    (values width height)))
+
+(defun find-executable (name)
+  "The truename of the program NAME: NAME itself when it has a slash, else the
+first file of that name in a directory of PATH; NIL when there is none.
+(SBCL 2.2.9 exports no such search.)"
+  (flet ((file (path) (let ((found (probe-file path))) (and found (pathname-name found) found))))
+    (if (find #\/ name)
+        (file name)
+        (loop for directory in (split-sequence-on #\: (or (sb-ext:posix-getenv "PATH") ""))
+              thereis (and (plusp (length directory))
+                           (file (concatenate 'string (string-right-trim "/" directory) "/" name)))))))
+
+(defun split-sequence-on (separator string)
+  "The parts of STRING between the SEPARATOR characters."
+  (loop for start = 0 then (1+ end)
+        for end = (position separator string :start start)
+        collect (subseq string start end)
+        while end))
+
+(defun find-ffmpeg ()
+  "The path of *FFMPEG-PROGRAM*; a RENDER-ERROR naming the Debian package when it is not installed."
+  (let ((path (find-executable *ffmpeg-program*)))
+    (or path
+        (render-fail "--video needs ~A, which is not installed: install the Debian package ffmpeg"
+                     *ffmpeg-program*))))
+
+(defun directory-pathname (designator)
+  "DESIGNATOR (a string or pathname, with or without a trailing slash) as a
+directory pathname, merged with the current directory."
+  (let ((path (merge-pathnames designator)))
+    (if (or (pathname-name path) (pathname-type path))
+        (make-pathname :directory (append (or (pathname-directory path) (list :relative))
+                                          (list (file-namestring path)))
+                       :name nil :type nil :version nil :defaults path)
+        path)))
+
+(defun prepare-output-directory (out)
+  "OUT (a directory designator) as a directory pathname that exists and takes
+files; its frame-*.png files from an earlier render are removed.  Signals a
+RENDER-ERROR naming the directory otherwise."
+  (let* ((directory (directory-pathname out))
+         (probe (merge-pathnames ".player-render-probe" directory)))
+    (handler-case
+        (progn (ensure-directories-exist directory)
+               (with-open-file (stream probe :direction :output :if-exists :supersede)
+                 (write-line "probe" stream))
+               (delete-file probe))
+      ((or file-error stream-error) ()
+        (render-fail "cannot write into the output directory ~A" (namestring directory))))
+    (mapc #'delete-file (directory (merge-pathnames "frame-*.png" directory)))
+    directory))
+
+;;;# Progress
+
+(defun show-progress (stream done total)
+  "Redraw the progress line on STREAM: a bar and DONE/TOTAL frames; a newline when done."
+  (when stream
+    (let ((filled (floor (* 30 done) (max 1 total))))
+      (format stream "~C[~v,,,'#A~v,,,'.A] ~D/~D frames" #\Return filled "" (- 30 filled) "" done total)
+      (when (= done total) (terpri stream))
+      (force-output stream))))
+
+;;;# The contact sheet
+
+(defun thumbnail (pixels width height factor)
+  "PIXELS (WIDTH x HEIGHT RGBA, top-down) shrunk by the integer FACTOR, each
+thumbnail pixel the mean of its FACTOR x FACTOR block: RGBA bytes and the new size."
+  (declare (type octets pixels) (type (integer 1 4096) width height factor)
+           (optimize (speed 2) (safety 1)))
+  (let* ((w (floor width factor)) (h (floor height factor))
+         (out (make-array (* w h 4) :element-type '(unsigned-byte 8)))
+         (area (* factor factor)))
+    (dotimes (y h (values out w h))
+      (dotimes (x w)
+        (dotimes (c 4)
+          (let ((sum 0))
+            (declare (type fixnum sum))
+            (dotimes (dy factor)
+              (dotimes (dx factor)
+                (incf sum (aref pixels (+ c (* 4 (+ (* x factor) dx (* width (+ (* y factor) dy)))))))))
+            (setf (aref out (+ c (* 4 (+ x (* w y))))) (round sum area))))))))
+
+(defparameter *digit-glyphs*
+  '((#\0 "111" "101" "101" "101" "111") (#\1 "010" "110" "010" "010" "111")
+    (#\2 "111" "001" "111" "100" "111") (#\3 "111" "001" "111" "001" "111")
+    (#\4 "101" "101" "111" "001" "001") (#\5 "111" "100" "111" "001" "111")
+    (#\6 "111" "100" "111" "101" "111") (#\7 "111" "001" "010" "010" "010")
+    (#\8 "111" "101" "111" "101" "111") (#\9 "111" "101" "111" "001" "111")
+    (#\. "000" "000" "000" "000" "010") (#\s "011" "100" "010" "001" "110")
+    (#\Space "000" "000" "000" "000" "000"))
+  "A 3x5 pixel font for the times on the contact sheet.")
+
+(defun draw-label (pixels width text x y &key (scale 2))
+  "Write TEXT in the 3x5 font, SCALE pixels a dot, dark on a light box, into the
+RGBA image PIXELS of WIDTH at column X, row Y (its top left)."
+  (let ((box-width (+ 2 (* scale 4 (length text)))) (box-height (+ 2 (* scale 6))))
+    (dotimes (dy box-height)
+      (dotimes (dx box-width)
+        (replace pixels #(245 245 240 255) :start1 (* 4 (+ x dx (* width (+ y dy)))))))
+    (loop for char across text
+          for left from (+ x 1 scale) by (* 4 scale)
+          do (loop for row in (rest (assoc char *digit-glyphs*))
+                   for top from (+ y 1 scale) by scale
+                   do (loop for dot across row
+                            for column from left by scale
+                            when (char= dot #\1)
+                              do (dotimes (dy scale)
+                                   (dotimes (dx scale)
+                                     (replace pixels #(30 30 30 255)
+                                              :start1 (* 4 (+ column dx (* width (+ top dy))))))))))))
+
+(defun sheet-frame-indices (count)
+  "Which of COUNT frames the contact sheet shows: up to columns x rows, evenly
+spaced from the first to the last."
+  (let ((cells (min count (* *sheet-columns* *sheet-rows*))))
+    (remove-duplicates (loop for k below cells
+                             collect (if (= cells 1) 0 (round (* k (1- count)) (1- cells)))))))
+
+(defun write-contact-sheet (path thumbnails width height)
+  "Write the THUMBNAILS, a list of (PIXELS TIME) each WIDTH x HEIGHT, as a grid
+with their times to the PNG file PATH.  Returns PATH."
+  (let* ((gap 6)
+         (columns (min *sheet-columns* (length thumbnails)))
+         (rows (ceiling (length thumbnails) columns))
+         (sheet-width (+ gap (* columns (+ width gap))))
+         (sheet-height (+ gap (* rows (+ height gap))))
+         (sheet (make-array (* 4 sheet-width sheet-height) :element-type '(unsigned-byte 8))))
+    (loop for i from 0 below (length sheet) by 4 do (replace sheet #(64 64 68 255) :start1 i))
+    (loop for (pixels time) in thumbnails
+          for k from 0
+          do (multiple-value-bind (row column) (floor k columns)
+               (let ((x (+ gap (* column (+ width gap)))) (y (+ gap (* row (+ height gap)))))
+                 (dotimes (line height)
+                   (replace sheet pixels :start1 (* 4 (+ x (* sheet-width (+ y line))))
+                                         :start2 (* 4 width line) :end2 (* 4 width (1+ line))))
+                 (let ((label (format nil "~,2F s" time)))
+                   (when (and (>= width (+ 2 (* 8 (length label)))) (>= height 16))
+                     (draw-label sheet sheet-width label (+ x 2) (+ y height -16)))))))
+    (write-png path sheet-width sheet-height sheet)))
+
+;;;# Video
+
+(defun start-ffmpeg (path width height fps log)
+  "An ffmpeg process encoding raw RGBA frames of WIDTH x HEIGHT at FPS from its
+input into the video file PATH, its messages going to the file LOG."
+  (sb-ext:run-program (namestring (find-ffmpeg))
+                      (list "-y" "-loglevel" "error" "-f" "rawvideo" "-pix_fmt" "rgba"
+                            "-s" (format nil "~Dx~D" width height) "-r" (format nil "~A" fps)
+                            "-i" "-" "-an" "-vf" "pad=ceil(iw/2)*2:ceil(ih/2)*2"
+                            "-pix_fmt" "yuv420p" (namestring path))
+                      :input :stream :output nil :error (namestring log)
+                      :if-error-exists :supersede :wait nil))
+
+(defun finish-ffmpeg (process path log)
+  "Close PROCESS's input and wait for it; a RENDER-ERROR quoting LOG when it failed."
+  (close (sb-ext:process-input process))
+  (sb-ext:process-wait process)
+  (let ((code (sb-ext:process-exit-code process)))
+    (unless (eql code 0)
+      (render-fail "ffmpeg could not write ~A (exit ~A): ~A" path code
+                   (string-trim '(#\Space #\Newline)
+                                (or (ignore-errors (alexandria:read-file-into-string log)) ""))))
+    (ignore-errors (delete-file log))))
+
+;;;# Rendering a simulation
+
+(defun render-simulation (simulation &key (out "render/") (size '(640 480)) fps video
+                                          (progress *error-output*) (antialias :fxaa))
+  "Draw SIMULATION offscreen at FPS (default its own) from time 0 to its end into
+OUT: frame-0001.png, frame-0002.png ... and sheet.png, a contact sheet of frames
+evenly spaced over the scenario with their times; with VIDEO (a path) also a
+video encoded by ffmpeg.  SIZE is (WIDTH HEIGHT) or \"WxH\".  A progress bar
+goes to PROGRESS (a stream, or NIL).  Returns the paths written: the frames,
+the sheet, then the video.  Signals a RENDER-ERROR for an unwritable OUT, a
+missing ffmpeg or libOSMesa, and a USAGE-ERROR for a bad SIZE."
+  (multiple-value-bind (width height)
+      (if (stringp size) (parse-size size) (parse-size (format nil "~Dx~D" (first size) (second size))))
+    (let* ((fps (or fps (simulation-fps simulation)))
+           (count (1+ (ceiling (* (simulation-end simulation) fps))))
+           (output (progn (when video (find-ffmpeg)) (prepare-output-directory out)))
+           (video (and video (merge-pathnames video)))
+           (log (merge-pathnames "ffmpeg.log" output))
+           (chosen (sheet-frame-indices count))
+           (factor (max 1 (ceiling width *thumbnail-width*)))
+           (performance (simulation-performance simulation))
+           (frames '()) (thumbnails '()) (process nil) (drawn nil))
+      (unwind-protect
+           (with-offscreen-context ((context) width height)
+             (let ((renderer (make-renderer width height :antialias antialias)))
+               (when video (setf process (start-ffmpeg video width height fps log)))
+               (dotimes (index count)
+                 (let ((time (/ index (float fps 1d0))))
+                   (render-scene renderer (performance-frame performance time))
+                   (let ((pixels (renderer-pixels renderer))
+                         (path (merge-pathnames (format nil "frame-~4,'0D.png" (1+ index)) output)))
+                     (push (write-png path width height pixels) frames)
+                     (when (member index chosen)
+                       (push (list (thumbnail pixels width height factor) time) thumbnails))
+                     (when process
+                       (write-sequence pixels (sb-ext:process-input process)))))
+                 (show-progress progress (1+ index) count))
+               (delete-renderer renderer)
+               (setf drawn t)))
+        ;; A frame failed: do not leave ffmpeg waiting for the rest.
+        (when (and process (not drawn) (sb-ext:process-alive-p process))
+          (sb-ext:process-kill process 15)))
+      (when process (finish-ffmpeg process video log))
+      (append (nreverse frames)
+              (list (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
+                                         (floor width factor) (floor height factor)))
+              (and video (list video))))))
+
+;;;# The command line
+
+(defparameter *render-command-options*
+  '("render" "--spec" "--initial" "--events" "--fps" "--size" "--out" "--seed" "--scripts"
+    "--body" "--video")
+  "The render command and the options it takes, for *COMMAND-OPTIONS*.")
+
+(defparameter *render-usage*
+  "  render SPEC-FILE [--spec NAME] [--initial ...] --events ev1,... [--fps 24] [--size 640x480]
+         [--out DIR] [--seed N] [--scripts FILE] [--body NAME] [--video FILE.mp4]
+      play the events in simulated time and draw them offscreen: DIR/frame-0001.png...,
+      DIR/sheet.png (a contact sheet) and, with --video, a video made by ffmpeg"
+  "The render command's lines for *USAGE*.")
+
+(defun command-render (spec options)
+  "Play --events on SPEC's body in simulated time, print the trace and what the
+drivers reported, render the frames, the contact sheet and the --video, and
+print the paths written."
+  (multiple-value-bind (width height) (parse-size (or (option "--size" options) "640x480"))
+    (let* ((fps (number-option "--fps" options 24 :test (lambda (x) (and (realp x) (< 0 x 1000)))
+                                                   :what "a frame rate from 0 to 1000"))
+           (video (option "--video" options))
+           (simulation
+             (progn
+               (when video (find-ffmpeg))
+               (simulate spec :initial (parse-initial-option (or (option "--initial" options) ""))
+                              :events (split-list (or (option "--events" options) ""))
+                              :fps fps
+                              :seed (number-option "--seed" options 0 :test #'integerp :what "an integer")
+                              :scripts (option "--scripts" options)
+                              :body (let ((body (option "--body" options)))
+                                      (and body (intern (string-upcase body) '#:player-user)))
+                              :stream *standard-output*)))
+           (paths (render-simulation simulation :out (or (option "--out" options) "render/")
+                                                :size (list width height) :fps fps :video video))
+           (frames (butlast paths (if video 2 1))))
+      (loop for (time text) in (simulation-reports simulation)
+            do (format t "; ~A s: ~A~%" (format-number time) text))
+      (format t "; ~D frames at ~A fps over ~A s~%" (length frames) (format-number fps)
+              (format-number (simulation-end simulation)))
+      (format t "; wrote ~A .. ~A~%" (namestring (first frames)) (file-namestring (car (last frames))))
+      (dolist (path (last paths (if video 2 1)))
+        (format t "; wrote ~A~%" (namestring path))))))

@@ -1,0 +1,296 @@
+;;;; viewer.lisp -- `bin/player view`: a controller played live in a window.
+;;;; The wall clock since the first frame, less the time spent paused, is
+;;;; the animation time; keys (or event names typed at the terminal) send
+;;;; events at that time, and trace lines print when the time reaches them.
+
+(in-package #:player)
+
+(defparameter *view-event-keys* "123456789abcdefghijklmnopqrstuvwxyz"
+  "The window keys that send events, given to the spec's events in order.")
+
+(defparameter *view-help*
+  "; space pauses, arrows or a mouse drag orbit the camera, scroll or +/- zoom, Home resets it, Escape quits"
+  "The line printed under the key map.")
+
+(defparameter *view-control-keys*
+  `((:space . ,+glfw-key-space+) (:escape . ,+glfw-key-escape+) (:home . ,+glfw-key-home+)
+    (:left . ,+glfw-key-left+) (:right . ,+glfw-key-right+) (:up . ,+glfw-key-up+)
+    (:down . ,+glfw-key-down+))
+  "Keys read by key code, by the names --keys gives them.")
+
+(defparameter *view-frame-time* (/ 1d0 60) "The shortest time a frame takes: the viewer draws at most 60 a second.")
+
+(defstruct (viewer (:constructor %make-viewer))
+  "One viewing session: the WINDOW, the CONTROLLER and the PERFORMANCE its
+presenter plays, the RENDERER, KEYS (an alist from characters to event names),
+scripted key presses still due (SCRIPT, (SECONDS . KEY) by time), the clock
+(START, PAUSED-AT, PAUSED-TOTAL, in glfwGetTime seconds), NOW (the current
+frame's animation time), the mouse DRAG (NIL, :START, or the last (X . Y)),
+trace lines PRINTED so far, the TITLE shown and whether the terminal is still read."
+  window controller performance renderer name keys script
+  (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
+
+(defun viewer-wall-time (viewer)
+  "Seconds since VIEWER's first frame."
+  (- (glfw-time) (viewer-start viewer)))
+
+(defun viewer-tick (viewer clock)
+  "Set VIEWER-NOW, the animation time of a frame begun at CLOCK (glfwGetTime
+seconds): seconds since the start, paused time excluded.  Everything the frame
+does happens at that time."
+  (setf (viewer-now viewer)
+        (- (or (viewer-paused-at viewer) clock) (viewer-start viewer) (viewer-paused-total viewer))))
+
+(defun toggle-pause (viewer)
+  "Pause VIEWER's clock, or resume it."
+  (let ((paused-at (viewer-paused-at viewer)))
+    (if paused-at
+        (setf (viewer-paused-total viewer) (+ (viewer-paused-total viewer) (- (glfw-time) paused-at))
+              (viewer-paused-at viewer) nil)
+        (setf (viewer-paused-at viewer) (glfw-time)))))
+
+;;;# Events and the trace
+
+(defun view-send-event (viewer event)
+  "Send EVENT now, or when the ops already playing end: events queue as in `run`."
+  (let ((controller (viewer-controller viewer)))
+    (send-event controller event :at (max (viewer-now viewer) (controller-clock controller)))))
+
+(defun trace-line-time (line)
+  "When trace LINE happens, or NIL for a :state line (it follows the line before)."
+  (unless (eq (first line) :state)
+    (let ((plist (cddr line)))
+      (or (getf plist :time) (getf plist :start)))))
+
+(defun print-due-trace (viewer &optional (time (viewer-now viewer)))
+  "Print the trace lines not yet printed whose time is at most TIME (all when TIME is T)."
+  (let ((lines (trace-line-vector (controller-presenter (viewer-controller viewer)))))
+    (loop while (< (viewer-printed viewer) (length lines))
+          do (let* ((line (aref lines (viewer-printed viewer)))
+                    (at (trace-line-time line)))
+               (unless (or (eq time t) (null at) (<= at time))
+                 (return))
+               (write-trace-line line)
+               (incf (viewer-printed viewer))))
+    (finish-output)))
+
+(defun read-terminal (viewer)
+  "Send the event named by a line typed at the terminal, if one is waiting; an
+event's key from the map works too.  Never blocks."
+  (when (viewer-terminal viewer)
+    (let ((line (handler-case (and (listen *standard-input*) (read-line *standard-input* nil :eof))
+                  (error () :eof))))
+      (cond ((eq line :eof) (setf (viewer-terminal viewer) nil))
+            ((null line))
+            (t (let* ((text (string-trim '(#\Space #\Tab) line))
+                      (key (and (= (length text) 1) (assoc (char-downcase (char text 0)) (viewer-keys viewer)))))
+                 (cond ((string= text ""))
+                       (key (view-send-event viewer (cdr key)))
+                       (t (handler-case (view-send-event viewer text)
+                            (unknown-event ()
+                              (format t "; no event ~A: type one of the names above~%" text)))))))))))
+
+;;;# Input
+
+(defun orbit-by (viewer yaw pitch &optional (zoom 1d0))
+  "Turn the camera YAW and PITCH radians around the characters and scale its distance by ZOOM."
+  (let ((orbit (renderer-orbit (viewer-renderer viewer))))
+    (setf (orbit-yaw orbit) (+ (orbit-yaw orbit) yaw)
+          (orbit-pitch orbit) (max -1.45d0 (min 1.45d0 (+ (orbit-pitch orbit) pitch)))
+          (orbit-distance orbit) (max 0.1d0 (min 10d0 (* (orbit-distance orbit) zoom))))))
+
+(defun press-key (viewer key)
+  "Act on KEY: an event key (a character in the key map), or a control key's name."
+  (let ((step (/ pi 36)))
+    (case key
+      (:space (toggle-pause viewer))
+      (:escape (glfw-close-window (viewer-window viewer)))
+      (:home (let ((orbit (renderer-orbit (viewer-renderer viewer))))
+               (setf (orbit-yaw orbit) 0d0 (orbit-pitch orbit) 0d0 (orbit-distance orbit) 1d0)))
+      (:left (orbit-by viewer (- step) 0d0))
+      (:right (orbit-by viewer step 0d0))
+      (:up (orbit-by viewer 0d0 (- step)))
+      (:down (orbit-by viewer 0d0 step))
+      ((#\+ #\=) (orbit-by viewer 0d0 0d0 0.9d0))
+      (#\- (orbit-by viewer 0d0 0d0 (/ 0.9d0)))
+      (t (let ((entry (and (characterp key) (assoc (char-downcase key) (viewer-keys viewer)))))
+           (when entry (view-send-event viewer (cdr entry))))))))
+
+(defun handle-input (viewer input)
+  "Act on one INPUT record from GLFW-POLL-INPUT."
+  (destructuring-bind (kind &rest data) input
+    (ecase kind
+      (:key (destructuring-bind (code action mods) data
+              (declare (ignore mods))
+              (let ((name (car (rassoc code *view-control-keys*))))
+                (when (and name (or (= action +glfw-press+)
+                                    (and (= action +glfw-repeat+) (member name '(:left :right :up :down)))))
+                  (press-key viewer name)))))
+      (:char (let ((char (code-char (first data))))
+               (unless (or (null char) (char= char #\Space))
+                 (press-key viewer char))))
+      (:button (destructuring-bind (button action mods) data
+                 (declare (ignore mods))
+                 (when (= button +glfw-mouse-button-left+)
+                   (setf (viewer-drag viewer) (and (= action +glfw-press+) :start)))))
+      (:cursor (destructuring-bind (x y) data
+                 (let ((drag (viewer-drag viewer)))
+                   (when (consp drag)
+                     (orbit-by viewer (* -0.01d0 (- x (car drag))) (* -0.01d0 (- y (cdr drag)))))
+                   (when drag (setf (viewer-drag viewer) (cons x y))))))
+      (:scroll (orbit-by viewer 0d0 0d0 (expt 0.9d0 (second data)))))))
+
+(defun play-script-keys (viewer)
+  "Press the scripted keys whose time (wall-clock seconds since the start) has come."
+  (loop while (and (viewer-script viewer) (<= (car (first (viewer-script viewer))) (viewer-wall-time viewer)))
+        do (press-key viewer (cdr (pop (viewer-script viewer))))))
+
+;;;# The window
+
+(defun view-title (viewer)
+  "The window title: the spec's name and the controller's state, e.g.
+\"peedy -- holding-note=false posture=stand ... last-heard=2.5\"."
+  (let ((controller (viewer-controller viewer)))
+    (format nil "~A -- ~{~A~^ ~}~:[~; [paused]~]" (viewer-name viewer)
+            ;; CONTROLLER-STATE lists the values in declaration order.
+            (loop for var in (spec-variables (spec-of controller))
+                  for (name . value) in (controller-state controller)
+                  collect (format nil "~A=~A" (lisp-text name)
+                                  (cond ((eq (var-kind var) :boolean) (if value "true" "false"))
+                                        ((null value) "-")
+                                        (t (lisp-text value)))))
+            (viewer-paused-at viewer))))
+
+(defun fit-renderer (viewer)
+  "Remake VIEWER's renderer, keeping its orbit, when the window's framebuffer changed size."
+  (multiple-value-bind (width height) (glfw-framebuffer-size (viewer-window viewer))
+    (let ((renderer (viewer-renderer viewer)))
+      (when (and (plusp width) (plusp height)
+                 (or (/= width (renderer-width renderer)) (/= height (renderer-height renderer))))
+        (let ((orbit (renderer-orbit renderer)))
+          (delete-renderer renderer)
+          (setf (viewer-renderer viewer) (make-renderer width height :orbit orbit)))))))
+
+(defun draw-view (viewer)
+  "Render VIEWER's scene at the current animation time into the window's back buffer."
+  (fit-renderer viewer)
+  (render-scene (viewer-renderer viewer) (performance-frame (viewer-performance viewer) (viewer-now viewer))))
+
+(defun run-viewer (viewer frames)
+  "Play VIEWER until its window closes or FRAMES frames (NIL: no limit) are
+shown; return the number of frames shown."
+  (let ((window (viewer-window viewer)))
+    (loop for frame from 0
+          until (or (glfw-window-closing-p window) (and frames (>= frame frames)))
+          do (let ((started (glfw-time)))
+               (when (zerop frame) (setf (viewer-start viewer) started))
+               (viewer-tick viewer started)
+               (dolist (input (glfw-poll-input)) (handle-input viewer input))
+               (play-script-keys viewer)
+               (read-terminal viewer)
+               (draw-view viewer)
+               (print-due-trace viewer)
+               (let ((title (view-title viewer)))
+                 (unless (string= title (viewer-title viewer))
+                   (glfw-set-title window (setf (viewer-title viewer) title))))
+               (glfw-swap-buffers window)
+               (let ((spare (- *view-frame-time* (- (glfw-time) started))))
+                 (when (plusp spare) (sleep spare))))
+          finally (return frame))))
+
+(defun print-key-map (keys)
+  "Print KEYS, an alist from characters to event names, and the other controls."
+  (format t "; keys (in the window), or an event name typed here and Enter:~%")
+  (loop for (char . event) in keys do (format t "~C ~A~%" char (lisp-text event)))
+  (write-line *view-help*)
+  (finish-output))
+
+(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys)
+  "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
+SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT).  Prints the key map,
+then each trace line when the animation time reaches it (the rest at the end).  Returns after FRAMES frames (NIL: when the window
+closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
+if given.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
+pressed SECONDS of wall-clock time after the first frame.  Signals a
+RENDER-ERROR when there is no display or GL fails, and the errors of
+MAKE-BODY-PRESENTER and MAKE-CONTROLLER."
+  (let* ((spec (if (spec-p spec) spec (find-spec spec)))
+         (presenter (make-body-presenter spec :scripts scripts :body body :seed seed))
+         (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter))
+         (event-keys (loop for event in (event-names controller)
+                           for char across *view-event-keys*
+                           collect (cons char event))))
+    (loop for (nil . key) in keys
+          unless (or (assoc key *view-control-keys*) (assoc key event-keys) (member key '(#\+ #\= #\-)))
+            do (error 'player-error-with-message
+                      :message (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
+                                       key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
+    (destructuring-bind (width height) size
+      (with-glfw-window (window width height (lisp-text (spec-name spec)))
+        (let ((viewer (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
+                                    :performance (presenter-performance presenter) :keys event-keys
+                                    :script (sort (copy-list keys) #'< :key #'car))))
+          (multiple-value-bind (fb-width fb-height) (glfw-framebuffer-size window)
+            (setf (viewer-renderer viewer) (make-renderer fb-width fb-height :orbit (make-orbit))))
+          (unwind-protect
+               (progn
+                 (print-key-map event-keys)
+                 (let ((shown (run-viewer viewer frames)))
+                   (print-due-trace viewer t)
+                   (format t "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
+                 (when screenshot
+                   (let ((renderer (viewer-renderer viewer)))
+                     ;; The last frame shown has been swapped away: draw it again to read it.
+                     (draw-view viewer)
+                     (write-png screenshot (renderer-width renderer) (renderer-height renderer)
+                                (renderer-pixels renderer))
+                     (format t "; wrote ~A~%" screenshot))))
+            (delete-renderer (viewer-renderer viewer))))))))
+
+;;;# The command
+
+(defun parse-keys-option (text)
+  "--keys KEY@SECONDS,... as ((SECONDS . KEY) ...): KEY a single character or
+space, escape, left, right, up, down, home; SECONDS a non-negative number."
+  (mapcar (lambda (part)
+            (let* ((at (position #\@ part))
+                   (name (and at (subseq part 0 at)))
+                   (seconds (and at (< at (1- (length part))) (read-cli-value (subseq part (1+ at))))))
+              (unless (and at (plusp at) (realp seconds) (>= seconds 0))
+                (usage-fail "--keys takes KEY@SECONDS pairs such as 1@0.5, not ~A" part))
+              (cons (float seconds 1d0)
+                    (if (= (length name) 1)
+                        (char-downcase (char name 0))
+                        (or (car (assoc name *view-control-keys* :test #'string-equal))
+                            (usage-fail "--keys: unknown key ~A (a character, or ~{~(~A~)~^, ~})"
+                                        name (mapcar #'car *view-control-keys*)))))))
+          (split-list text)))
+
+(defparameter *view-command-options*
+  '("view" "--spec" "--initial" "--body" "--scripts" "--frames" "--screenshot" "--size" "--seed" "--keys")
+  "The view command and the options it takes, for *COMMAND-OPTIONS*.")
+
+(defparameter *view-usage*
+  "  view SPEC-FILE [--spec NAME] [--initial ...] [--body NAME] [--scripts FILE] [--size 640x480]
+       [--seed N] [--frames N] [--screenshot FILE.png] [--keys KEY@SECONDS,...]
+      play the controller live in a window: keys from the printed map (or event
+      names typed at the terminal) send events, space pauses, arrows and the mouse
+      orbit, Escape quits; --frames N stops after N frames, --screenshot saves the
+      last one, --keys presses keys at times after the start (e.g. 1@0,space@2.5)"
+  "The view command's lines for *USAGE*.")
+
+(defun command-view (spec options)
+  "Open SPEC's viewer with the view command's OPTIONS: --initial --body --scripts
+--frames --screenshot --size --seed --keys (see VIEW-SPEC)."
+  (view-spec spec :initial (parse-initial-option (or (option "--initial" options) ""))
+                  :body (let ((body (option "--body" options)))
+                          (and body (intern (string-upcase body) '#:player-user)))
+                  :scripts (option "--scripts" options)
+                  :frames (number-option "--frames" options nil
+                                         :test (lambda (n) (and (integerp n) (plusp n)))
+                                         :what "a positive integer")
+                  :screenshot (option "--screenshot" options)
+                  :size (multiple-value-list (parse-size (or (option "--size" options) "640x480")))
+                  :seed (number-option "--seed" options 0 :test #'integerp :what "an integer")
+                  :keys (parse-keys-option (or (option "--keys" options) ""))))
