@@ -130,14 +130,15 @@ hanging from a joint; only bodies have joints.")
 
 (defclass scene ()
   ((objects :initform '() :accessor scene-objects
-            :documentation "Every object, in the order they were added."))
+            :documentation "Every object, in the order they were added.")
+   (index :initform (make-hash-table :test #'equalp) :reader scene-index
+          :documentation "The objects by name, so finding one does not grow with the scene."))
   (:documentation "A set of named scene objects forming a hierarchy."))
 
 (defun find-object (scene name &optional (errorp t))
   "SCENE's object called NAME (compared by name); an ANIM-ERROR listing the
 objects, or NIL without ERRORP, when there is none."
-  (or (find (string name) (scene-objects scene) :key (lambda (o) (string (object-name o)))
-                                                 :test #'string-equal)
+  (or (gethash (string name) (scene-index scene))
       (and errorp
            (anim-fail 'anim-error name "the scene has no object ~A (objects: ~{~A~^ ~})"
                       (lisp-text name)
@@ -148,7 +149,8 @@ objects, or NIL without ERRORP, when there is none."
   (when (find-object scene (object-name object) nil)
     (anim-fail 'anim-error (object-name object) "the scene already has an object ~A"
                (lisp-text (object-name object))))
-  (setf (scene-objects scene) (append (scene-objects scene) (list object)))
+  (setf (scene-objects scene) (append (scene-objects scene) (list object))
+        (gethash (string (object-name object)) (scene-index scene)) object)
   object)
 
 (defun object-ancestor-p (ancestor object)
