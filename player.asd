@@ -68,7 +68,8 @@ run the resulting state machine as Lisp closures."
                    (:file "driver")
                    (:file "body")
                    (:file "pose-library")
-                   (:file "ik")))
+                   (:file "ik")
+                   (:file "ik-search")))
      (:module "drivers"
       :pathname "runtime/body/drivers"
       :serial t

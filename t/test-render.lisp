@@ -315,3 +315,15 @@ joint grown by its projected radius."
            (text (render-error-text (lambda () (player::render-simulation simulation :out out :video "x.mp4")))))
       (is (search "install the Debian package ffmpeg" (or text "")) "got ~S" text)
       (is (null (directory (merge-pathnames "*.png" out))) "it fails before rendering"))))
+
+(test render-command-line-errors
+  (dolist (case '((("--size" "big") "bad size")
+                  (("--out" "/proc/no-such-dir") "cannot write into the output directory")
+                  (("--body" "robot") "unknown skeleton robot")))
+    (destructuring-bind (options text) case
+      (multiple-value-bind (out err code)
+          (apply #'player-command "render" (fixture "anim.lisp") "--events" "ev-pick" options)
+        (declare (ignore out))
+        (is (= 1 code) "~A: exit ~D" options code)
+        (is (= 1 (length (lines err))) "one line: ~A" err)
+        (is (search text err) "~S in ~A" text err)))))

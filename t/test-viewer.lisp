@@ -124,7 +124,7 @@ sky and floor change little along a row, so what differs is what stands there."
           in '((("--keys" "1") 2 "--keys takes KEY@SECONDS")
                (("--keys" "shift@1") 2 "unknown key shift")
                (("--keys" "9@1") 1 "scripted key 9")
-               (("--size" "big") 2 "bad size")
+               (("--size" "big") 1 "bad size")
                (("--frames" "0") 2 "--frames takes a positive integer"))
         do (multiple-value-bind (out err code)
                (view-command (list* (fixture "anim.lisp") arguments) :xvfb nil)

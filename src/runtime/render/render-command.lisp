@@ -15,12 +15,12 @@
 
 (defun parse-size (text)
   "The width and height (two values) TEXT, like \"640x480\", asks for.
-Signals a USAGE-ERROR unless both are integers from 1 to 4096."
+Signals a RENDER-ERROR (exit status 1) unless both are integers from 1 to 4096."
   (let* ((x (position #\x (string-downcase text)))
          (width (and x (ignore-errors (parse-integer text :end x))))
          (height (and x (ignore-errors (parse-integer text :start (1+ x))))))
     (unless (and width height (<= 1 width 4096) (<= 1 height 4096))
-      (usage-fail "bad size ~S: give WIDTHxHEIGHT, two integers from 1 to 4096 (e.g. 640x480)" text))
+      (render-fail "bad size ~S: give WIDTHxHEIGHT, two integers from 1 to 4096 (e.g. 640x480)" text))
     (values width height)))
 
 (defun find-executable (name)
