@@ -193,9 +193,9 @@
         (dolist (time (peedy-frame-times simulation (peedy-op-start bow) (peedy-op-end bow)))
           (is (<= (root-pitch time) (+ lowest 1d-6))))))))
 
-(test peedy-papers-scenario-stays-within-limits-and-in-reach
-  (let ((simulation (peedy-papers-simulation))
-        (bad '()))
+(defun frames-past-limits (simulation)
+  "The times of SIMULATION's frames in which Peedy's pose exceeds a joint limit."
+  (let ((bad '()))
     (player::map-simulation-frames
      (lambda (index time scene)
        (declare (ignore index scene))
@@ -203,7 +203,12 @@
          (unless (pose-within-limits-p (body-skeleton body) (body-pose body))
            (push time bad))))
      simulation)
-    (is (null bad) "frames past the joint limits at ~A" (reverse bad))
+    (nreverse bad)))
+
+(test peedy-papers-scenario-stays-within-limits-and-in-reach
+  (let ((simulation (peedy-papers-simulation)))
+    (let ((bad (frames-past-limits simulation)))
+      (is (null bad) "frames past the joint limits at ~A" bad))
     (is (null (player::simulation-reports simulation)) "drivers reported ~S" (player::simulation-reports simulation))
     (peedy-frame-at simulation (player::simulation-end simulation))
     (is (< (abs (- -0.026 (player::vec3-y (property-value (peedy-body-of simulation) 'position)))) 1d-9)
@@ -222,8 +227,7 @@
          (played (remove-duplicates
                   (loop for line in (trace-lines (player::simulation-presenter simulation))
                         when (eq (first line) :op) collect (string-downcase (second line)))
-                  :test #'string=))
-         (bad '()))
+                  :test #'string=)))
     ;; All but the ops of the papers' scenario (drop-note, raise-wing, huh,
     ;; lower-wing, camgoodbye).
     (dolist (op '("greet" "give-note" "play-cd" "dance" "next-track" "stop-cd" "put-on-phones"
@@ -232,12 +236,6 @@
                   "snort" "exhale" "focus" "blink" "stretch" "wave-goodbye" "camwide" "camhello"
                   "standup" "search" "yawn"))
       (is (member op played :test #'string=) "the tour does not play ~A" op))
-    (player::map-simulation-frames
-     (lambda (index time scene)
-       (declare (ignore index scene))
-       (let ((body (peedy-body-of simulation)))
-         (unless (pose-within-limits-p (body-skeleton body) (body-pose body))
-           (push time bad))))
-     simulation)
-    (is (null bad) "frames past the joint limits at ~A" (reverse bad))
+    (let ((bad (frames-past-limits simulation)))
+      (is (null bad) "frames past the joint limits at ~A" bad))
     (is (null (player::simulation-reports simulation)) "drivers reported ~S" (player::simulation-reports simulation))))

@@ -60,13 +60,18 @@ VISIBLE (boolean); others are declared with DEFINE-PROPERTY."))
   (print-unreadable-object (object stream :type t)
     (format stream "~A ~A" (lisp-text (object-kind object)) (lisp-text (object-name object)))))
 
+(defparameter *builtin-properties* '((position :vector) (rotation :rotation) (visible :boolean))
+  "The properties every scene object has, with their types; script libraries check against it.")
+
 (defmethod initialize-instance :after ((object scene-object) &key (position (vec3)) (rotation (quat)))
   (unless (member (object-kind object) *scene-object-kinds*)
     (anim-fail 'anim-error (object-kind object) "object ~A: the kind must be one of ~{~A~^ ~}"
                (lisp-text (object-name object)) *scene-object-kinds*))
-  (define-property object 'position :vector position)
-  (define-property object 'rotation :rotation rotation)
-  (define-property object 'visible :boolean t))
+  (loop for (name type) in *builtin-properties*
+        do (define-property object name type (ecase type
+                                               (:vector position)
+                                               (:rotation rotation)
+                                               (:boolean t)))))
 
 (defun define-property (object name type value)
   "Give OBJECT the property NAME (a symbol, compared by name) of TYPE, set to VALUE."

@@ -369,9 +369,6 @@ name or a role of *SKELETON-ROLES*; else a SCRIPT-ERROR about FORM."
 ;;; ---------------------------------------------------------------------------
 ;;; Property types
 
-(defparameter *builtin-properties* '((position :vector) (rotation :rotation) (visible :boolean))
-  "The properties every scene object has (see scene.lisp), with their types.")
-
 (defun builtin-property-type (property)
   "The type of the built-in PROPERTY, or NIL for any other."
   (second (assoc property *builtin-properties* :test #'name=)))
