@@ -2,7 +2,7 @@
 SBCL ?= sbcl
 LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
        --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)'
-DEBIAN_PACKAGES = sbcl cl-alexandria cl-fiveam cl-cffi cl-salza2 g++ libosmesa6 libglfw3 xvfb xauth python3
+DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
 .PHONY: demo test bench deps embed-example golden

@@ -1,10 +1,12 @@
 ;;;; player.asd -- the system definition; read in order, it is the pipeline:
-;;;; spec language -> canonical expressions -> planner -> code generators -> runtime -> CLI.
+;;;; spec language -> planner -> code generators (Lisp closures, C++) ->
+;;;; runtime (controller -> anim -> body -> scripts -> performance -> render) -> CLI.
+;;;; Every module is one folder.
 
 (defsystem "player"
   :description "Planning-based animation controllers: declare operators with
 preconditions and effects, precompile plans from every state to every goal, and
-run the resulting state machine as Lisp closures."
+run the resulting state machine as Lisp closures or embedded C++."
   :version "0.1.0"
   :license "MIT"
   :depends-on ("alexandria" "sb-md5" "cffi" "salza2")
@@ -14,6 +16,7 @@ run the resulting state machine as Lisp closures."
     :serial t
     :components
     ((:file "package")
+     (:file "utilities")
      (:module "spec"
       :serial t
       :components ((:file "conditions")
@@ -26,6 +29,7 @@ run the resulting state machine as Lisp closures."
                    (:file "parse")
                    (:file "directives")
                    (:file "validate")
+                   (:file "initial-values")
                    (:file "registry")))
      (:module "planner"
       :serial t
@@ -34,96 +38,102 @@ run the resulting state machine as Lisp closures."
                    (:file "goals")
                    (:file "machine")
                    (:file "diagnostics")))
-     (:module "runtime-protocol"
-      :pathname "runtime"
-      :serial t
-      :components ((:file "presenter")
-                   (:file "controller-state")))
      (:module "codegen"
       :serial t
       :components ((:file "ir")
-                   (:file "lisp-closures")))
-     (:module "runtime"
-      :serial t
-      :components ((:file "controller")))
-     (:module "anim"
-      :pathname "runtime/anim"
-      :serial t
-      :components ((:file "vectors")
-                   (:file "quaternions")
-                   (:file "transforms")
-                   (:file "controls")
-                   (:file "keyframes")
-                   (:file "noise")
-                   (:file "control-forms")
-                   (:file "scene")))
-     (:module "body"
-      :pathname "runtime/body"
-      :serial t
-      :components ((:file "skeleton")
-                   (:file "arbitration")
-                   (:file "pose")
-                   (:file "bvh")
-                   (:file "motor-functions")
-                   (:file "driver")
-                   (:file "body")
-                   (:file "pose-library")
-                   (:file "ik")
-                   (:file "ik-search")))
-     (:module "drivers"
-      :pathname "runtime/body/drivers"
-      :serial t
-      :components ((:file "direct")
-                   (:file "keyframe")
-                   (:file "lips")
-                   (:file "beat")
-                   (:file "idle")
-                   (:file "head")
-                   (:file "gaze")
-                   (:file "blink")
-                   (:file "facing")
-                   (:file "eyebrows")
-                   (:file "reach")))
-     (:module "scripts"
-      :pathname "runtime/anim"
-      :serial t
-      :components ((:file "scripts")
-                   (:file "directors")
-                   (:file "script-library")))
-     (:module "performance"
-      :pathname "runtime"
-      :serial t
-      :components ((:file "performance")
-                   (:file "body-presenter")
-                   (:file "simulation")))
-     (:module "render"
-      :pathname "runtime/render"
-      :serial t
-      :components ((:file "mesh")
-                   (:file "appearance")
-                   (:file "body-mesh")
-                   (:file "scene-mesh")
-                   (:file "libraries")
-                   (:file "gl")
-                   (:file "osmesa")
-                   (:file "framebuffer")
-                   (:file "png")
-                   (:file "camera")
-                   (:file "antialias")
-                   (:file "shaders")
-                   (:file "renderer")
-                   (:file "render-command")
-                   (:file "glfw")
-                   (:file "viewer")))
-     (:module "codegen-c++"
-      :pathname "codegen"
-      :serial t
-      :components ((:file "cpp-names")
+                   ;; Lisp: closures running on a controller struct.
+                   (:file "controller-state")
+                   (:file "lisp-closures")
+                   ;; C++: a standalone controller to embed.
+                   (:file "cpp-names")
                    (:file "cpp")
                    (:file "cpp-steps")
                    (:file "cpp-source")
                    (:file "cpp-build")))
-     (:file "cli"))))
+     (:module "runtime"
+      :serial t
+      :components
+      ((:module "controller"
+        :serial t
+        :components ((:file "presenter")
+                     (:file "controller")))
+       (:module "anim"
+        :serial t
+        :components ((:file "vectors")
+                     (:file "quaternions")
+                     (:file "transforms")
+                     (:file "controls")
+                     (:file "keyframes")
+                     (:file "noise")
+                     (:file "control-forms")
+                     (:file "scene")))
+       (:module "body"
+        :serial t
+        :components ((:file "skeleton")
+                     (:file "arbitration")
+                     (:file "pose")
+                     (:file "bvh")
+                     (:file "motor-functions")
+                     (:file "driver")
+                     (:file "body")
+                     (:file "pose-library")
+                     (:file "ik")
+                     (:file "ik-search")
+                     (:module "drivers"
+                      :serial t
+                      :components ((:file "direct")
+                                   (:file "keyframe")
+                                   (:file "lips")
+                                   (:file "beat")
+                                   (:file "idle")
+                                   (:file "aim")
+                                   (:file "head")
+                                   (:file "gaze")
+                                   (:file "blink")
+                                   (:file "facing")
+                                   (:file "eyebrows")
+                                   (:file "reach")))))
+       (:module "scripts"
+        :serial t
+        :components ((:file "scripts")
+                     (:file "directors")
+                     (:file "script-library")))
+       (:module "performance"
+        :serial t
+        :components ((:file "performance")
+                     (:file "body-presenter")
+                     (:file "simulation")))
+       (:module "render"
+        :serial t
+        :components ((:file "mesh")
+                     (:file "appearance")
+                     (:file "body-mesh")
+                     (:file "scene-mesh")
+                     (:file "libraries")
+                     (:file "gl")
+                     (:file "osmesa")
+                     (:file "framebuffer")
+                     (:file "png")
+                     (:file "camera")
+                     (:file "antialias")
+                     (:file "shaders")
+                     (:file "renderer")
+                     (:file "render-simulation")
+                     (:file "glfw")
+                     (:file "viewer")))))
+     (:module "cli"
+      :serial t
+      :components ((:file "options")
+                   (:file "commands")
+                   (:file "help")
+                   (:file "main")
+                   (:file "run")
+                   (:file "plans")
+                   (:file "check")
+                   (:file "emit-c++")
+                   (:file "simulate")
+                   (:file "render")
+                   (:file "view"))))))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -160,5 +170,6 @@ run the resulting state machine as Lisp closures."
                  (:file "test-mesh")
                  (:file "test-reach")
                  (:file "test-render")
-                 (:file "test-viewer"))))
+                 (:file "test-viewer")
+                 (:file "test-readme"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

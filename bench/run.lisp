@@ -13,15 +13,15 @@
   (make-pathname :name nil :type nil :version nil :defaults (or *load-truename* *default-pathname-defaults*))
   "This directory; sibling files load from here.")
 
-(handler-bind ((warning #'muffle-warning)
-               (sb-ext:compiler-note #'muffle-warning))
-  (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render"))
-      (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
-
 (defparameter *peedy-file* (merge-pathnames "../specs/peedy.lisp" *bench-directory*))
 (defparameter *fallback-file* (merge-pathnames "../t/fixtures/mini.lisp" *bench-directory*)
   "A small Peedy, used (with a note) when specs/peedy.lisp is missing.")
+
+(handler-bind ((warning #'muffle-warning)
+               (sb-ext:compiler-note #'muffle-warning))
+  (with-compilation-unit ()
+    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli"))
+      (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
 
@@ -330,7 +330,10 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-pose-evaluation)
         (rule)
         (format t "~&  rendering...~%") (finish-output)
-        (bench-render)))
+        (bench-render)
+        (rule)
+        (format t "~&  command line...~%") (finish-output)
+        (bench-command-line)))
     (format t "~%")
     (print-table)
     (format t "~%Total benchmark time: ~,1F s~%" (- (now) start))

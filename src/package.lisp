@@ -11,7 +11,7 @@
    #:spec #:spec-name #:spec-documentation #:spec-max-depth #:spec-options
    #:spec-source-file
    ;; Compilation
-   #:compile-spec #:machine #:machine-spec #:machine-goals #:plans
+   #:compile-spec #:plan-spec #:compiled-machine #:machine #:machine-spec #:machine-goals #:plans
    #:machine-state-count #:check-spec #:diagnostic #:diagnostic-kind
    #:diagnostic-message #:diagnostic-details
    #:*default-max-depth*
@@ -46,7 +46,7 @@
    #:simulate #:write-simulation #:map-simulation-frames #:simulation-frame-count
    #:write-bvh #:write-bvh-file
    ;; Rendering
-   #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
+   #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
    #:compile-shader-program #:write-png #:png-octets
    #:make-msaa-target #:bind-msaa-target #:resolve-msaa-target #:delete-msaa-target
    #:load-gl-functions #:with-gl-traps-masked #:osmesa-proc-address #:glfw-proc-address
@@ -71,7 +71,7 @@
    #:spec-reader-error #:unknown-event #:unknown-event-name
    #:state-space-too-large #:state-transfer-error
    ;; Command line
-   #:main))
+   #:main #:usage-error))
 
 (defpackage #:player-user
   (:use #:cl #:player)

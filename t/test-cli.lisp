@@ -4,8 +4,20 @@
 
 (def-suite* cli :in player-tests)
 
+(defvar *core-built* nil
+  "True once this test run has made sure bin/player's saved core is up to date.")
+
+(defun ensure-player-core ()
+  "Build bin/player's core now, if it is stale, so no test sees the build's
+progress line on its stderr."
+  (unless *core-built*
+    (sb-ext:run-program (namestring (checkout-file "bin/player")) '("help")
+                        :output nil :error nil :search nil :directory (namestring *root*))
+    (setf *core-built* t)))
+
 (defun player-command (&rest arguments)
   "Run bin/player with ARGUMENTS; return (VALUES STDOUT STDERR EXIT-CODE)."
+  (ensure-player-core)
   (let* ((out (make-string-output-stream))
          (err (make-string-output-stream))
          (process (sb-ext:run-program (namestring (checkout-file "bin/player")) arguments
@@ -101,3 +113,97 @@
     (is (= 0 code))
     (is (string= "" err))
     (is (search "usage: player COMMAND" out))))
+
+;;; The command table: per-command help, consistent exit codes, quiet pipes.
+
+(test every-command-has-help
+  (dolist (command player::*commands*)
+    (let ((name (player::command-name command)))
+      (multiple-value-bind (out err code) (player-command name "--help")
+        (is (= 0 code) "~A --help exits ~A" name code)
+        (is (string= "" err))
+        (is (eql 0 (search (format nil "usage: player ~A" name) out)) "~A --help: ~S" name out)
+        (is (search "output: " out) "~A's help says where its output goes" name)
+        (dolist (option (player::command-options command))
+          (is (search (player::option-name option) out) "~A's help lacks ~A" name
+              (player::option-name option))))
+      (is (string= (player-command name "--help") (player-command "help" name))
+          "help ~A and ~A --help differ" name name)
+      (is (search (player::command-summary command) (player-command "help"))
+          "the global help lacks ~A" name)))
+  (multiple-value-bind (out err code) (player-command "render" "-h")
+    (declare (ignore err))
+    (is (= 0 code))
+    (is (search "--out DIR" out))
+    (is (search "(default: render/)" out))))
+
+(test wrong-command-lines-exit-2
+  (check-cli-error 2 "--fps takes a frame rate above 0 and at most 1000, not \"0\""
+                   "render" (fixture "anim.lisp") "--fps" "0")
+  (check-cli-error 2 "--size takes WIDTHxHEIGHT" "render" (fixture "anim.lisp") "--size" "0x3")
+  (check-cli-error 2 "--size takes WIDTHxHEIGHT" "view" (fixture "anim.lisp") "--size" "big")
+  (check-cli-error 2 "--frames takes a positive integer" "view" (fixture "anim.lisp") "--frames" "0")
+  (check-cli-error 2 "--seed takes an integer" "simulate" (fixture "anim.lisp") "--seed" "1.5")
+  (check-cli-error 2 "--backend takes one of lisp, c++" "run" (fixture "mini.lisp") "--backend" "java")
+  (check-cli-error 2 "option --events given twice" "run" (fixture "mini.lisp") "--events" "a" "--events" "b")
+  (check-cli-error 2 "option --events needs a value" "run" (fixture "mini.lisp") "--events")
+  (check-cli-error 2 "--initial gives alert twice" "run" (fixture "mini.lisp") "--initial" "alert=snore,alert=sleep")
+  (check-cli-error 2 "unexpected argument extra" "plans" (fixture "mini.lisp") "extra")
+  (check-cli-error 2 "unknown command fly" "help" "fly")
+  (check-cli-error 2 "emit-c++ needs --out DIR" "emit-c++" (fixture "mini.lisp"))
+  (check-cli-error 2 "no command given" ))
+
+(test failed-work-exits-1
+  (check-cli-error 1 "no-spec.lisp defines no spec" "run" (fixture "no-spec.lisp"))
+  (check-cli-error 1 "unknown event" "render" (fixture "anim.lisp") "--events" "ev-nope"))
+
+(test option-values-may-follow-an-equals-sign
+  (multiple-value-bind (out err code)
+      (player-command "run" (fixture "mini.lisp") "--initial=alert=snore" "--events=ev-search")
+    (is (= 0 code) "stderr ~S" err)
+    (is (search "(:autoscript-start snore-loop" out))))
+
+(test run-without-events-prints-the-initial-state
+  (dolist (backend '("lisp" "c++"))
+    (multiple-value-bind (out err code)
+        (player-command "run" (fixture "mini.lisp") "--initial" "alert=snore" "--backend" backend)
+      (is (= 0 code) "~A: ~S" backend err)
+      (is (equal '("(:autoscript-start snore-loop :var alert :value snore :time 0)"
+                   "(:state (holding-note . nil) (posture . stand) (alert . snore) (wing-at-ear . nil) (wearing-phones . nil) (count . 0) (last-heard . nil))")
+                 (lines out))
+          "~A backend: ~S" backend out))))
+
+(test a-closed-pipe-ends-quietly
+  ;; Thousands of events print far more than a pipe buffers, so player is
+  ;; still writing when head has gone.
+  (let* ((events (format nil "~{~A~^,~}" (loop repeat 4000 collect "ev-search")))
+         (script (format nil "\"$0\" run \"$1\" --initial alert=snore --events \"$2\" 2>\"$3\" | head -n 2; echo \"status ${PIPESTATUS[0]}\""))
+         (errors (format nil "/tmp/player-pipe-test-~D.err" (sb-unix:unix-getpid)))
+         (out (make-string-output-stream)))
+    (sb-ext:run-program "/bin/bash" (list "-c" script (namestring (checkout-file "bin/player"))
+                                          (fixture "mini.lisp") events errors)
+                        :output out :directory (namestring *root*))
+    (let ((printed (lines (get-output-stream-string out))))
+      (is (= 3 (length printed)) "~S" printed)
+      (is (equal "status 141" (third printed)) "~S" printed))
+    (is (string= "" (alexandria:read-file-into-string errors)) "stderr after a closed pipe")
+    (delete-file errors)))
+
+(test the-core-is-rebuilt-when-the-checkout-moves
+  ;; bin/player keeps the checkout's path beside the core; another path means
+  ;; the core's compiled-in paths are wrong, so it must build a new one.
+  (player-command "help")
+  (let ((stamp (checkout-file "build/player.root")))
+    (is (probe-file stamp))
+    (with-open-file (out stamp :direction :output :if-exists :supersede)
+      (write-line "/somewhere/else" out))
+    (multiple-value-bind (out err code) (player-command "help")
+      (is (= 0 code))
+      (is (search "building Player once" err))
+      (is (search "usage: player COMMAND" out)))
+    (is (string= (string-right-trim "/" (namestring *root*))
+                 (string-trim '(#\Newline) (alexandria:read-file-into-string stamp))))
+    (multiple-value-bind (out err code) (player-command "help")
+      (declare (ignore out))
+      (is (= 0 code))
+      (is (string= "" err) "a fresh core is not rebuilt"))))

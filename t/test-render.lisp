@@ -238,7 +238,7 @@ joint grown by its projected radius."
 
 (defun anim-simulation (&key (fps 4))
   "The anim fixture's scenario (pick up the ball, wave) played at FPS."
-  (player::simulate (player::choose-spec (fixture "anim.lisp") '()) :events '("ev-pick" "ev-wave")
+  (player::simulate (player::choose-spec (fixture "anim.lisp")) :events '("ev-pick" "ev-wave")
                                                                     :fps fps))
 
 (test render-writes-frames-and-a-sheet
@@ -284,9 +284,8 @@ joint grown by its projected radius."
   (let* ((out (scratch-directory "command"))
          (text (with-output-to-string (*standard-output*)
                  (let ((*error-output* (make-broadcast-stream)))
-                   (player::command-render (player::choose-spec (fixture "anim.lisp") '())
-                                           `(("--events" . "ev-pick") ("--size" . "48x36")
-                                             ("--fps" . "4") ("--out" . ,out)))))))
+                   (player::run-command-line (list "render" (fixture "anim.lisp") "--events" "ev-pick"
+                                                   "--size" "48x36" "--fps" "4" "--out" out))))))
     (is (search "(:event ev-pick :time 0)" text))
     (is (search (format nil "; wrote ~Aframe-0001.png .. frame-" out) text))
     (is (search (format nil "; wrote ~Asheet.png" out) text))))
@@ -298,10 +297,13 @@ joint grown by its projected radius."
 
 (test render-bad-input
   (dolist (size '("0x10" "640" "5000x480" "axb" "64x-1" "640x480x3" ""))
-    (is (search "bad size" (or (render-error-text (lambda () (player::parse-size size))) ""))
-        "size ~S" size))
-  (is (equal '(640 480) (multiple-value-list (player::parse-size "640x480"))))
-  (is (equal '(4096 1) (multiple-value-list (player::parse-size "4096X1"))))
+    (is (search "bad size" (or (render-error-text (lambda () (player::image-size size))) ""))
+        "size ~S" size)
+    (is (null (player::read-size size)) "size ~S" size))
+  (is (equal '(640 480) (multiple-value-list (player::image-size "640x480"))))
+  (is (equal '(4096 1) (multiple-value-list (player::image-size "4096X1"))))
+  (is (equal '(32 24) (multiple-value-list (player::image-size '(32 24)))))
+  (is (search "bad size" (render-error-text (lambda () (player::image-size '(0 24))))))
   (let ((simulation (anim-simulation :fps 2))
         (file (format nil "~Aa-file" (scratch-directory "errors"))))
     (is (search "bad size" (render-error-text (lambda () (player::render-simulation simulation :size "0x5")))))
@@ -317,13 +319,13 @@ joint grown by its projected radius."
       (is (null (directory (merge-pathnames "*.png" out))) "it fails before rendering"))))
 
 (test render-command-line-errors
-  (dolist (case '((("--size" "big") "bad size")
-                  (("--out" "/proc/no-such-dir") "cannot write into the output directory")
-                  (("--body" "robot") "unknown skeleton robot")))
-    (destructuring-bind (options text) case
+  (dolist (case '((("--size" "big") "--size takes WIDTHxHEIGHT" 2)
+                  (("--out" "/proc/no-such-dir") "cannot write into the output directory" 1)
+                  (("--body" "robot") "unknown skeleton robot" 1)))
+    (destructuring-bind (options text status) case
       (multiple-value-bind (out err code)
           (apply #'player-command "render" (fixture "anim.lisp") "--events" "ev-pick" options)
         (declare (ignore out))
-        (is (= 1 code) "~A: exit ~D" options code)
+        (is (= status code) "~A: exit ~D" options code)
         (is (= 1 (length (lines err))) "one line: ~A" err)
         (is (search text err) "~S in ~A" text err)))))

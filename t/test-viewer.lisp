@@ -20,6 +20,7 @@
   "Run `bin/player view ARGUMENTS`, under `xvfb-run -a` when XVFB, else with no
 display in the environment; INPUT, a string, is its standard input.  Returns
 (VALUES STDOUT STDERR EXIT-CODE)."
+  (ensure-player-core)
   (let* ((out (make-string-output-stream))
          (err (make-string-output-stream))
          (player (namestring (checkout-file "bin/player")))
@@ -123,8 +124,8 @@ sky and floor change little along a row, so what differs is what stands there."
   (loop for (arguments status text)
           in '((("--keys" "1") 2 "--keys takes KEY@SECONDS")
                (("--keys" "shift@1") 2 "unknown key shift")
-               (("--keys" "9@1") 1 "scripted key 9")
-               (("--size" "big") 1 "bad size")
+               (("--keys" "9@1") 2 "scripted key 9")
+               (("--size" "big") 2 "--size takes WIDTHxHEIGHT")
                (("--frames" "0") 2 "--frames takes a positive integer"))
         do (multiple-value-bind (out err code)
                (view-command (list* (fixture "anim.lisp") arguments) :xvfb nil)
@@ -168,11 +169,17 @@ sky and floor change little along a row, so what differs is what stands there."
         (is (equal '("(:op second-half :script second-half :start 1.5 :end 2.5)" "(:state (on . t))") (printed-at 2d0)))
         (is (equal '() (printed-at 5d0)))))))
 
+(defun keys-option (text)
+  "What view's --keys TEXT reads as."
+  (getf (nth-value 1 (player::parse-command-arguments (player::find-command "view") (list "spec.lisp" "--keys" text)))
+        :keys))
+
 (test view-keys-option
   (is (equal '((0d0 . #\1) (2.5d0 . :space) (3d0 . :escape) (4d0 . #\a))
-             (player::parse-keys-option "1@0, space@2.5,Escape@3,A@4")))
-  (signals player::usage-error (player::parse-keys-option "1@-1"))
-  (signals player::usage-error (player::parse-keys-option "@1")))
+             (keys-option "1@0, space@2.5,Escape@3,A@4")))
+  (signals player::usage-error (keys-option "1@-1"))
+  (signals player::usage-error (keys-option "@1"))
+  (signals player::usage-error (keys-option "f1@1")))
 
 (test view-input-orbits-and-sends-events
   ;; Input records as GLFW-POLL-INPUT returns them; no window needed.

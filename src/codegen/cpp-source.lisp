@@ -230,7 +230,7 @@
 
 (defun effects-expression (op bits-expression)
   "C++ for BITS-EXPRESSION with OP's effects applied."
-  (multiple-value-bind (mask bits) (effects-transform op)
+  (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
     (format nil "(~A & ~~~A) | ~A" bits-expression (c++-hex mask) (c++-hex bits))))
 
 (defun emit-executor (op machine)

@@ -48,25 +48,16 @@
 DIRECTORY: standalone C++17 with a Presenter to implement and a Controller
 class. NAME defaults to the spec's name, NAMESPACE to NAME as an identifier.
 Returns the two pathnames."
-  (let* ((machine (if (machine-p machine) machine (compile-spec machine)))
+  (let* ((machine (ensure-machine machine))
          (name (or name (c++-safe-identifier (spec-name (machine-spec machine)))))
          (namespace (or namespace (c++-safe-identifier name)))
-         (directory (ensure-directories-exist (uiop-directory directory))))
+         (directory (ensure-directories-exist (directory-pathname directory))))
     (multiple-value-bind (header source) (c++-sources machine name namespace)
       (let ((hpp (merge-pathnames (format nil "~A.hpp" name) directory))
             (cpp (merge-pathnames (format nil "~A.cpp" name) directory)))
         (write-text-file hpp header)
         (write-text-file cpp source)
         (list hpp cpp)))))
-
-(defun uiop-directory (directory)
-  "DIRECTORY (a string or pathname) as a directory pathname."
-  (let ((path (pathname directory)))
-    (if (or (pathname-name path) (pathname-type path))
-        (make-pathname :directory (append (or (pathname-directory path) (list :relative))
-                                          (list (file-namestring path)))
-                       :name nil :type nil :defaults path)
-        path)))
 
 (defun write-text-file (path text)
   "Write TEXT to PATH, replacing it."

@@ -9,6 +9,15 @@
 
 (in-package #:player)
 
+(defstruct (compiled-machine (:include machine) (:constructor %make-compiled-machine))
+  "A MACHINE whose events are compiled to Lisp closures: what COMPILE-SPEC
+returns and controllers run. The C++ backend needs only the MACHINE."
+  ;; Event name key -> COMPILED-EVENT.
+  (events (make-hash-table :test 'equal))
+  ;; Event symbol -> COMPILED-EVENT, filled as events are sent, so the usual
+  ;; lookup by symbol allocates nothing.
+  (event-symbols (make-hash-table :test 'eq :synchronized t)))
+
 (defstruct (compiled-event (:constructor make-compiled-event (event run)))
   "An event compiled to a closure of one argument, the controller."
   (event nil :type event-def)
@@ -24,24 +33,31 @@ CAR is the procedure), so procedures can call each other before they exist.")
       (setf (gethash key *procedures*) (list nil))))
 
 (defun compile-spec (spec)
-  "Plan SPEC (a spec or the name of one) and compile it into a MACHINE whose
-events run as Lisp closures. Signals SPEC-ERROR for an unknown name and
+  "Plan SPEC (a spec or the name of one) and compile it into a COMPILED-MACHINE
+whose events run as Lisp closures. Signals SPEC-ERROR for an unknown name and
 STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (start (get-internal-real-time))
-         (machine (plan-spec spec))
+         (machine (plan-spec spec :constructor #'%make-compiled-machine))
          (*procedures* (make-hash-table :test 'eq)))
     (loop for goal across (machine-goal-table machine)
           do (setf (car (procedure-box goal)) (compile-achiever goal)))
     (dolist (op (spec-ops spec))
       (setf (car (procedure-box op)) (compile-executor op machine)))
     (dolist (event (spec-events spec))
-      (setf (gethash (name-key (event-name event)) (machine-events machine))
+      (setf (gethash (name-key (event-name event)) (compiled-machine-events machine))
             (make-compiled-event event (compile-steps (directive-steps (event-directives event) machine)
                                                       machine))))
     (setf (machine-compile-seconds machine)
           (/ (float (- (get-internal-real-time) start) 1d0) internal-time-units-per-second))
     machine))
+
+(defun ensure-compiled-machine (designator)
+  "DESIGNATOR as a COMPILED-MACHINE: itself, or else the compiled machine of a
+planned machine's spec, of a spec, or of a spec's name."
+  (cond ((compiled-machine-p designator) designator)
+        ((machine-p designator) (compile-spec (machine-spec designator)))
+        (t (compile-spec designator))))
 
 (defun compile-steps (steps machine &optional (final (constantly t)))
   "Chain STEPS into one closure that ends by calling FINAL."
@@ -79,17 +95,12 @@ Returns T, NIL when no plan applies, or a FAILURE from inside a macro-op."
 
 ;;; Operator-execution procedures
 
-(defun effects-transform (op)
-  "(VALUES MASK BITS) of OP's effects on the one-hot state."
-  (values (loop for (var) in (op-effects op) sum (var-field-mask var))
-          (loop for (var . index) in (op-effects op) sum (var-value-bit var index))))
-
 (defun compile-executor (op machine)
   "OP's execution procedure: play it (a macro: run its :seq), then apply its
 effects. Its precondition is the caller's business."
   (if (eq (op-kind op) :macro)
       (compile-macro-executor op machine)
-      (multiple-value-bind (mask bits) (effects-transform op)
+      (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
         (let ((code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
           (lambda (controller)
             (when code (funcall (the function code)))
@@ -106,7 +117,7 @@ effects. Its precondition is the caller's business."
   "A macro-op's procedure: run its :SEQ on its own span; then the state is the
 one it started from with the declared effects applied (changes the sub-ops
 made along the way are internal to the macro)."
-  (multiple-value-bind (mask bits) (effects-transform op)
+  (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
     (let ((seq (compile-steps (directive-steps (op-seq op) machine) machine))
           (bit (ash 1 (position op (spec-ops (machine-spec machine)))))
           (reentered (make-failure (op-name op))))

@@ -91,7 +91,7 @@ too) or event :add/:sub, with every precondition respected."
   "Plan SPEC (a spec, its name, or a machine) and return a list of DIAGNOSTICs:
 goals unreachable from some or all states, ops nothing uses, goals whose search
 MAX-DEPTH truncated, and states unreachable from the initial state."
-  (let* ((machine (if (machine-p spec) spec (plan-spec (if (spec-p spec) spec (find-spec spec)))))
+  (let* ((machine (ensure-machine spec))
          (spec (machine-spec machine))
          (total (machine-state-count machine))
          (used (used-ops machine))

@@ -16,13 +16,9 @@
   (operators '() :type list)
   ;; One-hot state of the declared initial values.
   (initial-state 0 :type integer)
-  ;; Event name key -> compiled event (backend's).
-  (events (make-hash-table :test 'equal))
-  ;; Fields of plannable variables some autoscript watches.
-  ;; event symbol -> compiled event, filled as events are sent
-  (event-symbols (make-hash-table :test 'eq :synchronized t))
-  ;; plannable variables some autoscript watches, in declaration order
+  ;; Plannable variables some autoscript watches, in declaration order.
   (watched-variables '() :type list)
+  ;; The one-hot fields of those variables.
   (autoscript-mask 0 :type integer)
   (compile-seconds 0d0 :type double-float))
 
@@ -35,8 +31,9 @@
   (loop for var in (plannable-variables spec)
         sum (var-value-bit var (var-initial var))))
 
-(defun plan-spec (spec)
-  "Plan every goal of SPEC and return the MACHINE (without compiled events)."
+(defun plan-spec (spec &key (constructor #'%make-machine))
+  "Plan every goal of SPEC and return the MACHINE, made by CONSTRUCTOR (which
+takes MACHINE's slots as keywords: a code generator may extend the struct)."
   (let* ((layout (make-layout spec))
          (operators (planner-ops spec))
          (goal-of (make-hash-table :test 'eq))
@@ -48,11 +45,17 @@
     (let ((goals (coerce (reverse goals) 'simple-vector)))
       (loop for goal across goals
             do (solve-goal goal operators layout (spec-max-depth spec)))
-      (%make-machine :spec spec :layout layout :goal-table goals :goal-of goal-of
+      (funcall constructor :spec spec :layout layout :goal-table goals :goal-of goal-of
                      :operators operators :initial-state (initial-state spec)
                      :watched-variables (watched-plannable-variables spec)
                      :autoscript-mask (reduce #'logior (watched-plannable-variables spec)
                                               :key #'var-field-mask :initial-value 0)))))
+
+(defun ensure-machine (designator)
+  "DESIGNATOR as a MACHINE: itself, or the planned machine of a spec or a spec's name."
+  (cond ((machine-p designator) designator)
+        ((spec-p designator) (plan-spec designator))
+        (t (plan-spec (find-spec designator)))))
 
 (defun watched-plannable-variables (spec)
   "SPEC's plannable variables that some autoscript watches, in declaration order."

@@ -34,8 +34,8 @@ OPS (OP-DEFs, first to run first) reaches the goal."
    :precondition (if (op-precond op)
                      (expression-cubes (op-precond op) spec)
                      (list (top-cube spec)))
-   :effect-mask (loop for (var) in (op-effects op) sum (var-field-mask var))
-   :effect-bits (loop for (var . index) in (op-effects op) sum (var-value-bit var index))))
+   :effect-mask (op-effect-mask op)
+   :effect-bits (op-effect-bits op)))
 
 (defun planner-ops (spec)
   "The operators the planner may use: every op that is not must-ask, and every

@@ -95,6 +95,14 @@
   (seq '() :type list)
   (form nil))
 
+(defun op-effect-mask (op)
+  "The one-hot fields of the plannable variables OP sets."
+  (loop for (var) in (op-effects op) sum (var-field-mask var)))
+
+(defun op-effect-bits (op)
+  "The value bits OP's effects set those fields to."
+  (loop for (var . index) in (op-effects op) sum (var-value-bit var index)))
+
 (defstruct (autoscript-def (:conc-name autoscript-))
   "Procedures that run while a variable holds a value."
   (variable nil :type (or null variable-def))
@@ -102,6 +110,13 @@
   (value-index 0)
   (procs '() :type list)
   (form nil))
+
+(defun autoscript-value (auto)
+  "The value AUTO watches for, as written in the trace."
+  (let ((var (autoscript-variable auto)))
+    (if (plannable-p var)
+        (aref (var-domain var) (autoscript-value-index auto))
+        (autoscript-value-index auto))))
 
 (defstruct (event-def (:conc-name event-))
   "An event: a named sequence of directives."

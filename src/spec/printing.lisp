@@ -21,16 +21,17 @@ with their colon), strings quoted, numbers through FORMAT-NUMBER."
     (cons (write-list-text object stream))
     (t (let ((*print-case* :downcase)) (prin1 object stream)))))
 
-(defun write-list-text (list stream)
-  "Write LIST, proper or dotted, in parentheses."
+(defun write-list-text (list stream &optional (write-element #'write-lisp-text))
+  "Write LIST, proper or dotted, in parentheses, each element (and a dotted
+tail) by WRITE-ELEMENT, a function of the element and STREAM."
   (write-char #\( stream)
   (loop for (head . tail) on list
-        do (write-lisp-text head stream)
+        do (funcall write-element head stream)
            (typecase tail
              (null)
              (cons (write-char #\Space stream))
              (t (write-string " . " stream)
-                (write-lisp-text tail stream))))
+                (funcall write-element tail stream))))
   (write-char #\) stream))
 
 (defun format-number (number)

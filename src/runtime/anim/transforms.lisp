@@ -24,14 +24,8 @@ the last row (0 0 0 1)."
                   (format-number (quat-x object)) (format-number (quat-y object))
                   (format-number (quat-z object))))
     (cons (with-output-to-string (out)
-            (write-char #\( out)
-            (loop for (head . tail) on object
-                  do (write-string (anim-text head) out)
-                     (typecase tail
-                       (null)
-                       (cons (write-char #\Space out))
-                       (t (format out " . ~A" (anim-text tail)))))
-            (write-char #\) out)))
+            (write-list-text object out (lambda (element stream)
+                                          (write-string (anim-text element) stream)))))
     (t (lisp-text object))))
 
 (defun quat-to-matrix (q)

@@ -2,6 +2,8 @@
 ;;;; performs one motor-function call on one body: it names the DOF channels it
 ;;;; drives, captures what it needs from the pose at its start, and writes
 ;;;; target angles for any later time.  The body arbitrates, blends and clamps.
+;;;; Below the protocol, the helpers every driver class shares: errors that
+;;;; name the call, pose clauses, local time and easing, DOF limits.
 
 (in-package #:player)
 
@@ -122,3 +124,75 @@ naming DRIVER's frame when the skeleton leaves ROLE unfilled, unless ERRORP is N
   (if (<= duration 0)
       (if (>= time start) 1d0 0d0)
       (smoothstep (max 0d0 (min 1d0 (/ (- time start) duration))))))
+
+(defun driver-frame-fail (driver control &rest arguments)
+  "Signal a MOTOR-ERROR about DRIVER's frame, the message starting with its function's name."
+  (let ((call (driver-call driver)))
+    (motor-fail (motor-call-frame call) "motor function ~A: ~?"
+                (lisp-text (motor-call-function call)) control arguments)))
+
+(defmacro with-pose-errors-as-motor-errors ((driver) &body body)
+  "Run BODY; a POSE-ERROR it signals becomes a MOTOR-ERROR about DRIVER's frame,
+so a bad call is reported as the call it is."
+  `(handler-case (progn ,@body)
+     (pose-error (condition)
+       (driver-frame-fail ,driver "~A" condition))))
+
+(defun driver-resolve-clauses (driver clauses)
+  "The (INDEX . DEGREES) entries of the pose CLAUSES in DRIVER's skeleton,
+:include and :mirror finding poses in its body's pose library; a MOTOR-ERROR
+for clauses that do not fit."
+  (unless (and (alexandria:proper-list-p clauses) clauses)
+    (driver-frame-fail driver "~A is not a list of pose clauses ((JOINT-OR-ROLE DOF DEGREES ...) ...)"
+                 (lisp-text clauses)))
+  (with-pose-errors-as-motor-errors (driver)
+    (resolve-clauses clauses (driver-skeleton driver)
+                     :library (body-pose-library (driver-body driver)))))
+
+(defun driver-resolve-pose (driver name)
+  "The (INDEX . DEGREES) entries of the pose NAME from DRIVER's body's pose library."
+  (with-pose-errors-as-motor-errors (driver)
+    (resolve-pose (find-pose (body-pose-library (driver-body driver)) name)
+                  (driver-skeleton driver))))
+
+(defun driver-local-time (driver time)
+  "TIME as seconds since DRIVER's start, a double-float."
+  (- (float time 1d0) (float (driver-start driver) 1d0)))
+
+(defun eased-fraction (local start duration)
+  "RAMP of the local time LOCAL from START over DURATION, all taken as double-floats."
+  (ramp local (float start 1d0) (float duration 1d0)))
+
+(defun capture-angles (pose indices)
+  "The angles of POSE at INDICES, as a fresh vector of double-floats."
+  (map '(simple-array double-float (*)) (lambda (index) (aref pose index)) indices))
+
+(defun check-increasing-times (driver times what)
+  "Signal a MOTOR-ERROR unless TIMES is a nonempty list of reals >= 0, strictly increasing; WHAT names them."
+  (unless (and (alexandria:proper-list-p times) times (every #'realp times)
+               (every (lambda (time) (>= time 0)) times))
+    (driver-frame-fail driver "~A must be seconds >= 0 from the start, not ~A" what (lisp-text times)))
+  (loop for (earlier later) on times
+        while later
+        unless (< earlier later)
+          do (driver-frame-fail driver "~A must increase: ~A comes after ~A" what
+                          (format-number later) (format-number earlier))))
+
+(defun dof-sign (dof)
+  "1 for a DOF turning about a positive axis, -1 about a negative one."
+  (if (member (body-dof-axis dof) '(:-x :-y :-z)) -1d0 1d0))
+
+(defun clamp-to-dof (dof angle)
+  "ANGLE (degrees) clamped into DOF's limits."
+  (max (float (body-dof-min dof) 1d0) (min (float (body-dof-max dof) 1d0) angle)))
+
+(defun driver-real (driver key)
+  "DRIVER's numeric parameter KEY as a double-float at its written value (a
+:duration of 0.6 is 0.6d0, not the single-float's 0.6000000238418579d0)."
+  (to-double (driver-arg driver key)))
+
+(defun minimum-jerk (u)
+  "The minimum-jerk profile 10u^3 - 15u^4 + 6u^5 of U clamped to [0, 1]: a
+bell-shaped velocity, zero with zero acceleration at both ends."
+  (let ((u (max 0d0 (min 1d0 (float u 1d0)))))
+    (* u u u (+ 10d0 (* u (+ -15d0 (* 6d0 u)))))))

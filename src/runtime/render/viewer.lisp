@@ -1,4 +1,4 @@
-;;;; viewer.lisp -- `bin/player view`: a controller played live in a window.
+;;;; viewer.lisp -- a controller played live in a window (what `player view` runs).
 ;;;; The wall clock since the first frame, less the time spent paused, is
 ;;;; the animation time; keys (or event names typed at the terminal) send
 ;;;; events at that time, and trace lines print when the time reaches them.
@@ -205,11 +205,25 @@ shown; return the number of frames shown."
   (write-line *view-help*)
   (finish-output))
 
+(defun view-event-keys (spec)
+  "The key map of SPEC's viewer: an alist from characters to event names, in spec order."
+  (loop for event in (mapcar #'event-name (spec-events spec))
+        for char across *view-event-keys*
+        collect (cons char event)))
+
+(defun scripted-keys-problem (keys event-keys)
+  "Why the scripted KEYS ((SECONDS . KEY) ...) cannot be pressed in a viewer
+with EVENT-KEYS, as a message; NIL when they all can."
+  (loop for (nil . key) in keys
+        unless (or (assoc key *view-control-keys*) (assoc key event-keys) (member key '(#\+ #\= #\-)))
+          return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
+                         key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
+
 (defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys)
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
-SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT).  Prints the key map,
-then each trace line when the animation time reaches it (the rest at the end).  Returns after FRAMES frames (NIL: when the window
-closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
+SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
+key map, then each trace line when the animation time reaches it (the rest at
+the end).  Returns after FRAMES frames (NIL: when the window closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
 if given.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
@@ -218,15 +232,10 @@ MAKE-BODY-PRESENTER and MAKE-CONTROLLER."
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (presenter (make-body-presenter spec :scripts scripts :body body :seed seed))
          (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter))
-         (event-keys (loop for event in (event-names controller)
-                           for char across *view-event-keys*
-                           collect (cons char event))))
-    (loop for (nil . key) in keys
-          unless (or (assoc key *view-control-keys*) (assoc key event-keys) (member key '(#\+ #\= #\-)))
-            do (error 'player-error-with-message
-                      :message (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
-                                       key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
-    (destructuring-bind (width height) size
+         (event-keys (view-event-keys spec)))
+    (let ((problem (scripted-keys-problem keys event-keys)))
+      (when problem (error 'player-error-with-message :message problem)))
+    (multiple-value-bind (width height) (image-size size)
       (with-glfw-window (window width height (lisp-text (spec-name spec)))
         (let ((viewer (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
                                     :performance (presenter-performance presenter) :keys event-keys
@@ -247,50 +256,3 @@ MAKE-BODY-PRESENTER and MAKE-CONTROLLER."
                                 (renderer-pixels renderer))
                      (format t "; wrote ~A~%" screenshot))))
             (delete-renderer (viewer-renderer viewer))))))))
-
-;;;# The command
-
-(defun parse-keys-option (text)
-  "--keys KEY@SECONDS,... as ((SECONDS . KEY) ...): KEY a single character or
-space, escape, left, right, up, down, home; SECONDS a non-negative number."
-  (mapcar (lambda (part)
-            (let* ((at (position #\@ part))
-                   (name (and at (subseq part 0 at)))
-                   (seconds (and at (< at (1- (length part))) (read-cli-value (subseq part (1+ at))))))
-              (unless (and at (plusp at) (realp seconds) (>= seconds 0))
-                (usage-fail "--keys takes KEY@SECONDS pairs such as 1@0.5, not ~A" part))
-              (cons (float seconds 1d0)
-                    (if (= (length name) 1)
-                        (char-downcase (char name 0))
-                        (or (car (assoc name *view-control-keys* :test #'string-equal))
-                            (usage-fail "--keys: unknown key ~A (a character, or ~{~(~A~)~^, ~})"
-                                        name (mapcar #'car *view-control-keys*)))))))
-          (split-list text)))
-
-(defparameter *view-command-options*
-  '("view" "--spec" "--initial" "--body" "--scripts" "--frames" "--screenshot" "--size" "--seed" "--keys")
-  "The view command and the options it takes, for *COMMAND-OPTIONS*.")
-
-(defparameter *view-usage*
-  "  view SPEC-FILE [--spec NAME] [--initial ...] [--body NAME] [--scripts FILE] [--size 640x480]
-       [--seed N] [--frames N] [--screenshot FILE.png] [--keys KEY@SECONDS,...]
-      play the controller live in a window: keys from the printed map (or event
-      names typed at the terminal) send events, space pauses, arrows and the mouse
-      orbit, Escape quits; --frames N stops after N frames, --screenshot saves the
-      last one, --keys presses keys at times after the start (e.g. 1@0,space@2.5)"
-  "The view command's lines for *USAGE*.")
-
-(defun command-view (spec options)
-  "Open SPEC's viewer with the view command's OPTIONS: --initial --body --scripts
---frames --screenshot --size --seed --keys (see VIEW-SPEC)."
-  (view-spec spec :initial (parse-initial-option (or (option "--initial" options) ""))
-                  :body (let ((body (option "--body" options)))
-                          (and body (intern (string-upcase body) '#:player-user)))
-                  :scripts (option "--scripts" options)
-                  :frames (number-option "--frames" options nil
-                                         :test (lambda (n) (and (integerp n) (plusp n)))
-                                         :what "a positive integer")
-                  :screenshot (option "--screenshot" options)
-                  :size (multiple-value-list (parse-size (or (option "--size" options) "640x480")))
-                  :seed (number-option "--seed" options 0 :test #'integerp :what "an integer")
-                  :keys (parse-keys-option (or (option "--keys" options) ""))))

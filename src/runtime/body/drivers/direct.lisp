@@ -1,63 +1,7 @@
 ;;;; direct.lisp -- Pantomime's DirectDriver: ease DOFs to given angles and
-;;;; hold them.  Also the helpers the pose-based drivers share: failing with a
-;;;; MOTOR-ERROR that names the frame, and resolving pose clauses for a body.
+;;;; hold them.
 
 (in-package #:player)
-
-;;;# Helpers for drivers
-
-(defun driver-frame-fail (driver control &rest arguments)
-  "Signal a MOTOR-ERROR about DRIVER's frame, the message starting with its function's name."
-  (let ((call (driver-call driver)))
-    (motor-fail (motor-call-frame call) "motor function ~A: ~?"
-                (lisp-text (motor-call-function call)) control arguments)))
-
-(defmacro with-pose-errors-as-motor-errors ((driver) &body body)
-  "Run BODY; a POSE-ERROR it signals becomes a MOTOR-ERROR about DRIVER's frame,
-so a bad call is reported as the call it is."
-  `(handler-case (progn ,@body)
-     (pose-error (condition)
-       (driver-frame-fail ,driver "~A" condition))))
-
-(defun driver-resolve-clauses (driver clauses)
-  "The (INDEX . DEGREES) entries of the pose CLAUSES in DRIVER's skeleton,
-:include and :mirror finding poses in its body's pose library; a MOTOR-ERROR
-for clauses that do not fit."
-  (unless (and (alexandria:proper-list-p clauses) clauses)
-    (driver-frame-fail driver "~A is not a list of pose clauses ((JOINT-OR-ROLE DOF DEGREES ...) ...)"
-                 (lisp-text clauses)))
-  (with-pose-errors-as-motor-errors (driver)
-    (resolve-clauses clauses (driver-skeleton driver)
-                     :library (body-pose-library (driver-body driver)))))
-
-(defun driver-resolve-pose (driver name)
-  "The (INDEX . DEGREES) entries of the pose NAME from DRIVER's body's pose library."
-  (with-pose-errors-as-motor-errors (driver)
-    (resolve-pose (find-pose (body-pose-library (driver-body driver)) name)
-                  (driver-skeleton driver))))
-
-(defun driver-local-time (driver time)
-  "TIME as seconds since DRIVER's start, a double-float."
-  (- (float time 1d0) (float (driver-start driver) 1d0)))
-
-(defun eased-fraction (local start duration)
-  "RAMP of the local time LOCAL from START over DURATION, all taken as double-floats."
-  (ramp local (float start 1d0) (float duration 1d0)))
-
-(defun capture-angles (pose indices)
-  "The angles of POSE at INDICES, as a fresh vector of double-floats."
-  (map '(simple-array double-float (*)) (lambda (index) (aref pose index)) indices))
-
-(defun check-increasing-times (driver times what)
-  "Signal a MOTOR-ERROR unless TIMES is a nonempty list of reals >= 0, strictly increasing; WHAT names them."
-  (unless (and (alexandria:proper-list-p times) times (every #'realp times)
-               (every (lambda (time) (>= time 0)) times))
-    (driver-frame-fail driver "~A must be seconds >= 0 from the start, not ~A" what (lisp-text times)))
-  (loop for (earlier later) on times
-        while later
-        unless (< earlier later)
-          do (driver-frame-fail driver "~A must increase: ~A comes after ~A" what
-                          (format-number later) (format-number earlier))))
 
 ;;;# The direct driver
 

@@ -3,36 +3,6 @@
 
 (in-package #:player)
 
-(defun resolve-initial-value (var raw)
-  "RAW as the stored value of VAR: a value index (plannable) or a number.
-Signals a SPEC-ERROR naming (VAR . RAW) when RAW does not fit."
-  (let ((form (cons (var-name var) raw)))
-    (ecase (var-kind var)
-      (:boolean (multiple-value-bind (truth ok) (boolean-word raw)
-                  (unless ok
-                    (spec-fail 'type-error-in-spec form "~A is boolean; ~A is not true, false, t or nil"
-                               (lisp-text (var-name var)) (lisp-text raw)))
-                  (if truth 1 0)))
-      (:enumerated (value-index var raw form))
-      (:number (runtime-number var raw form))
-      (:time (if (realp raw)
-                 (to-double raw)
-                 (spec-fail 'type-error-in-spec form "time variable ~A needs a number of seconds"
-                            (lisp-text (var-name var))))))))
-
-(defun initial-assignments (spec overrides)
-  "For each variable of SPEC, its stored initial value, with OVERRIDES (an alist
-of variable name -> value) applied. Unknown names are errors."
-  (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
-    (dolist (entry overrides)
-      (unless (and (consp entry) (symbolp (car entry)) (find-variable-named (car entry)))
-        (spec-fail 'unknown-name-error entry "unknown variable ~A in the initial state"
-                   (lisp-text (if (consp entry) (car entry) entry)))))
-    (loop for var in (spec-variables spec)
-          for entry = (assoc (name-key (var-name var)) overrides
-                             :key (lambda (name) (name-key name)) :test #'string=)
-          collect (cons var (if entry (resolve-initial-value var (cdr entry)) (var-initial var))))))
-
 (defun install-assignments (controller assignments)
   "Set CONTROLLER's state and runtime values from ASSIGNMENTS ((VAR . VALUE) ...)."
   (let ((values (make-array (count-if-not #'plannable-p (mapcar #'car assignments))
@@ -50,7 +20,7 @@ declared initial values; booleans take true/false/t/nil. PRESENTER receives
 what the agent does (default: a TRACE-PRESENTER). Autoscripts of the initial
 values start at CLOCK. Signals a SPEC-ERROR for an unknown variable or a value
 outside its domain."
-  (let* ((machine (if (machine-p machine) machine (compile-spec machine)))
+  (let* ((machine (ensure-compiled-machine machine))
          (spec (machine-spec machine))
          (assignments (initial-assignments spec initial-state))
          (controller (%make-controller
@@ -70,14 +40,14 @@ outside its domain."
   "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none.
 Symbols are remembered in an EQ table so the usual lookup allocates nothing."
   (let ((machine (controller-machine controller)))
-    (or (and (symbolp name) (gethash name (machine-event-symbols machine)))
+    (or (and (symbolp name) (gethash name (compiled-machine-event-symbols machine)))
         (let ((compiled (and (or (symbolp name) (stringp name))
                              (gethash (if (stringp name) (string-upcase name) (name-key name))
-                                      (machine-events machine)))))
+                                      (compiled-machine-events machine)))))
           (cond ((null compiled)
                  (error 'unknown-event :name name :known (event-names controller)))
                 ((symbolp name)
-                 (setf (gethash name (machine-event-symbols machine)) compiled))
+                 (setf (gethash name (compiled-machine-event-symbols machine)) compiled))
                 (t compiled))))))
 
 (defun send-event (controller event &key at)

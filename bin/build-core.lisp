@@ -1,4 +1,7 @@
-;;;; boot.lisp -- load Player quietly from this checkout and hand over to PLAYER:MAIN.
+;;;; build-core.lisp -- build the executable core bin/player starts from:
+;;;; load Player quietly from this checkout, then save the image to the path
+;;;; given after --end-toplevel-options.  bin/player runs this when the core
+;;;; is missing or older than a source file.
 (require :asdf)
 (let ((root (merge-pathnames "../" (make-pathname :name nil :type nil :defaults *load-truename*))))
   (push (truename root) asdf:*central-registry*))
@@ -8,9 +11,9 @@
         (handler-bind ((warning #'muffle-warning))
           (asdf:load-system "player")))
     (error (e)
-      (format *error-output* "player: error: cannot load Player: ~A~%~A"
+      (format *error-output* "player: error: cannot build Player: ~A~%~A"
               (substitute #\Space #\Newline (princ-to-string e))
               (get-output-stream-string log))
       (sb-ext:exit :code 1 :abort t))))
 ;; SBCL leaves only the program name and the arguments after --end-toplevel-options.
-(funcall (intern "MAIN" "PLAYER") (rest sb-ext:*posix-argv*))
+(funcall (intern "SAVE-CORE" "PLAYER") (second sb-ext:*posix-argv*))

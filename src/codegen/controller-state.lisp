@@ -58,13 +58,6 @@ OLD and NEW are value indices (plannable) or numbers."
         (dolist (proc (autoscript-procs auto))
           (start-autoscript presenter proc (var-name var) (autoscript-value auto) time))))))
 
-(defun autoscript-value (auto)
-  "The value AUTO watches for, as written in the trace."
-  (let ((var (autoscript-variable auto)))
-    (if (plannable-p var)
-        (aref (var-domain var) (autoscript-value-index auto))
-        (autoscript-value-index auto))))
-
 (defun transition-state (controller new-bits time)
   "Make NEW-BITS CONTROLLER's plannable state at TIME, telling autoscripts."
   (let* ((machine (controller-machine controller))

@@ -1,6 +1,7 @@
-;;;; render-command.lisp -- `bin/player render`: a simulated scenario drawn
-;;;; offscreen to numbered PNG frames, a contact sheet of frames spread over
-;;;; the whole scenario, and optionally a video piped through ffmpeg.
+;;;; render-simulation.lisp -- a simulated scenario drawn offscreen to
+;;;; numbered PNG frames, a contact sheet of frames spread over the whole
+;;;; scenario, and optionally a video piped through ffmpeg (what `player
+;;;; render` runs).
 
 (in-package #:player)
 
@@ -13,50 +14,38 @@
 
 ;;;# Checking what the user asked for
 
-(defun parse-size (text)
-  "The width and height (two values) TEXT, like \"640x480\", asks for.
-Signals a RENDER-ERROR (exit status 1) unless both are integers from 1 to 4096."
+(defparameter *max-image-side* 4096 "The widest and tallest image, in pixels, that Player renders.")
+
+(defun read-size (text)
+  "The width and height (two values) TEXT, like \"640x480\" or \"640X480\",
+gives, or NIL when it is not two integers from 1 to *MAX-IMAGE-SIDE*."
   (let* ((x (position #\x (string-downcase text)))
          (width (and x (ignore-errors (parse-integer text :end x))))
          (height (and x (ignore-errors (parse-integer text :start (1+ x))))))
-    (unless (and width height (<= 1 width 4096) (<= 1 height 4096))
-      (render-fail "bad size ~S: give WIDTHxHEIGHT, two integers from 1 to 4096 (e.g. 640x480)" text))
+    (if (and width height (<= 1 width *max-image-side*) (<= 1 height *max-image-side*))
+        (values width height)
+        nil)))
+
+(defun image-size (size)
+  "SIZE, a list (WIDTH HEIGHT) or a text \"WxH\", as two values; a RENDER-ERROR
+unless both are integers from 1 to *MAX-IMAGE-SIDE*."
+  (multiple-value-bind (width height)
+      (typecase size
+        (string (read-size size))
+        (cons (and (alexandria:proper-list-p size) (= (length size) 2)
+                   (every (lambda (n) (typep n `(integer 1 ,*max-image-side*))) size)
+                   (values-list size))))
+    (unless width
+      (render-fail "bad size ~A: give WIDTHxHEIGHT, two integers from 1 to ~D (e.g. 640x480)"
+                   (if (stringp size) (prin1-to-string size) (lisp-text size)) *max-image-side*))
     (values width height)))
-
-(defun find-executable (name)
-  "The truename of the program NAME: NAME itself when it has a slash, else the
-first file of that name in a directory of PATH; NIL when there is none.
-(SBCL 2.2.9 exports no such search.)"
-  (flet ((file (path) (let ((found (probe-file path))) (and found (pathname-name found) found))))
-    (if (find #\/ name)
-        (file name)
-        (loop for directory in (split-sequence-on #\: (or (sb-ext:posix-getenv "PATH") ""))
-              thereis (and (plusp (length directory))
-                           (file (concatenate 'string (string-right-trim "/" directory) "/" name)))))))
-
-(defun split-sequence-on (separator string)
-  "The parts of STRING between the SEPARATOR characters."
-  (loop for start = 0 then (1+ end)
-        for end = (position separator string :start start)
-        collect (subseq string start end)
-        while end))
 
 (defun find-ffmpeg ()
   "The path of *FFMPEG-PROGRAM*; a RENDER-ERROR naming the Debian package when it is not installed."
   (let ((path (find-executable *ffmpeg-program*)))
     (or path
-        (render-fail "--video needs ~A, which is not installed: install the Debian package ffmpeg"
+        (render-fail "writing a video needs ~A, which is not installed: install the Debian package ffmpeg"
                      *ffmpeg-program*))))
-
-(defun directory-pathname (designator)
-  "DESIGNATOR (a string or pathname, with or without a trailing slash) as a
-directory pathname, merged with the current directory."
-  (let ((path (merge-pathnames designator)))
-    (if (or (pathname-name path) (pathname-type path))
-        (make-pathname :directory (append (or (pathname-directory path) (list :relative))
-                                          (list (file-namestring path)))
-                       :name nil :type nil :version nil :defaults path)
-        path)))
 
 (defun prepare-output-directory (out)
   "OUT (a directory designator) as a directory pathname that exists and takes
@@ -196,9 +185,8 @@ evenly spaced over the scenario with their times; with VIDEO (a path) also a
 video encoded by ffmpeg.  SIZE is (WIDTH HEIGHT) or \"WxH\".  A progress bar
 goes to PROGRESS (a stream, or NIL).  Returns the paths written: the frames,
 the sheet, then the video.  Signals a RENDER-ERROR for an unwritable OUT, a
-missing ffmpeg or libOSMesa, and a USAGE-ERROR for a bad SIZE."
-  (multiple-value-bind (width height)
-      (if (stringp size) (parse-size size) (parse-size (format nil "~Dx~D" (first size) (second size))))
+missing ffmpeg or libOSMesa, or a bad SIZE."
+  (multiple-value-bind (width height) (image-size size)
     (let* ((fps (or fps (simulation-fps simulation)))
            (count (1+ (ceiling (* (simulation-end simulation) fps))))
            (output (progn (when video (find-ffmpeg)) (prepare-output-directory out)))
@@ -233,47 +221,3 @@ missing ffmpeg or libOSMesa, and a USAGE-ERROR for a bad SIZE."
               (list (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
                                          (floor width factor) (floor height factor)))
               (and video (list video))))))
-
-;;;# The command line
-
-(defparameter *render-command-options*
-  '("render" "--spec" "--initial" "--events" "--fps" "--size" "--out" "--seed" "--scripts"
-    "--body" "--video")
-  "The render command and the options it takes, for *COMMAND-OPTIONS*.")
-
-(defparameter *render-usage*
-  "  render SPEC-FILE [--spec NAME] [--initial ...] --events ev1,... [--fps 24] [--size 640x480]
-         [--out DIR] [--seed N] [--scripts FILE] [--body NAME] [--video FILE.mp4]
-      play the events in simulated time and draw them offscreen: DIR/frame-0001.png...,
-      DIR/sheet.png (a contact sheet) and, with --video, a video made by ffmpeg"
-  "The render command's lines for *USAGE*.")
-
-(defun command-render (spec options)
-  "Play --events on SPEC's body in simulated time, print the trace and what the
-drivers reported, render the frames, the contact sheet and the --video, and
-print the paths written."
-  (multiple-value-bind (width height) (parse-size (or (option "--size" options) "640x480"))
-    (let* ((fps (number-option "--fps" options 24 :test (lambda (x) (and (realp x) (< 0 x 1000)))
-                                                   :what "a frame rate from 0 to 1000"))
-           (video (option "--video" options))
-           (simulation
-             (progn
-               (when video (find-ffmpeg))
-               (simulate spec :initial (parse-initial-option (or (option "--initial" options) ""))
-                              :events (split-list (or (option "--events" options) ""))
-                              :fps fps
-                              :seed (number-option "--seed" options 0 :test #'integerp :what "an integer")
-                              :scripts (option "--scripts" options)
-                              :body (let ((body (option "--body" options)))
-                                      (and body (intern (string-upcase body) '#:player-user)))
-                              :stream *standard-output*)))
-           (paths (render-simulation simulation :out (or (option "--out" options) "render/")
-                                                :size (list width height) :fps fps :video video))
-           (frames (butlast paths (if video 2 1))))
-      (loop for (time text) in (simulation-reports simulation)
-            do (format t "; ~A s: ~A~%" (format-number time) text))
-      (format t "; ~D frames at ~A fps over ~A s~%" (length frames) (format-number fps)
-              (format-number (simulation-end simulation)))
-      (format t "; wrote ~A .. ~A~%" (namestring (first frames)) (file-namestring (car (last frames))))
-      (dolist (path (last paths (if video 2 1)))
-        (format t "; wrote ~A~%" (namestring path))))))

@@ -1,0 +1,61 @@
+;;;; main.lisp -- the entry point of bin/player.  Every error becomes one
+;;;; "player: error: ..." line on stderr with exit status 1, or 2 for a wrong
+;;;; command line; a closed output pipe ends the program quietly; never a
+;;;; debugger or a backtrace.  Also the saved core bin/player starts from.
+
+(in-package #:player)
+
+(defun one-line (condition)
+  "CONDITION's report on one line, or a plain description when reporting it fails."
+  (let ((text (handler-case (princ-to-string condition)
+                (error () (format nil "~(~A~)" (type-of condition))))))
+    (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text))))
+
+(defun storage-message (condition)
+  "What ran out, for a STORAGE-CONDITION: the stack (input nested too deeply) or the heap."
+  (if (typep condition 'sb-kernel::control-stack-exhausted)
+      "the input is nested too deeply (the control stack is exhausted)"
+      "out of memory (the heap is exhausted): the input is too large"))
+
+(defun closed-pipe-p (condition)
+  "Is CONDITION a write to an output whose reader has gone (`player ... | head`)?"
+  (or (typep condition 'sb-int:broken-pipe)
+      (and (typep condition 'stream-error)
+           (member (stream-error-stream condition) (list *standard-output* sb-sys:*stdout*)))))
+
+(defun exit-with-error (status message)
+  "Print MESSAGE as the one error line and exit with STATUS, flushing what was printed before."
+  (ignore-errors (finish-output *standard-output*))
+  (ignore-errors (format *error-output* "player: error: ~A~%" message)
+                 (finish-output *error-output*))
+  (sb-ext:exit :code status :abort t))
+
+(defun main (&optional (arguments (rest sb-ext:*posix-argv*)))
+  "Entry point of bin/player: run ARGUMENTS; exit 0 on success, 1 when the work
+fails, 2 for a wrong command line, 141 (as if killed by SIGPIPE) when standard
+output is closed early, 130 on an interrupt."
+  (handler-case
+      (progn (run-command-line arguments)
+             (finish-output *standard-output*)
+             (sb-ext:exit :code 0))
+    (usage-error (e) (exit-with-error 2 (one-line e)))
+    (sb-sys:interactive-interrupt () (sb-ext:exit :code 130 :abort t))
+    (storage-condition (e) (exit-with-error 1 (storage-message e)))
+    (error (e)
+      (if (closed-pipe-p e)
+          (sb-ext:exit :code 141 :abort t)
+          (exit-with-error 1 (one-line e))))))
+
+;;;# The saved core
+
+(defun core-toplevel ()
+  "The toplevel of the executable core bin/player builds: MAIN on the command line."
+  (sb-ext:disable-debugger)
+  (setf *default-pathname-defaults* (uiop:getcwd))
+  (main (rest sb-ext:*posix-argv*)))
+
+(defun save-core (path)
+  "Save this image, with Player loaded, as the executable PATH that starts in MAIN.
+Does not return."
+  (sb-ext:save-lisp-and-die path :executable t :toplevel #'core-toplevel
+                                 :save-runtime-options t))

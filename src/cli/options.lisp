@@ -1,0 +1,159 @@
+;;;; options.lisp -- the command line's vocabulary: the usage error (exit
+;;;; status 2), option types (how a value is read, checked and described) and
+;;;; the options several commands share, each declared once.
+
+(in-package #:player)
+
+(define-condition usage-error (player-error-with-message)
+  ()
+  (:documentation "The command line itself is wrong: an unknown command or
+option, a missing argument, or a value of the wrong form.  Exit status 2."))
+
+(defun usage-fail (control &rest arguments)
+  "Signal a USAGE-ERROR with a message from CONTROL and ARGUMENTS."
+  (error 'usage-error :message (apply #'format nil control arguments)))
+
+;;;# Options
+
+(defstruct (option (:constructor %make-option))
+  "One command-line option: its NAME (\"--fps\"), the TYPE its value is read
+as (see READ-OPTION-VALUE; :flag takes no value), the METAVAR shown for the
+value in help, the HELP text, and the DEFAULT value (already read; NIL for none)
+with DEFAULT-TEXT, how help shows it."
+  (name "" :type string)
+  (type :string)
+  (metavar "VALUE" :type string)
+  (help "" :type string)
+  (default nil)
+  (default-text nil))
+
+(defvar *options* (make-hash-table :test 'equal)
+  "Options shared by several commands, by name.")
+
+(defun make-option (name type metavar help &key default default-text)
+  "An OPTION; DEFAULT-TEXT defaults to DEFAULT as written on the command line."
+  (%make-option :name name :type type :metavar metavar :help help :default default
+                :default-text (or default-text (and default (princ-to-string default)))))
+
+(defun define-option (name type metavar help &rest keys &key default default-text)
+  "Declare the shared option NAME (see MAKE-OPTION); commands name it in their :options."
+  (declare (ignore default default-text))
+  (setf (gethash name *options*) (apply #'make-option name type metavar help keys)))
+
+(defun option-keyword (option)
+  "The keyword OPTION's value is passed as: --initial is :INITIAL."
+  (intern (string-upcase (string-left-trim "-" (option-name option))) :keyword))
+
+(defun resolve-option (designator)
+  "The OPTION DESIGNATOR gives: a shared option's name, a shared option's name
+with overrides (\"--fps\" :default 24), or a full (NAME TYPE METAVAR HELP &key ...)."
+  (destructuring-bind (name &rest rest) (ensure-list designator)
+    (let ((shared (gethash name *options*)))
+      (cond ((and shared (or (null rest) (keywordp (first rest))))
+             (let ((option (copy-option shared)))
+               (when rest
+                 (destructuring-bind (&key (default nil default-p) default-text) rest
+                   (when default-p
+                     (setf (option-default option) default
+                           (option-default-text option) (or default-text (princ-to-string default))))))
+               option))
+            (rest (apply #'make-option name rest))
+            (t (error "internal: no shared option ~A" name))))))
+
+;;;# Reading values
+
+(defun read-cli-value (text)
+  "The value TEXT denotes on the command line: a number, or a symbol in
+PLAYER-USER.  Never evaluates anything; a USAGE-ERROR when TEXT is not one datum."
+  (let ((*package* (find-package '#:player-user))
+        (*read-eval* nil)
+        (*read-default-float-format* 'double-float))
+    (handler-case (multiple-value-bind (value end) (read-from-string text)
+                    (if (and (= end (length text)) (or (realp value) (symbolp value)))
+                        value
+                        (error "not one number or name")))
+      (error () (usage-fail "cannot read the value ~S: give a number or a name" text)))))
+
+(defgeneric read-option-value (type text option)
+  (:documentation "The value TEXT gives OPTION, whose type is TYPE (a keyword,
+or a list whose first element is a keyword); a USAGE-ERROR naming OPTION when
+TEXT does not fit."))
+
+(defun bad-option-value (option text what)
+  "Signal the USAGE-ERROR for OPTION given TEXT, which is not WHAT."
+  (usage-fail "~A takes ~A, not ~S" (option-name option) what text))
+
+(defmethod read-option-value ((type (eql :string)) text option)
+  (when (string= text "") (bad-option-value option text "a non-empty text"))
+  text)
+
+(defmethod read-option-value ((type (eql :name)) text option)
+  (unless (and (plusp (length text)) (every (lambda (c) (or (alphanumericp c) (find c "-_.+*"))) text))
+    (bad-option-value option text "a name"))
+  (intern (string-upcase text) '#:player-user))
+
+(defmethod read-option-value ((type (eql :names)) text option)
+  (declare (ignore option))
+  (split-list text))
+
+(defmethod read-option-value ((type (eql :integer)) text option)
+  (let ((value (read-cli-value text)))
+    (unless (integerp value) (bad-option-value option text "an integer"))
+    value))
+
+(defmethod read-option-value ((type (eql :positive-integer)) text option)
+  (let ((value (read-cli-value text)))
+    (unless (and (integerp value) (plusp value)) (bad-option-value option text "a positive integer"))
+    value))
+
+(defparameter *max-frame-rate* 1000 "The highest frame rate --fps accepts.")
+
+(defmethod read-option-value ((type (eql :frame-rate)) text option)
+  (let ((value (read-cli-value text)))
+    (unless (and (realp value) (< 0 value) (<= value *max-frame-rate*))
+      (bad-option-value option text (format nil "a frame rate above 0 and at most ~D" *max-frame-rate*)))
+    value))
+
+(defmethod read-option-value ((type (eql :size)) text option)
+  (multiple-value-bind (width height) (read-size text)
+    (unless width
+      (bad-option-value option text (format nil "WIDTHxHEIGHT, two integers from 1 to ~D (e.g. 640x480)"
+                                            *max-image-side*)))
+    (list width height)))
+
+(defmethod read-option-value ((type cons) text option)
+  ;; (:choice "a" "b"): one of the texts.
+  (ecase (first type)
+    (:choice (or (find text (rest type) :test #'string=)
+                 (bad-option-value option text (format nil "one of ~{~A~^, ~}" (rest type)))))))
+
+(defmethod read-option-value ((type (eql :assignments)) text option)
+  ;; VAR=VALUE,... as an alist of PLAYER-USER symbols to values, each variable once.
+  (let ((alist '()))
+    (dolist (part (split-list text) (nreverse alist))
+      (let ((equals (position #\= part)))
+        (unless (and equals (plusp equals) (< equals (1- (length part))))
+          (bad-option-value option part "var=value pairs"))
+        (let ((name (intern (string-upcase (subseq part 0 equals)) '#:player-user)))
+          (when (assoc name alist)
+            (usage-fail "~A gives ~A twice" (option-name option) (string-downcase name)))
+          (push (cons name (read-cli-value (subseq part (1+ equals)))) alist))))))
+
+;;;# The options several commands share
+
+(define-option "--spec" :string "NAME"
+  "the spec to use, when SPEC-FILE defines several")
+(define-option "--initial" :assignments "VAR=VALUE,..."
+  "start from these values instead of the declared initial ones")
+(define-option "--events" :names "EV1,EV2,..."
+  "the events to send, in order, each when the previous one has ended")
+(define-option "--fps" :frame-rate "FPS"
+  "frames per second of simulated time" :default 30)
+(define-option "--seed" :integer "N"
+  "the seed of the random drivers (blinks, saccades)" :default 0)
+(define-option "--scripts" :string "FILE"
+  "the script library to use instead of the spec's (:scripts FILE)")
+(define-option "--body" :name "NAME"
+  "the skeleton to use instead of the spec's (:body NAME), e.g. humanoid")
+(define-option "--size" :size "WxH"
+  "the image size in pixels" :default '(640 480) :default-text "640x480")

@@ -1,0 +1,38 @@
+;;;; view.lisp -- `player view`: the controller played live in a window.
+
+(in-package #:player)
+
+(defmethod read-option-value ((type (eql :keys)) text option)
+  ;; KEY@SECONDS,... as ((SECONDS . KEY) ...): KEY a character or a control key's name.
+  (mapcar (lambda (part)
+            (let* ((at (position #\@ part))
+                   (name (and at (subseq part 0 at)))
+                   (seconds (and at (< at (1- (length part))) (read-cli-value (subseq part (1+ at))))))
+              (unless (and at (plusp at) (realp seconds) (>= seconds 0))
+                (bad-option-value option part "KEY@SECONDS pairs such as 1@0.5"))
+              (cons (float seconds 1d0)
+                    (if (= (length name) 1)
+                        (char-downcase (char name 0))
+                        (or (car (assoc name *view-control-keys* :test #'string-equal))
+                            (usage-fail "~A: unknown key ~A (a character, or ~{~(~A~)~^, ~})"
+                                        (option-name option) name (mapcar #'car *view-control-keys*)))))))
+          (split-list text)))
+
+(define-command "view" (file &key spec initial body scripts size seed frames screenshot keys)
+    (:summary "play the controller live in a window"
+     :description "Keys from the printed map (or event names typed at the terminal) send
+events, space pauses, the arrows and the mouse orbit the camera, the scroll
+wheel zooms, Escape or closing the window quits.  Under xvfb-run -a it runs
+without a screen."
+     :arguments ("SPEC-FILE")
+     :options ("--spec" "--initial" "--body" "--scripts" "--size" "--seed"
+               ("--frames" :positive-integer "N" "stop after N frames")
+               ("--screenshot" :string "FILE.png" "save the last frame shown")
+               ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5"))
+     :output "a window; the key map and the trace on standard output")
+  (let* ((spec (choose-spec file spec))
+         (problem (scripted-keys-problem keys (view-event-keys spec))))
+    (when problem (usage-fail "--keys: ~A" problem))
+    (view-spec spec :initial initial :body body :scripts scripts
+                    :frames frames :screenshot screenshot :size size
+                    :seed seed :keys keys)))
