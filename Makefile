@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo test bench deps embed-example golden
+.PHONY: demo test bench fuzz deps embed-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -30,6 +30,14 @@ test: deps
 bench: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
 	  --load bench/run.lisp --eval '(player-bench:run-benchmarks)'
+
+# The fuzzer's long run (t/fuzz-main.lisp): 50,000 mutated specs and script libraries
+# through the Lisp API, 400 through bin/player, g++ on the C++ of hostile names.
+# FUZZ_SEED=N picks other cases; FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_GXX_CASES size the run.
+fuzz: deps
+	FUZZ_SEED='$(FUZZ_SEED)' FUZZ_CASES='$(FUZZ_CASES)' FUZZ_CLI_CASES='$(FUZZ_CLI_CASES)' FUZZ_GXX_CASES='$(FUZZ_GXX_CASES)' \
+	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
+	  --load t/fuzz-main.lisp --eval '(player-tests::fuzz-main)'
 
 # Generate Peedy's controller as C++ and run examples/embed-cpp/main.cpp on it.
 embed-example: deps

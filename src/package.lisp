@@ -68,10 +68,14 @@
    #:spec-error-position #:spec-syntax-error #:unknown-name-error
    #:domain-error #:type-error-in-spec #:duplicate-definition
    #:class-cycle-error #:label-error #:effect-error #:goal-error
-   #:spec-reader-error #:unknown-event #:unknown-event-name
+   #:spec-reader-error #:untrusted-code-error #:unknown-event #:unknown-event-name
    #:state-space-too-large #:state-transfer-error
    ;; Command line
-   #:main #:usage-error))
+   #:main #:usage-error
+   ;; Argument checking of the Lisp API (issue 11): every exported function
+   ;; signals ARGUMENT-ERROR for a bad argument
+   #:argument-error #:argument-error-function #:argument-error-argument
+   #:argument-error-value #:argument-error-expected))
 
 (defpackage #:player-user
   (:use #:cl #:player)

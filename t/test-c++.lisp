@@ -3,7 +3,8 @@
 ;;;; controller's, line for line, for Peedy and for random specs with runtime
 ;;;; numbers, time variables, labels, :if, :add/:sub and autoscripts. Also:
 ;;;; identifier mangling, independent instances in one program, deterministic
-;;;; output and readable compiler errors.
+;;;; output and readable compiler errors. Hostile names, numbers at the edges
+;;;; of 64 bits and huge times are in test-c++-hostile.lisp.
 ;;;;
 ;;;; Builds are cached by content in ~/.cache/player/c++/ (or $XDG_CACHE_HOME),
 ;;;; so only the first run pays for g++; the random specs are built two at a

@@ -64,7 +64,7 @@
     (state-variable n integer 1.5))
   (check-spec-error type-error-in-spec "unknown type colour"
     (state-variable n colour red))
-  (check-spec-error type-error-in-spec ":duration must be a non-negative number"
+  (check-spec-error type-error-in-spec ":duration must be a number of seconds from 0 to"
     (op o :duration -1))
   (check-spec-error type-error-in-spec "maybe is not true or false"
     (op o :must-ask maybe))

@@ -121,11 +121,11 @@ with its arguments and options."
 
 ;;;# What commands share
 
-(defun choose-spec (file &optional name)
-  "Load the spec FILE and return the spec to use: the one called NAME (a
-string), or the file's only spec.  A USAGE-ERROR when NAME is not there or the
-choice is ambiguous."
-  (let ((specs (load-spec file)))
+(defun choose-spec (file &optional name &key (allow-code t))
+  "Load the spec FILE (refusing :code and :c++ unless ALLOW-CODE) and return
+the spec to use: the one called NAME (a string), or the file's only spec.  A
+USAGE-ERROR when NAME is not there or the choice is ambiguous."
+  (let ((specs (load-spec file :allow-code allow-code)))
     (flet ((names () (mapcar (lambda (s) (lisp-text (spec-name s))) specs)))
       (cond (name (or (find (string-upcase name) specs :key (lambda (s) (name-key (spec-name s)))
                                                        :test #'string=)
@@ -136,9 +136,6 @@ choice is ambiguous."
             ((rest specs) (usage-fail "~A defines several specs (~{~A~^, ~}); choose one with --spec"
                                       file (names)))
             (t (first specs))))))
-
-(defparameter *scenario-options* '("--spec" "--initial" "--events" "--fps" "--seed" "--scripts" "--body")
-  "The options of the commands that play a scenario on a body (simulate, render).")
 
 (defun print-scenario-summary (simulation frame-count fps)
   "Print, as ; comment lines, what SIMULATION's drivers reported and its frames."

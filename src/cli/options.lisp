@@ -143,6 +143,8 @@ TEXT does not fit."))
 
 (define-option "--spec" :string "NAME"
   "the spec to use, when SPEC-FILE defines several")
+(define-option "--no-code" :flag ""
+  "refuse a spec holding :code or :c++, so an untrusted spec file runs no code")
 (define-option "--initial" :assignments "VAR=VALUE,..."
   "start from these values instead of the declared initial ones")
 (define-option "--events" :names "EV1,EV2,..."

@@ -2,14 +2,14 @@
 
 (in-package #:player)
 
-(define-command "plans" (file &key spec)
+(define-command "plans" (file &key spec no-code)
     (:summary "print every goal's plan table"
      :description "For each goal: the forms that request it, then its plans in the order
 they are tried, each a condition on the state and the ops to run."
      :arguments ("SPEC-FILE")
-     :options ("--spec")
+     :options ("--spec" "--no-code")
      :output "standard output")
-  (let* ((spec (choose-spec file spec))
+  (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (machine (plan-spec spec)))
     (format t "spec ~A: ~D goals, ~D states, max-depth ~D~%"
             (lisp-text (spec-name spec)) (length (machine-goal-table machine))

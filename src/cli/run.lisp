@@ -2,18 +2,18 @@
 
 (in-package #:player)
 
-(define-command "run" (file &key spec initial events backend)
+(define-command "run" (file &key spec no-code initial events backend)
     (:summary "play events in simulated time and print the trace"
      :description "Each event starts when the previous one's last op has ended.  A failed
 goal shows as (:fail EVENT :goal GOAL :time T) and the next event carries on."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--initial" "--events"
+     :options ("--spec" "--no-code" "--initial" "--events"
                ("--backend" (:choice "lisp" "c++") "lisp|c++"
                 "run the controller as Lisp closures, or as generated C++ (needs g++)"
                 :default "lisp"))
      :output "the trace on standard output, one s-expression per line; without
         --events, the initial state")
-  (let* ((spec (choose-spec file spec))
+  (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (machine (compile-spec spec))
          (lisp (string= backend "lisp"))
          (controller (make-controller machine :initial-state initial

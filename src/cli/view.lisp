@@ -18,19 +18,19 @@
                                         (option-name option) name (mapcar #'car *view-control-keys*)))))))
           (split-list text)))
 
-(define-command "view" (file &key spec initial body scripts size seed frames screenshot keys)
+(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys)
     (:summary "play the controller live in a window"
      :description "Keys from the printed map (or event names typed at the terminal) send
 events, space pauses, the arrows and the mouse orbit the camera, the scroll
 wheel zooms, Escape or closing the window quits.  Under xvfb-run -a it runs
 without a screen."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--initial" "--body" "--scripts" "--size" "--seed"
+     :options ("--spec" "--no-code" "--initial" "--body" "--scripts" "--size" "--seed"
                ("--frames" :positive-integer "N" "stop after N frames")
                ("--screenshot" :string "FILE.png" "save the last frame shown")
                ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5"))
      :output "a window; the key map and the trace on standard output")
-  (let* ((spec (choose-spec file spec))
+  (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (problem (scripted-keys-problem keys (view-event-keys spec))))
     (when problem (usage-fail "--keys: ~A" problem))
     (view-spec spec :initial initial :body body :scripts scripts

@@ -101,3 +101,18 @@ OLD and NEW are value indices (plannable) or numbers."
   (setf (controller-schedule controller) end)
   (when (> end (controller-span-end controller))
     (setf (controller-span-end controller) end)))
+
+(defmethod print-object ((controller controller) stream)
+  ;; One line at the REPL: #<CONTROLLER PEEDY t=12.25 alert=awake posture=sit ...>
+  (print-unreadable-object (controller stream :type t)
+    (let* ((spec (spec-of controller))
+           (text (format nil "~A t=~A~{ ~A~}" (lisp-text (spec-name spec))
+                         (format-number (controller-clock controller))
+                         (loop for var in (spec-variables spec)
+                               collect (format nil "~A=~A" (lisp-text (var-name var))
+                                               (let ((value (variable-value controller var)))
+                                                 (cond ((eq (var-kind var) :boolean)
+                                                        (if (= 1 (value-index-of controller var)) "true" "false"))
+                                                       ((null value) "-")
+                                                       (t (lisp-text value)))))))))
+      (write-string (truncate-text text 120) stream))))

@@ -8,46 +8,88 @@
   "C++ for the value index of plannable VAR in the one-hot BITS expression."
   (format nil "field_index(~A, ~D, ~D)" bits (var-bit-offset var) (var-domain-size var)))
 
-(defun emit-source (machine name namespace)
-  "The .cpp: helpers, tables, and every procedure."
-  (let ((spec (machine-spec machine)))
-    (emit-banner machine (format nil "~A.cpp" name))
-    (emit "#include \"~A.hpp\"~%~%#include <cmath>~%#include <cstdlib>~%#include <string>~%" name)
-    (emit "namespace ~A {~%namespace {~%" namespace)
-    (emit "[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
+(defun emit-text (text)
+  "Write TEXT, C++ taken as it is (no FORMAT directives), and a newline."
+  (write-string text *out*)
+  (terpri *out*))
+
+(defparameter *c++-helpers*
+  "[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
   for (int i = 0; i < size; ++i)
     if (bits >> (offset + i) & 1u) return i;
   return 0;  // unreachable for a valid one-hot state; 0 keeps every table index in bounds
 }
-")
-    (dolist (var (plannable-vars machine))
-      (when (and (eq (var-kind var) :enumerated) (every #'integerp (var-domain var)))
-        (emit "[[maybe_unused]] const long long kValues_~A[] = {~{~D~^, ~}};" (var-id var)
-              (coerce (var-domain var) 'list))))
-    (emit "[[maybe_unused]] const Op kOps[] = {")
-    (dolist (op (spec-ops spec))
-      (emit "  {~A, ~A, ~A, ~A},  // ~A" (c++-string (lisp-text (op-name op)))
-            (c++-string (string-downcase (symbol-name (op-kind op))))
-            (c++-string (lisp-text (case (op-kind op)
-                                     (:director (op-director op))
-                                     ((:script :macro) (op-script op))
-                                     (t (op-name op)))))
-            (c++-double (op-duration op)) (op-id op)))
-    (when (null (spec-ops spec)) (emit "  {\"\", \"script\", \"\", 0.0}"))
-    (emit "};~%~%const char* const kEventNames[] = {~{~A, ~}nullptr};~%"
-          (mapcar (lambda (e) (c++-string (lisp-text (event-name e)))) (spec-events spec)))
-    (emit "}  // namespace~%")
-    (emit "std::string format_number(double x) {
-  const long long micros = static_cast<long long>(std::floor(x * 1e6 + 0.5));
-  const long long magnitude = micros < 0 ? -micros : micros;
-  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(magnitude / 1000000);
-  long long fraction = magnitude % 1000000;
+
+// Runtime values compare as Lisp's EQL does: 0.0 and -0.0 differ.
+[[maybe_unused]] bool same_value(long long a, long long b) { return a == b; }
+[[maybe_unused]] bool same_value(double a, double b) {
+  return a == b && std::signbit(a) == std::signbit(b);
+}
+
+// X (finite, |X| >= 1e16) as Lisp prints a double: the shortest digits that
+// read back as X, in exponent form with at least one decimal: 1.0e16, -2.5e20.
+std::string exponent_form(double x) {
+  char buffer[32];
+  const std::to_chars_result written =
+      std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific);
+  const std::string text(buffer, written.ptr);
+  const std::size_t e = text.find('e');
+  std::string mantissa = text.substr(0, e);
+  if (mantissa.find('.') == std::string::npos) mantissa += \".0\";
+  std::string exponent = text.substr(e + 1);
+  if (exponent[0] == '+') exponent.erase(0, 1);
+  return mantissa + \"e\" + exponent;
+}
+"
+  "The .cpp's private helpers (in its anonymous namespace).")
+
+(defparameter *c++-format-number*
+  "std::string format_number(double x) {
+  if (std::isnan(x)) return \"nan\";
+  if (std::isinf(x)) return x < 0 ? \"-inf\" : \"inf\";
+  if (std::fabs(x) >= 1e16) return exponent_form(x);
+  // Microseconds rounded half up, computed as Lisp computes them. |micros| < 2^74,
+  // so the integral double is split at 2^32 into exact integers, then divided by 10^6.
+  const double micros = std::floor(x * 1e6 + 0.5);
+  const double magnitude = std::fabs(micros);
+  const double high = std::floor(magnitude / 4294967296.0);
+  const std::uint64_t high_part = static_cast<std::uint64_t>(high);
+  const std::uint64_t low_part = static_cast<std::uint64_t>(magnitude - high * 4294967296.0);
+  const std::uint64_t rest = high_part % 1000000 * 4294967296ULL + low_part;
+  const std::uint64_t whole = high_part / 1000000 * 4294967296ULL + rest / 1000000;
+  const std::uint64_t fraction = rest % 1000000;
+  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(whole);
   if (fraction == 0) return text;
   std::string digits = std::to_string(fraction);
   digits = std::string(6 - digits.size(), '0') + digits;
   while (digits.back() == '0') digits.pop_back();
   return text + \".\" + digits;
-}~%")
+}
+"
+  "format_number(), printing exactly as FORMAT-NUMBER does.")
+
+(defun emit-source (machine name namespace)
+  "The .cpp: helpers, tables, and every procedure."
+  (let ((spec (machine-spec machine)))
+    (emit-banner machine (format nil "~A.cpp" name))
+    (emit "#include \"~A.hpp\"~%" name)
+    (emit-text "#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+")
+    (emit "namespace ~A {~%namespace {~%" namespace)
+    (emit-text *c++-helpers*)
+    (dolist (var (plannable-vars machine))
+      (when (and (eq (var-kind var) :enumerated) (every #'integerp (var-domain var)))
+        (emit "[[maybe_unused]] const long long kValues_~A[] = {~{~A~^, ~}};" (var-id var)
+              (map 'list #'c++-int64 (var-domain var)))))
+    (emit-op-table machine)
+    (emit "const char* const kEventNames[] = {~{~A, ~}nullptr};~%"
+          (mapcar (lambda (e) (c++-string (lisp-text (event-name e)))) (spec-events spec)))
+    (emit "}  // namespace~%")
+    (emit-text *c++-format-number*)
     (emit "const char* event_name(Event e) { return kEventNames[static_cast<int>(e)]; }~%")
     (emit "bool find_event(const std::string& name, Event& out) {")
     (emit "  for (int i = 0; i < event_count; ++i)")
@@ -62,6 +104,35 @@
     (dolist (event (spec-events spec)) (emit-event event machine))
     (emit "}  // namespace ~A" namespace)))
 
+(defun op-script-text (op)
+  "What kOps lists as OP's script: the director, the script, or (for :code) its name."
+  (lisp-text (case (op-kind op)
+               (:director (op-director op))
+               ((:script :macro) (op-script op))
+               (t (op-name op)))))
+
+(defun op-row (op)
+  "OP's initializer in kOps: {name, kind, script, duration}."
+  (format nil "{~{~A~^, ~}}"
+          (list (c++-string (lisp-text (op-name op)))
+                (c++-string (string-downcase (symbol-name (op-kind op))))
+                (c++-string (op-script-text op))
+                (c++-double (op-duration op)))))
+
+(defun emit-op-table (machine)
+  "kOps: every op as the presenter sees it, in spec order (one dummy when there are none)."
+  (emit "[[maybe_unused]] const Op kOps[] = {")
+  (dolist (op (spec-ops-of machine))
+    (emit "  ~A,  // ~A" (op-row op) (op-id op)))
+  (when (null (spec-ops-of machine)) (emit "  {\"\", \"script\", \"\", 0.0}"))
+  (emit "};~%"))
+
+(defun runtime-literal (var value)
+  "C++ for VALUE of runtime VAR: a long long or a double literal."
+  (if (and (eq (var-kind var) :number) (eq (var-type var) :integer))
+      (c++-int64 value)
+      (c++-double value)))
+
 (defun emit-initial-state (machine)
   "initial_state(): the declared initial values."
   (emit "State initial_state() {~%  State s;")
@@ -70,33 +141,49 @@
     (emit "  s.~A = ~A;" (var-id var)
           (if (eq (var-kind var) :time)
               "std::nan(\"\")"
-              (if (integerp (var-initial var))
-                  (format nil "~D" (var-initial var))
-                  (c++-double (var-initial var))))))
+              (runtime-literal var (var-initial var)))))
   (emit "  return s;~%}~%"))
+
+(defun value-texts (var index)
+  "The texts assign() takes for plannable VAR's INDEXth value."
+  (if (eq (var-kind var) :boolean)
+      (if (= index 1) '("t" "true") '("nil" "false"))
+      (list (value-text var index))))
+
+(defun emit-assign-plannable (var)
+  "The body of assign() for plannable VAR: one test per value."
+  (loop for i below (var-domain-size var)
+        do (emit "    if (~{value == ~A~^ || ~}) { s.bits = (s.bits & ~~~A) | ~A; return true; }"
+                 (mapcar #'c++-string (value-texts var i)) (c++-hex (var-field-mask var))
+                 (c++-hex (var-value-bit var i))))
+  (emit "    return false;"))
+
+(defun emit-assign-number (var)
+  "The body of assign() for runtime VAR: the whole text must be a number of its
+type, in range (a long long, or a finite double)."
+  (emit "    char* end = nullptr;")
+  (if (string= (runtime-c++-type var) "long long")
+      (progn
+        (emit "    errno = 0;")
+        (emit "    const long long v = std::strtoll(value.c_str(), &end, 10);")
+        (emit "    if (end == value.c_str() || *end != 0 || errno == ERANGE) return false;"))
+      (progn
+        (emit "    const double v = std::strtod(value.c_str(), &end);")
+        (emit "    if (end == value.c_str() || *end != 0 || !std::isfinite(v)) return false;")))
+  (emit "    s.~A = v;" (var-id var))
+  (emit "    return true;"))
 
 (defun emit-assign (machine)
   "assign(): set one variable from its printed name and value."
-  (emit "bool assign(State& s, const std::string& variable, const std::string& value) {")
-  (dolist (var (spec-variables (machine-spec machine)))
-    (emit "  if (variable == ~A) {" (c++-string (lisp-text (var-name var))))
-    (if (plannable-p var)
-        (progn
-          (loop for i below (var-domain-size var)
-                for texts = (if (eq (var-kind var) :boolean)
-                                (if (= i 1) '("t" "true") '("nil" "false"))
-                                (list (value-text var i)))
-                do (emit "    if (~{value == ~A~^ || ~}) { s.bits = (s.bits & ~~~A) | ~A; return true; }"
-                         (mapcar #'c++-string texts) (c++-hex (var-field-mask var))
-                         (c++-hex (var-value-bit var i))))
-          (emit "    return false;"))
-        (emit "    char* end = nullptr;~%    const ~A v = std::~A(value.c_str(), &end~A);~%    if (end == value.c_str() || *end != 0) return false;~%    s.~A = v;~%    return true;"
-              (runtime-c++-type var)
-              (if (string= (runtime-c++-type var) "long long") "strtoll" "strtod")
-              (if (string= (runtime-c++-type var) "long long") ", 10" "")
-              (var-id var)))
-    (emit "  }"))
-  (emit "  return false;~%}~%"))
+  (let ((variables (spec-variables (machine-spec machine))))
+    (emit "bool assign(State& s, const std::string& variable, const std::string& value) {")
+    (unless variables
+      (emit "  (void)s; (void)variable; (void)value;"))
+    (dolist (var variables)
+      (emit "  if (variable == ~A) {" (c++-string (lisp-text (var-name var))))
+      (if (plannable-p var) (emit-assign-plannable var) (emit-assign-number var))
+      (emit "  }"))
+    (emit "  return false;~%}~%")))
 
 (defun emit-controller-basics (machine)
   "Constructor, send, accessors and state_line."
@@ -148,21 +235,28 @@
       (emit "  line += \")\";"))
     (emit "  return line + \")\";~%}~%")))
 
+(defun autoscript-test (auto current)
+  "C++ true when CURRENT, an expression of AUTO's variable (a value index for a
+plannable one), holds the value AUTO watches; numbers compare as EQL does."
+  (let ((var (autoscript-variable auto)) (value (autoscript-value-index auto)))
+    (if (plannable-p var)
+        (format nil "~A == ~D" current value)
+        (format nil "same_value(~A, ~A)" current (runtime-literal var value)))))
+
+(defun autoscript-call (auto proc function-name test)
+  "C++ calling the presenter's FUNCTION-NAME for PROC of AUTO when TEST holds."
+  (format nil "if (~A) presenter_.~A(~{~A~^, ~}, time);" test function-name
+          (mapcar #'c++-string (list (lisp-text proc)
+                                     (lisp-text (var-name (autoscript-variable auto)))
+                                     (lisp-text (autoscript-value auto))))))
+
 (defun autoscript-calls (machine var function-name value-expression)
   "C++ lines calling FUNCTION-NAME for VAR's autoscripts whose value equals VALUE-EXPRESSION."
   (loop for auto in (spec-autoscripts (machine-spec machine))
         when (eq (autoscript-variable auto) var)
           append (loop for proc in (autoscript-procs auto)
-                       collect (format nil "if (~A == ~A) presenter_.~A(~A, ~A, ~A, time);"
-                                       value-expression
-                                       (let ((v (autoscript-value-index auto)))
-                                         (if (realp v)
-                                             (if (integerp v) (format nil "~D" v) (c++-double v))
-                                             (format nil "~D" v)))
-                                       function-name
-                                       (c++-string (lisp-text proc))
-                                       (c++-string (lisp-text (var-name var)))
-                                       (c++-string (lisp-text (autoscript-value auto)))))))
+                       collect (autoscript-call auto proc function-name
+                                                (autoscript-test auto value-expression)))))
 
 (defun watched-vars (machine)
   "Variables some autoscript watches, in declaration order."
@@ -191,7 +285,7 @@
       (emit "void Controller::set_~A(~A value, double time) {" (var-id var) (runtime-c++-type var))
       (emit "  const ~A old_value = state_.~A;" (runtime-c++-type var) (var-id var))
       (emit "  state_.~A = value;" (var-id var))
-      (emit "  if (old_value == value) return;")
+      (emit "  if (same_value(old_value, value)) return;")
       (emit "  const ~A new_value = value;" (runtime-c++-type var))
       (emit "  (void)time; (void)new_value;")
       (dolist (line (autoscript-calls machine var "stop_autoscript" "old_value")) (emit "  ~A" line))
@@ -205,24 +299,20 @@
                         (field-index-expression var "state_.bits")
                         (format nil "state_.~A" (var-id var)))))
       (dolist (proc (autoscript-procs auto))
-        (emit "  if (~A == ~A) presenter_.start_autoscript(~A, ~A, ~A, time);"
-              current (let ((v (autoscript-value-index auto)))
-                        (if (and (realp v) (not (integerp v))) (c++-double v) (format nil "~D" v)))
-              (c++-string (lisp-text proc)) (c++-string (lisp-text (var-name var)))
-              (c++-string (lisp-text (autoscript-value auto)))))))
+        (emit "  ~A" (autoscript-call auto proc "start_autoscript" (autoscript-test auto current))))))
   (emit "}~%"))
 
 (defun emit-achiever (goal machine)
   "GOAL's state-achieving procedure: 1 reached, 0 no plan, 2 a macro inside failed."
   (let ((spec (machine-spec machine)))
-    (emit "// Goal ~A" (lisp-text (goal-expression goal)))
+    (emit "// Goal ~A" (c++-comment-text (lisp-text (goal-expression goal))))
     (emit "int Controller::~A() {" (goal-fn-id goal))
     (emit "  const std::uint64_t s = state_.bits;")
     (emit "  (void)s;")
     (loop for plan across (goal-plans goal)
           for keyword = "if" then "else if"
           do (emit "  ~A ((s & ~~~A) == 0) {  // ~A" keyword (c++-hex (plan-condition plan))
-                   (lisp-text (cube-expression (plan-condition plan) spec)))
+                   (c++-comment-text (lisp-text (cube-expression (plan-condition plan) spec))))
              (dolist (op (plan-ops plan))
                (emit "    if (~A() != 1) return 2;" (op-id op)))
              (emit "    return 1;~%  }"))
@@ -243,7 +333,7 @@
           (when (op-c++ op) (emit "  ~A" (op-c++ op)))
           (when (eq (op-kind op) :code)
             (emit "  // :code ~A has no C++ meaning: the embedder implements the hook."
-                  (substitute #\Space #\Newline (lisp-text (op-code op))))
+                  (code-comment-text (op-code op)))
             (emit "  presenter_.code_hook(~A);" (c++-string (lisp-text (op-name op)))))
           (emit "  const double start = schedule_;")
           (emit "  const double end = start + presenter_.~A(kOps[~D], start);"

@@ -40,14 +40,15 @@
 (defmethod emit-step ((step label-step) machine)
   (declare (ignore machine))
   (emit-line "state_.labels[~D] = schedule_;  // :label ~A" (label-step-slot step)
-             (lisp-text (label-step-name step))))
+             (c++-comment-text (lisp-text (label-step-name step)))))
 
 (defmethod emit-step ((step time-step) machine)
   (destructuring-bind (kind argument) (time-step-time step)
     (if (eq kind :relative)
         (emit-line "schedule_ = span_start_ + ~A;" (c++-double argument))
-        (emit-line "{ const double t = ~A; if (!std::isnan(t)) schedule_ = t; }"
-                   (c++-number argument machine)))))
+        (emit-line "{ const double t = ~A; if (!std::isnan(t)) { if (!(std::fabs(t) <= ~A)) return fail(~A); schedule_ = t; } }"
+                   (c++-number argument machine) (c++-double *max-seconds*)
+                   (c++-string "(:overflow :time)")))))
 
 (defmethod emit-step ((step if-step) machine)
   (emit-line "if (~A) {" (c++-condition (if-step-condition step) machine))
@@ -61,17 +62,57 @@
     (emit-line "transition((state_.bits & ~~~A) | ~A, schedule_);"
                (c++-hex (var-field-mask var)) (c++-hex (var-value-bit var (assign-step-index step))))))
 
+;;; :add/:sub (VAR N): a sum that would leave the variable's type (64 bits, or
+;;; a finite double) fails the event with the goal (:overflow VAR), leaving the
+;;; variable as it was, as the Lisp backend does.
+
 (defmethod emit-step ((step increment-step) machine)
   (declare (ignore machine))
-  (let ((var (increment-step-variable step))
-        (delta (increment-step-delta step)))
-    (emit-line "set_~A(state_.~A + ~A, schedule_);" (var-id var) (var-id var)
-               (if (integerp delta) (format nil "~DLL" delta) (c++-double delta)))))
+  (let* ((var (increment-step-variable step))
+         (failure (c++-string (lisp-text (list :overflow (var-name var))))))
+    (if (eq (var-type var) :integer)
+        (emit-integer-increment var (increment-step-delta step) failure)
+        (emit-float-increment var (increment-step-delta step) failure))))
+
+(defun integer-overflow-test (field delta)
+  "C++ that is true when FIELD + DELTA would leave 64 bits (no overflow in the
+test itself: the bound is computed here), or NIL when DELTA is 0."
+  (destructuring-bind (low high) *int64-range*
+    (cond ((plusp delta) (format nil "~A > ~A" field (c++-int64 (- high delta))))
+          ((minusp delta) (format nil "~A < ~A" field (c++-int64 (- low delta)))))))
+
+(defun integer-sum (field delta)
+  "C++ for FIELD + DELTA; a DELTA of 2^63 (the :sub of -2^63) is written as a
+subtraction, since it has no literal."
+  (if (c++-int64-p delta)
+      (format nil "~A + ~A" field (c++-int64 delta))
+      (format nil "~A - ~A" field (c++-int64 (- delta)))))
+
+(defun emit-integer-increment (var delta failure)
+  "Add DELTA to integer VAR, failing with FAILURE where the sum leaves 64 bits."
+  (let* ((field (format nil "state_.~A" (var-id var)))
+         (test (integer-overflow-test field delta)))
+    (when test
+      (emit-line "if (~A) return fail(~A);" test failure))
+    (emit-line "set_~A(~A, schedule_);" (var-id var) (integer-sum field delta))))
+
+(defun emit-float-increment (var delta failure)
+  "Add DELTA to float VAR, failing with FAILURE where the sum is not finite."
+  (emit-line "{")
+  (let ((*indent* (concatenate 'string *indent* "  ")))
+    (emit-line "const double next = state_.~A + ~A;" (var-id var) (c++-double delta))
+    (emit-line "if (!std::isfinite(next)) return fail(~A);" failure)
+    (emit-line "set_~A(next, schedule_);" (var-id var)))
+  (emit-line "}"))
+
+(defun code-comment-text (form)
+  "The :code FORM as comment text, cut to a line's length."
+  (c++-comment-text (truncate-text (lisp-text form) 160)))
 
 (defmethod emit-step ((step code-step) machine)
   (declare (ignore machine))
   (emit-line "// :code ~A has no C++ meaning: the embedder implements the hook."
-             (substitute #\Space #\Newline (lisp-text (code-step-form step))))
+             (code-comment-text (code-step-form step)))
   (emit-line "presenter_.code_hook(~A);"
              (c++-string (format nil "~A/~D" (lisp-text *owner*) (incf *hook-count*)))))
 

@@ -41,27 +41,121 @@
 
 (defun spec-ops-of (machine) (spec-ops (machine-spec machine)))
 
+;;; Errors
+
+(define-condition c++-name-error (player-error)
+  ((argument :initarg :argument :reader c++-name-error-argument)
+   (value :initarg :value :reader c++-name-error-value)
+   (reason :initarg :reason :reader c++-name-error-reason))
+  (:report (lambda (condition stream)
+             (format stream "emit-c++: ~(~S~) ~A is ~A"
+                     (c++-name-error-argument condition)
+                     (let ((value (c++-name-error-value condition)))
+                       (if (stringp value)
+                           (c++-string value)
+                           (let ((*print-length* 10) (*print-level* 3) (*print-circle* t))
+                             (truncate-text (prin1-to-string value) 60))))
+                     (c++-name-error-reason condition))))
+  (:documentation "EMIT-C++'s :NAME or :NAMESPACE is not a usable C++ identifier."))
+
+(define-condition c++-range-error (player-error)
+  ((spec :initarg :spec :reader c++-range-error-spec)
+   (variable :initarg :variable :reader c++-range-error-variable)
+   (value :initarg :value :reader c++-range-error-value)
+   (what :initarg :what :reader c++-range-error-what
+         :documentation "Which number: \"value\", \"initial value\", \"autoscript value\" or \":add/:sub delta\"."))
+  (:report (lambda (condition stream)
+             (format stream "in spec ~A: the ~A ~D of variable ~A does not fit in a 64-bit signed integer (the C++ backend's long long)"
+                     (lisp-text (c++-range-error-spec condition))
+                     (c++-range-error-what condition)
+                     (c++-range-error-value condition)
+                     (lisp-text (c++-range-error-variable condition)))))
+  (:documentation "An integer of a spec lies outside the C++ backend's 64 bits."))
+
+(defun check-c++-int64 (spec var value what)
+  "Signal a C++-RANGE-ERROR unless VALUE (the WHAT of integer VAR in SPEC) fits 64 bits."
+  (unless (c++-int64-p value)
+    (error 'c++-range-error :spec (spec-name spec) :variable (var-name var) :value value :what what)))
+
+(defun check-c++-deltas (spec steps)
+  "Check the integer :add/:sub deltas among STEPS (and inside their :if bodies).
+A delta of 2^63 is the :sub of -2^63, which the C++ writes as a subtraction."
+  (dolist (step steps)
+    (typecase step
+      (if-step (check-c++-deltas spec (if-step-body step)))
+      (increment-step
+       (let ((var (increment-step-variable step)) (delta (increment-step-delta step)))
+         (when (and (eq (var-type var) :integer) (not (c++-int64-p (- delta))))
+           (check-c++-int64 spec var delta ":add/:sub delta")))))))
+
+(defun check-c++-integers (machine)
+  "Signal a C++-RANGE-ERROR for the first integer of MACHINE's spec that a C++
+long long cannot hold: an enumerated value, a runtime initial value, a value an
+autoscript watches, or an :add/:sub delta."
+  (let ((spec (machine-spec machine)))
+    (dolist (var (spec-variables spec))
+      (when (eq (var-type var) :integer)
+        (if (eq (var-kind var) :enumerated)
+            (loop for value across (var-domain var) do (check-c++-int64 spec var value "value"))
+            (check-c++-int64 spec var (var-initial var) "initial value"))))
+    (dolist (auto (spec-autoscripts spec))
+      (let ((var (autoscript-variable auto)))
+        (when (and (eq (var-kind var) :number) (eq (var-type var) :integer))
+          (check-c++-int64 spec var (autoscript-value-index auto) "autoscript value"))))
+    (dolist (event (spec-events spec))
+      (check-c++-deltas spec (directive-steps (event-directives event) machine)))))
+
 ;;; Entry points
+
+(defparameter *c++-name-limit* 200
+  "The longest :NAME EMIT-C++ takes, so NAME.hpp stays a legal file name.")
+
+(defun check-c++-name (argument value)
+  "VALUE, when it can be EMIT-C++'s ARGUMENT (:name or :namespace); else a C++-NAME-ERROR."
+  (flet ((fail (reason) (error 'c++-name-error :argument argument :value value :reason reason)))
+    (unless (c++-identifier-text-p value)
+      (fail "not a C++ identifier (an ASCII letter or _, then letters, digits or _; no __, no _ before a capital, not a keyword)"))
+    (when (> (length value) *c++-name-limit*)
+      (fail (format nil "longer than ~D characters" *c++-name-limit*)))
+    value))
+
+(defun output-file (directory name type)
+  "The pathname of file NAME.TYPE in DIRECTORY, checked to lie directly inside it."
+  (let ((path (merge-pathnames (make-pathname :name name :type type) directory)))
+    (unless (and (equal (pathname-directory path) (pathname-directory directory))
+                 (equal (pathname-name path) name)
+                 (equal (pathname-type path) type)
+                 (not (wild-pathname-p path)))
+      (error 'player-error-with-message
+             :message (format nil "emit-c++: ~A would be written outside ~A"
+                              (namestring path) (namestring directory))))
+    path))
 
 (defun emit-c++ (machine directory &key name namespace)
   "Write NAME.hpp and NAME.cpp for MACHINE (or a spec or its name) into
 DIRECTORY: standalone C++17 with a Presenter to implement and a Controller
-class. NAME defaults to the spec's name, NAMESPACE to NAME as an identifier.
-Returns the two pathnames."
-  (let* ((machine (ensure-machine machine))
-         (name (or name (c++-safe-identifier (spec-name (machine-spec machine)))))
-         (namespace (or namespace (c++-safe-identifier name)))
-         (directory (ensure-directories-exist (directory-pathname directory))))
+class. NAME defaults to the spec's name, NAMESPACE to NAME, both made C++
+identifiers; given, each must satisfy C++-IDENTIFIER-TEXT-P (else a
+C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR. Returns the
+two pathnames, both inside DIRECTORY."
+  (check-argument 'emit-c++ 'directory directory #'pathname-designator-p *path-phrase*)
+  (let* ((machine (ensure-machine machine 'emit-c++))
+         (name (if name
+                   (check-c++-name :name name)
+                   (c++-safe-identifier (spec-name (machine-spec machine)))))
+         (namespace (if namespace (check-c++-name :namespace namespace) name))
+         (directory (directory-pathname directory))
+         (hpp (output-file directory name "hpp"))
+         (cpp (output-file directory name "cpp")))
     (multiple-value-bind (header source) (c++-sources machine name namespace)
-      (let ((hpp (merge-pathnames (format nil "~A.hpp" name) directory))
-            (cpp (merge-pathnames (format nil "~A.cpp" name) directory)))
-        (write-text-file hpp header)
-        (write-text-file cpp source)
-        (list hpp cpp)))))
+      (ensure-directories-exist directory)
+      (write-text-file hpp header)
+      (write-text-file cpp source)
+      (list hpp cpp))))
 
 (defun write-text-file (path text)
-  "Write TEXT to PATH, replacing it."
-  (with-open-file (out path :direction :output :if-exists :supersede)
+  "Write TEXT to PATH in UTF-8, replacing it."
+  (with-open-file (out path :direction :output :if-exists :supersede :external-format :utf-8)
     (write-string text out)))
 
 (defun c++-sources (machine name namespace)
@@ -73,6 +167,7 @@ Returns the two pathnames."
       (error 'player-error-with-message
              :message (format nil "the C++ backend packs the state into 64 bits; spec ~A needs ~D"
                               (lisp-text (spec-name spec)) bits)))
+    (check-c++-integers machine)
     (values (with-output-to-string (*out*) (emit-header machine name namespace))
             (with-output-to-string (*out*) (emit-source machine name namespace)))))
 
@@ -81,9 +176,10 @@ Returns the two pathnames."
 (defun emit-banner (machine file)
   "The comment that opens each generated file."
   (let ((spec (machine-spec machine)))
-    (emit "// ~A -- generated by Player from spec ~A; do not edit." file (lisp-text (spec-name spec)))
+    (emit "// ~A -- generated by Player from spec ~A; do not edit."
+          file (c++-comment-text (lisp-text (spec-name spec))))
     (when (spec-documentation spec)
-      (emit "// ~A" (substitute #\Space #\Newline (spec-documentation spec))))
+      (emit "// ~A" (c++-comment-text (spec-documentation spec))))
     (emit "// Standard C++17; needs nothing but the standard library.")))
 
 (defun plannable-vars (machine) (plannable-variables (machine-spec machine)))
@@ -167,7 +263,8 @@ public:
     (emit "struct State {")
     (emit "  std::uint64_t bits = 0;")
     (dolist (var (runtime-vars machine))
-      (emit "  ~A ~A = 0;  // ~A" (runtime-c++-type var) (var-id var) (lisp-text (var-name var))))
+      (emit "  ~A ~A = 0;  // ~A" (runtime-c++-type var) (var-id var)
+            (c++-comment-text (lisp-text (var-name var)))))
     (emit "  double labels[~D] = {};" (max 1 (spec-label-count spec)))
     (emit "};~%")))
 

@@ -18,6 +18,12 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   ;; lookup by symbol allocates nothing.
   (event-symbols (make-hash-table :test 'eq :synchronized t)))
 
+(defmethod print-object ((machine compiled-machine) stream)
+  (print-unreadable-object (machine stream :type t)
+    (format stream "~A ~D goal~:P, ~D state~:P, ~D event~:P"
+            (lisp-text (spec-name (machine-spec machine))) (length (machine-goal-table machine))
+            (layout-state-count (machine-layout machine)) (hash-table-count (compiled-machine-events machine)))))
+
 (defstruct (compiled-event (:constructor make-compiled-event (event run)))
   "An event compiled to a closure of one argument, the controller."
   (event nil :type event-def)
@@ -36,7 +42,7 @@ CAR is the procedure), so procedures can call each other before they exist.")
   "Plan SPEC (a spec or the name of one) and compile it into a COMPILED-MACHINE
 whose events run as Lisp closures. Signals SPEC-ERROR for an unknown name and
 STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
-  (let* ((spec (if (spec-p spec) spec (find-spec spec)))
+  (let* ((spec (designated-spec spec 'compile-spec))
          (start (get-internal-real-time))
          (machine (plan-spec spec :constructor #'%make-compiled-machine))
          (*procedures* (make-hash-table :test 'eq)))
@@ -57,7 +63,8 @@ STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
 planned machine's spec, of a spec, or of a spec's name."
   (cond ((compiled-machine-p designator) designator)
         ((machine-p designator) (compile-spec (machine-spec designator)))
-        (t (compile-spec designator))))
+        (t (check-argument 'compile-spec 'machine designator #'machine-designator-p *machine-designator*)
+           (compile-spec designator))))
 
 (defun compile-steps (steps machine &optional (final (constantly t)))
   "Chain STEPS into one closure that ends by calling FINAL."
@@ -189,16 +196,24 @@ STEP and, on success, returns what NEXT returns; on failure, a FAILURE."))
       (setf (aref (controller-labels controller) slot) (controller-schedule controller))
       (funcall (the function next) controller))))
 
+(defun schedulable-time-p (time)
+  "Can the clock be set to TIME: a finite number within *MAX-SECONDS* of 0?"
+  (and (finite-real-p time) (<= (abs time) *max-seconds*)))
+
 (defmethod compile-step ((step time-step) next machine)
   (destructuring-bind (kind argument) (time-step-time step)
-    (let ((value (if (eq kind :relative) nil (compile-number argument machine))))
+    (let ((value (if (eq kind :relative) nil (compile-number argument machine)))
+          (overflow (make-failure (list :overflow :time))))
       (lambda (controller)
         (let ((time (if value
                         (funcall (the function value) controller)
                         (+ (controller-span-start controller) argument))))
-          (when time
-            (setf (controller-schedule controller) (to-double time))))
-        (funcall (the function next) controller)))))
+          (cond ((null time) (funcall (the function next) controller))
+                ((or (null value) (schedulable-time-p time))
+                 (setf (controller-schedule controller) (to-double time))
+                 (funcall (the function next) controller))
+                ;; An arithmetic :time beyond the clock's range fails the event.
+                (t overflow)))))))
 
 (defmethod compile-step ((step if-step) next machine)
   (let ((condition (compile-condition (if-step-condition step) machine))
@@ -218,15 +233,31 @@ STEP and, on success, returns what NEXT returns; on failure, a FAILURE."))
                         (controller-schedule controller))
       (funcall (the function next) controller))))
 
+(defun checked-sum (value delta integerp)
+  "VALUE + DELTA, or NIL when the sum leaves the variable's type: an integer
+outside 64 bits (INTEGERP), or a float that is not finite (the C++ backend's
+long long and double)."
+  (if integerp
+      (let ((sum (+ value delta)))
+        (and (typep sum '(signed-byte 64)) sum))
+      (let ((sum (sb-int:with-float-traps-masked (:overflow :invalid :inexact)
+                   (+ (the double-float value) (the double-float delta)))))
+        (and (<= (abs sum) most-positive-double-float) sum))))
+
 (defmethod compile-step ((step increment-step) next machine)
   (declare (ignore machine))
   (let* ((var (increment-step-variable step))
          (slot (var-slot var))
-         (delta (increment-step-delta step)))
+         (delta (increment-step-delta step))
+         (integerp (eq (var-type var) :integer))
+         (delta (if integerp delta (to-double delta)))
+         (overflow (make-failure (list :overflow (var-name var)))))
     (lambda (controller)
-      (set-runtime-value controller var (+ (svref (controller-values controller) slot) delta)
-                         (controller-schedule controller))
-      (funcall (the function next) controller))))
+      (let ((sum (checked-sum (svref (controller-values controller) slot) delta integerp)))
+        (if sum
+            (progn (set-runtime-value controller var sum (controller-schedule controller))
+                   (funcall (the function next) controller))
+            overflow)))))
 
 (defmethod compile-step ((step code-step) next machine)
   (declare (ignore machine))
@@ -275,7 +306,9 @@ NaN: every comparison with it is false, except /=."
       (let ((numbers (mapcar (lambda (v) (funcall (the function v) controller)) values)))
         (if (member nil numbers)
             (eq operator '/=)
-            (apply function numbers))))))
+            ;; IEEE comparisons, as in the C++: a NaN compares false.
+            (sb-int:with-float-traps-masked (:invalid :overflow :inexact)
+              (apply function numbers)))))))
 
 (defun compile-number (ast machine)
   "A function of the controller computing numeric AST, or NIL for an unset time."
@@ -294,4 +327,6 @@ NaN: every comparison with it is false, except /=."
               (lambda (controller)
                 (let ((numbers (mapcar (lambda (p) (funcall (the function p) controller)) parts)))
                   (unless (member nil numbers)
-                    (apply function numbers))))))))
+                    ;; IEEE arithmetic, as in the C++: overflow gives an infinity.
+                    (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
+                      (apply function numbers)))))))))

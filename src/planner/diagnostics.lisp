@@ -11,6 +11,12 @@
   (message "" :type string)
   (details nil))
 
+(defmethod print-object ((diagnostic diagnostic) stream)
+  ;; One line at the REPL; the details (often long lists of states) stay in DESCRIBE.
+  (print-unreadable-object (diagnostic stream :type t)
+    (format stream "~(~A~) ~A" (diagnostic-kind diagnostic)
+            (truncate-text (diagnostic-message diagnostic) 100))))
+
 (defun goal-plan-table (goal spec)
   "GOAL's plans as a list of (CONDITION-EXPRESSION . OP-NAMES)."
   (map 'list (lambda (plan)
@@ -22,7 +28,8 @@
   "The plans MACHINE uses for GOAL (a state expression, as in :state), as a list
 of (CONDITION . OPS) in the order they are tried. A goal no event asks for is
 planned on the spot."
-  (let* ((spec (machine-spec machine))
+  (let* ((machine (ensure-machine machine 'plans))
+         (spec (machine-spec machine))
          (cubes (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
                   (expression-cubes (parse-expression goal) spec)))
          (known (find-goal cubes (coerce (machine-goal-table machine) 'list))))
@@ -91,7 +98,7 @@ too) or event :add/:sub, with every precondition respected."
   "Plan SPEC (a spec, its name, or a machine) and return a list of DIAGNOSTICs:
 goals unreachable from some or all states, ops nothing uses, goals whose search
 MAX-DEPTH truncated, and states unreachable from the initial state."
-  (let* ((machine (ensure-machine spec))
+  (let* ((machine (ensure-machine spec 'check-spec))
          (spec (machine-spec machine))
          (total (machine-state-count machine))
          (used (used-ops machine))

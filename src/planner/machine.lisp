@@ -24,7 +24,14 @@
 
 (defun machine-state-count (machine)
   "How many plannable states MACHINE's spec has."
+  (check-argument 'machine-state-count 'machine machine #'machine-p "a machine")
   (layout-state-count (machine-layout machine)))
+
+(defun designated-spec (designator function)
+  "The spec DESIGNATOR (a spec or a spec's name) designates, for FUNCTION's
+argument errors; an UNKNOWN-NAME-ERROR for an undefined name."
+  (check-argument function 'spec designator #'spec-designator-p *spec-designator*)
+  (if (spec-p designator) designator (find-spec designator)))
 
 (defun initial-state (spec)
   "The one-hot state of SPEC's declared initial values."
@@ -32,9 +39,11 @@
         sum (var-value-bit var (var-initial var))))
 
 (defun plan-spec (spec &key (constructor #'%make-machine))
-  "Plan every goal of SPEC and return the MACHINE, made by CONSTRUCTOR (which
-takes MACHINE's slots as keywords: a code generator may extend the struct)."
-  (let* ((layout (make-layout spec))
+  "Plan every goal of SPEC (a spec or a spec's name) and return the MACHINE,
+made by CONSTRUCTOR (which takes MACHINE's slots as keywords: a code generator
+may extend the struct)."
+  (let* ((spec (designated-spec spec 'plan-spec))
+         (layout (make-layout spec))
          (operators (planner-ops spec))
          (goal-of (make-hash-table :test 'eq))
          (goals '()))
@@ -51,11 +60,11 @@ takes MACHINE's slots as keywords: a code generator may extend the struct)."
                      :autoscript-mask (reduce #'logior (watched-plannable-variables spec)
                                               :key #'var-field-mask :initial-value 0)))))
 
-(defun ensure-machine (designator)
-  "DESIGNATOR as a MACHINE: itself, or the planned machine of a spec or a spec's name."
-  (cond ((machine-p designator) designator)
-        ((spec-p designator) (plan-spec designator))
-        (t (plan-spec (find-spec designator)))))
+(defun ensure-machine (designator &optional (function 'ensure-machine))
+  "DESIGNATOR as a MACHINE: itself, or the planned machine of a spec or a
+spec's name.  An ARGUMENT-ERROR for FUNCTION when it is none of those."
+  (check-argument function 'machine designator #'machine-designator-p *machine-designator*)
+  (if (machine-p designator) designator (plan-spec designator)))
 
 (defun watched-plannable-variables (spec)
   "SPEC's plannable variables that some autoscript watches, in declaration order."
@@ -69,4 +78,5 @@ takes MACHINE's slots as keywords: a code generator may extend the struct)."
 
 (defun machine-goals (machine)
   "The distinct goals of MACHINE, as readable canonical expressions, in the order planned."
+  (check-argument 'machine-goals 'machine machine #'machine-p "a machine")
   (map 'list #'goal-expression (machine-goal-table machine)))

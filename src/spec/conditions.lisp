@@ -38,12 +38,12 @@
       (format stream "in spec ~A: " (lisp-text spec)))
     (write-string (spec-error-message condition) stream)
     (when form
-      (format stream " in ~A" (truncate-text (lisp-text form) 160)))))
+      (format stream " in ~A" (bounded-lisp-text form 160)))))
 
 (defun position-line (file position)
   "The 1-based line of character POSITION in FILE, or NIL if FILE can't be read."
   (ignore-errors
-   (with-open-file (in file)
+   (with-open-file (in file :external-format '(:utf-8 :replacement #\Replacement_Character))
      (loop with line = 1
            repeat position
            for char = (read-char in nil nil)
@@ -72,7 +72,8 @@
     label-error "A label is used before it is set."
     effect-error "An op's or event's effects are impossible or contradictory."
     goal-error "A goal or precondition mentions a runtime-only variable."
-    spec-reader-error "The Lisp reader could not read a spec file."))
+    spec-reader-error "The Lisp reader could not read a spec file."
+    untrusted-code-error "A spec holds :code or :c++, and code was refused (--no-code)."))
 
 (defun spec-fail (class form control &rest arguments)
   "Signal a spec error of CLASS about FORM, with a message from CONTROL and ARGUMENTS."

@@ -92,14 +92,14 @@
                     (parse-increment lit addp form)
                     (destructuring-bind (var . index) (parse-effect lit addp form)
                       (list :assign var index))))
-              (literal-list lits))))
+              (literal-list lits form))))
 
 (defun parse-increment (lit addp form)
   "Parse (VAR N) as an increment (ADDP) or decrement of a number variable."
   (destructuring-bind (name amount) lit
     (let ((var (find-variable-named name)))
-      (unless (if (eq (var-type var) :integer) (integerp amount) (realp amount))
-        (spec-fail 'type-error-in-spec form "~A is not ~:[a number~;an integer~] for ~A"
-                   (lisp-text amount) (eq (var-type var) :integer) (lisp-text name)))
+      (unless (if (eq (var-type var) :integer) (int64-p amount) (finite-real-p amount))
+        (spec-fail 'type-error-in-spec form "~A is not ~:[a finite number~;an integer from -2^63 to 2^63-1~] for ~A"
+                   (bounded-lisp-text amount 40) (eq (var-type var) :integer) (lisp-text name)))
       (let ((amount (if (integerp amount) amount (to-double amount))))
         (list :increment var (if addp amount (- amount)))))))

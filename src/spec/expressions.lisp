@@ -119,7 +119,7 @@ and runtime-only variables are allowed too."
                        (spec-fail 'goal-error symbol
                                   "runtime-only variable ~A cannot appear in a goal or precondition"
                                   (lisp-text (var-name var))))
-                     (unless (realp number)
+                     (unless (finite-real-p number)
                        (spec-fail 'type-error-in-spec symbol "~A is a number variable; ~A is not a number"
                                   (lisp-text (var-name var)) (string-downcase value-name)))
                      `(:cmp = (:value ,var) (:num ,(to-double number))))))))
@@ -143,7 +143,7 @@ and runtime-only variables are allowed too."
 (defun parse-number-expression (form)
   "Parse a numeric expression of :IF or :TIME."
   (let ((form (unquote form)))
-    (cond ((realp form) `(:num ,(to-double form)))
+    (cond ((realp form) `(:num ,(to-double (check-spec-number form form "a number in an expression"))))
           ((and (symbolp form) form (find-variable-named form))
            (let ((var (find-variable-named form)))
              (unless (or (member (var-kind var) '(:number :time))
@@ -172,5 +172,5 @@ and runtime-only variables are allowed too."
 event (or macro); anything else is an absolute time expression."
   (let ((form (unquote form)))
     (if (realp form)
-        `(:relative ,(to-double form))
+        `(:relative ,(spec-seconds form form ":time"))
         `(:absolute ,(parse-number-expression form)))))

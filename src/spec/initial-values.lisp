@@ -17,7 +17,7 @@ Signals a SPEC-ERROR naming (VAR . RAW) when RAW does not fit."
       (:enumerated (value-index var raw form))
       (:number (runtime-number var raw form))
       (:time (if (realp raw)
-                 (to-double raw)
+                 (spec-seconds raw form (format nil "time variable ~A" (lisp-text (var-name var))))
                  (spec-fail 'type-error-in-spec form "time variable ~A needs a number of seconds"
                             (lisp-text (var-name var))))))))
 

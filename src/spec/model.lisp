@@ -126,3 +126,34 @@
   ;; Time variables this event sets.
   (time-variables '() :type list)
   (form nil))
+
+;;;# At the REPL: one line each (DESCRIBE shows the slots)
+
+(defmethod print-object ((spec spec) stream)
+  (print-unreadable-object (spec stream :type t)
+    (format stream "~A ~D var~:P, ~D op~:P, ~D event~:P" (lisp-text (spec-name spec))
+            (length (spec-variables spec)) (length (spec-ops spec)) (length (spec-events spec)))))
+
+(defmethod print-object ((var variable-def) stream)
+  (print-unreadable-object (var stream :type t)
+    (format stream "~A ~(~A~)~@[ ~A~]" (lisp-text (var-name var)) (var-type var)
+            (and (eq (var-kind var) :enumerated) (bounded-lisp-text (coerce (var-domain var) 'list) 60)))))
+
+(defmethod print-object ((op op-def) stream)
+  (print-unreadable-object (op stream :type t)
+    (format stream "~A ~(~A~) ~As" (lisp-text (op-name op)) (op-kind op) (format-number (op-duration op)))))
+
+(defmethod print-object ((event event-def) stream)
+  (print-unreadable-object (event stream :type t)
+    (format stream "~A ~D directive~:P" (lisp-text (event-name event)) (length (event-directives event)))))
+
+(defmethod print-object ((class class-def) stream)
+  (print-unreadable-object (class stream :type t)
+    (write-string (lisp-text (state-class-name class)) stream)))
+
+(defmethod print-object ((auto autoscript-def) stream)
+  (print-unreadable-object (auto stream :type t)
+    (if (autoscript-variable auto)
+        (format stream "~A=~A ~A" (lisp-text (var-name (autoscript-variable auto)))
+                (lisp-text (autoscript-value auto)) (bounded-lisp-text (autoscript-procs auto) 60))
+        (write-string (bounded-lisp-text (autoscript-procs auto) 60) stream))))

@@ -88,7 +88,10 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
     (spec-fail 'spec-syntax-error form "expected (state-variable NAME TYPE INITIAL [VALUES])"))
   (destructuring-bind (name type initial &optional (values nil values-p)) (rest form)
     (let* ((name (require-name name form "a variable name"))
-           (type (parse-variable-type type form))
+           (type (progn (when (boolean-word name)
+                          (spec-fail 'spec-syntax-error form "~A is a boolean word, not a variable name"
+                                     (lisp-text name)))
+                        (parse-variable-type type form)))
            (initial (unquote initial))
            (values (unquote values))
            (var (make-variable-def :name name :type type :form form)))
@@ -121,20 +124,21 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
       var)))
 
 (defun check-number (value type form name)
-  "VALUE if it is of TYPE, else a type error naming variable NAME."
-  (unless (typep value type)
-    (spec-fail 'type-error-in-spec form "initial value ~A of ~A is not ~:[a number~;an integer~]"
-               (lisp-text value) (lisp-text name) (eq type 'integer)))
+  "VALUE if it is of TYPE and in range (an integer of 64 bits, a finite real),
+else a type error naming variable NAME."
+  (unless (and (typep value type) (finite-real-p value) (or (not (integerp value)) (int64-p value)))
+    (spec-fail 'type-error-in-spec form "initial value ~A of ~A is not ~:[a finite number~;an integer from -2^63 to 2^63-1~]"
+               (bounded-lisp-text value 40) (lisp-text name) (eq type 'integer)))
   value)
 
 (defun parse-domain (values type form)
   "The domain vector of an enumerated variable, checked for type and duplicates."
   (dolist (value values)
     (unless (if (eq type :integer)
-                (integerp value)
+                (int64-p value)
                 (or (stringp value) (and (symbolp value) value (not (keywordp value)))))
-      (spec-fail 'type-error-in-spec form "value ~A is not ~:[a name~;an integer~]"
-                 (lisp-text value) (eq type :integer))))
+      (spec-fail 'type-error-in-spec form "value ~A is not ~:[a name~;an integer from -2^63 to 2^63-1~]"
+                 (bounded-lisp-text value 40) (eq type :integer))))
   (let ((names (mapcar (lambda (v) (string-upcase (value-name v))) values)))
     (when (/= (length names) (length (remove-duplicates names :test #'string=)))
       (spec-fail 'duplicate-definition form "VALUES lists a value twice")))
@@ -240,9 +244,15 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
                         ((expression-form-p states) (list states))
                         (t states))))))
 
-(defun literal-list (lits)
-  "LITS (one literal or a list of them) as a list."
-  (if (and (listp lits) (not (expression-form-p lits))) lits (list lits)))
+(defun literal-list (lits &optional form)
+  "LITS (one literal or a proper list of them) as a list; a SPEC-SYNTAX-ERROR
+about FORM for a dotted list."
+  (cond ((not (listp lits)) (list lits))
+        ((not (proper-list-p lits))
+         (spec-fail 'spec-syntax-error form "~A is not a literal or a list of literals"
+                    (bounded-lisp-text lits 60)))
+        ((expression-form-p lits) (list lits))
+        (t lits)))
 
 (defun parse-effect (lit addp form)
   "Parse one :ADD (ADDP true) or :SUB literal of an op: (VARIABLE-DEF . VALUE-INDEX)."
@@ -268,9 +278,9 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
 (defun parse-effects (options form)
   "The merged :ADD and :SUB effects of an op; contradictions are errors."
   (let ((effects (append (mapcar (lambda (l) (parse-effect l t form))
-                                 (literal-list (getf options :add)))
+                                 (literal-list (getf options :add) form))
                          (mapcar (lambda (l) (parse-effect l nil form))
-                                 (literal-list (getf options :sub))))))
+                                 (literal-list (getf options :sub) form)))))
     (loop for ((var . index) . rest) on effects
           for clash = (find var rest :key #'car)
           when (and clash (/= index (cdr clash)))
@@ -317,10 +327,7 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
 
 (defun parse-duration (options form)
   "The :DURATION of OPTIONS in seconds (default 1)."
-  (let ((duration (getf options :duration 1)))
-    (unless (and (realp duration) (>= duration 0))
-      (spec-fail 'type-error-in-spec form ":duration must be a non-negative number of seconds"))
-    (to-double duration)))
+  (spec-seconds (getf options :duration 1) form ":duration" :minimum 0))
 
 (defun parse-c++ (text form)
   "A :C++ option's text, which must be a string."
@@ -368,11 +375,12 @@ Signals a SPEC-ERROR naming the offending form when BODY is malformed."
                            :form form)))))))
 
 (defun runtime-number (var value form)
-  "VALUE as a value of number variable VAR: an integer, or a double for floats."
-  (cond ((and (eq (var-type var) :integer) (integerp value)) value)
-        ((and (eq (var-type var) :float) (realp value)) (to-double value))
-        (t (spec-fail 'type-error-in-spec form "~A is not ~:[a number~;an integer~] for ~A"
-                      (lisp-text value) (eq (var-type var) :integer) (lisp-text (var-name var))))))
+  "VALUE as a value of number variable VAR: an integer of 64 bits, or a finite
+double for floats."
+  (cond ((and (eq (var-type var) :integer) (int64-p value)) value)
+        ((and (eq (var-type var) :float) (finite-real-p value)) (to-double value))
+        (t (spec-fail 'type-error-in-spec form "~A is not ~:[a finite number~;an integer from -2^63 to 2^63-1~] for ~A"
+                      (bounded-lisp-text value 40) (eq (var-type var) :integer) (lisp-text (var-name var))))))
 
 (defun define-event (form)
   "Parse (event NAME DIRECTIVE...)."

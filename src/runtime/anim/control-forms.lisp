@@ -92,8 +92,8 @@ kinds otherwise."
 (radians, see QUAT-FROM-EULER); (:degrees X Y Z) (the same in degrees). Signals a ANIM-CONTROL-ERROR naming FORM otherwise."
   (flet ((reals (list count)
            (unless (and (listp list) (null (cdr (last list))) (= (length list) count)
-                        (every #'realp list))
-             (control-fail form "~(~A~) takes ~D real numbers" (first form) count))
+                        (every #'finite-number-p list))
+             (control-fail form "~(~A~) takes ~D finite real numbers" (first form) count))
            list))
     (cond ((or (realp form) (vec3-p form) (quat-p form)) (canonical-value form))
           ((not (consp form))
@@ -106,8 +106,9 @@ kinds otherwise."
                (:degrees (apply #'quat-from-euler
                                 (mapcar (lambda (d) (* d (/ pi 180))) (reals (rest form) 3))))
                (:axis-angle
-                (unless (and (= (length form) 3) (realp (third form)))
-                  (control-fail form "(:axis-angle (x y z) angle) takes an axis and a real angle"))
+                (unless (and (alexandria:proper-list-p form) (= (length form) 3)
+                             (finite-number-p (third form)))
+                  (control-fail form "(:axis-angle (x y z) angle) takes an axis and a finite real angle"))
                 (quat-from-axis-angle (apply #'make-vec3 (reals (second form) 3)) (third form)))
                (t (control-fail form "unknown value form (expected :vec3, :quat, :axis-angle, :euler or :degrees)")))))))
 
@@ -127,7 +128,16 @@ kinds otherwise."
   (:keys ((TIME . VALUE)...) [:interpolation MODE] [:loop BOOLEAN])
   (:noise [:seed N] [:amplitude A] [:frequency F] [:kind KIND])
   (:sum CONTROL...)  (:product CONTROL...)
-A CONTROL object stands for itself. Signals a ANIM-CONTROL-ERROR naming the offending form."
+A CONTROL object stands for itself. Signals a ANIM-CONTROL-ERROR naming the
+offending form; a circular FORM, or one nested too deeply, is also an
+ARGUMENT-ERROR."
+  (check-argument 'parse-control 'form form #'bounded-form-p
+                  (format nil "a control form, not circular nor nested more than ~D deep" *max-form-depth*)
+                  'control-argument-error)
+  (%parse-control form))
+
+(defun %parse-control (form)
+  "PARSE-CONTROL of FORM, known to be a bounded tree."
   (cond ((control-p form) form)
         ((not (and (consp form) (member (first form) '(:constant :keys :noise :sum :product))))
          (make-constant-control (parse-value form)))
@@ -159,4 +169,4 @@ A CONTROL object stands for itself. Signals a ANIM-CONTROL-ERROR naming the offe
                 (when (null arguments)
                   (control-fail form "a ~(~A~) needs at least one control" head))
                 (apply (if (eq head :sum) #'make-sum-control #'make-product-control)
-                       (mapcar #'parse-control arguments))))))))
+                       (mapcar #'%parse-control arguments))))))))

@@ -17,6 +17,11 @@
   (:documentation "A control is malformed: bad keys, an unknown interpolation mode,
 values of mismatched kinds, or a bad argument. FORM is the offending form or value."))
 
+(define-condition control-argument-error (argument-error anim-control-error)
+  ()
+  (:documentation "A control function was called with a bad argument: both an
+ARGUMENT-ERROR (naming the function and argument) and an ANIM-CONTROL-ERROR."))
+
 (defun control-fail (form control &rest arguments)
   "Signal a ANIM-CONTROL-ERROR about FORM, with a message from CONTROL and ARGUMENTS."
   (apply #'anim-fail 'anim-control-error form control arguments))
@@ -28,11 +33,18 @@ values of mismatched kinds, or a bad argument. FORM is the offending form or val
   '(member :number :vec3 :quat))
 
 (defun value-kind-of (value)
-  "The VALUE-KIND of VALUE (a real, VEC3 or QUAT); signals a ANIM-CONTROL-ERROR for anything else."
+  "The VALUE-KIND of VALUE (a finite real, VEC3 or QUAT); signals a
+ANIM-CONTROL-ERROR for anything else, or for a NaN or infinity in it."
   (typecase value
-    (real :number)
-    (vec3 :vec3)
-    (quat :quat)
+    (real (if (finite-number-p value)
+              :number
+              (control-fail value "a control value must be a finite number")))
+    (vec3 (if (finite-vec3-p value)
+              :vec3
+              (control-fail value "a control value's coordinates must be finite numbers")))
+    (quat (if (finite-quat-p value)
+              :quat
+              (control-fail value "a control value's components must be finite numbers")))
     (t (control-fail value "a control value must be a number, a vec3 or a quat"))))
 
 (defun canonical-value (value)
@@ -65,7 +77,7 @@ of no known kind."
   (etypecase a
     (double-float (+ a (* u (- (the double-float b) a))))
     (vec3 (vlerp a b u))
-    (quat (qslerp a b u))))
+    (quat (%qslerp a b u))))
 
 (defun hermite-value (p0 m0 p1 m1 h u)
   "The cubic Hermite curve at U in [0, 1] from value P0 (slope M0 per second) to
@@ -106,9 +118,15 @@ Signals a ANIM-CONTROL-ERROR when TIME is not a real."))
 
 (defmethod control-value :around ((control control) time)
   "Check TIME and pass it on as a double-float."
-  (unless (realp time)
-    (control-fail time "the time of a control must be a real number of seconds"))
+  (unless (seconds-p time)
+    (argument-fail 'control-value 'time time (seconds-phrase) 'control-argument-error))
   (call-next-method control (float time 1d0)))
+
+(defmethod control-value (control time)
+  "Anything but a control is an argument error."
+  (declare (ignore time))
+  (argument-fail 'control-value 'control control "a control (from parse-control, say)"
+                 'control-argument-error))
 
 ;;;# Constants
 

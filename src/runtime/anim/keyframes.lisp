@@ -23,15 +23,17 @@ holds per-key slopes (Catmull-Rom numbers and vectors) or SQUAD control points
   (period 0d0 :type double-float :read-only t))
 
 (defun check-key (key)
-  "Signal a ANIM-CONTROL-ERROR unless KEY is a (TIME . VALUE) cons with a real TIME."
-  (unless (and (consp key) (realp (car key)))
-    (control-fail key "a key must be a (time . value) pair with a real time")))
+  "Signal a ANIM-CONTROL-ERROR unless KEY is a (TIME . VALUE) cons with a finite
+real TIME within +-*MAX-SECONDS*."
+  (unless (and (consp key) (seconds-p (car key)))
+    (control-fail key "a key must be a (time . value) pair with a real time, a finite number of seconds")))
 
 (defun check-keys (keys)
   "Check the key list KEYS: a nonempty proper list of (TIME . VALUE) keys with
 strictly increasing times and values of one kind. Return that kind."
-  (unless (and (listp keys) (null (cdr (last keys))))
-    (control-fail keys "keys must be a list of (time . value) pairs"))
+  (unless (proper-form-list-p keys)
+    (control-fail keys
+                  "keys must be a proper list of (time . value) pairs"))
   (when (null keys)
     (error 'anim-control-error :message "a keys control needs at least one key"))
   (mapc #'check-key keys)
@@ -107,7 +109,10 @@ interpolate by QSLERP for :linear and :ease-in-out and by QSQUAD for
 :catmull-rom. Before the first key and after the last the end values hold;
 when LOOP is true, time wraps instead with period (last time - first time), so
 the last key should repeat the first. Signals a ANIM-CONTROL-ERROR for an empty,
-unsorted or malformed key list, values of mixed kinds, or an unknown mode."
+unsorted or malformed key list, values of mixed kinds, or an unknown mode;
+KEYS that are circular, or not a list, are also an ARGUMENT-ERROR."
+  (check-argument 'make-keys-control 'keys keys #'proper-form-list-p
+                  "a proper list of (time . value) pairs" 'control-argument-error)
   (when (eq interpolation :ease)         ; the short name authors reach for
     (setf interpolation :ease-in-out))
   (check-interpolation interpolation)
@@ -156,7 +161,7 @@ TIME within [TIMES[0], TIMES[N-1]), by binary search."
       (:catmull-rom
        (let ((tangents (keys-control-tangents control)))
          (if (eq (control-kind control) :quat)
-             (qsquad (svref key-values i) (svref key-values (1+ i))
+             (%qsquad (svref key-values i) (svref key-values (1+ i))
                      (svref tangents i) (svref tangents (1+ i)) u)
              (hermite-value (svref key-values i) (svref tangents i)
                             (svref key-values (1+ i)) (svref tangents (1+ i))

@@ -47,10 +47,10 @@ channels; :quat the rotation by Euler angles (QUAT-FROM-EULER) of three such
 channels, in radians. Signals a ANIM-CONTROL-ERROR for a bad argument."
   (unless (integerp seed)
     (control-fail seed "the seed of a noise control must be an integer"))
-  (unless (and (realp amplitude) (>= amplitude 0))
+  (unless (and (finite-number-p amplitude) (>= amplitude 0))
     (control-fail amplitude "the amplitude of a noise control must be a nonnegative real"))
-  (unless (and (realp frequency) (> frequency 0))
-    (control-fail frequency "the frequency of a noise control must be a positive real"))
+  (unless (and (finite-number-p frequency) (< 0 frequency 1d6))
+    (control-fail frequency "the frequency of a noise control must be a positive real below 1e6"))
   (unless (typep kind 'value-kind)
     (control-fail kind "unknown noise kind (expected :number, :vec3 or :quat)"))
   (%make-noise-control :kind kind :seed (ldb (byte 32 0) seed)

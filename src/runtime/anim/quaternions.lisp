@@ -14,6 +14,12 @@
   (y 0d0 :type double-float)
   (z 0d0 :type double-float))
 
+(defun finite-quat-p (x)
+  "Is X a QUAT whose components are finite (no NaN, no infinity)?"
+  (and (quat-p x)
+       (finite-number-p (quat-w x)) (finite-number-p (quat-x x))
+       (finite-number-p (quat-y x)) (finite-number-p (quat-z x))))
+
 (defun make-quat (w x y z)
   "The quaternion of the reals W, X, Y, Z, coerced to double-float (not normalized)."
   (quat (float w 1d0) (float x 1d0) (float y 1d0) (float z 1d0)))
@@ -193,7 +199,7 @@ unit quaternion (QW QX QY QZ): v + 2w(u x v) + 2u x (u x v), with u = (QX QY QZ)
 
 ;;;## Interpolation
 
-(declaim (ftype (function (quat quat double-float) quat) qslerp qnlerp %qslerp-long)
+(declaim (ftype (function (quat quat double-float) quat) %qslerp qnlerp %qslerp-long)
          (ftype (function (quat) quat) qlog qexp))
 
 (defun qnlerp (a b u)
@@ -225,7 +231,17 @@ great arc through them, without choosing the shorter way round (SQUAD needs this
 (defun qslerp (a b u)
   "Spherical linear interpolation from unit quaternion A (U = 0) to B (U = 1), new,
 at constant angular speed along the shortest path: B is negated when A . B < 0.
-Nearly parallel A and B fall back to normalized lerp."
+Nearly parallel A and B fall back to normalized lerp.  U is a finite real.
+Signals an ARGUMENT-ERROR for anything else."
+  (check-argument 'qslerp 'a a #'finite-quat-p "a quaternion with finite components"
+                  'anim-argument-error)
+  (check-argument 'qslerp 'b b #'finite-quat-p "a quaternion with finite components"
+                  'anim-argument-error)
+  (check-argument 'qslerp 'u u #'finite-number-p "a finite real" 'anim-argument-error)
+  (%qslerp a b (float u 1d0)))
+
+(defun %qslerp (a b u)
+  "QSLERP without the argument checks, for the animation engine's inner loops."
   (declare #.*anim-optimize*)
   (%qslerp-long a (if (minusp (qdot a b)) (qnegate b) b) u))
 
@@ -263,6 +279,21 @@ The three should lie in one hemisphere (see QSLERP)."
                       (* -0.25d0 (+ (quat-z a) (quat-z b))))))))
 
 (defun qsquad (q1 q2 s1 s2 u)
+  "Spherical quadrangle interpolation from unit quaternion Q1 (U = 0) to Q2 (U = 1)
+with control points S1 and S2 (see %QSQUAD).  U is a finite real.  Signals an
+ARGUMENT-ERROR for anything else."
+  (check-argument 'qsquad 'q1 q1 #'finite-quat-p "a quaternion with finite components"
+                  'anim-argument-error)
+  (check-argument 'qsquad 'q2 q2 #'finite-quat-p "a quaternion with finite components"
+                  'anim-argument-error)
+  (check-argument 'qsquad 's1 s1 #'finite-quat-p "a quaternion with finite components"
+                  'anim-argument-error)
+  (check-argument 'qsquad 's2 s2 #'finite-quat-p "a quaternion with finite components"
+                  'anim-argument-error)
+  (check-argument 'qsquad 'u u #'finite-number-p "a finite real" 'anim-argument-error)
+  (%qsquad q1 q2 s1 s2 (float u 1d0)))
+
+(defun %qsquad (q1 q2 s1 s2 u)
   "Spherical quadrangle interpolation from unit quaternion Q1 (U = 0) to Q2 (U = 1)
 with control points S1 and S2 (from SQUAD-CONTROL-POINT):
 slerp(slerp(Q1, Q2, U), slerp(S1, S2, U), 2U(1-U)). Successive segments sharing

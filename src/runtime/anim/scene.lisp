@@ -9,10 +9,10 @@
 ;;;# Property types
 
 (defparameter *property-types*
-  '((:number realp "a number")
-    (:vector vec3-p "a vector (vec3)")
-    (:rotation quat-p "a rotation (a unit quaternion)")
-    (:colour vec3-p "a colour (vec3 of red, green, blue in [0, 1])")
+  '((:number finite-number-p "a finite number")
+    (:vector finite-vec3-p "a vector (vec3) of finite numbers")
+    (:rotation finite-quat-p "a rotation (a unit quaternion)")
+    (:colour finite-vec3-p "a colour (vec3 of red, green, blue in [0, 1])")
     (:boolean boolean-value-p "T or NIL"))
   "The types a scene property may have: (TYPE PREDICATE DESCRIPTION).")
 
@@ -30,8 +30,8 @@ does not have TYPE."
                    (anim-fail 'anim-error form "unknown property type ~A (known: ~{~A~^ ~})"
                               (lisp-text type) (mapcar #'car *property-types*)))))
     (unless (funcall (second entry) value)
-      (anim-fail 'anim-error form "~A must be ~A, not ~A" (anim-text form) (third entry)
-                 (anim-text value)))
+      (anim-fail 'anim-error form "~A must be ~A, not ~A" (bounded-anim-text form) (third entry)
+                 (bounded-anim-text value)))
     (case type
       (:number (float value 1d0))
       (:rotation (if (zerop (qnorm value))
@@ -73,8 +73,21 @@ VISIBLE (boolean); others are declared with DEFINE-PROPERTY."))
                                                (:rotation rotation)
                                                (:boolean t)))))
 
+(defun scene-object-p (x)
+  "Is X a scene object?"
+  (typep x 'scene-object))
+
+(defun property-types-phrase ()
+  "The property types, for messages."
+  (format nil "a property type (~{~(~S~)~^, ~})" (mapcar #'car *property-types*)))
+
 (defun define-property (object name type value)
   "Give OBJECT the property NAME (a symbol, compared by name) of TYPE, set to VALUE."
+  (check-argument 'define-property 'object object #'scene-object-p "a scene object" 'anim-argument-error)
+  (check-argument 'define-property 'name name #'string-designator-p "a property name (a symbol or string)"
+                  'anim-argument-error)
+  (check-argument 'define-property 'type type #'property-type-p (property-types-phrase)
+                  'anim-argument-error)
   (let ((key (string name)))
     (setf (gethash key (object-property-types object)) type)
     (setf (gethash key (object-property-values object))
@@ -93,11 +106,18 @@ VISIBLE (boolean); others are declared with DEFINE-PROPERTY."))
 
 (defun property-value (object name)
   "The current value of OBJECT's property NAME (do not modify it)."
+  (check-argument 'property-value 'object object #'scene-object-p "a scene object" 'anim-argument-error)
+  (check-argument 'property-value 'name name #'string-designator-p "a property name (a symbol or string)"
+                  'anim-argument-error)
   (property-type object name)
   (gethash (string name) (object-property-values object)))
 
 (defun (setf property-value) (value object name)
   "Set OBJECT's property NAME to VALUE, checked against its type."
+  (check-argument '(setf property-value) 'object object #'scene-object-p "a scene object"
+                  'anim-argument-error)
+  (check-argument '(setf property-value) 'name name #'string-designator-p "a property name (a symbol or string)"
+                  'anim-argument-error)
   (let ((type (property-type object name)))
     (setf (gethash (string name) (object-property-values object))
           (coerce-property-value value type (list (object-name object) name)))))
@@ -125,10 +145,14 @@ hanging from a joint; only bodies have joints.")
 
 (defun object-world-transform (object)
   "OBJECT's transform in the world: its parent's world transform times its local one."
+  (check-argument 'object-world-transform 'object object #'scene-object-p "a scene object"
+                  'anim-argument-error)
   (transform-compose (parent-world-transform object) (object-local-transform object)))
 
 (defun object-world-position (object)
   "Where OBJECT is in the world, as a new vec3."
+  (check-argument 'object-world-position 'object object #'scene-object-p "a scene object"
+                  'anim-argument-error)
   (transform-translation (object-world-transform object)))
 
 ;;;# Scenes
@@ -143,6 +167,9 @@ hanging from a joint; only bodies have joints.")
 (defun find-object (scene name &optional (errorp t))
   "SCENE's object called NAME (compared by name); an ANIM-ERROR listing the
 objects, or NIL without ERRORP, when there is none."
+  (check-argument 'find-object 'scene scene (lambda (x) (typep x 'scene)) "a scene" 'anim-argument-error)
+  (check-argument 'find-object 'name name #'string-designator-p "an object's name (a symbol or string)"
+                  'anim-argument-error)
   (or (gethash (string name) (scene-index scene))
       (and errorp
            (anim-fail 'anim-error name "the scene has no object ~A (objects: ~{~A~^ ~})"
@@ -151,6 +178,8 @@ objects, or NIL without ERRORP, when there is none."
 
 (defun add-object (scene object)
   "Add OBJECT to SCENE; an ANIM-ERROR when the name is taken.  Returns OBJECT."
+  (check-argument 'add-object 'scene scene (lambda (x) (typep x 'scene)) "a scene" 'anim-argument-error)
+  (check-argument 'add-object 'object object #'scene-object-p "a scene object" 'anim-argument-error)
   (when (find-object scene (object-name object) nil)
     (anim-fail 'anim-error (object-name object) "the scene already has an object ~A"
                (lisp-text (object-name object))))
@@ -169,6 +198,11 @@ objects, or NIL without ERRORP, when there is none."
   "Hang OBJECT from NEW-PARENT: NIL, a scene object, or (OBJECT . JOINT-NAME).
 With KEEP-WORLD, OBJECT's local transform changes so that it stays where it is
 in the world.  An ANIM-ERROR, with nothing changed, for a cycle."
+  (check-argument 'reparent-object 'object object #'scene-object-p "a scene object" 'anim-argument-error)
+  (check-argument 'reparent-object 'new-parent new-parent
+                  (lambda (x) (or (null x) (scene-object-p x)
+                                  (and (consp x) (scene-object-p (car x)) (string-designator-p (cdr x)))))
+                  "NIL, a scene object or (object . joint-name)" 'anim-argument-error)
   (let ((parent-object (if (consp new-parent) (car new-parent) new-parent)))
     (when (and parent-object (object-ancestor-p object parent-object))
       (anim-fail 'anim-error (object-name object) "cannot hang ~A from ~A: that would make a cycle"

@@ -14,6 +14,13 @@ vectors: the rotation is the upper-left 3x3, the translation the last column,
 the last row (0 0 0 1)."
   '(simple-array double-float (4 4)))
 
+(defun bounded-anim-text (object)
+  "ANIM-TEXT of OBJECT when it is a tree of bounded depth; else BOUNDED-LISP-TEXT,
+so a circular form in an error message cannot hang the report.  Float traps
+are masked, so a NaN prints as nan."
+  (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
+    (if (bounded-form-p object) (anim-text object) (bounded-lisp-text object 160))))
+
 (defun anim-text (object)
   "OBJECT as text for messages: vectors as (vec3 X Y Z), quaternions as
 (quat W X Y Z), lists element by element, anything else as LISP-TEXT."
@@ -194,11 +201,27 @@ into the MAT4 RESULT (new by default; it may be M) and returned."
   (declare #.*anim-optimize*)
   (ntransform-vector m (copy-vec3 v)))
 
-(defun world-transforms (parents locals &optional
-                                          (worlds (map 'simple-vector
-                                                       (lambda (m) (declare (ignore m))
-                                                         (identity-transform))
-                                                       locals)))
+(defun world-transforms (parents locals &optional worlds)
+  "The world transforms of a hierarchy, stored into the simple-vector WORLDS of
+MAT4s (new by default) and returned; see %WORLD-TRANSFORMS.  Signals an
+ARGUMENT-ERROR for PARENTS that is not a vector, LOCALS that is not a vector of
+as many MAT4s, or WORLDS that is not a simple-vector of as many MAT4s."
+  (check-argument 'world-transforms 'parents parents #'vectorp
+                  "a vector of parent indices (NIL or -1 for a root)" 'anim-argument-error)
+  (check-argument 'world-transforms 'locals locals
+                  (lambda (x) (and (vectorp x) (= (length x) (length parents))
+                                   (every (lambda (m) (typep m 'mat4)) x)))
+                  (format nil "a vector of ~D MAT4s, one per parent" (length parents)) 'anim-argument-error)
+  (when worlds
+    (check-argument 'world-transforms 'worlds worlds
+                    (lambda (x) (and (simple-vector-p x) (= (length x) (length locals))
+                                     (every (lambda (m) (typep m 'mat4)) x)))
+                    (format nil "NIL or a simple-vector of ~D MAT4s" (length locals)) 'anim-argument-error))
+  (%world-transforms parents locals
+                     (or worlds (map 'simple-vector (lambda (m) (declare (ignore m)) (identity-transform))
+                                     locals))))
+
+(defun %world-transforms (parents locals worlds)
   "The world transforms of a hierarchy, stored into the simple-vector WORLDS of
 MAT4s (new by default) and returned. PARENTS is a vector of each node's parent
 index, or NIL (or -1) for a root, with every parent before its children; LOCALS

@@ -22,9 +22,14 @@ TYPE-ERROR instead of corrupting memory."))
              (write-string (anim-error-message condition) stream)
              (when (slot-boundp condition 'form)
                (format stream " in ~A"
-                       (truncate-text (anim-text (anim-error-form condition)) 160)))))
+                       (truncate-text (bounded-anim-text (anim-error-form condition)) 160)))))
   (:documentation "Root of the errors of the animation engine (hierarchies, controls).
 FORM, when bound, is the offending form or value."))
+
+(define-condition anim-argument-error (argument-error anim-error)
+  ()
+  (:documentation "A function of the animation engine was called with a bad
+argument: both an ARGUMENT-ERROR (naming the function and argument) and an ANIM-ERROR."))
 
 (defun anim-fail (class form control &rest arguments)
   "Signal an ANIM-ERROR of CLASS about FORM, with a message from CONTROL and ARGUMENTS."
@@ -39,6 +44,11 @@ FORM, when bound, is the offending form or value."))
   (x 0d0 :type double-float)
   (y 0d0 :type double-float)
   (z 0d0 :type double-float))
+
+(defun finite-vec3-p (x)
+  "Is X a VEC3 whose coordinates are finite (no NaN, no infinity)?"
+  (and (vec3-p x)
+       (finite-number-p (vec3-x x)) (finite-number-p (vec3-y x)) (finite-number-p (vec3-z x))))
 
 (defun make-vec3 (x y z)
   "A VEC3 of the reals X, Y and Z, coerced to double-float."

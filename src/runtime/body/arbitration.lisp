@@ -92,8 +92,8 @@ change of owner."
   "A new arbitrator with no channels held.  BLEND-TIME (seconds) is how long a
 change of owner blends unless a request or release says otherwise; CLOCK is the
 time used when a request or release gives no :TIME."
-  (check-type blend-time (real 0))
-  (check-type clock real)
+  (check-real 'make-arbitrator :blend-time blend-time :minimum 0 :maximum *max-seconds*)
+  (check-seconds 'make-arbitrator :clock clock)
   (%make-arbitrator :blend-time blend-time :clock clock))
 
 (defmethod print-object ((arbitrator arbitrator) stream)
@@ -106,8 +106,32 @@ time used when a request or release gives no :TIME."
 ;;; ---------------------------------------------------------------------------
 ;;; Queries
 
+(defun check-arbitrator (function arbitrator)
+  "ARBITRATOR, when it is one; else an ARGUMENT-ERROR of FUNCTION."
+  (check-argument function 'arbitrator arbitrator #'arbitrator-p "an arbitrator (from make-arbitrator)"))
+
+(defun check-channels (function channels)
+  "CHANNELS, one channel or a proper list of them; else an ARGUMENT-ERROR of FUNCTION."
+  (check-argument function 'channels channels
+                  (lambda (x) (or (atom x) (and (alexandria:proper-list-p x) (bounded-form-p x))))
+                  "a channel or a proper list of channels"))
+
+(defun check-driver (function driver &optional (argument 'driver))
+  "DRIVER, any object but NIL; else an ARGUMENT-ERROR of FUNCTION."
+  (check-argument function argument driver #'identity "a driver (any object but NIL)"))
+
+(defun check-time-and-blend (function arbitrator time blend)
+  "TIME and BLEND, defaulted from ARBITRATOR and checked, as two values."
+  (values (if time
+              (progn (check-seconds function :time time) time)
+              (arbitrator-clock arbitrator))
+          (if blend
+              (check-real function :blend blend :minimum 0 :maximum *max-seconds*)
+              (arbitrator-blend-time arbitrator))))
+
 (defun channel-owner (arbitrator channel)
   "The driver that owns CHANNEL in ARBITRATOR, or NIL."
+  (check-arbitrator 'channel-owner arbitrator)
   (let ((state (gethash channel (arbitrator-channels arbitrator))))
     (and state (channel-state-requests state)
          (channel-request-driver (first (channel-state-requests state))))))
@@ -155,6 +179,8 @@ from the previous owner's output (or the rest pose, for a channel that was free)
 0 at the handover, rising linearly to 1 after its blend duration.  1 for a
 channel whose owner never changed or whose blend duration is zero.  When the
 channel has become free, it is the weight of the rest pose."
+  (check-arbitrator 'channel-blend-weight arbitrator)
+  (check-seconds 'channel-blend-weight 'time time)
   (multiple-value-bind (handover duration) (channel-handover arbitrator channel)
     (cond ((null handover) 1)
           ((zerop duration) (if (>= time handover) 1 0))
@@ -189,7 +215,7 @@ ARBITRATION-ERROR when there is none."
           ((and record (driver-record-priority record)))
           ((driver-priority driver))
           (t (arbitration-fail "driver ~A has no priority: give :priority, define ~
-                                DRIVER-PRIORITY, or make it a slave" driver)))))
+                                DRIVER-PRIORITY, or make it a slave" (argument-value-text driver))))))
 
 (defun masters-of (arbitrator driver)
   "DRIVER's master, its master's master, and so on."
@@ -245,21 +271,26 @@ slave, that lost) has released CHANNEL, a grant once SUBJECT no longer owns it."
 ;;; ---------------------------------------------------------------------------
 ;;; Requests and releases
 
-(defun request-channels (arbitrator driver channels
-                         &key priority (time (arbitrator-clock arbitrator))
-                              (blend (arbitrator-blend-time arbitrator)))
+(defun request-channels (arbitrator driver channels &key priority time blend)
   "Request CHANNELS (a list, or one channel) for DRIVER at PRIORITY (a real;
 higher wins).  Without PRIORITY a slave uses its master's, other drivers their
 last one or DRIVER-PRIORITY.  A channel DRIVER already requested takes the new
 priority and keeps its place in time.  Usurped owners are told through
 ON-CHANNEL-LOSS after all CHANNELS are settled; each change of owner is stamped
 at TIME with BLEND seconds.  Returns the channels among CHANNELS that DRIVER now
-owns.  Signals ARBITRATION-ERROR when no priority can be found."
+owns.  Signals ARBITRATION-ERROR when no priority can be found.  TIME defaults
+to the arbitrator's clock, BLEND to its blend time."
+  (check-arbitrator 'request-channels arbitrator)
+  (check-driver 'request-channels driver)
+  (check-channels 'request-channels channels)
+  (when priority (check-real 'request-channels :priority priority))
+  (multiple-value-setq (time blend) (check-time-and-blend 'request-channels arbitrator time blend))
   (let ((priority (or priority (effective-priority arbitrator driver)))
         (channels (remove-duplicates (ensure-list channels) :test #'equal :from-end t))
         (notifications '()))
-    (unless (realp priority)
-      (arbitration-fail "the priority ~S of driver ~A is not a real number" priority driver))
+    (unless (finite-number-p priority)
+      (arbitration-fail "the priority ~A of driver ~A is not a finite real number"
+                        (argument-value-text priority) (argument-value-text driver)))
     (let ((record (driver-record arbitrator driver))
           (*requesting-driver* driver))
       (unless (driver-record-master record)
@@ -285,12 +316,14 @@ owns.  Signals ARBITRATION-ERROR when no priority can be found."
     (remove-if-not (lambda (channel) (eq (channel-owner arbitrator channel) driver))
                    channels)))
 
-(defun release-channels (arbitrator driver channels
-                         &key (time (arbitrator-clock arbitrator))
-                              (blend (arbitrator-blend-time arbitrator)))
+(defun release-channels (arbitrator driver channels &key time blend)
   "Withdraw DRIVER's requests for CHANNELS (a list, or one channel).  Where DRIVER
 owned a channel, the best waiting request gets it (ON-CHANNEL-GRANT), stamped
 at TIME with BLEND seconds.  Channels DRIVER never requested are ignored."
+  (check-arbitrator 'release-channels arbitrator)
+  (check-driver 'release-channels driver)
+  (check-channels 'release-channels channels)
+  (multiple-value-setq (time blend) (check-time-and-blend 'release-channels arbitrator time blend))
   (let ((notifications '())
         (record (gethash driver (arbitrator-drivers arbitrator))))
     (when record
@@ -311,11 +344,13 @@ at TIME with BLEND seconds.  Channels DRIVER never requested are ignored."
     (notify arbitrator notifications)
     (values)))
 
-(defun release-driver (arbitrator driver &key (time (arbitrator-clock arbitrator))
-                                              (blend (arbitrator-blend-time arbitrator)))
+(defun release-driver (arbitrator driver &key time blend)
   "Release every channel of DRIVER and, first, of its slaves (recursively); detach
 the slaves and detach DRIVER from its master.  Afterwards ARBITRATOR holds no
 reference to DRIVER or its slaves."
+  (check-arbitrator 'release-driver arbitrator)
+  (check-driver 'release-driver driver)
+  (multiple-value-setq (time blend) (check-time-and-blend 'release-driver arbitrator time blend))
   (dolist (slave (driver-slaves arbitrator driver))
     (release-driver arbitrator slave :time time :blend blend))
   (let ((master (driver-master arbitrator driver)))
@@ -333,9 +368,12 @@ reference to DRIVER or its slaves."
 losses are reported to MASTER after itself, and RELEASE-DRIVER of MASTER
 releases it.  A slave has one master; adding it to another moves it.  Signals
 ARBITRATION-ERROR when MASTER is SLAVE or one of SLAVE's slaves."
+  (check-arbitrator 'add-slave arbitrator)
+  (check-driver 'add-slave master 'master)
+  (check-driver 'add-slave slave 'slave)
   (when (or (eq master slave) (member slave (masters-of arbitrator master)))
     (arbitration-fail "driver ~A cannot be a slave of ~A: masters would form a cycle"
-                      slave master))
+                      (argument-value-text slave) (argument-value-text master)))
   (let ((old (driver-master arbitrator slave)))
     (when old (remove-slave arbitrator old slave)))
   (setf (driver-record-master (driver-record arbitrator slave)) master)

@@ -36,6 +36,10 @@
   (:documentation "A character: a scene object with a skeleton and drivers.  Its
 POSITION and ROTATION place the skeleton's rest frame in the world."))
 
+(defun body-p (x)
+  "Is X a body?"
+  (typep x 'body))
+
 (defmethod initialize-instance :after ((body body) &key)
   (let* ((skeleton (body-skeleton body))
          (count (skeleton-dof-count skeleton)))
@@ -57,6 +61,18 @@ POSITION and ROTATION place the skeleton's rest frame in the world."))
                                      (blend-time *default-blend-time*))
   "A body called NAME with SKELETON (a SKELETON or a name for LOAD-SKELETON) in
 its rest pose, placed at POSITION with ROTATION, added to SCENE when given."
+  (check-argument 'make-body 'name name #'string-designator-p "a body's name (a symbol or string)")
+  (check-argument 'make-body 'skeleton skeleton
+                  (lambda (x) (or (skeleton-p x) (symbolp x) (pathname-designator-p x)))
+                  "a skeleton (from load-skeleton), or a name or path for load-skeleton")
+  (check-argument 'make-body :scene scene (lambda (x) (or (null x) (typep x 'scene))) "NIL or a scene")
+  (check-argument 'make-body :position position #'finite-vec3-p "a vec3 of finite numbers")
+  (check-argument 'make-body :rotation rotation
+                  (lambda (x) (and (finite-quat-p x) (plusp (qnorm x))))
+                  "a nonzero quat of finite numbers")
+  (check-real 'make-body :blend-time blend-time :minimum 0 :maximum *max-seconds*)
+  (when (and scene (find-object scene name nil))
+    (argument-fail 'make-body 'name name "a name no object of the scene has yet"))
   (let ((body (make-instance 'body :name name
                                    :skeleton (if (skeleton-p skeleton) skeleton (load-skeleton skeleton))
                                    :scene scene :position position :rotation rotation
@@ -72,13 +88,21 @@ its rest pose, placed at POSITION with ROTATION, added to SCENE when given."
 
 (defun body-add-driver (body driver)
   "Schedule DRIVER (made for BODY by MAKE-DRIVER) to start at its start time."
+  (check-argument 'body-add-driver 'body body #'body-p "a body (from make-body)")
+  (check-argument 'body-add-driver 'driver driver
+                  (lambda (x) (and (typep x 'driver) (eq (driver-body x) body)))
+                  "a driver made for this body (by make-driver)")
   (setf (body-pending body)
         (merge 'list (body-pending body) (list driver) #'< :key #'driver-start))
   driver)
 
 (defun body-stop-driver (body driver time)
   "Make DRIVER, pending or active, stop at TIME (or earlier if it ends by itself)."
-  (declare (ignore body))
+  (check-argument 'body-stop-driver 'body body #'body-p "a body (from make-body)")
+  (check-argument 'body-stop-driver 'driver driver
+                  (lambda (x) (and (typep x 'driver) (eq (driver-body x) body)))
+                  "a driver made for this body (by make-driver)")
+  (check-seconds 'body-stop-driver 'time time)
   (setf (driver-stop driver) (if (driver-stop driver) (min time (driver-stop driver)) time)))
 
 (defun next-body-event (body time)
@@ -175,12 +199,12 @@ has now and stamp the crossfade."
                           (min 1d0 (max 0d0 (/ (- time (aref (body-handovers body) i)) blend))))))
               (setf (aref base i) (+ (aref held i) (* u (- (aref base i) (aref held i))))))
             (setf (aref base i) (aref held i)))))
-    (clamp-pose skeleton base)
+    (%clamp-pose skeleton base)
     (replace pose base)
     (dolist (driver (body-active body))
       (when (driver-additive-p driver)
         (driver-drive driver time pose)))
-    (clamp-pose skeleton pose)
+    (%clamp-pose skeleton pose)
     (pose-world-transforms skeleton pose :placement (object-world-transform body)
                                          :result (body-transforms body))
     pose))
@@ -188,12 +212,14 @@ has now and stamp the crossfade."
 (defun body-evaluate (body time)
   "BODY's pose at TIME (seconds, not before the last time evaluated): drivers
 start and finish in order up to TIME, then the pose is composed.  Returns the
-pose (owned by BODY; copy it to keep it)."
+pose (owned by BODY; copy it to keep it).  TIME before the last time evaluated
+is an ARGUMENT-ERROR: make a fresh body to go back."
+  (check-argument 'body-evaluate 'body body #'body-p "a body (from make-body)")
+  (check-seconds 'body-evaluate 'time time)
   (when (and (body-time body) (< time (body-time body)))
-    (error 'player-error-with-message
-           :message (format nil "body ~A: cannot evaluate at ~A after ~A; make a fresh body to go back"
-                            (lisp-text (object-name body)) (format-number time)
-                            (format-number (body-time body)))))
+    (argument-fail 'body-evaluate 'time time
+                   (format nil "a time not before ~A, when body ~A was last evaluated (make a fresh body to go back)"
+                           (format-number (body-time body)) (lisp-text (object-name body)))))
   (loop
     (multiple-value-bind (kind driver when) (next-body-event body time)
       (unless kind (return))
@@ -206,8 +232,16 @@ pose (owned by BODY; copy it to keep it)."
 
 (defun body-joint-position (body joint-name)
   "Where BODY's joint JOINT-NAME (or the joint of a role keyword) is, at the last evaluation."
+  (check-argument 'body-joint-position 'body body #'body-p "a body (from make-body)")
+  (check-argument 'body-joint-position 'joint-name joint-name #'string-designator-p
+                  "a joint's name (a symbol or string) or a role keyword")
   (let ((joint (if (keywordp joint-name)
-                   (skeleton-role (body-skeleton body) joint-name)
+                   (let ((filled (skeleton-role (body-skeleton body) joint-name)))
+                     (cond ((body-joint-p filled) filled)
+                           ((and (consp filled) (body-joint-p (car (last filled)))) (car (last filled)))
+                           (t (skeleton-fail joint-name "skeleton ~A fills no role ~A"
+                                             (lisp-text (skeleton-name (body-skeleton body)))
+                                             (lisp-text joint-name)))))
                    (find-joint (body-skeleton body) joint-name t))))
     (joint-world-position (body-transforms body) joint)))
 
@@ -235,6 +269,12 @@ pose (owned by BODY; copy it to keep it)."
   "The world point TARGET (a :target form) names, seen from BODY.  A joint of
 BODY itself is placed by POSE when given (the pose being composed), else by
 BODY's last evaluation.  An :offset is in the frame of the joint or object."
+  (check-argument 'resolve-target 'body body #'body-p "a body (from make-body)")
+  (check-argument 'resolve-target 'target target #'target-form-p
+                  "a target: (:point x y z), (:object name) or (:joint object joint), each with an optional :offset (x y z)")
+  (when pose
+    (check-argument 'resolve-target 'pose pose (lambda (x) (pose-of-p (body-skeleton body) x))
+                    (pose-phrase (body-skeleton body))))
   (destructuring-bind (kind &rest arguments) target
     (let* ((offset-form (getf (member :offset target) :offset))
            (offset (if offset-form (apply #'make-vec3 offset-form) (vec3)))

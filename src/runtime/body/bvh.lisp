@@ -41,6 +41,11 @@
   (:documentation "A BVH file cannot be written: bad frames or placements, or an
 unwritable path.  FORM is the offending value or path."))
 
+(define-condition bvh-argument-error (argument-error bvh-error)
+  ()
+  (:documentation "WRITE-BVH or WRITE-BVH-FILE was given a bad argument: both an
+ARGUMENT-ERROR (naming the function and argument) and a BVH-ERROR."))
+
 ;;; ---------------------------------------------------------------------------
 ;;; Euler angles
 
@@ -163,23 +168,29 @@ its parent through it), or up when that bone has no length."
           (format stream "~%~A  }~%" indent)))
     (format stream "~A}~%" indent)))
 
-(defun check-bvh-frames (skeleton frames placements)
-  "Signal a BVH-ERROR unless FRAMES are poses of SKELETON and PLACEMENTS is NIL
-or as many MAT4s as there are FRAMES."
-  (let ((count (skeleton-dof-count skeleton)))
-    (map nil (lambda (pose)
-               (unless (and (vectorp pose) (= (length pose) count) (every #'realp pose))
-                 (anim-fail 'bvh-error pose "a frame must be a pose of ~D angles for skeleton ~A"
-                            count (lisp-text (skeleton-name skeleton)))))
-         frames))
-  (when placements
-    (unless (= (length placements) (length frames))
-      (error 'bvh-error :message (format nil "~D placements were given for ~D frames; ~
-there must be one per frame" (length placements) (length frames))))
-    (map nil (lambda (placement)
-               (unless (typep placement 'mat4)
-                 (anim-fail 'bvh-error placement "a placement must be a MAT4")))
-         placements)))
+(defun check-bvh-arguments (function skeleton frames frame-time placements)
+  "Signal a BVH-ARGUMENT-ERROR of FUNCTION unless SKELETON is a skeleton, FRAMES
+a sequence of its poses (finite angles), FRAME-TIME a positive number of
+seconds and PLACEMENTS NIL or as many MAT4s as there are FRAMES."
+  (flet ((fail (argument value expected)
+           (argument-fail function argument value expected 'bvh-argument-error))
+         (sequence-p (x) (or (vectorp x) (alexandria:proper-list-p x))))
+    (unless (skeleton-p skeleton)
+      (fail 'skeleton skeleton "a skeleton (from load-skeleton)"))
+    (let ((count (skeleton-dof-count skeleton)))
+      (unless (and (sequence-p frames)
+                   (every (lambda (pose) (and (vectorp pose) (= (length pose) count)
+                                              (every #'finite-number-p pose)))
+                          frames))
+        (fail 'frames frames (format nil "a sequence of frames, each a pose of ~D finite angles for skeleton ~A"
+                                     count (lisp-text (skeleton-name skeleton))))))
+    (unless (and (finite-number-p frame-time) (< 0 frame-time *max-seconds*))
+      (fail :frame-time frame-time "a positive number of seconds"))
+    (when placements
+      (unless (and (sequence-p placements) (= (length placements) (length frames))
+                   (every (lambda (placement) (typep placement 'mat4)) placements))
+        (fail :placements placements
+              (format nil "NIL or a sequence of ~D MAT4s, one per frame" (length frames)))))))
 
 (defun write-bvh (stream skeleton frames &key (frame-time (/ 1d0 30)) placements)
   "Write the motion FRAMES of SKELETON to STREAM as a BVH file (see the top of
@@ -188,9 +199,9 @@ given, a parallel sequence of MAT4s, the body's world placement at each frame
 (identity by default); FRAME-TIME the seconds between frames.  Signals a
 BVH-ERROR for a frame that is not a pose of SKELETON, a placement that is not a
 MAT4, a count mismatch or a FRAME-TIME that is not a positive real."
-  (check-bvh-frames skeleton frames placements)
-  (unless (and (realp frame-time) (plusp frame-time))
-    (anim-fail 'bvh-error frame-time "the frame time must be a positive number of seconds"))
+  (unless (and (streamp stream) (output-stream-p stream))
+    (argument-fail 'write-bvh 'stream stream "an output stream" 'bvh-argument-error))
+  (check-bvh-arguments 'write-bvh skeleton frames frame-time placements)
   (let ((joints (skeleton-joints skeleton))
         (frames (coerce frames 'vector))
         (placements (and placements (coerce placements 'vector)))
@@ -220,7 +231,9 @@ MAT4, a count mismatch or a FRAME-TIME that is not a positive real."
 any file there and creating missing directories; return PATH's truename.
 Signals a BVH-ERROR naming PATH when it cannot be written, and as WRITE-BVH."
   ;; Check before touching the file, so bad frames leave no half-written file.
-  (check-bvh-frames skeleton frames placements)
+  (unless (pathname-designator-p path)
+    (argument-fail 'write-bvh-file 'path path *path-phrase* 'bvh-argument-error))
+  (check-bvh-arguments 'write-bvh-file skeleton frames frame-time placements)
   (handler-case
       (progn
         (ensure-directories-exist path)

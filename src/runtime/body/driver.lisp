@@ -31,6 +31,8 @@ DRIVER-ADDITIVE-P, SLAVE-DRIVERS and DRIVER-REPORT."))
 
 (defun driver-arg (driver key)
   "The value of DRIVER's motor-call parameter KEY."
+  (check-argument 'driver-arg 'driver driver (lambda (x) (typep x 'driver)) "a driver (from make-driver)")
+  (check-argument 'driver-arg 'key key #'keywordp "a parameter's name (a keyword)")
   (motor-arg (driver-call driver) key))
 
 (defmethod driver-priority ((driver driver))
@@ -93,7 +95,12 @@ should show (a reach that fell short, say).")
 
 (defun make-driver (call body start &key stop)
   "A driver performing the MOTOR-CALL CALL on BODY from START (until STOP, when
-given), set up against BODY's skeleton."
+given), set up against BODY's skeleton.  START and STOP are finite numbers of
+seconds, STOP not before START."
+  (check-argument 'make-driver 'call call #'motor-call-p "a motor call (from parse-motor-frame)")
+  (check-argument 'make-driver 'body body #'body-p "a body (from make-body)")
+  (check-seconds 'make-driver 'start start)
+  (when stop (check-seconds 'make-driver :stop stop :minimum start))
   (let* ((function (find-motor-function (motor-call-function call)))
          (driver (make-instance (motor-function-driver-class function)
                                 :call call :body body :start start :stop stop)))

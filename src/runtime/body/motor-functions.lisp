@@ -7,6 +7,7 @@
 
 (define-condition motor-error (spec-error)
   ()
+  (:report report-spec-error-safely)
   (:documentation "A motor-function frame is malformed: unknown function or
 parameter, a missing parameter, a value of the wrong type.  FORM is the frame."))
 
@@ -17,10 +18,10 @@ parameter, a missing parameter, a value of the wrong type.  FORM is the frame.")
 ;;;# Parameter types
 
 (defparameter *motor-parameter-types*
-  '((:real realp "a number")
+  '((:real finite-number-p "a finite number")
     (:positive positive-real-p "a positive number")
     (:non-negative non-negative-real-p "a number >= 0")
-    (:angle realp "an angle in degrees")
+    (:angle finite-number-p "an angle in degrees")
     (:boolean boolean-value-p "T or NIL")
     (:symbol symbolp "a symbol")
     (:keyword keywordp "a keyword")
@@ -31,12 +32,12 @@ parameter, a missing parameter, a value of the wrong type.  FORM is the frame.")
   "The parameter types a motor function may declare: (TYPE PREDICATE DESCRIPTION).
 A type may also be (:member VALUE...) or (:or TYPE...).")
 
-(defun positive-real-p (x) "Is X a real > 0?" (and (realp x) (plusp x)))
-(defun non-negative-real-p (x) "Is X a real >= 0?" (and (realp x) (>= x 0)))
+(defun positive-real-p (x) "Is X a finite real > 0?" (and (finite-number-p x) (plusp x)))
+(defun non-negative-real-p (x) "Is X a finite real >= 0?" (and (finite-number-p x) (>= x 0)))
 
 (defun vector-form-p (x)
-  "Is X a list of three reals?"
-  (and (alexandria:proper-list-p x) (= (length x) 3) (every #'realp x)))
+  "Is X a list of three finite reals?"
+  (and (alexandria:proper-list-p x) (= (length x) 3) (every #'finite-number-p x)))
 
 (defun target-form-p (x)
   "Is X a target form: (:point X Y Z), (:object NAME) or (:joint OBJECT JOINT),
@@ -44,7 +45,7 @@ optionally followed by :offset (X Y Z)?"
   (and (consp x) (alexandria:proper-list-p x)
        (multiple-value-bind (head-length ok)
            (case (first x)
-             (:point (values 4 (and (>= (length x) 4) (every #'realp (subseq x 1 4)))))
+             (:point (values 4 (and (>= (length x) 4) (every #'finite-number-p (subseq x 1 4)))))
              (:object (values 2 (and (>= (length x) 2) (symbolp (second x)))))
              (:joint (values 3 (and (>= (length x) 3) (symbolp (second x)) (symbolp (third x)))))
              (t (values 0 nil)))
@@ -121,6 +122,10 @@ caller must give it.  Give (:priority :real N \"...\") to set the default priori
 
 (defun describe-motor-function (name &optional (stream *standard-output*))
   "Print NAME's documentation and parameters with their types and defaults."
+  (check-argument 'describe-motor-function 'name name #'keywordp
+                  (format nil "a motor function's name (~{~A~^, ~})" (mapcar #'lisp-text (motor-function-names))))
+  (check-argument 'describe-motor-function 'stream stream
+                  (lambda (x) (and x (output-stream-designator-p x))) "an output stream or T")
   (let ((function (find-motor-function name)))
     (format stream "~A -- ~A~%" (lisp-text name) (motor-function-documentation function))
     (dolist (parameter (motor-function-parameters function))
@@ -149,8 +154,10 @@ present (defaults filled in)."
 a MOTOR-CALL with every default filled in.  Signals MOTOR-ERROR, naming FRAME,
 for an unknown function, an unknown, repeated or missing parameter, or a value
 of the wrong type.  Nothing else is touched, so a bad frame changes no body."
-  (unless (and (consp frame) (alexandria:proper-list-p frame) (keywordp (first frame)))
-    (motor-fail frame "a motor call is written (:FUNCTION :PARAMETER VALUE ...)"))
+  (unless (and (consp frame) (alexandria:proper-list-p frame) (bounded-form-p frame)
+               (keywordp (first frame)))
+    (motor-fail frame
+                "a motor call is written (:FUNCTION :PARAMETER VALUE ...), a proper list"))
   (let* ((function (find-motor-function (first frame) t frame))
          (parameters (motor-function-parameters function))
          (plist (rest frame)))
@@ -170,7 +177,7 @@ of the wrong type.  Nothing else is touched, so a bad frame changes no body."
                     (motor-fail frame "motor function ~A: ~A must be ~A, not ~A"
                                 (lisp-text (first frame)) (lisp-text key)
                                 (motor-type-description (motor-parameter-type parameter))
-                                (lisp-text value)))))
+                                (argument-value-text value)))))
     (make-motor-call
      (first frame)
      (loop for parameter in parameters

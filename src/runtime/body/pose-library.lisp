@@ -28,6 +28,7 @@
 
 (define-condition pose-error (spec-error)
   ()
+  (:report report-spec-error-safely)
   (:documentation "A pose library or a pose is malformed, or does not fit a
 skeleton: an unknown joint, role, DOF or pose, an angle outside the joint's
 limits.  FORM is the offending form or clause."))
@@ -102,6 +103,10 @@ none: a POSE-ERROR naming the known poses, or NIL without ERRORP."
   (unless (and (consp form) (alexandria:proper-list-p form) (symbolp (first form))
                (string-equal (first form) "DEFPOSE"))
     (pose-fail form "a pose library holds only (defpose NAME [DOCUMENTATION] CLAUSE...) forms"))
+  (let ((bad (out-of-range-number form)))
+    (when bad
+      (pose-fail form "the angle ~A is out of range: pose numbers are 0 or between ~A and ~A in magnitude"
+                 (argument-value-text bad) (first *library-number-range*) (second *library-number-range*))))
   (destructuring-bind (&optional name &rest body) (rest form)
     (unless (and name (symbolp name) (not (keywordp name)))
       (pose-fail form "defpose needs a name (a symbol)"))
@@ -124,41 +129,30 @@ POSE-ERROR for a malformed form.  (LOAD-POSE-LIBRARY reads them from a file.)"
     (dolist (form forms library)
       (add-pose-form library form nil))))
 
-(defun read-pose-form (stream path)
-  "The next form of the pose library file at PATH being read from STREAM and
-its character position, or :EOF.  Reader trouble is a POSE-ERROR."
-  (skip-whitespace-and-comments stream)
-  (let ((start (file-position stream)))
-    (handler-case
-        (values (with-standard-io-syntax
-                  (let ((*read-eval* nil)
-                        (*read-default-float-format* 'double-float)
-                        (*package* (find-package '#:player-user)))
-                    (read stream nil :eof)))
-                start)
-      (error (condition)
-        (let ((*source-position* (cons path start)))
-          (pose-fail nil "the Lisp reader could not read ~A: ~A" (file-namestring path)
-                     (remove #\Newline (princ-to-string condition))))))))
-
 (defun load-pose-library (path &key skeleton)
   "Read the pose library file PATH and return a POSE-LIBRARY named after the
 file.  With SKELETON, every pose is also resolved against it (see
 RESOLVE-POSE).  Signals POSE-ERROR, naming the file and line, for a missing or
 unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
-  (let ((path (or (probe-file path)
-                  (pose-fail path "there is no pose library file ~A" (namestring path))))
-        (*source-position* nil))
-    (let ((library (%make-pose-library (pathname-name path) path)))
-      (with-open-file (stream path)
-        (loop (multiple-value-bind (form start) (read-pose-form stream path)
-                (when (eq form :eof) (return))
-                (let ((*source-position* (cons path start)))
-                  (add-pose-form library form (cons path start))))))
-      (when skeleton
+  (let* ((entries (read-data-file path :what "pose library" :allow-in-package nil
+                                       :fail (lambda (position message kind)
+                                               (let ((*source-position* (and position (cons (probe-file path) position))))
+                                                 (case kind
+                                                   (:missing (pose-fail path "there is no pose library file ~A"
+                                                                        (namestring path)))
+                                                   (:read (pose-fail nil "the Lisp reader could not read ~A: ~A"
+                                                                     (file-namestring path) message))
+                                                   (t (pose-fail nil "~A" message)))))))
+         (path (probe-file path))
+         (library (%make-pose-library (pathname-name path) path)))
+    (loop for (form start) in entries
+          do (let ((*source-position* (cons path start)))
+               (add-pose-form library form (cons path start))))
+    (when skeleton
+      (let ((*source-position* nil))
         (dolist (definition (pose-library-order library))
-          (resolve-pose definition skeleton)))
-      library)))
+          (resolve-pose definition skeleton))))
+    library))
 
 ;;;# Resolving against a skeleton
 

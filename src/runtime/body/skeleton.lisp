@@ -73,6 +73,7 @@ directory beside this source file, fixed when it is compiled.")
 
 (define-condition skeleton-error (spec-error)
   ()
+  (:report report-spec-error-safely)
   (:documentation "A skeleton file or form is malformed or inconsistent; FORM is
 the offending clause."))
 
@@ -144,6 +145,8 @@ the offending clause."))
 (defun find-joint (skeleton name &optional (errorp nil))
   "SKELETON's joint called NAME (a symbol or string, compared case-insensitively).
 NIL if there is none, unless ERRORP, when a SKELETON-ERROR is signalled."
+  (check-argument 'find-joint 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (check-argument 'find-joint 'name name #'string-designator-p "a joint's name (a symbol or string)")
   (or (gethash (string name) (skeleton-joint-table skeleton))
       (and errorp
            (skeleton-fail name "skeleton ~A has no joint ~A"
@@ -156,6 +159,8 @@ NIL if there is none, unless ERRORP, when a SKELETON-ERROR is signalled."
 (defun skeleton-role (skeleton role)
   "What SKELETON's ROLE (a keyword from *SKELETON-ROLES*) names: a BODY-JOINT for a
 :joint role, a list of them for a :chain or :set role, NIL when unfilled."
+  (check-argument 'skeleton-role 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (check-argument 'skeleton-role 'role role #'symbolp "a role (a keyword such as :head)")
   (cdr (assoc role (skeleton-roles skeleton))))
 
 (defun skeleton-role-names (skeleton)
@@ -175,16 +180,29 @@ NIL if there is none, unless ERRORP, when a SKELETON-ERROR is signalled."
   "Read the skeleton NAME-OR-PATH and return a SKELETON.  A symbol, or a string
 without a directory or type, names a shipped skeleton (HUMANOID, PARROT);
 anything else is a file's path.  Signals SKELETON-ERROR for an unknown name, an
-unreadable file, or any malformed or inconsistent content."
-  (let ((path (skeleton-path name-or-path)))
-    (with-open-file (in path :if-does-not-exist nil)
-      (unless in
-        (skeleton-fail name-or-path "there is no skeleton file ~A" (namestring path)))
-      (let ((*source-position* nil)
-            (*current-spec-name* nil))
-        (let ((form (read-skeleton-form in path)))
-          (let ((*source-position* (cons path 0)))
-            (parse-skeleton form path)))))))
+unreadable file, or any malformed or inconsistent content; an ARGUMENT-ERROR
+for NAME-OR-PATH that is neither a symbol, a string nor a pathname."
+  (check-argument 'load-skeleton 'name-or-path name-or-path
+                  (lambda (x) (or (symbolp x) (pathname-designator-p x)))
+                  (format nil "a shipped skeleton's name (~{~A~^, ~}) or ~A"
+                          (shipped-skeleton-names) *path-phrase*))
+  (let* ((path (skeleton-path name-or-path))
+         (*current-spec-name* nil)
+         (entries (let ((*source-position* nil))
+                    (read-data-file path :what "skeleton file" :allow-in-package nil
+                                         :fail (lambda (position message kind)
+                                                 (let ((*source-position* (and position (cons (probe-file path) position))))
+                                                   (case kind
+                                                     (:missing (skeleton-fail name-or-path "there is no skeleton file ~A"
+                                                                              (namestring path)))
+                                                     (:read (skeleton-fail nil "the Lisp reader could not read ~A: ~A"
+                                                                           (file-namestring path) message))
+                                                     (t (skeleton-fail nil "~A" message)))))))))
+    (let ((*source-position* nil))
+      (cond ((null entries) (skeleton-fail nil "~A holds no skeleton form" (file-namestring path)))
+            ((rest entries) (skeleton-fail nil "~A holds more than one form" (file-namestring path)))))
+    (let ((*source-position* (cons (probe-file path) (second (first entries)))))
+      (parse-skeleton (first (first entries)) path))))
 
 (defun shipped-skeleton-names ()
   "The names of the skeletons shipped with Player, as lower-case strings."
@@ -208,27 +226,6 @@ a name that is not a shipped skeleton."
           (t (skeleton-fail name-or-path "unknown skeleton ~A (shipped: ~{~A~^, ~})"
                             (lisp-text name-or-path) (shipped-skeleton-names))))))
 
-(defun read-skeleton-form (stream path)
-  "The one form in STREAM, read as data.  Signals SKELETON-ERROR when the file is
-empty, unreadable or holds more than one form."
-  (flet ((read-one ()
-           (handler-case
-               (with-standard-io-syntax
-                 (let ((*read-eval* nil)
-                       ;; Centres are given to 0.1 mm; single floats would blur them.
-                       (*read-default-float-format* 'double-float)
-                       (*package* (find-package '#:player-user)))
-                   (read stream nil stream)))
-             (error (condition)
-               (skeleton-fail nil "the Lisp reader could not read ~A: ~A"
-                              (file-namestring path) condition)))))
-    (let ((form (read-one)))
-      (when (eq form stream)
-        (skeleton-fail nil "~A holds no skeleton form" (file-namestring path)))
-      (unless (eq (read-one) stream)
-        (skeleton-fail nil "~A holds more than one form" (file-namestring path)))
-      form)))
-
 (defun parse-skeleton (form &optional source)
   "Build a SKELETON from FORM, a (SKELETON NAME CLAUSE...) list; SOURCE is kept as
 the skeleton's origin.  Signals SKELETON-ERROR for anything malformed: unknown
@@ -238,6 +235,10 @@ role."
                (symbolp (first form)) (string-equal (first form) "SKELETON")
                (rest form) (symbolp (second form)) (second form))
     (skeleton-fail form "a skeleton must be written (skeleton NAME CLAUSE...)"))
+  (let ((bad (out-of-range-number form)))
+    (when bad
+      (skeleton-fail form "the number ~A is out of range: skeleton numbers are 0 or between ~A and ~A in magnitude"
+                     (argument-value-text bad) (first *library-number-range*) (second *library-number-range*))))
   (let ((name (second form))
         (documentation nil)
         (joint-clauses '())

@@ -13,18 +13,41 @@
                 else do (setf (svref values (var-slot var)) value))
           (controller-values controller) values)))
 
-(defun make-controller (machine &key initial-state (presenter (make-trace-presenter)) (clock 0))
+(defun initial-state-p (x)
+  "Is X a proper, non-circular alist ((VARIABLE . VALUE) ...) with symbols for
+variables, and no NaN or infinity among the values?"
+  (and (proper-form-list-p x)
+       (every (lambda (entry) (and (consp entry) (symbolp (car entry)))) x)
+       (finite-form-p x)))
+
+(defparameter *initial-state-phrase*
+  "a proper alist ((variable . value) ...) with symbols for variables and finite numbers"
+  "How argument errors describe an initial state.")
+
+(defun presenter-p (x)
+  "Is X a presenter?"
+  (typep x 'presenter))
+
+(defun make-controller (machine &key initial-state
+                                     (presenter (make-trace-presenter :limit *default-trace-limit*))
+                                     (clock 0))
   "A new agent running MACHINE (from COMPILE-SPEC, or a spec or its name, which
 is compiled). INITIAL-STATE is an alist ((VARIABLE . VALUE) ...) overriding the
 declared initial values; booleans take true/false/t/nil. PRESENTER receives
 what the agent does (default: a TRACE-PRESENTER). Autoscripts of the initial
-values start at CLOCK. Signals a SPEC-ERROR for an unknown variable or a value
-outside its domain."
-  (let* ((machine (ensure-compiled-machine machine))
+values start at CLOCK (seconds). Signals a SPEC-ERROR for an unknown variable
+or a value outside its domain, an ARGUMENT-ERROR for an argument of the wrong
+kind."
+  (check-argument 'make-controller 'machine machine #'machine-designator-p *machine-designator*)
+  (check-argument 'make-controller :initial-state initial-state #'initial-state-p *initial-state-phrase*)
+  (check-argument 'make-controller :presenter presenter #'presenter-p
+                  "a presenter (from make-trace-presenter or make-null-presenter, say)")
+  (let* ((clock (check-seconds 'make-controller :clock clock))
+         (machine (ensure-compiled-machine machine))
          (spec (machine-spec machine))
          (assignments (initial-assignments spec initial-state))
          (controller (%make-controller
-                      :machine machine :presenter presenter :clock (to-double clock)
+                      :machine machine :presenter presenter :clock clock
                       :labels (make-array (spec-label-count spec) :element-type 'double-float
                                                                   :initial-element 0d0))))
     (install-assignments controller assignments)
@@ -32,34 +55,50 @@ outside its domain."
     controller))
 
 (defun event-names (machine)
-  "The names of the events MACHINE (or a controller's machine) accepts, in spec order."
-  (let ((machine (if (controller-p machine) (controller-machine machine) machine)))
-    (mapcar #'event-name (spec-events (machine-spec machine)))))
+  "The names of the events MACHINE (a machine, a controller, a spec or a spec's
+name) accepts, in spec order."
+  (check-argument 'event-names 'machine machine
+                  (lambda (x) (or (controller-p x) (machine-designator-p x)))
+                  "a controller, a machine, a spec or a spec's name")
+  (let ((spec (typecase machine
+                (controller (spec-of machine))
+                (machine (machine-spec machine))
+                (spec machine)
+                (t (find-spec machine)))))
+    (mapcar #'event-name (spec-events spec))))
 
-(defun find-compiled-event (controller name)
-  "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none.
-Symbols are remembered in an EQ table so the usual lookup allocates nothing."
+(defun find-compiled-event (controller name &optional (function 'send-event))
+  "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none, an
+ARGUMENT-ERROR of FUNCTION when NAME is neither a symbol nor a string.
+Interned symbols are remembered in an EQ table so the usual lookup allocates
+nothing; the table holds only interned symbols that name events, so it stays
+as small as the spec's events (an uninterned symbol is looked up by name each
+time)."
   (let ((machine (controller-machine controller)))
     (or (and (symbolp name) (gethash name (compiled-machine-event-symbols machine)))
-        (let ((compiled (and (or (symbolp name) (stringp name))
-                             (gethash (if (stringp name) (string-upcase name) (name-key name))
-                                      (compiled-machine-events machine)))))
+        (let ((compiled (gethash (if (stringp name)
+                                     (string-upcase name)
+                                     (name-key (check-argument function 'event name #'name-designator-p
+                                                               "an event name (a symbol or string)")))
+                                 (compiled-machine-events machine))))
           (cond ((null compiled)
                  (error 'unknown-event :name name :known (event-names controller)))
-                ((symbolp name)
+                ((and (symbolp name) (symbol-package name))
                  (setf (gethash name (compiled-machine-event-symbols machine)) compiled))
                 (t compiled))))))
 
 (defun send-event (controller event &key at)
   "Process EVENT (a symbol or string) on CONTROLLER, starting at time AT
-(default: when the previous event's last op ended). Returns T when every
-directive succeeded; otherwise (VALUES NIL GOAL) with the goal, as written, that
-could not be achieved: the rest of the event is skipped and the state is the
-one after the last completed op. Signals UNKNOWN-EVENT, changing nothing, for
-an event the spec does not define."
-  (let* ((compiled (find-compiled-event controller event))
+(seconds; default: when the previous event's last op ended). Returns T when
+every directive succeeded; otherwise (VALUES NIL GOAL) with the goal, as
+written, that could not be achieved: the rest of the event is skipped and the
+state is the one after the last completed op. Signals UNKNOWN-EVENT for an
+event the spec does not define and ARGUMENT-ERROR for an argument of the wrong
+kind (AT not a finite number of seconds within +-1e15), changing nothing."
+  (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")
+  (let* ((start (if at (check-seconds 'send-event :at at) (controller-clock controller)))
+         (compiled (find-compiled-event controller event))
          (event (compiled-event-event compiled))
-         (start (if at (to-double at) (controller-clock controller)))
          (presenter (controller-presenter controller))
          (*controller* controller))
     (setf (controller-schedule controller) start
@@ -78,22 +117,27 @@ an event the spec does not define."
           t
           (values nil (failure-goal-form result))))))
 
-(defun find-controller-variable (controller name)
-  "The variable NAME of CONTROLLER's spec, or an UNKNOWN-NAME-ERROR."
+(defun find-controller-variable (function controller name)
+  "The variable NAME of CONTROLLER's spec, or an UNKNOWN-NAME-ERROR of FUNCTION."
+  (check-argument function 'name name #'name-designator-p "a variable's name (a symbol or string)")
   (let ((*spec* (spec-of controller)))
-    (or (and (or (symbolp name) (stringp name)) (find-variable-named name))
-        (spec-fail 'unknown-name-error name "unknown variable ~A" (lisp-text name)))))
+    (or (find-variable-named name)
+        (spec-fail 'unknown-name-error nil "~A: unknown variable ~A (variables: ~{~A~^, ~})"
+                   (lisp-text function) (bounded-lisp-text name 80)
+                   (mapcar (lambda (var) (lisp-text (var-name var))) (spec-variables *spec*))))))
 
 (defun state-value (controller name)
   "The current value of variable NAME in CONTROLLER: T/NIL for booleans, the
 domain value for enumerated variables, a number (or NIL for a time never set)."
-  (let ((var (find-controller-variable controller name)))
+  (check-argument 'state-value 'controller controller #'controller-p "a controller (from make-controller)")
+  (let ((var (find-controller-variable 'state-value controller name)))
     (if (eq (var-kind var) :boolean)
         (= 1 (value-index-of controller var))
         (variable-value controller var))))
 
 (defun controller-state (controller)
   "CONTROLLER's state as an alist ((VARIABLE . VALUE) ...) in declaration order."
+  (check-argument 'controller-state 'controller controller #'controller-p "a controller (from make-controller)")
   (loop for var in (spec-variables (spec-of controller))
         collect (cons (var-name var)
                       (if (eq (var-kind var) :boolean)
@@ -119,12 +163,16 @@ Variables SPEC does not have are dropped; new ones take their initial values."
         when (and var (not (and (eq (var-kind var) :time) (null value))))
           collect (cons (var-name var) value)))
 
-(defun recompile (controller &optional (spec (spec-name (spec-of controller))))
+(defun recompile (controller &optional (spec nil spec-given))
   "Compile SPEC (default: the current definition of the controller's spec,
 e.g. after re-evaluating its DEFSPEC) and switch CONTROLLER to it, keeping its
 current state, clock and presenter. Autoscripts that stop or start applying
 are told so. Signals STATE-TRANSFER-ERROR, leaving CONTROLLER unchanged, when a
 current value does not exist in the new spec."
+  (check-argument 'recompile 'controller controller #'controller-p "a controller (from make-controller)")
+  (if spec-given
+      (check-argument 'recompile 'spec spec #'spec-designator-p *spec-designator*)
+      (setf spec (spec-name (spec-of controller))))
   (let* ((machine (compile-spec spec))
          (new-spec (machine-spec machine))
          (assignments (handler-case (initial-assignments new-spec (transferred-state controller new-spec))

@@ -96,26 +96,59 @@ START; return the duration.  The default returns OP's declared :duration."))
    (open-macros :initform '() :accessor trace-open-macros
                 :documentation "Lines of the macros still running, innermost first; their :end is filled in when they finish.")
    (stream :initarg :stream :initform nil :reader trace-stream
-           :documentation "Where finished lines are written as they happen, or NIL."))
+           :documentation "Where finished lines are written as they happen, or NIL.")
+   (limit :initarg :limit :initform nil :reader trace-limit
+          :documentation "Keep at most about this many recent lines (NIL: all).")
+   (dropped :initform 0 :accessor trace-dropped
+            :documentation "How many of the oldest lines were forgotten to stay within LIMIT."))
   (:documentation "Records every decision as a trace line (a list such as
-(:op bow :script bow :start 0 :end 1)); with a STREAM, also writes them there."))
+(:op bow :script bow :start 0 :end 1)); with a STREAM, also writes them there.
+With a LIMIT it keeps only the most recent lines, so a long-running agent's
+trace stays bounded."))
 
-(defun make-trace-presenter (&key stream)
-  "A presenter recording trace lines; with STREAM (T for *STANDARD-OUTPUT*), writing them too."
-  (make-instance 'trace-presenter :stream (if (eq stream t) *standard-output* stream)))
+(defparameter *default-trace-limit* 10000
+  "How many recent trace lines MAKE-CONTROLLER's default presenter keeps.")
+
+(defun make-trace-presenter (&key stream limit)
+  "A presenter recording trace lines; with STREAM (T for *STANDARD-OUTPUT*),
+writing them too.  With LIMIT (a positive integer), it keeps only the most
+recent LIMIT lines (TRACE-LINES returns those); without, every line."
+  (check-argument 'make-trace-presenter :stream stream #'output-stream-designator-p
+                  "an output stream, T (standard output) or NIL")
+  (check-argument 'make-trace-presenter :limit limit (lambda (x) (or (null x) (typep x '(integer 1))))
+                  "a positive integer or NIL")
+  (make-instance 'trace-presenter :stream (if (eq stream t) *standard-output* stream) :limit limit))
+
+(defun trace-presenter-p (x)
+  "Is X a trace presenter?"
+  (typep x 'trace-presenter))
+
+(defun trace-line-p (x)
+  "Is X shaped as a trace line: a proper list starting with a keyword (a
+:state line's pairs must be conses)?"
+  (and (consp x) (keywordp (first x)) (proper-form-list-p x)
+       (or (not (eq (first x) :state)) (every #'consp (rest x)))))
 
 (defun trace-lines (presenter)
   "The trace lines PRESENTER has recorded, oldest first."
+  (check-argument 'trace-lines 'presenter presenter #'trace-presenter-p "a trace presenter (from make-trace-presenter)")
   (coerce (trace-line-vector presenter) 'list))
 
 (defun clear-trace (presenter)
   "Forget PRESENTER's recorded lines."
+  (check-argument 'clear-trace 'presenter presenter #'trace-presenter-p "a trace presenter (from make-trace-presenter)")
+  (incf (trace-dropped presenter) (length (trace-line-vector presenter)))
   (setf (fill-pointer (trace-line-vector presenter)) 0
         (trace-flushed presenter) 0))
 
 (defun trace-line-string (line)
   "LINE as the text the CLI prints (lower case, no package prefixes). The pairs
 of a :state line always print dotted, so a false boolean reads (var . nil)."
+  (check-argument 'trace-line-string 'line line #'trace-line-p "a trace line, a proper list such as (:event ev :time 0)")
+  (%trace-line-string line))
+
+(defun %trace-line-string (line)
+  "TRACE-LINE-STRING of LINE, known to be a trace line."
   (if (eq (first line) :state)
       (format nil "(:state~{ (~A . ~A)~})"
               (loop for (name . value) in (rest line)
@@ -123,22 +156,44 @@ of a :state line always print dotted, so a false boolean reads (var . nil)."
       (lisp-text line)))
 
 (defun write-trace-line (line &optional (stream *standard-output*))
-  "Write LINE and a newline to STREAM."
-  (write-string (trace-line-string line) stream)
+  "Write LINE and a newline to STREAM (T for *STANDARD-OUTPUT*)."
+  (check-argument 'write-trace-line 'line line #'trace-line-p "a trace line, a proper list such as (:event ev :time 0)")
+  (check-argument 'write-trace-line 'stream stream
+                  (lambda (x) (and x (output-stream-designator-p x))) "an output stream or T")
+  (%write-trace-line line (if (eq stream t) *standard-output* stream)))
+
+(defun %write-trace-line (line stream)
+  "WRITE-TRACE-LINE of LINE, a trace line, to the output stream STREAM."
+  (write-string (%trace-line-string line) stream)
   (terpri stream))
 
 (defun record-line (presenter line)
-  "Append LINE to PRESENTER's trace and write what is finished."
+  "Append LINE to PRESENTER's trace, write what is finished, and forget the
+oldest lines when the trace holds twice its limit (so trimming costs O(1) a line)."
   (vector-push-extend line (trace-line-vector presenter))
   (flush-trace presenter)
+  (trim-trace presenter)
   line)
+
+(defun trim-trace (presenter)
+  "Keep PRESENTER's newest LIMIT lines once it holds twice that many, unless
+lines are still waiting to be written (an open macro)."
+  (let ((limit (trace-limit presenter))
+        (lines (trace-line-vector presenter)))
+    (when (and limit (>= (length lines) (* 2 limit)) (null (trace-open-macros presenter))
+               (or (null (trace-stream presenter)) (= (trace-flushed presenter) (length lines))))
+      (let ((drop (- (length lines) limit)))
+        (replace lines lines :start2 drop)
+        (setf (fill-pointer lines) limit)
+        (incf (trace-dropped presenter) drop)
+        (setf (trace-flushed presenter) (max 0 (- (trace-flushed presenter) drop)))))))
 
 (defun flush-trace (presenter)
   "Write recorded lines to the stream, stopping at a macro line still open."
   (when (and (trace-stream presenter) (null (trace-open-macros presenter)))
     (let ((lines (trace-line-vector presenter)))
       (loop while (< (trace-flushed presenter) (length lines))
-            do (write-trace-line (aref lines (trace-flushed presenter)) (trace-stream presenter))
+            do (%write-trace-line (aref lines (trace-flushed presenter)) (trace-stream presenter))
                (incf (trace-flushed presenter)))
       (force-output (trace-stream presenter)))))
 

@@ -64,12 +64,29 @@ PRESENTER-PERFORMANCE gives the frames."))
                                                 "its script library")
                                             (mapcar #'lisp-text missing))))))
 
+(defun check-body-presenter-arguments (function spec scripts body seed stream blend-time)
+  "Check MAKE-BODY-PRESENTER's arguments (also SIMULATE's and VIEW-SPEC's): an
+ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
+  (check-argument function 'spec spec #'spec-designator-p *spec-designator*)
+  (check-argument function :scripts scripts
+                  (lambda (x) (or (null x) (script-library-p x) (pathname-designator-p x)))
+                  (format nil "NIL, a script library or ~A" *path-phrase*))
+  (check-argument function :body body
+                  (lambda (x) (or (null x) (skeleton-p x) (symbolp x) (pathname-designator-p x)))
+                  "NIL, a skeleton, or a skeleton's name or path")
+  (check-real function :seed seed :integer t)
+  (check-argument function :stream stream #'output-stream-designator-p
+                  "an output stream, T (standard output) or NIL")
+  (check-real function :blend-time blend-time :minimum 0 :maximum *max-seconds*))
+
 (defun make-body-presenter (spec &key scripts body (seed 0) stream
                                       (blend-time *default-blend-time*))
   "A body presenter for SPEC: its character, named after SPEC, has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE)).  Trace lines go to STREAM when given.
-Signals an error listing every missing script before anything plays."
+Signals an error listing every missing script before anything plays, and an
+ARGUMENT-ERROR for an argument of the wrong kind."
+  (check-body-presenter-arguments 'make-body-presenter spec scripts body seed stream blend-time)
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (library (spec-script-library spec :scripts scripts)))
     (check-spec-scripts spec library)

@@ -50,9 +50,31 @@ The rest is what the current replay has made of it."
   (:documentation "A script library, the characters it is played on, and the
 scripts started so far.  PERFORMANCE-FRAME gives the scene at any time."))
 
+(defun characters-p (x)
+  "Is X a nonempty proper list of (NAME SKELETON [POSITION [ROTATION]]) entries?"
+  (and (consp x) (proper-form-list-p x)
+       (every (lambda (entry)
+                (and (alexandria:proper-list-p entry) (<= 2 (length entry) 4)
+                     (string-designator-p (first entry))
+                     (let ((skeleton (second entry)))
+                       (or (skeleton-p skeleton) (symbolp skeleton) (pathname-designator-p skeleton)))
+                     (or (null (cddr entry)) (finite-vec3-p (third entry)))
+                     (or (null (cdddr entry))
+                         (and (finite-quat-p (fourth entry)) (plusp (qnorm (fourth entry)))))))
+              x)))
+
+(defun performance-p (x)
+  "Is X a performance?"
+  (typep x 'performance))
+
 (defun make-performance (library characters &key (seed 0) (blend-time *default-blend-time*))
   "A performance of LIBRARY on CHARACTERS, each (NAME SKELETON [POSITION [ROTATION]])
 with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
+  (check-argument 'make-performance 'library library #'script-library-p "a script library (from load-script-library)")
+  (check-argument 'make-performance 'characters characters #'characters-p
+                  "a nonempty proper list of (name skeleton [position [rotation]]), names symbols or strings, skeletons a skeleton or its name, positions vec3s, rotations nonzero quats")
+  (check-real 'make-performance :seed seed :integer t)
+  (check-real 'make-performance :blend-time blend-time :minimum 0 :maximum *max-seconds*)
   (let ((performance
           (make-instance 'performance
                          :library library :seed seed :blend-time blend-time
@@ -77,8 +99,12 @@ with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
   "The name of the body scripts play on unless told otherwise."
   (character-spec-name (first (performance-characters performance))))
 
-(defun performance-body (performance &optional (name (performance-character performance)))
-  "The body called NAME in PERFORMANCE's current scene."
+(defun performance-body (performance &optional (name nil name-given))
+  "The body called NAME (default: the first character's) in PERFORMANCE's current scene."
+  (check-argument 'performance-body 'performance performance #'performance-p "a performance (from make-performance)")
+  (if name-given
+      (check-argument 'performance-body 'name name #'string-designator-p "a body's name (a symbol or string)")
+      (setf name (performance-character performance)))
   (find-object (performance-scene performance) name))
 
 ;;;# Starting and stopping
@@ -87,6 +113,11 @@ with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
   "Start the script NAME of PERFORMANCE's library at START on BODY (default: the
 first character); LOOP repeats it even when the script does not loop.
 Returns the SCRIPT-RUN; its duration is the script's."
+  (check-argument 'perform-script 'performance performance #'performance-p "a performance (from make-performance)")
+  (check-argument 'perform-script 'name name #'string-designator-p "a script's name (a symbol or string)")
+  (check-seconds 'perform-script 'start start)
+  (when stop (check-seconds 'perform-script :stop stop))
+  (when body (check-body-name 'perform-script performance body))
   (let* ((script (find-script (performance-library performance) name t))
          (run (make-script-run script (float start 1d0) (and stop (float stop 1d0))
                                (or body (performance-character performance))
@@ -99,9 +130,23 @@ Returns the SCRIPT-RUN; its duration is the script's."
           (setf (replay-runs performance) (append (replay-runs performance) (list run)))))
     run))
 
+(defun check-body-name (function performance body)
+  "BODY when it names one of PERFORMANCE's characters; else an ARGUMENT-ERROR of FUNCTION."
+  (check-argument function :body body
+                  (lambda (x) (and (string-designator-p x)
+                                   (find x (performance-characters performance)
+                                         :key #'character-spec-name :test #'string-equal)))
+                  (format nil "the name of one of the performance's characters (~{~A~^, ~})"
+                          (mapcar (lambda (c) (lisp-text (character-spec-name c)))
+                                  (performance-characters performance)))))
+
 (defun perform-director (performance name start &key body)
   "Start the director NAME at START: its scripts at the times its schedule gives.
 Returns its duration (NIL when it loops for ever)."
+  (check-argument 'perform-director 'performance performance #'performance-p "a performance (from make-performance)")
+  (check-argument 'perform-director 'name name #'string-designator-p "a director's name (a symbol or string)")
+  (check-seconds 'perform-director 'start start)
+  (when body (check-body-name 'perform-director performance body))
   (multiple-value-bind (schedule duration)
       (director-schedule (find-director (performance-library performance) name t)
                          (performance-library performance) start)
@@ -111,6 +156,9 @@ Returns its duration (NIL when it loops for ever)."
 
 (defun stop-script-run (performance run time)
   "Stop RUN (and what it started) at TIME."
+  (check-argument 'stop-script-run 'performance performance #'performance-p "a performance (from make-performance)")
+  (check-argument 'stop-script-run 'run run #'script-run-p "a script run (from perform-script)")
+  (check-seconds 'stop-script-run 'time time)
   (let ((time (float time 1d0)))
     (setf (script-run-stop run) (if (script-run-stop run) (min time (script-run-stop run)) time))
     (if (and (performance-time performance) (< time (performance-time performance)))
@@ -296,6 +344,8 @@ newest binding of a property replaces the older ones."
   "PERFORMANCE's scene at TIME (seconds): every run's cues due by then played in
 order, every body evaluated.  An earlier TIME than the last replays from the
 start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next call)."
+  (check-argument 'performance-frame 'performance performance #'performance-p "a performance (from make-performance)")
+  (check-seconds 'performance-frame 'time time)
   (let ((time (float time 1d0)))
     (when (or (replay-stale performance)
               (and (performance-time performance) (< time (performance-time performance))))

@@ -9,18 +9,29 @@
 op finished) and FPS.  Frames are sampled from the presenter's performance."
   controller presenter (end 0d0) (fps 30))
 
+(defparameter *max-fps* 1000
+  "The highest frame rate SIMULATE and RENDER-SIMULATION accept.")
+
+(defun check-fps (function fps)
+  "FPS when it is a frame rate above 0 and at most *MAX-FPS*; else an ARGUMENT-ERROR of FUNCTION."
+  (check-real function :fps fps :above 0 :maximum *max-fps*))
+
 (defun simulate (spec &key initial events (fps 30) (seed 0) scripts body stream)
   "Play EVENTS (names, in order, each when the previous finished) on a controller
 of SPEC from INITIAL (an alist, as for MAKE-CONTROLLER) with a body presenter
 (SCRIPTS, BODY and SEED as for MAKE-BODY-PRESENTER; trace lines to STREAM).
 Returns a SIMULATION; SIMULATION-FRAMES samples it."
-  (unless (and (realp fps) (plusp fps))
-    (error 'player-error-with-message :message (format nil "the frame rate must be a positive number, not ~A" fps)))
+  (check-body-presenter-arguments 'simulate spec scripts body seed stream *default-blend-time*)
+  (check-argument 'simulate :initial initial #'initial-state-p *initial-state-phrase*)
+  (check-argument 'simulate :events events
+                  (lambda (x) (and (alexandria:proper-list-p x) (every #'name-designator-p x)))
+                  "a proper list of event names (symbols or strings)")
+  (check-fps 'simulate fps)
   (let* ((presenter (make-body-presenter spec :scripts scripts :body body :seed seed :stream stream))
          (controller (make-controller (compile-spec (if (spec-p spec) spec (find-spec spec)))
                                       :initial-state initial :presenter presenter)))
     (dolist (event events)
-      (find-compiled-event controller event))
+      (find-compiled-event controller event 'simulate))
     (dolist (event events)
       (send-event controller event))
     (%make-simulation :controller controller :presenter presenter
@@ -32,6 +43,7 @@ Returns a SIMULATION; SIMULATION-FRAMES samples it."
 
 (defun simulation-frame-count (simulation)
   "How many frames cover SIMULATION, the first at time 0 and the last at or after its end."
+  (check-argument 'simulation-frame-count 'simulation simulation #'simulation-p "a simulation (from simulate)")
   (1+ (ceiling (* (simulation-end simulation) (simulation-fps simulation)))))
 
 (defun simulation-frame-time (simulation index)
@@ -40,6 +52,10 @@ Returns a SIMULATION; SIMULATION-FRAMES samples it."
 
 (defun map-simulation-frames (function simulation)
   "Call FUNCTION with each frame's index, time and scene, in order."
+  (check-argument 'map-simulation-frames 'function function
+                  (lambda (x) (or (functionp x) (and (symbolp x) x (fboundp x))))
+                  "a function (or a symbol naming one) of the index, time and scene")
+  (check-argument 'map-simulation-frames 'simulation simulation #'simulation-p "a simulation (from simulate)")
   (let ((performance (simulation-performance simulation)))
     (dotimes (index (simulation-frame-count simulation))
       (let ((time (simulation-frame-time simulation index)))
@@ -89,6 +105,11 @@ other object's parent, position and rotation."
 (defun write-simulation (simulation &key bvh frames)
   "Sample SIMULATION once and write the character's motion as BVH to the file BVH
 and, to the file FRAMES, one FRAME-FORM per line.  Returns the paths written."
+  (check-argument 'write-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
+  (check-argument 'write-simulation :bvh bvh (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'write-simulation :frames frames (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
   (let ((poses '()) (placements '()) (frame-stream nil))
     (unwind-protect
          (progn

@@ -27,6 +27,9 @@ DEPTH24_STENCIL8 one, SAMPLES the samples per pixel actually allocated."
   "A WIDTH x HEIGHT framebuffer with SAMPLES per pixel (clamped to GL_MAX_SAMPLES),
 bound for drawing with the viewport set.  Signals a RENDER-ERROR when GL calls
 it incomplete.  Draw, then RESOLVE-MSAA-TARGET; free with DELETE-MSAA-TARGET."
+  (check-real 'make-msaa-target 'width width :integer t :minimum 1 :maximum 16384)
+  (check-real 'make-msaa-target 'height height :integer t :minimum 1 :maximum 16384)
+  (check-real 'make-msaa-target 'samples samples :integer t :minimum 0 :maximum 64)
   (let* ((samples (max 0 (min samples (gl-get-integer +gl-max-samples+))))
          (target (%make-msaa-target
                   :width width :height height :samples samples
@@ -47,6 +50,7 @@ it incomplete.  Draw, then RESOLVE-MSAA-TARGET; free with DELETE-MSAA-TARGET."
 
 (defun bind-msaa-target (target)
   "Make TARGET the framebuffer drawn into, with a viewport covering it; returns TARGET."
+  (check-argument 'bind-msaa-target 'target target #'msaa-target-p "an MSAA target (from make-msaa-target)")
   (gl-bind-framebuffer +gl-framebuffer+ (msaa-target-framebuffer target))
   (gl-viewport 0 0 (msaa-target-width target) (msaa-target-height target))
   target)
@@ -54,6 +58,7 @@ it incomplete.  Draw, then RESOLVE-MSAA-TARGET; free with DELETE-MSAA-TARGET."
 (defun resolve-msaa-target (target)
   "Average TARGET's samples into the default framebuffer and bind that, so
 READ-FRAME-PIXELS (or a buffer swap) sees the smoothed frame."
+  (check-argument 'resolve-msaa-target 'target target #'msaa-target-p "an MSAA target (from make-msaa-target)")
   (let ((width (msaa-target-width target))
         (height (msaa-target-height target)))
     (gl-bind-framebuffer +gl-read-framebuffer+ (msaa-target-framebuffer target))
@@ -66,6 +71,7 @@ READ-FRAME-PIXELS (or a buffer swap) sees the smoothed frame."
 
 (defun delete-msaa-target (target)
   "Free TARGET's framebuffer and renderbuffers and bind the default framebuffer."
+  (check-argument 'delete-msaa-target 'target target #'msaa-target-p "an MSAA target (from make-msaa-target)")
   (gl-bind-framebuffer +gl-framebuffer+ 0)
   (gl-delete-object #'gl-delete-framebuffers (msaa-target-framebuffer target))
   (gl-delete-object #'gl-delete-renderbuffers (msaa-target-color target))
@@ -96,6 +102,9 @@ READ-FRAME-PIXELS (or a buffer swap) sees the smoothed frame."
   "The WIDTH x HEIGHT pixels of the framebuffer bound for reading, as a vector of
 (unsigned-byte 8), rows top-down, CHANNELS (4 for RGBA, 3 for RGB) per pixel --
 the layout WRITE-PNG takes.  GL reads bottom-up, so the rows are flipped here."
+  (check-real 'read-frame-pixels 'width width :integer t :minimum 1 :maximum 16384)
+  (check-real 'read-frame-pixels 'height height :integer t :minimum 1 :maximum 16384)
+  (check-argument 'read-frame-pixels :channels channels (lambda (x) (member x '(3 4))) "3 (RGB) or 4 (RGBA)")
   (let ((pixels (make-array (* width height channels) :element-type '(unsigned-byte 8))))
     ;; Rows of RGB bytes need not be 4-aligned; tell GL to pack them tightly.
     (gl-pixel-storei +gl-pack-alignment+ 1)

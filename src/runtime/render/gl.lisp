@@ -27,6 +27,9 @@ A binding's position here is its index into *GL-ENTRY-POINTS*.")
   "Resolve every bound GL function with GETTER, a function from a C name to a
 foreign pointer, and make the result the current table.  Call it with the
 context current; WITH-OFFSCREEN-CONTEXT does.  Returns the number resolved."
+  (check-argument 'load-gl-functions 'getter getter
+                  (lambda (x) (or (functionp x) (and (symbolp x) x (fboundp x))))
+                  "a function (or a symbol naming one) from a C name to a foreign pointer")
   (let ((table (map 'simple-vector getter *gl-function-names*)))
     (setf *gl-entry-points* table)
     (count-if-not #'cffi:null-pointer-p table)))
@@ -273,6 +276,8 @@ Signals a RENDER-ERROR carrying the compiler's info log when it fails."
 (defun compile-shader-program (vertex-source fragment-source)
   "The id of a GL program linked from VERTEX-SOURCE and FRAGMENT-SOURCE (GLSL strings).
 Signals a RENDER-ERROR with the info log when either shader or the link fails."
+  (check-argument 'compile-shader-program 'vertex-source vertex-source #'stringp "GLSL source text (a string)")
+  (check-argument 'compile-shader-program 'fragment-source fragment-source #'stringp "GLSL source text (a string)")
   (let* ((vertex (compile-shader +gl-vertex-shader+ vertex-source))
          (fragment (handler-bind ((render-error (lambda (e) (declare (ignore e))
                                                   (gl-delete-shader vertex))))

@@ -63,5 +63,6 @@ Signals a RENDER-ERROR naming LABEL and the Debian PACKAGE when none is found."
 
 (defun glfw-proc-address (name)
   "The address of GL function NAME in the current GLFW context (a null pointer if absent)."
+  (check-argument 'glfw-proc-address 'name name #'stringp "a GL function's C name (a string)")
   (with-gl-traps-masked
     (cffi:foreign-funcall "glfwGetProcAddress" :string name :pointer)))

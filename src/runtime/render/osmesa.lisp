@@ -28,6 +28,7 @@ OSMesaCreateContextExt gives."
 
 (defun osmesa-proc-address (name)
   "The address of GL function NAME as OSMesa resolves it (a null pointer if absent)."
+  (check-argument 'osmesa-proc-address 'name name #'stringp "a GL function's C name (a string)")
   (with-gl-traps-masked
     (cffi:foreign-funcall "OSMesaGetProcAddress" :string name :pointer)))
 

@@ -78,10 +78,11 @@ prefixed by FILTER's byte and filtered by it -- :none (0), :sub (1) or :up (2)."
 (defun check-png-pixels (width height pixels channels)
   "Signal a RENDER-ERROR unless PIXELS can be a WIDTH x HEIGHT image of CHANNELS."
   (unless (member channels '(3 4))
-    (render-fail "a PNG frame has 3 (RGB) or 4 (RGBA) channels, not ~S" channels))
+    (render-fail "a PNG frame has 3 (RGB) or 4 (RGBA) channels, not ~A" (argument-value-text channels)))
   (unless (and (typep width '(integer 1 #.(1- (expt 2 31))))
                (typep height '(integer 1 #.(1- (expt 2 31)))))
-    (render-fail "a PNG frame must be at least 1x1 pixels, not ~Sx~S" width height))
+    (render-fail "a PNG frame must be at least 1x1 pixels, not ~Ax~A"
+                 (argument-value-text width) (argument-value-text height)))
   (unless (and (typep pixels 'octets) (= (length pixels) (* width height channels)))
     (render-fail "a ~Dx~D frame with ~D channels needs ~:D bytes of (unsigned-byte 8), not ~:[a ~S~;~:*~:D~]"
                  width height channels (* width height channels)
@@ -90,6 +91,7 @@ prefixed by FILTER's byte and filtered by it -- :none (0), :sub (1) or :up (2)."
 (defun png-octets (width height pixels &key (channels 4) (filter :up))
   "The bytes of a PNG file showing PIXELS, WIDTH x HEIGHT, rows top-down, CHANNELS
 per pixel (see WRITE-PNG).  Signals a RENDER-ERROR for a malformed image."
+  (check-argument 'png-octets :filter filter (lambda (x) (member x '(:up :sub :none))) ":up, :sub or :none")
   (check-png-pixels width height pixels channels)
   (let ((idat (salza2:compress-data (filter-scanlines pixels width height channels filter)
                                     'salza2:zlib-compressor)))
@@ -102,7 +104,10 @@ per pixel (see WRITE-PNG).  Signals a RENDER-ERROR for a malformed image."
   "Write PIXELS, a vector of WIDTH*HEIGHT*CHANNELS (unsigned-byte 8), rows top-down,
 as an 8-bit PNG at PATH (replacing it); CHANNELS 4 is RGBA (colour type 6), 3 is
 RGB (colour type 2).  FILTER is :up (smallest for rendered frames), :sub or :none.
-Returns PATH.  Signals a RENDER-ERROR for a malformed image or an unwritable PATH."
+Returns PATH.  Signals a RENDER-ERROR for a malformed image or an unwritable
+PATH, an ARGUMENT-ERROR for a PATH that is not a file's path."
+  (check-argument 'write-png 'path path #'pathname-designator-p *path-phrase*)
+  (check-argument 'write-png :filter filter (lambda (x) (member x '(:up :sub :none))) ":up, :sub or :none")
   (let ((octets (png-octets width height pixels :channels channels :filter filter)))
     (handler-case
         (with-open-file (out path :direction :output :element-type '(unsigned-byte 8)

@@ -37,7 +37,7 @@ unless both are integers from 1 to *MAX-IMAGE-SIDE*."
                    (values-list size))))
     (unless width
       (render-fail "bad size ~A: give WIDTHxHEIGHT, two integers from 1 to ~D (e.g. 640x480)"
-                   (if (stringp size) (prin1-to-string size) (lisp-text size)) *max-image-side*))
+                   (if (stringp size) (bounded-lisp-text size 60) (bounded-lisp-text size 60)) *max-image-side*))
     (values width height)))
 
 (defun find-ffmpeg ()
@@ -185,7 +185,19 @@ evenly spaced over the scenario with their times; with VIDEO (a path) also a
 video encoded by ffmpeg.  SIZE is (WIDTH HEIGHT) or \"WxH\".  A progress bar
 goes to PROGRESS (a stream, or NIL).  Returns the paths written: the frames,
 the sheet, then the video.  Signals a RENDER-ERROR for an unwritable OUT, a
-missing ffmpeg or libOSMesa, or a bad SIZE."
+missing ffmpeg or libOSMesa, or a bad SIZE; an ARGUMENT-ERROR for the other
+arguments of the wrong kind."
+  (check-argument 'render-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
+  (check-argument 'render-simulation :out out #'pathname-designator-p
+                  "a directory's path (a string or pathname, not wild)")
+  (when fps (check-fps 'render-simulation fps))
+  (check-argument 'render-simulation :video video (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'render-simulation :progress progress #'output-stream-designator-p
+                  "an output stream, T or NIL")
+  (check-argument 'render-simulation :antialias antialias (lambda (x) (member x '(:fxaa :msaa nil)))
+                  ":fxaa, :msaa or NIL")
+  (when (eq progress t) (setf progress *standard-output*))
   (multiple-value-bind (width height) (image-size size)
     (let* ((fps (or fps (simulation-fps simulation)))
            (count (1+ (ceiling (* (simulation-end simulation) fps))))

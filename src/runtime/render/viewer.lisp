@@ -64,9 +64,14 @@ does happens at that time."
 
 (defun print-due-trace (viewer &optional (time (viewer-now viewer)))
   "Print the trace lines not yet printed whose time is at most TIME (all when TIME is T)."
-  (let ((lines (trace-line-vector (controller-presenter (viewer-controller viewer)))))
-    (loop while (< (viewer-printed viewer) (length lines))
-          do (let* ((line (aref lines (viewer-printed viewer)))
+  (let* ((presenter (controller-presenter (viewer-controller viewer)))
+         (lines (trace-line-vector presenter))
+         (dropped (trace-dropped presenter)))
+    ;; VIEWER-PRINTED counts every line ever recorded; a bounded trace forgets
+    ;; its oldest ones, which are then skipped.
+    (setf (viewer-printed viewer) (max (viewer-printed viewer) dropped))
+    (loop while (< (- (viewer-printed viewer) dropped) (length lines))
+          do (let* ((line (aref lines (- (viewer-printed viewer) dropped)))
                     (at (trace-line-time line)))
                (unless (or (eq time t) (null at) (<= at time))
                  (return))
@@ -228,7 +233,20 @@ if given.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
-MAKE-BODY-PRESENTER and MAKE-CONTROLLER."
+MAKE-BODY-PRESENTER and MAKE-CONTROLLER; an ARGUMENT-ERROR, before any window
+opens, for an argument of the wrong kind."
+  (check-body-presenter-arguments 'view-spec spec scripts body seed nil *default-blend-time*)
+  (check-argument 'view-spec :initial initial #'initial-state-p *initial-state-phrase*)
+  (check-argument 'view-spec :frames frames (lambda (x) (or (null x) (typep x '(integer 1))))
+                  "NIL or a positive integer")
+  (check-argument 'view-spec :screenshot screenshot (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :keys keys
+                  (lambda (x) (and (alexandria:proper-list-p x)
+                                   (every (lambda (entry) (and (consp entry) (seconds-p (car entry))
+                                                               (>= (car entry) 0)))
+                                          x)))
+                  "a proper list of (seconds . key) with seconds a finite number from 0")
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (presenter (make-body-presenter spec :scripts scripts :body body :seed seed))
          (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter))

@@ -95,8 +95,9 @@ them.  Signals SCRIPT-ERROR naming the bad step."
 (defun parse-when (form when tags)
   "The WHEN (see DIRECTOR-STEP) the :at value WHEN of the step FORM denotes."
   (flet ((offset (value)
-           (unless (realp value)
-             (script-fail form "an offset must be a number of seconds, not ~A" (lisp-text value)))
+           (unless (seconds-p value)
+             (script-fail form "an offset must be a finite number of seconds, not ~A"
+                          (argument-value-text value)))
            (float value 1d0)))
     (cond ((null when) nil)
           ((realp when) (parse-seconds when form ":at"))
@@ -136,7 +137,15 @@ a list of (SCRIPT-NAME START-TIME STOP-TIME-OR-NIL), in step order, STOP-TIME
 set when a :stop cuts the script short (NIL: it runs to its end, or for ever if
 it loops).  The second value is the director's duration, NIL when a script it
 starts loops unstopped.  Signals SCRIPT-ERROR for an unknown script or critical
-time, a wait for a looping script's end, or inconsistent stops."
+time, a wait for a looping script's end, or inconsistent stops; ARGUMENT-ERROR
+for arguments of the wrong kind."
+  (check-argument 'director-schedule 'director director #'director-p "a director (from find-director)")
+  (check-argument 'director-schedule 'library library
+                  (lambda (x)
+                    (declare (notinline script-library-p)) ; defined in script-library.lisp, later
+                    (script-library-p x))
+                  "a script library (from load-script-library)")
+  (check-seconds 'director-schedule 'start start)
   (let ((*script-context* (format nil "director ~A" (lisp-text (director-name director))))
         (*source-position* (director-source director))
         (runs '())

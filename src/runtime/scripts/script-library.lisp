@@ -44,12 +44,16 @@ ROTATION (unit QUAT), PROPERTIES ((NAME TYPE VALUE) ...) with values parsed."
 (defun find-script (library name &optional errorp)
   "LIBRARY's script called NAME (a symbol or string, compared case-insensitively);
 NIL when there is none, unless ERRORP, when a SCRIPT-ERROR lists the scripts."
+  (check-argument 'find-script 'library library #'script-library-p "a script library (from load-script-library)")
+  (check-argument 'find-script 'name name #'string-designator-p "a script's name (a symbol or string)")
   (or (gethash (string name) (script-library-scripts library))
       (and errorp (unknown-definition library name "script" #'script-library-scripts))))
 
 (defun find-director (library name &optional errorp)
   "LIBRARY's director called NAME (a symbol or string, compared case-insensitively);
 NIL when there is none, unless ERRORP, when a SCRIPT-ERROR lists the directors."
+  (check-argument 'find-director 'library library #'script-library-p "a script library (from load-script-library)")
+  (check-argument 'find-director 'name name #'string-designator-p "a director's name (a symbol or string)")
   (or (gethash (string name) (script-library-directors library))
       (and errorp (unknown-definition library name "director" #'script-library-directors))))
 
@@ -72,35 +76,27 @@ LIBRARY, each once, in order."
 ;;; Reading
 
 (defun load-script-library (path)
-  "Read the script library file PATH and return a SCRIPT-LIBRARY.  Signals a
-SCRIPT-ERROR, naming the file and line, when the file is missing or unreadable
-or any form is malformed or inconsistent."
-  (let ((file (or (probe-file path)
-                  (let ((*source-position* nil))
-                    (script-fail nil "there is no script library file ~A" (namestring path))))))
-    (build-script-library (read-script-library-file file) file)))
+  "Read the script library file PATH (as data, see READ-DATA-FILE) and return
+a SCRIPT-LIBRARY.  Signals a SCRIPT-ERROR, naming the file and line, when the
+file is missing, not a regular file or unreadable, or any form is malformed or
+inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
+  (check-argument 'load-script-library 'path path #'pathname-designator-p *path-phrase*)
+  (let ((entries (read-data-file path :what "script library"
+                                      :fail (lambda (position message kind)
+                                              (let ((*source-position* (and position (cons (probe-file path) position))))
+                                                (case kind
+                                                  (:missing (script-fail nil "there is no script library file ~A"
+                                                                         (namestring path)))
+                                                  (:read (script-fail nil "unreadable script library ~A: ~A"
+                                                                      (namestring path) message))
+                                                  (t (script-fail nil "~A" message))))))))
+    (build-script-library (mapcar (lambda (entry) (cons (first entry) (second entry))) entries)
+                          (probe-file path))))
 
 (defun parse-script-library-forms (forms &key source)
   "A SCRIPT-LIBRARY from FORMS as if read from the file SOURCE (a pathname, for
 resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
   (build-script-library (mapcar (lambda (form) (cons form nil)) forms) source))
-
-(defun read-script-library-file (file)
-  "Every top-level form of FILE as (FORM . CHARACTER-POSITION), read as data."
-  (with-open-file (in file)
-    (loop for start = (progn (skip-whitespace-and-comments in) (file-position in))
-          for form = (handler-case
-                         (with-standard-io-syntax
-                           (let ((*read-eval* nil)
-                                 (*read-default-float-format* 'double-float)
-                                 (*package* (find-package '#:player-user)))
-                             (read in nil in)))
-                       (error (condition)
-                         (let ((*source-position* (cons file start)))
-                           (script-fail nil "unreadable script library ~A: ~A" (namestring file)
-                                        (substitute #\Space #\Newline (princ-to-string condition))))))
-          until (eq form in)
-          collect (cons form start))))
 
 (defun build-script-library (entries source)
   "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file SOURCE."
@@ -116,6 +112,13 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
 
 (defun add-library-form (library form)
   "Parse the top-level FORM into LIBRARY."
+  (unless (bounded-form-p form)
+    (script-fail nil "a script library form contains itself or is nested more than ~D levels deep"
+                 *max-form-depth*))
+  (let ((bad (out-of-range-number form)))
+    (when bad
+      (script-fail form "the number ~A is out of range: library numbers are 0 or between ~A and ~A in magnitude"
+                   (argument-value-text bad) (first *library-number-range*) (second *library-number-range*))))
   (let ((head (and (consp form) (symbolp (first form)) (string-downcase (first form)))))
     (cond ((equal head "defscript")
            (add-definition library (parse-defscript form *source-position*)
@@ -209,13 +212,14 @@ definition of its name as either."
 (defun parse-property-value (type value form what)
   "VALUE, written for a property of TYPE, as a stored value; WHAT names it in errors."
   (flet ((reals (count &optional (list value))
-           (unless (and (alexandria:proper-list-p list) (= (length list) count) (every #'realp list))
+           (unless (and (alexandria:proper-list-p list) (= (length list) count)
+                        (every #'finite-number-p list))
              (script-fail form "~A must be ~D numbers~:[~; after :euler~], not ~A"
-                          what count (not (eq list value)) (lisp-text value)))
+                          what count (not (eq list value)) (argument-value-text value)))
            list))
     (ecase type
-      (:number (if (realp value) (float value 1d0)
-                   (script-fail form "~A must be a number, not ~A" what (lisp-text value))))
+      (:number (if (finite-number-p value) (float value 1d0)
+                   (script-fail form "~A must be a number, not ~A" what (argument-value-text value))))
       (:boolean (if (member value '(t nil)) value
                     (script-fail form "~A must be T or NIL, not ~A" what (lisp-text value))))
       (:vector (apply #'make-vec3 (reals 3)))
@@ -292,8 +296,9 @@ checks critical times and looping against it.  Nested cycles were ruled out."
                 when (> time duration)
                   do (script-fail (script-form script) "critical time ~A (~A) lies after the script's duration ~A"
                                   (lisp-text name) (format-number time) (format-number duration)))
-          (when (and (script-loop script) (zerop duration))
-            (script-fail (script-form script) "a looping script must last some time; give it a :duration")))
+          (when (and (script-loop script) (< duration *shortest-loop*))
+            (script-fail (script-form script) "a looping script must last some time (at least ~A s); give it a :duration"
+                         (format-number *shortest-loop*))))
         (setf (script-duration script) duration))))
 
 (defun item-natural-end (library item)

@@ -88,6 +88,7 @@
 
 (define-condition script-error (spec-error)
   ()
+  (:report report-spec-error-safely)
   (:documentation "A script library is unreadable, malformed or inconsistent.
 FORM is the offending item, step or definition; the position names the file."))
 
@@ -110,11 +111,11 @@ prefixed by *SCRIPT-CONTEXT*."
   (and thing (symbolp thing) (not (keywordp thing))))
 
 (defun parse-seconds (value form what &key positive)
-  "VALUE, a real >= 0 (> 0 with POSITIVE), as a double-float; else a
-SCRIPT-ERROR about FORM saying what WHAT must be."
-  (unless (and (realp value) (if positive (plusp value) (>= value 0)))
-    (script-fail form "~A must be a ~:[non-negative~;positive~] number of seconds, not ~A"
-                 what positive (lisp-text value)))
+  "VALUE, a real >= 0 (> 0 with POSITIVE) up to *MAX-SECONDS*, as a
+double-float; else a SCRIPT-ERROR about FORM saying what WHAT must be."
+  (unless (and (seconds-p value) (if positive (plusp value) (>= value 0)))
+    (script-fail form "~A must be a ~:[non-negative~;positive~] number of seconds up to ~A, not ~A"
+                 what positive (number-text *max-seconds*) (argument-value-text value)))
   (float value 1d0))
 
 (defun check-options (form options allowed &optional (what "this form"))
@@ -195,6 +196,8 @@ keeping its world placement when KEEP-WORLD."
 (defun script-critical-time (script name &optional (errorp t))
   "The seconds into SCRIPT of its critical time NAME.  Unknown names are a
 SCRIPT-ERROR listing the known ones, or NIL without ERRORP."
+  (check-argument 'script-critical-time 'script script #'script-p "a script (from find-script)")
+  (check-argument 'script-critical-time 'name name #'string-designator-p "a critical time's name (a symbol or string)")
   (let ((entry (assoc name (script-critical script) :test #'name=)))
     (cond (entry (cdr entry))
           (errorp (script-fail name "unknown critical time ~A in script ~A (known: ~:[none~;~:*~{~A~^ ~}~])"
@@ -204,6 +207,10 @@ SCRIPT-ERROR listing the known ones, or NIL without ERRORP."
 
 ;;; ---------------------------------------------------------------------------
 ;;; Parsing DEFSCRIPT
+
+(defparameter *shortest-loop* 1d-3
+  "The shortest duration, in seconds, of a looping script: a shorter one would
+repeat too often to play.")
 
 (defun parse-defscript (form &optional source)
   "The SCRIPT that FORM, (defscript NAME (&key ...) ITEM...), defines; SOURCE is
@@ -220,6 +227,9 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
                (critical (parse-critical-times critical duration form)))
           (unless (member loop '(t nil))
             (script-fail form ":loop must be T or NIL, not ~A" (lisp-text loop)))
+          (when (and loop duration (< duration *shortest-loop*))
+            (script-fail form "a looping script must last some time (at least ~A s), not ~A"
+                         (format-number *shortest-loop*) (format-number duration)))
           (unless (typep documentation '(or null string))
             (script-fail form ":documentation must be a string"))
           (%make-script :name name :duration duration :loop loop :critical critical

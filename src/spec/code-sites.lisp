@@ -1,0 +1,35 @@
+;;;; code-sites.lisp -- where a spec holds code: :code forms (Lisp, evaluated
+;;;; when they run) and :c++ text (copied into the generated C++).  A spec
+;;;; from an untrusted source can be refused when it has any (--no-code).
+
+(in-package #:player)
+
+(defun directive-code-sites (directives owner)
+  "The code in parsed DIRECTIVES of OWNER (a description such as \"event ev\"),
+as (DESCRIPTION ...) strings, :if bodies included."
+  (loop for directive in directives
+        append (case (first directive)
+                 (:code (list (format nil "~A: :code ~A" owner (bounded-lisp-text (second directive) 60))))
+                 (:c++ (list (format nil "~A: :c++" owner)))
+                 (:if (directive-code-sites (third directive) owner)))))
+
+(defun spec-code-sites (spec)
+  "Every place SPEC holds code, described for a message: ops with :code or
+:c++, and :code and :c++ directives of events and macro-ops."
+  (append (loop for op in (spec-ops spec)
+                for owner = (format nil "~:[op~;macro-op~] ~A" (eq (op-kind op) :macro)
+                                    (lisp-text (op-name op)))
+                when (eq (op-kind op) :code) collect (format nil "~A: :code" owner)
+                when (op-c++ op) collect (format nil "~A: :c++" owner)
+                append (directive-code-sites (op-seq op) owner))
+          (loop for event in (spec-events spec)
+                append (directive-code-sites (event-directives event)
+                                             (format nil "event ~A" (lisp-text (event-name event)))))))
+
+(defun refuse-code (spec)
+  "Signal an UNTRUSTED-CODE-ERROR when SPEC holds any code."
+  (let ((sites (spec-code-sites spec)))
+    (when sites
+      (spec-fail 'untrusted-code-error nil
+                 "code refused: the spec holds ~{~A~^; ~}~@[ and ~D more~] (run without --no-code only if you trust it)"
+                 (subseq sites 0 (min 3 (length sites))) (and (> (length sites) 3) (- (length sites) 3))))))

@@ -1,0 +1,187 @@
+;;;; data-files.lisp -- reading Player's files (specs, script libraries, pose
+;;;; libraries, skeletons) as data.  Opening one never runs code: *READ-EVAL*
+;;;; is off, #S is refused, symbols go to PLAYER-USER (or a package that uses
+;;;; PLAYER, by IN-PACKAGE), and only regular UTF-8 files are read.  Nesting is
+;;;; measured on the text before the reader sees it, and every form is checked
+;;;; for circular structure, so no file can exhaust the stack or loop.
+
+(in-package #:player)
+
+(defparameter *max-data-file-bytes* (* 64 1024 1024)
+  "The largest file Player reads as data.")
+
+(defun regular-file-p (path)
+  "Is PATH (following links) a regular file?  Directories, FIFOs and devices are not."
+  (multiple-value-bind (ok device inode mode) (sb-unix:unix-stat (native-namestring path))
+    (declare (ignore device inode))
+    (and ok (= (logand mode #o170000) #o100000))))
+
+(defun native-namestring (path)
+  "PATH as the operating system's file name."
+  (if (pathnamep path) (sb-ext:native-namestring path) path))
+
+(defun find-data-file (path what fail)
+  "PATH's truename when it is a readable regular file; else FAIL is called with
+NIL, a message naming WHAT (\"spec file\", ...) and :MISSING or :NOT-REGULAR."
+  (let ((found (ignore-errors (probe-file path))))
+    (cond ((null found)
+           (funcall fail nil (format nil "cannot open ~A ~A: no such file" what path) :missing))
+          ((not (regular-file-p found))
+           (funcall fail nil (format nil "cannot open ~A ~A: not a regular file" what path) :not-regular))
+          (t found))))
+
+(defun line-of (text position)
+  "The 1-based line of character POSITION in TEXT."
+  (1+ (count #\Newline text :end (min position (length text)))))
+
+(defun file-text (file fail)
+  "FILE's contents decoded as UTF-8.  FAIL is called with the character position
+of the first byte that is not UTF-8, or of NIL when FILE cannot be read."
+  (let ((octets (handler-case
+                    (with-open-file (in file :element-type '(unsigned-byte 8))
+                      (let ((length (file-length in)))
+                        (when (> length *max-data-file-bytes*)
+                          (funcall fail nil (format nil "~A is larger than ~:D bytes" (file-namestring file)
+                                                    *max-data-file-bytes*) :read))
+                        (let* ((octets (make-array length :element-type '(unsigned-byte 8)))
+                               (end (read-sequence octets in)))
+                          (subseq octets 0 end))))
+                  ((or file-error stream-error) ()
+                    (funcall fail nil (format nil "cannot read ~A" (file-namestring file)) :read)))))
+    (handler-case (sb-ext:octets-to-string octets :external-format :utf-8)
+      (error ()
+        (let ((lenient (sb-ext:octets-to-string
+                        octets :external-format '(:utf-8 :replacement #\Replacement_Character))))
+          (funcall fail (or (position #\Replacement_Character lenient) 0)
+                   "the file is not valid UTF-8 text" :read))))))
+
+;;;# Nesting, measured on the text
+
+(defun deepest-nesting (text limit)
+  "The position of the first ( or prefix (quote, backquote, comma, @) in TEXT
+that nests more than LIMIT levels, or NIL.  Strings, |symbols|, ; and #| |#
+comments and #\( characters are skipped, so the count matches what the reader
+will nest; a run of prefixes nests the reader as deeply as parentheses do."
+  (let ((depth 0) (prefixes 0) (i 0) (n (length text)))
+    (flet ((skip-delimited (close)
+             ;; Past the closing CLOSE of a string or |symbol|, honouring backslashes.
+             (loop (incf i)
+                   (when (>= i n) (return))
+                   (let ((c (char text i)))
+                     (cond ((char= c #\\) (incf i))
+                           ((char= c close) (return)))))))
+      (loop while (< i n)
+            do (let ((c (char text i)))
+                 (case c
+                   ((#\' #\` #\, #\@)
+                    (when (> (+ depth (incf prefixes)) limit) (return-from deepest-nesting i)))
+                   ((#\Space #\Tab #\Newline #\Return))
+                   (t (setf prefixes 0)))
+                 (case c
+                   (#\( (when (> (incf depth) limit) (return-from deepest-nesting i)))
+                   (#\) (setf depth (max 0 (1- depth))))
+                   (#\" (skip-delimited #\"))
+                   (#\| (skip-delimited #\|))
+                   (#\; (setf i (or (position #\Newline text :start i) n)))
+                   (#\\ (incf i))
+                   (#\# (when (< (1+ i) n)
+                          (case (char text (1+ i))
+                            (#\\ (incf i 2))
+                            (#\| (setf i (block-comment-end text (+ i 2))))))))
+                 (incf i))))
+    nil))
+
+(defun block-comment-end (text start)
+  "The position of the # closing the #| block comment whose text begins at
+START in TEXT (block comments nest), or the end of TEXT."
+  (let ((depth 1) (i start) (n (length text)))
+    (loop while (< i (1- n))
+          do (let ((pair (subseq text i (+ i 2))))
+               (cond ((string= pair "#|") (incf depth) (incf i 2))
+                     ((string= pair "|#") (decf depth) (incf i 2)
+                      (when (zerop depth) (return-from block-comment-end (1- i))))
+                     (t (incf i)))))
+    n))
+
+;;;# Reading
+
+(defvar *data-readtable*
+  (let ((readtable (copy-readtable nil)))
+    (set-dispatch-macro-character
+     #\# #\S (lambda (stream char arg)
+               (declare (ignore char arg))
+               (error 'sb-int:simple-reader-error :stream stream
+                                                   :format-control "#S(...) structures are not data Player reads"
+                                                   :format-arguments '()))
+     readtable)
+    readtable)
+  "The standard syntax without #S, which would call a structure's constructor.")
+
+(defun reader-message (condition)
+  "CONDITION, a reader problem, as a sentence without Lisp stream objects."
+  (typecase condition
+    (end-of-file "the form is not finished (a parenthesis or string is not closed)")
+    (t (let ((text (handler-case (princ-to-string condition)
+                     (error () "the Lisp reader failed"))))
+         ;; SBCL's reader errors end with the stream they were reading.
+         (string-trim '(#\Space #\Newline #\.)
+                      (substitute #\Space #\Newline
+                                  (subseq text 0 (or (search "Stream:" text)
+                                                     (search " on #<" text)
+                                                     (length text)))))))))
+
+(defun player-package-p (package)
+  "May a data file be read in PACKAGE?  Only in PLAYER-USER and packages that
+use PLAYER, so that spec words mean what Player means by them."
+  (and package (member (find-package '#:player) (package-use-list package))))
+
+(defun switch-package (form position fail)
+  "Make (in-package NAME) FORM current for the rest of the file, or FAIL."
+  (let ((package (and (proper-list-p form) (= (length form) 2)
+                      (typep (second form) '(or string symbol))
+                      (find-package (second form)))))
+    (unless (player-package-p package)
+      (funcall fail position
+               (format nil "~A: a data file may only switch to player-user or a package that uses player"
+                       (bounded-lisp-text form 80))
+               :read))
+    (setf *package* package)))
+
+(defun read-data-file (file &key (what "file") fail (allow-in-package t))
+  "Every top-level form of FILE, read as data, as a list of (FORM POSITION
+PACKAGE): the form's character position and the package it was read in; with
+ALLOW-IN-PACKAGE, IN-PACKAGE forms are obeyed and left out.  FAIL, a function
+of a position (or NIL), a message and a kind (:missing, :not-regular, :read
+or :structure), is called for every problem and must not return: the file
+missing or not regular, not UTF-8, nested more than *MAX-FORM-DEPTH* deep,
+unreadable, or holding a circular form.  WHAT names the file in messages."
+  (let* ((file (find-data-file file what fail))
+         (text (file-text file fail))
+         (deep (deepest-nesting text *max-form-depth*)))
+    (when deep
+      (funcall fail deep (format nil "the text nests more than ~D levels deep" *max-form-depth*) :structure))
+    (with-standard-io-syntax
+      (let ((*readtable* *data-readtable*)
+            (*read-eval* nil)
+            (*read-default-float-format* 'double-float)
+            (*package* (find-package '#:player-user)))
+        (with-input-from-string (in text)
+          (loop for start = (progn (skip-whitespace-and-comments in) (file-position in))
+                for form = (handler-case (read in nil in)
+                             ;; #p42 and #+0 fail as TYPE-ERROR and SIMPLE-ERROR: any
+                             ;; error while reading is a form that cannot be read.
+                             (error (condition)
+                               (funcall fail start (format nil "cannot read form: ~A" (reader-message condition))
+                                        :read)))
+                until (eq form in)
+                do (handler-case (check-form-structure form)
+                     (spec-error (condition) (funcall fail start (spec-error-message condition) :structure)))
+                if (and allow-in-package (consp form) (eq (first form) 'in-package))
+                  do (switch-package form start fail)
+                else collect (list form start *package*)))))))
+
+(defun skip-whitespace-and-comments (stream)
+  "Advance STREAM past blanks and ; comments; the next character starts a form."
+  (loop for char = (peek-char t stream nil nil)
+        while (eql char #\;)
+        do (read-line stream nil nil)))
