@@ -77,7 +77,7 @@ progress line on its stderr."
 (test errors-are-one-line-with-status-1
   (check-cli-error 1 "unknown event ev-nope (known events:" "run" (fixture "mini.lisp") "--events" "ev-search,ev-nope")
   (check-cli-error 1 "unreadable.lisp:3: cannot read form" "run" (fixture "unreadable.lisp"))
-  (check-cli-error 1 "bad-initial.lisp:4: in spec bad-initial: initial value 3 of boolean x" "check" (fixture "bad-initial.lisp"))
+  (check-cli-error 1 "bad-initial.lisp:5: state-variable x: initial value 3 of boolean x" "check" (fixture "bad-initial.lisp"))
   (check-cli-error 1 "fly is not a value of alert" "run" (fixture "mini.lisp") "--initial" "alert=fly")
   (check-cli-error 1 "unknown variable mood in the initial state" "run" (fixture "mini.lisp") "--initial" "mood=happy")
   (check-cli-error 1 "cannot open spec file" "run" "/nonexistent/spec.lisp"))

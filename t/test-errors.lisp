@@ -38,7 +38,7 @@
     (:colour red) (state-variable x boolean false)))
 
 (test unknown-names
-  (check-spec-error unknown-name-error "unknown variable or state class ghost in ghost"
+  (check-spec-error unknown-name-error "op o: unknown variable or state class ghost"
     (state-variable x boolean false) (op o :precond ghost))
   (check-spec-error unknown-name-error "unknown op fly"
     (event e :op fly))
@@ -181,8 +181,10 @@
     (unwind-protect
          (let ((e (handler-case (progn (load-spec path) nil) (player-error (e) e))))
            (is (typep e 'type-error-in-spec))
-           (is (search (format nil "~A:3: in spec located: initial value 3 of boolean x" (file-namestring path))
-                       (princ-to-string e))))
+           ;; The line of the offending form itself, named by kind and name.
+           (is (search (format nil "~A:4: state-variable x: initial value 3 of boolean x" (file-namestring path))
+                       (princ-to-string e))
+               "~A" e))
       (delete-file path))))
 
 (test missing-spec-file

@@ -67,7 +67,7 @@ it names the file's line."
   (multiple-value-bind (e message)
       (load-error (format nil "(in-package :player-user)~%~%(defspec d~%  (state-variable x boolean 1d308))~%"))
     (is (typep e 'type-error-in-spec))
-    (is (search ":3: in spec d: initial value 1.0e308 of boolean x" message) "~A" message)))
+    (is (search ":4: state-variable x: initial value 1.0e308 of boolean x" message) "~A" message)))
 
 (test circular-and-deep-structure
   ;; Found while reading a file: a SPEC-READER-ERROR at the form's line.
@@ -247,3 +247,48 @@ it names the file's line."
     (multiple-value-bind (e message) (library-error "(defscript spin (:duration 1d-6 :loop t) (:at 0 :set (:self visible) t))")
       (is (typep e 'script-error))
       (is (search "a looping script must last some time (at least 0.001 s)" (or message "")) "~A" message))))
+
+;;; Errors point at their own form (issue 14): the line of the op, event or
+;;; variable at fault, named by kind and name.
+
+(defparameter *located-spec-lines*
+  '("(in-package :player-user)"
+    ";; a small spec; each case below replaces line 6"
+    "(defspec cat \"A cat.\""
+    "  (state-variable posture string sit (sit stand lie))"
+    "  (state-variable hungry boolean true)"
+    "  (op placeholder :duration 1)"
+    "  (state-class awake-cat (posture.stand))"
+    "  (op stand-up :precond posture.sit :add posture.stand)"
+    "  (op eat :precond awake-cat :sub hungry :duration 2)"
+    "  (event ev-feed :op eat))")
+  "The spec the located-error cases edit; line 6 is replaced by each case.")
+
+(defparameter *located-mistakes*
+  '(("(op whistle :precond ack-opp)" "op whistle: unknown variable or state class ack-opp")
+    ("(op purr :add hungryy)" "op purr: unknown variable hungryy")
+    ("(op purr :sub posture.sit)" "op purr: :sub cannot be used on enumerated variable posture")
+    ("(op purr :add (a . b))" "op purr: (a . b) is not a literal or a list of literals")
+    ("(op purr :duration -2)" "op purr: :duration must be a number of seconds")
+    ("(op purr :colour red)" "op purr: unknown option :colour")
+    ("(op purr :add posture.fly)" "op purr: fly is not a value of posture")
+    ("(op purr :add hungry :sub hungry)" "op purr: contradictory effects")
+    ("(event ev-purr :op purrr)" "event ev-purr: unknown op purrr")
+    ("(event ev-purr :dance 3)" "event ev-purr: unknown or misplaced directive :dance")
+    ("(event ev-purr :state (posture.sit hungry))" "event ev-purr: malformed expression")
+    ("(state-variable mood string calm)" "state-variable mood: a string variable needs a VALUES list")
+    ("(state-variable mood boolean 3)" "state-variable mood: initial value 3 of boolean mood")
+    ("(state-variable posture boolean true)" "state-variable posture: posture is already defined")
+    ("(state-class sleepy (posture.snooze))" "state-class sleepy: snooze is not a value of posture")
+    ("(time-variable fed (ev-never))" "time-variable fed: unknown event ev-never")
+    ("(autoscript moood true (p))" "autoscript moood: unknown variable moood"))
+  "Each mistake (a replacement for line 6) and what its message must say after FILE:6:.")
+
+(test errors-name-the-line-and-form-at-fault
+  (loop for (line expected) in *located-mistakes*
+        do (let ((text (format nil "~{~A~%~}" (substitute line (sixth *located-spec-lines*) *located-spec-lines*
+                                                          :test #'string=))))
+             (multiple-value-bind (e message) (load-error text)
+               (is (typep e 'spec-error) "~A: got ~S" line e)
+               (is (search (format nil "hostile.lisp:6: ~A" expected) (or message ""))
+                   "~A~%  gave: ~A" line message)))))

@@ -14,6 +14,10 @@
 (defvar *current-spec-name* nil
   "While a spec is parsed: its name, so errors can say which spec they are in.")
 
+(defvar *current-form-label* nil
+  "While one of a spec's forms is parsed: its kind and name (\"op whistle\"),
+so errors can say which form they are in.")
+
 (define-condition spec-error (player-error)
   ((message :initarg :message :reader spec-error-message)
    (form :initarg :form :initform nil :reader spec-error-form
@@ -22,7 +26,10 @@
          :documentation "The name of the spec being defined, or NIL.")
    (position :initarg :position :initform *source-position*
              :reader spec-error-position
-             :documentation "(FILE . CHARACTER-POSITION) of the enclosing top-level form, or NIL."))
+             :documentation "(FILE . CHARACTER-POSITION) of the form at fault (or of the
+top-level form around it), or NIL.")
+   (label :initarg :label :initform *current-form-label* :reader spec-error-label
+          :documentation "The kind and name of the spec form at fault, e.g. \"op whistle\", or NIL."))
   (:report report-spec-error)
   (:documentation "A spec is malformed or inconsistent. FORM is the offending form."))
 
@@ -34,10 +41,16 @@
     (when position
       (format stream "~A:~@[~D: ~]" (file-namestring (car position))
               (and (cdr position) (position-line (car position) (cdr position)))))
-    (when spec
-      (format stream "in spec ~A: " (lisp-text spec)))
+    (let ((label (spec-error-label condition)))
+      ;; With a file and line, the label names the form; without, the spec too.
+      (cond ((and label position) (format stream "~A: " label))
+            ((and label spec) (format stream "in spec ~A, ~A: " (lisp-text spec) label))
+            (spec (format stream "in spec ~A: " (lisp-text spec)))))
     (write-string (spec-error-message condition) stream)
-    (when form
+    ;; A name the message already gives, or the labelled form itself, is not repeated.
+    (when (and form (not (and (symbolp form) (search (lisp-text form) (spec-error-message condition))))
+               (not (and (consp form) (spec-error-label condition)
+                         (equal (form-label form) (spec-error-label condition)))))
       (format stream " in ~A" (bounded-lisp-text form 160)))))
 
 (defun position-line (file position)
@@ -75,9 +88,18 @@
     spec-reader-error "The Lisp reader could not read a spec file."
     untrusted-code-error "A spec holds :code or :c++, and code was refused (--no-code)."))
 
+(defvar *form-places* nil
+  "While a spec is parsed: a table from each of its top-level forms to its
+(FILE . POSITION), so an error about a whole form found later (when the spec
+is validated) still names its line.")
+
 (defun spec-fail (class form control &rest arguments)
   "Signal a spec error of CLASS about FORM, with a message from CONTROL and ARGUMENTS."
-  (error class :form form :message (apply #'format nil control arguments)))
+  (let ((place (and *form-places* (consp form) (gethash form *form-places*))))
+    (if place
+        (error class :form form :position place :label (form-label form)
+                     :message (apply #'format nil control arguments))
+        (error class :form form :message (apply #'format nil control arguments)))))
 
 (define-condition unknown-event (player-error)
   ((name :initarg :name :reader unknown-event-name)

@@ -150,7 +150,8 @@ use PLAYER, so that spec words mean what Player means by them."
 (defun read-data-file (file &key (what "file") fail (allow-in-package t))
   "Every top-level form of FILE, read as data, as a list of (FORM POSITION
 PACKAGE): the form's character position and the package it was read in; with
-ALLOW-IN-PACKAGE, IN-PACKAGE forms are obeyed and left out.  FAIL, a function
+ALLOW-IN-PACKAGE, IN-PACKAGE forms are obeyed and left out.  The second
+value is FILE's text.  FAIL, a function
 of a position (or NIL), a message and a kind (:missing, :not-regular, :read
 or :structure), is called for every problem and must not return: the file
 missing or not regular, not UTF-8, nested more than *MAX-FORM-DEPTH* deep,
@@ -178,10 +179,56 @@ unreadable, or holding a circular form.  WHAT names the file in messages."
                      (spec-error (condition) (funcall fail start (spec-error-message condition) :structure)))
                 if (and allow-in-package (consp form) (eq (first form) 'in-package))
                   do (switch-package form start fail)
-                else collect (list form start *package*)))))))
+                else collect (list form start *package*) into entries
+                finally (return (values entries text))))))))
 
 (defun skip-whitespace-and-comments (stream)
   "Advance STREAM past blanks and ; comments; the next character starts a form."
   (loop for char = (peek-char t stream nil nil)
         while (eql char #\;)
         do (read-line stream nil nil)))
+
+;;;# Where a list's elements start
+
+(defun list-element-positions (text start)
+  "The character positions in TEXT where the elements of the list whose ( is
+at START begin, in order (an element is an atom or a form, with any quote,
+backquote or comma prefixes).  Strings, |symbols|, comments and #\\(
+characters are skipped as the reader does; used to point an error at the
+sub-form it is about."
+  (let ((positions '()) (depth 0) (i (1+ start)) (n (length text)) (in-element nil))
+    (flet ((skip-delimited (close)
+             (loop (incf i)
+                   (when (>= i n) (return))
+                   (let ((c (char text i)))
+                     (cond ((char= c #\\) (incf i))
+                           ((char= c close) (return))))))
+           (begin ()
+             (when (and (zerop depth) (not in-element))
+               (push i positions)
+               (setf in-element t))))
+      (loop while (< i n)
+            do (let ((c (char text i)))
+                 (case c
+                   ((#\Space #\Tab #\Newline #\Return #\Page)
+                    (when (zerop depth) (setf in-element nil)))
+                   (#\; (setf i (or (position #\Newline text :start i) n))
+                    (when (zerop depth) (setf in-element nil)))
+                   (#\( (begin) (incf depth))
+                   (#\) (if (zerop depth)
+                            (return)
+                            (progn (decf depth)
+                                   (when (zerop depth) (setf in-element nil)))))
+                   (#\" (begin) (skip-delimited #\")
+                    (when (zerop depth) (setf in-element nil)))
+                   (#\| (begin) (skip-delimited #\|))
+                   ((#\' #\` #\,) (begin))
+                   (#\# (if (and (< (1+ i) n) (char= (char text (1+ i)) #\|))
+                            (setf i (block-comment-end text (+ i 2)))
+                            (progn (begin)
+                                   (when (and (< (1+ i) n) (char= (char text (1+ i)) #\\))
+                                     (incf i 2)))))
+                   (#\\ (begin) (incf i))
+                   (t (begin)))
+                 (incf i))))
+    (nreverse positions)))

@@ -10,18 +10,42 @@
 (defparameter *spec-option-keys* '(:max-depth :scripts :body)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
-(defun parse-spec (name body &key source-file (package *package*))
+(defun parse-spec (name body &key source-file (package *package*) form-positions)
   "Parse BODY, the forms after DEFSPEC NAME, into a validated SPEC.
-Signals a SPEC-ERROR naming the offending form when BODY is malformed."
+Signals a SPEC-ERROR naming the offending form when BODY is malformed; with
+FORM-POSITIONS (BODY's forms' character positions in SOURCE-FILE) the error
+points at the line of the form it is about, and names that form."
   (let* ((*current-spec-name* name)
          (*spec* (%make-spec :name name :forms body :source-file source-file
                              :package package :max-depth *default-max-depth*))
+         (places (form-places body form-positions source-file))
+         (*form-places* places)
          (forms (parse-spec-header body)))
-    (dolist (form forms) (declare-form form))
-    (assign-layout *spec*)
-    (dolist (form forms) (define-form form))
+    (flet ((each-form (function)
+             (dolist (form forms)
+               (let ((*source-position* (or (gethash form places) *source-position*))
+                     (*current-form-label* (form-label form)))
+                 (funcall function form)))))
+      (each-form #'declare-form)
+      (assign-layout *spec*)
+      (each-form #'define-form))
     (validate-spec *spec*)
     *spec*))
+
+(defun form-places (body positions file)
+  "A table from each form of BODY to its (FILE . POSITION), from POSITIONS."
+  (let ((table (make-hash-table :test 'eq)))
+    (when file
+      (loop for form in body
+            for position in positions
+            when (consp form) do (setf (gethash form table) (cons file position))))
+    table))
+
+(defun form-label (form)
+  "How errors name FORM: its kind and name, e.g. \"op whistle\", or NIL."
+  (when (and (consp form) (symbolp (first form)) (consp (rest form))
+             (symbolp (unquote (second form))) (unquote (second form)))
+    (format nil "~(~A~) ~A" (symbol-name (first form)) (lisp-text (unquote (second form))))))
 
 (defun parse-spec-header (body)
   "Read the docstring and (:KEY VALUE) options at the head of BODY; return the rest."
@@ -260,6 +284,10 @@ about FORM for a dotted list."
     (unless (and (symbolp lit) lit)
       (spec-fail 'spec-syntax-error form "~:[:sub~;:add~] takes a boolean variable or var.value, not ~A"
                  addp (lisp-text lit)))
+    (unless (or (find-variable-named lit)
+                (some (lambda (split) (find-variable-named (car split))) (split-dotted lit)))
+      (spec-fail 'unknown-name-error form "unknown variable ~A (~:[:sub~;:add~] takes a boolean variable or var.value)"
+                 (lisp-text lit) addp))
     (let ((ast (handler-case (parse-expression lit)
                  (goal-error ()
                    (spec-fail 'effect-error form "ops cannot change runtime-only variable ~A; use :add (~A N) in an event"

@@ -8,12 +8,13 @@
 (defvar *defined-specs* nil
   "While LOAD-SPEC runs: the specs defined so far, most recent first.")
 
-(defun define-spec (name body &key source-file (package *package*) (allow-code t))
+(defun define-spec (name body &key source-file (package *package*) (allow-code t) form-positions)
   "Parse BODY as spec NAME, register it (replacing any older definition) and
 return it. Signals a SPEC-ERROR, leaving the old definition in place, when NAME
 is not a symbol, BODY is not a proper list, either is circular or nested too
 deeply, or BODY is malformed; unless ALLOW-CODE, also when the spec contains
-:code or :c++ (an UNTRUSTED-CODE-ERROR)."
+:code or :c++ (an UNTRUSTED-CODE-ERROR).  FORM-POSITIONS, the character positions of BODY's
+forms in SOURCE-FILE, let errors name the line of the form at fault."
   (let ((*current-spec-name* (and (symbolp name) name)))
     (check-form-structure (cons name body) :what "defspec form")
     (unless (and (symbolp name) name (not (keywordp name)) (not (eq name t)))
@@ -21,7 +22,8 @@ deeply, or BODY is malformed; unless ALLOW-CODE, also when the spec contains
                  (bounded-lisp-text name 60)))
     (unless (proper-list-p body)
       (spec-fail 'spec-syntax-error nil "the body of defspec ~A is not a proper list" (lisp-text name)))
-    (let ((spec (parse-spec name body :source-file source-file :package package)))
+    (let ((spec (parse-spec name body :source-file source-file :package package
+                                      :form-positions form-positions)))
       (unless allow-code (refuse-code spec))
       (setf (gethash (name-key name) *specs*) spec)
       (push spec *defined-specs*)

@@ -23,16 +23,18 @@ is read as data (see READ-DATA-FILE): only IN-PACKAGE and DEFSPEC forms are
 accepted, and nothing is evaluated.  Unless ALLOW-CODE, a spec holding :code or
 :c++ is refused.  Signals a SPEC-ERROR naming the file and line of the
 offending form; the specs defined before it stay defined."
-  (let* ((entries (read-data-file file :what "spec file" :fail (spec-file-fail file)))
-         (file (probe-file file))
-         (*defined-specs* '()))
-    (loop for (form position package) in entries
-          do (let ((*source-position* (cons file position)))
-               (unless (defspec-form-p form)
-                 (spec-fail 'spec-syntax-error form
-                            "a spec file holds only in-package and defspec forms, not ~A"
-                            (bounded-lisp-text form 60)))
-               (let ((rest (rest form)))
-                 (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
-                              :source-file file :package package :allow-code allow-code))))
-    (reverse *defined-specs*)))
+  (multiple-value-bind (entries text) (read-data-file file :what "spec file" :fail (spec-file-fail file))
+    (let ((file (probe-file file))
+          (*defined-specs* '()))
+      (loop for (form position package) in entries
+            do (let ((*source-position* (cons file position)))
+                 (unless (defspec-form-p form)
+                   (spec-fail 'spec-syntax-error form
+                              "a spec file holds only in-package and defspec forms, not ~A"
+                              (bounded-lisp-text form 60)))
+                 (let ((rest (rest form)))
+                   (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
+                                :source-file file :package package :allow-code allow-code
+                                ;; DEFSPEC and NAME come first.
+                                :form-positions (cddr (list-element-positions text position))))))
+      (reverse *defined-specs*))))
