@@ -43,6 +43,20 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "goals")
                    (:file "machine")
                    (:file "diagnostics")))
+     (:module "compose"
+      :serial t
+      :components ((:file "conditions")
+                   (:file "nodes")
+                   (:file "graphs")
+                   (:file "patterns")
+                   (:file "restriction")
+                   (:file "products")
+                   (:file "trees")
+                   (:file "merge")
+                   (:file "traces")
+                   (:file "cradle")
+                   (:file "graph-spec")
+                   (:file "cradle-spec")))
      (:module "codegen"
       :serial t
       :components ((:file "ir")
@@ -182,5 +196,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-readme")
                  (:file "fuzz")
                  (:file "test-fuzz")
-                 (:file "test-api-arguments"))))
+                 (:file "test-api-arguments")
+                 (:file "test-compose"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -75,7 +75,20 @@
    ;; Argument checking of the Lisp API (issue 11): every exported function
    ;; signals ARGUMENT-ERROR for a bad argument
    #:argument-error #:argument-error-function #:argument-error-argument
-   #:argument-error-value #:argument-error-expected))
+   #:argument-error-value #:argument-error-expected
+   ;; Composing behaviours (src/compose/)
+   #:graph #:graph-p #:make-graph #:complete-graph #:graph-nodes #:graph-edges
+   #:graph-node-count #:graph-edge-count #:graph-empty-p #:graph-has-node-p #:graph-has-edge-p
+   #:graph-successors #:graph-equal #:subgraph-p #:node< #:graph-error #:graph-error-value
+   #:graph-sum #:graph-intersection #:graph-reachable
+   #:pattern #:match-pattern #:binding #:edge-predicate #:pred-implies #:pred-edge #:pred-nodes
+   #:pred-and #:restrict
+   #:graph-product #:graph-map
+   #:tree-p #:tree-left #:tree-right #:tree-merge #:tree-product #:tree-flatten
+   #:seq-rev #:seq-restrict #:seq-count #:seq-suffixes #:seq-all #:seq-exists
+   #:graph-merge #:graph-traces #:map-graph-traces #:random-trace
+   #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
+   #:graph->spec #:graph->spec-forms))
 
 (defpackage #:player-user
   (:use #:cl #:player)
