@@ -18,6 +18,12 @@
   "A double-float uniformly in [LOW, HIGH]."
   (+ low (random (float (- high low) 1d0) state)))
 
+(defmacro with-seeded-randomness ((seed) &body body)
+  "Run BODY with *RANDOM-STATE* seeded by SEED, so a randomized test draws the
+same cases whatever ran before it."
+  `(let ((*random-state* (sb-ext:seed-random-state ,seed)))
+     ,@body))
+
 (defun reach-vec3-list (v)
   "The coordinates of the vec3 V as a list."
   (list (player::vec3-x v) (player::vec3-y v) (player::vec3-z v)))
@@ -108,89 +114,92 @@ and whether every frame was within limits."
 (test decomposition-round-trips
   "JOINT-ANGLES-FOR-ROTATION inverts JOINT-LOCAL-ROTATION for every axis order
 and sign, including gimbal lock; within limits it needs no clamping."
-  (let* ((orders '((:x :y :z) (:x :z :y) (:y :x :z) (:y :z :x) (:z :x :y) (:z :y :x)
-                   (:-x :y :z) (:x :-z :y) (:-y :-z :-x)))
-         (skeleton (player::parse-skeleton
-                    `(skeleton test
-                       (:joint root :parent nil :center (0 0 0))
-                       ,@(loop for order in orders for k from 0
-                               collect `(:joint ,(intern (format nil "J~D" k)) :parent root :center (0 1 0)
-                                                :dofs ,(loop for axis in order collect (list axis -180 180))))))))
-    (loop for joint across (player::skeleton-joints skeleton)
-          when (player::body-joint-dofs joint)
-            do (dotimes (k 50)
-                 (let ((pose (player::make-pose skeleton))
-                       (indices (player::joint-dof-indices joint)))
-                   (dolist (i indices)
-                     (setf (aref pose i) (reach-random -180 180)))
-                   (when (< k 5) ; gimbal lock: the middle angle at +-90
-                     (setf (aref pose (second indices)) (if (evenp k) 90d0 -90d0)))
-                   (let ((q (player::joint-local-rotation joint pose)))
-                     (multiple-value-bind (angles violation) (player::joint-angles-for-rotation joint q)
-                       (loop for i in indices for angle in angles do (setf (aref pose i) angle))
-                       (is (< violation 1d-6))
-                       (is (< (player::quat-angle q (player::joint-local-rotation joint pose)) 1d-7)
-                           "joint ~A" (player::body-joint-name joint)))))))
-    ;; Shipped shoulders, within their limits.
-    (dolist (skeleton *reach-skeletons*)
-      (dolist (side '(:left :right))
-        (let ((shoulder (first (reach-arm-joints skeleton side))))
-          (dotimes (k 100)
-            (let* ((pose (reach-random-pose skeleton side))
-                   (q (player::joint-local-rotation shoulder pose)))
-              (multiple-value-bind (angles violation) (player::joint-angles-for-rotation shoulder q)
-                (loop for i in (player::joint-dof-indices shoulder) for angle in angles
-                      do (setf (aref pose i) angle))
-                (is (< violation 1d-6))
-                (is (player::pose-within-limits-p skeleton pose))
-                (is (< (player::quat-angle q (player::joint-local-rotation shoulder pose)) 1d-7))))))))
-    (is (null (player::joint-angles-for-rotation
-               (player::find-joint (first *reach-skeletons*) 'l_elbow) (player::quat))))))
+  (with-seeded-randomness (1)
+    (let* ((orders '((:x :y :z) (:x :z :y) (:y :x :z) (:y :z :x) (:z :x :y) (:z :y :x)
+                     (:-x :y :z) (:x :-z :y) (:-y :-z :-x)))
+           (skeleton (player::parse-skeleton
+                      `(skeleton test
+                         (:joint root :parent nil :center (0 0 0))
+                         ,@(loop for order in orders for k from 0
+                                 collect `(:joint ,(intern (format nil "J~D" k)) :parent root :center (0 1 0)
+                                                  :dofs ,(loop for axis in order collect (list axis -180 180))))))))
+      (loop for joint across (player::skeleton-joints skeleton)
+            when (player::body-joint-dofs joint)
+              do (dotimes (k 50)
+                   (let ((pose (player::make-pose skeleton))
+                         (indices (player::joint-dof-indices joint)))
+                     (dolist (i indices)
+                       (setf (aref pose i) (reach-random -180 180)))
+                     (when (< k 5) ; gimbal lock: the middle angle at +-90
+                       (setf (aref pose (second indices)) (if (evenp k) 90d0 -90d0)))
+                     (let ((q (player::joint-local-rotation joint pose)))
+                       (multiple-value-bind (angles violation) (player::joint-angles-for-rotation joint q)
+                         (loop for i in indices for angle in angles do (setf (aref pose i) angle))
+                         (is (< violation 1d-6))
+                         (is (< (player::quat-angle q (player::joint-local-rotation joint pose)) 1d-7)
+                             "joint ~A" (player::body-joint-name joint)))))))
+      ;; Shipped shoulders, within their limits.
+      (dolist (skeleton *reach-skeletons*)
+        (dolist (side '(:left :right))
+          (let ((shoulder (first (reach-arm-joints skeleton side))))
+            (dotimes (k 100)
+              (let* ((pose (reach-random-pose skeleton side))
+                     (q (player::joint-local-rotation shoulder pose)))
+                (multiple-value-bind (angles violation) (player::joint-angles-for-rotation shoulder q)
+                  (loop for i in (player::joint-dof-indices shoulder) for angle in angles
+                        do (setf (aref pose i) angle))
+                  (is (< violation 1d-6))
+                  (is (player::pose-within-limits-p skeleton pose))
+                  (is (< (player::quat-angle q (player::joint-local-rotation shoulder pose)) 1d-7))))))))
+      (is (null (player::joint-angles-for-rotation
+                 (player::find-joint (first *reach-skeletons*) 'l_elbow) (player::quat)))))))
 
 (test hinge-closed-form
   "SOLVE-HINGE finds the angle giving a reachable distance, else the nearest within its limits."
-  (dotimes (k 200)
-    (let* ((a (player::vec3 (reach-random -1 1) (reach-random -1 1) (reach-random -1 1)))
-           (w (player::vec3 (reach-random -1 1) (reach-random -1 1) (reach-random -1 1)))
-           (axis (player::vnormalize (player::vec3 (reach-random -1 1) (reach-random -1 1) (reach-random -1 1))))
-           (angle (reach-random -170 170))
-           (distance (player::vnorm (player::v+ a (player::qrotate (player::quat-from-axis-angle axis (* angle (/ pi 180))) w)))))
-      (flet ((reach (degrees)
-               (player::vnorm (player::v+ a (player::qrotate (player::quat-from-axis-angle axis (* degrees (/ pi 180))) w)))))
-        (let ((solved (player::solve-hinge a w axis 0d0 -180d0 180d0 distance)))
-          (is (< (abs (- (reach solved) distance)) 1d-9)))
-        ;; Limited to [0, 10]: no angle there is worse than the one chosen.
-        (let ((solved (player::solve-hinge a w axis 5d0 0d0 10d0 distance)))
-          (is (<= 0 solved 10))
-          (is (loop for d from 0 to 10 by 1/4
-                    always (<= (abs (- (reach solved) distance))
-                               (+ 1d-9 (abs (- (reach (float d 1d0)) distance)))))))))))
+  (with-seeded-randomness (2)
+    (dotimes (k 200)
+      (let* ((a (player::vec3 (reach-random -1 1) (reach-random -1 1) (reach-random -1 1)))
+             (w (player::vec3 (reach-random -1 1) (reach-random -1 1) (reach-random -1 1)))
+             (axis (player::vnormalize (player::vec3 (reach-random -1 1) (reach-random -1 1) (reach-random -1 1))))
+             (angle (reach-random -170 170))
+             (distance (player::vnorm (player::v+ a (player::qrotate (player::quat-from-axis-angle axis (* angle (/ pi 180))) w)))))
+        (flet ((reach (degrees)
+                 (player::vnorm (player::v+ a (player::qrotate (player::quat-from-axis-angle axis (* degrees (/ pi 180))) w)))))
+          (let ((solved (player::solve-hinge a w axis 0d0 -180d0 180d0 distance)))
+            (is (< (abs (- (reach solved) distance)) 1d-9)))
+          ;; Limited to [0, 10]: no angle there is worse than the one chosen.
+          (let ((solved (player::solve-hinge a w axis 5d0 0d0 10d0 distance)))
+            (is (<= 0 solved 10))
+            (is (loop for d from 0 to 10 by 1/4
+                      always (<= (abs (- (reach solved) distance))
+                                 (+ 1d-9 (abs (- (reach (float d 1d0)) distance))))))))))))
 
 (test solver-reaches-random-targets
   "SOLVE-ARM-CHAIN reaches targets made by random arm poses, whatever the rest of
 the pose and the placement, from random starting poses, keeping within limits."
-  (dolist (skeleton *reach-skeletons*)
-    (dolist (side '(:left :right))
-      (let ((chain (reach-chain-of skeleton side))
-            (effector (third (reach-arm-joints skeleton side))))
-        (dotimes (k 100)
-          (let* ((base (player::clamp-pose skeleton
-                                           (map 'player::pose (lambda (x) (declare (ignore x)) (reach-random -40 40))
-                                                (player::make-pose skeleton))))
-                 (placement (player::make-transform
-                             :rotation (player::quat-from-axis-angle (player::vec3 0d0 1d0 0d0) (reach-random -3 3))
-                             :translation (player::vec3 (reach-random -5 5) 0d0 (reach-random -5 5))))
-                 (goal (reach-random-pose skeleton side (player::copy-pose base)))
-                 (target (reach-effector-position skeleton goal side placement))
-                 (start (reach-random-pose skeleton side (player::copy-pose base))))
-            (multiple-value-bind (solved distance) (player::solve-arm-chain chain start target :placement placement)
-              (is (< distance 1d-4))
-              (is (< (player::vdistance target (reach-effector-position skeleton solved side placement)) 1d-4))
-              (is (player::pose-within-limits-p skeleton solved))
-              ;; Only the arm moved.
-              (is (loop for i below (length start)
-                        always (or (find i (player::arm-chain-indices chain)) (= (aref start i) (aref solved i))))))
-            (is (eq effector (player::arm-chain-effector chain)))))))))
+  (with-seeded-randomness (3)
+    (dolist (skeleton *reach-skeletons*)
+      (dolist (side '(:left :right))
+        (let ((chain (reach-chain-of skeleton side))
+              (effector (third (reach-arm-joints skeleton side))))
+          (dotimes (k 100)
+            (let* ((base (player::clamp-pose skeleton
+                                             (map 'player::pose (lambda (x) (declare (ignore x)) (reach-random -40 40))
+                                                  (player::make-pose skeleton))))
+                   (placement (player::make-transform
+                               :rotation (player::quat-from-axis-angle (player::vec3 0d0 1d0 0d0) (reach-random -3 3))
+                               :translation (player::vec3 (reach-random -5 5) 0d0 (reach-random -5 5))))
+                   (goal (reach-random-pose skeleton side (player::copy-pose base)))
+                   (target (reach-effector-position skeleton goal side placement))
+                   (start (reach-random-pose skeleton side (player::copy-pose base))))
+              (multiple-value-bind (solved distance) (player::solve-arm-chain chain start target :placement placement)
+                (is (< distance 1d-4))
+                (is (< (player::vdistance target (reach-effector-position skeleton solved side placement)) 1d-4))
+                (is (player::pose-within-limits-p skeleton solved))
+                ;; Only the arm moved.
+                (is (loop for i below (length start)
+                          always (or (find i (player::arm-chain-indices chain)) (= (aref start i) (aref solved i))))))
+              (is (eq effector (player::arm-chain-effector chain))))))))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; The driver
@@ -198,22 +207,23 @@ the pose and the placement, from random starting poses, keeping within limits."
 (test reach-random-targets
   "(a), (c): for 200 random reachable targets per arm of each skeleton, the hand
 ends within 1 mm, no frame leaves the limits, and nothing is reported."
-  (dolist (skeleton *reach-skeletons*)
-    (dolist (side '(:left :right))
-      (let ((misses 0) (outside 0) (reports 0)
-            (name (format nil "~A ~A" (player::skeleton-name skeleton) side)))
-        (dotimes (k 200)
-          (let* ((target (reach-effector-position skeleton (reach-random-pose skeleton side) side))
-                 (body (reach-body skeleton))
-                 (driver (add-reach body `(:reach :arm ,side :duration 0.5
-                                                     :target (:point ,@(reach-vec3-list target))))))
-            (multiple-value-bind (hand within) (run-reach-frames body driver side 0.6d0)
-              (when (> (player::vdistance hand target) 1d-3) (incf misses))
-              (unless within (incf outside))
-              (when (player::driver-report driver) (incf reports)))))
-        (is (= 0 misses) "~A: ~D of 200 targets missed by over 1 mm" name misses)
-        (is (= 0 outside) "~A: ~D reaches left the limits" name outside)
-        (is (= 0 reports) "~A: ~D reachable targets reported" name reports)))))
+  (with-seeded-randomness (4)
+    (dolist (skeleton *reach-skeletons*)
+      (dolist (side '(:left :right))
+        (let ((misses 0) (outside 0) (reports 0)
+              (name (format nil "~A ~A" (player::skeleton-name skeleton) side)))
+          (dotimes (k 200)
+            (let* ((target (reach-effector-position skeleton (reach-random-pose skeleton side) side))
+                   (body (reach-body skeleton))
+                   (driver (add-reach body `(:reach :arm ,side :duration 0.5
+                                                       :target (:point ,@(reach-vec3-list target))))))
+              (multiple-value-bind (hand within) (run-reach-frames body driver side 0.6d0)
+                (when (> (player::vdistance hand target) 1d-3) (incf misses))
+                (unless within (incf outside))
+                (when (player::driver-report driver) (incf reports)))))
+          (is (= 0 misses) "~A: ~D of 200 targets missed by over 1 mm" name misses)
+          (is (= 0 outside) "~A: ~D reaches left the limits" name outside)
+          (is (= 0 reports) "~A: ~D reachable targets reported" name reports))))))
 
 (defparameter *unreachable-targets*
   '((humanoid :right (-2.0 1.4 0.5)) (humanoid :right (0.0 3.0 0.0)) (humanoid :left (0.3 1.2 -1.5))
@@ -249,47 +259,49 @@ point of a brute-force grid over the arm's DOFs."
 (test solver-beats-brute-force
   "(b) for the solver alone: for random targets anywhere around each arm, most
 of them out of reach, the hand ends no further than a grid search gets."
-  (dolist (skeleton *reach-skeletons*)
-    (dolist (side '(:left :right))
-      (let ((chain (reach-chain-of skeleton side))
-            (scale (if (string-equal (player::skeleton-name skeleton) "parrot") 0.4d0 1.5d0))
-            (name (format nil "~A ~A" (player::skeleton-name skeleton) side)))
-        (dotimes (k 8)
-          (let* ((target (player::vec3 (reach-random (- scale) scale) (reach-random 0 (* 1.5 scale))
-                                       (reach-random (- scale) scale)))
-                 (distance (nth-value 1 (player::solve-arm-chain chain (player::make-pose skeleton) target)))
-                 (reference (reach-brute-force-nearest skeleton side target)))
-            (is (<= distance (+ reference 1d-3)) "~A ~A: ~,4F m away; the grid gets within ~,4F m"
-                name (reach-vec3-list target) distance reference)))))))
+  (with-seeded-randomness (5)
+    (dolist (skeleton *reach-skeletons*)
+      (dolist (side '(:left :right))
+        (let ((chain (reach-chain-of skeleton side))
+              (scale (if (string-equal (player::skeleton-name skeleton) "parrot") 0.4d0 1.5d0))
+              (name (format nil "~A ~A" (player::skeleton-name skeleton) side)))
+          (dotimes (k 8)
+            (let* ((target (player::vec3 (reach-random (- scale) scale) (reach-random 0 (* 1.5 scale))
+                                         (reach-random (- scale) scale)))
+                   (distance (nth-value 1 (player::solve-arm-chain chain (player::make-pose skeleton) target)))
+                   (reference (reach-brute-force-nearest skeleton side target)))
+              (is (<= distance (+ reference 1d-3)) "~A ~A: ~,4F m away; the grid gets within ~,4F m"
+                  name (reach-vec3-list target) distance reference))))))))
 
 (test reach-is-smooth
   "(d): at 60 fps no channel turns more per frame than the smoothstep's steepest
 slope allows (:blend 0, so the body's crossfade does not steepen it)."
-  (dolist (skeleton *reach-skeletons*)
-    (dolist (side '(:left :right))
-      (dotimes (k 20)
-        (let* ((target (if (< k 15)
-                           (reach-effector-position skeleton (reach-random-pose skeleton side) side)
-                           (player::vec3 (reach-random -2 2) (reach-random -1 3) (reach-random -2 2))))
-               (body (reach-body skeleton))
-               (duration 0.6d0)
-               (driver (add-reach body `(:reach :arm ,side :duration ,duration :blend 0
-                                                   :target (:point ,@(reach-vec3-list target)))))
-               (name (format nil "~A ~A" (player::skeleton-name skeleton) side))
-               (channels (player::driver-channels driver))
-               (frames '()))
-          (run-reach-frames body driver side (+ duration 0.2d0) :fps 60
-                     :check (lambda (time pose) (declare (ignore time)) (push pose frames)))
-          (setf frames (nreverse frames))
-          (let* ((first-pose (first frames)) (last-pose (car (last frames)))
-                 (worst-ratio 0d0))
-            (loop for (a b) on frames while b
-                  do (dolist (i channels)
-                       (let ((total (abs (- (aref last-pose i) (aref first-pose i))))
-                             (step (abs (- (aref b i) (aref a i)))))
-                         ;; smoothstep's slope peaks at 1.5 / duration
-                         (setf worst-ratio (max worst-ratio (/ step (+ 1d-9 (* total (/ 1.5d0 duration 60)))))))))
-            (is (<= worst-ratio 1.01d0) "~A: a frame stepped ~,2F times the bound" name worst-ratio)))))))
+  (with-seeded-randomness (6)
+    (dolist (skeleton *reach-skeletons*)
+      (dolist (side '(:left :right))
+        (dotimes (k 20)
+          (let* ((target (if (< k 15)
+                             (reach-effector-position skeleton (reach-random-pose skeleton side) side)
+                             (player::vec3 (reach-random -2 2) (reach-random -1 3) (reach-random -2 2))))
+                 (body (reach-body skeleton))
+                 (duration 0.6d0)
+                 (driver (add-reach body `(:reach :arm ,side :duration ,duration :blend 0
+                                                     :target (:point ,@(reach-vec3-list target)))))
+                 (name (format nil "~A ~A" (player::skeleton-name skeleton) side))
+                 (channels (player::driver-channels driver))
+                 (frames '()))
+            (run-reach-frames body driver side (+ duration 0.2d0) :fps 60
+                       :check (lambda (time pose) (declare (ignore time)) (push pose frames)))
+            (setf frames (nreverse frames))
+            (let* ((first-pose (first frames)) (last-pose (car (last frames)))
+                   (worst-ratio 0d0))
+              (loop for (a b) on frames while b
+                    do (dolist (i channels)
+                         (let ((total (abs (- (aref last-pose i) (aref first-pose i))))
+                               (step (abs (- (aref b i) (aref a i)))))
+                           ;; smoothstep's slope peaks at 1.5 / duration
+                           (setf worst-ratio (max worst-ratio (/ step (+ 1d-9 (* total (/ 1.5d0 duration 60)))))))))
+              (is (<= worst-ratio 1.01d0) "~A: a frame stepped ~,2F times the bound" name worst-ratio))))))))
 
 (test reach-follows-moving-target
   "A target on a moving object is followed once the reach has arrived; the
