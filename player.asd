@@ -39,7 +39,9 @@ run the resulting state machine as Lisp closures or embedded C++."
      (:module "planner"
       :serial t
       :components ((:file "encoding")
+                   (:file "solved-states")
                    (:file "regression")
+                   (:file "uniform-cost")
                    (:file "goals")
                    (:file "machine")
                    (:file "diagnostics")))
@@ -169,6 +171,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-language")
                  (:file "test-errors")
                  (:file "test-planner")
+                 (:file "reference-ucs")
+                 (:file "test-planner-scale")
                  (:file "test-controller")
                  (:file "test-peedy")
                  (:file "test-peedy-body")

@@ -25,6 +25,16 @@
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
 
+(defparameter *large-synthetic-sizes* '(24 26)
+  "Synthetic sizes timed compiling only (the naive planner would take hours).")
+
+(defparameter *random-wide-cases* '((24 1) (26 5))
+  "(N SEED) of the random wide specs timed (bench/synthetic.lisp): at 26
+variables, seed 5 is issue 13's case, 24k plans.")
+
+(defparameter *duration-sizes* '(20 24)
+  "Synthetic sizes timed with (:optimize :duration).")
+
 ;;; Timing
 
 (defconstant +clock-monotonic+ 1 "CLOCK_MONOTONIC on Linux.")
@@ -212,6 +222,60 @@ batches after MAX-SECONDS (at least 3 batches)."
             n (mapcar #'format-seconds times) (format-seconds ours) agree compared)
       (player:remove-spec (player:spec-name spec)))))
 
+(defun compile-times (spec &key (runs 3) (budget 30))
+  "(VALUES TIMES MACHINE): up to RUNS compile times of SPEC in seconds (fewer
+when they pass BUDGET seconds, at least one) and the last machine."
+  (let ((machine nil)
+        (budget-end (+ (now) budget)))
+    (values (loop repeat runs
+                  collect (let ((t0 (now)))
+                            (setf machine (player:compile-spec spec))
+                            (- (now) t0))
+                  while (< (now) budget-end))
+            machine)))
+
+(defun machine-plan-count (machine)
+  "How many plans MACHINE's goals have in all."
+  (reduce #'+ (player::machine-goal-table machine) :key (lambda (g) (length (player::goal-plans g)))))
+
+(defun bench-large-synthetic (n)
+  "Compile the synthetic spec of N variables (no naive comparison)."
+  (let ((spec (define-synthetic-spec (make-synthetic-family n))))
+    (multiple-value-bind (times machine) (compile-times spec)
+      (row (format nil "2. synthetic n=~2D: ~D states, ~D goals, ~D plans, compile only"
+                   n (ash 1 n) (length (player::machine-goal-table machine)) (machine-plan-count machine))
+           (format-seconds (median times)) (if (= n 26) "< 5 s" "") (if (= n 26) (< (median times) 5) ""))
+      (note "synthetic n=~D: compile ~{~A~^, ~}" n (mapcar #'format-seconds times)))
+    (player:remove-spec (player:spec-name spec))))
+
+(defun bench-random-wide (n seed)
+  "Compile the random wide spec of N variables drawn with SEED."
+  (let ((spec (define-random-wide-spec n :seed seed)))
+    (multiple-value-bind (times machine) (compile-times spec :budget 60)
+      (row (format nil "2. random wide n=~2D (seed ~D): ~D states, ~D goals, ~D plans"
+                   n seed (ash 1 n) (length (player::machine-goal-table machine)) (machine-plan-count machine))
+           (format-seconds (median times)) (if (= n 26) "< 10 s (issue 13: 49 s)" "")
+           (if (= n 26) (< (median times) 10) ""))
+      (note "random wide n=~D seed ~D: compile ~{~A~^, ~}" n seed (mapcar #'format-seconds times)))
+    (player:remove-spec (player:spec-name spec))))
+
+(defun bench-optimize-duration (n)
+  "Compile the synthetic spec of N variables with ops of 0.25 to 2 s, by steps and by duration."
+  (flet ((plan (criterion)
+           (let ((spec (define-synthetic-spec (make-synthetic-family n :optimize criterion))))
+             (multiple-value-bind (times machine) (compile-times spec :runs 5)
+               (player:remove-spec (player:spec-name spec))
+               (values (median times) machine)))))
+    (multiple-value-bind (steps steps-machine) (plan :steps)
+      (multiple-value-bind (duration machine) (plan :duration)
+        (row (format nil "2. synthetic n=~2D, ops of 0.25-2 s, (:optimize :duration): ~D plans"
+                     n (machine-plan-count machine))
+             (format-seconds duration) "" "")
+        (row (format nil "   same, (:optimize :steps): ~D plans; ratio duration / steps"
+                     (machine-plan-count steps-machine))
+             (format nil "~A, ~A" (format-seconds steps) (format-ratio (/ duration steps)))
+             (if (= n 24) "<= 3x" "") (if (= n 24) (<= (/ duration steps) 3) ""))))))
+
 ;;; 3. Events per second
 
 (defun event-defs (machine names)
@@ -319,6 +383,15 @@ closures and through run-time planning; add the rows; return the ratio."
         (dolist (n *synthetic-sizes*)
           (format t "~&  synthetic n=~D...~%" n) (finish-output)
           (bench-synthetic n))
+        (dolist (n *large-synthetic-sizes*)
+          (format t "~&  synthetic n=~D...~%" n) (finish-output)
+          (bench-large-synthetic n))
+        (loop for (n seed) in *random-wide-cases*
+              do (format t "~&  random wide n=~D...~%" n) (finish-output)
+                 (bench-random-wide n seed))
+        (dolist (n *duration-sizes*)
+          (format t "~&  synthetic n=~D, :optimize :duration...~%" n) (finish-output)
+          (bench-optimize-duration n))
         (rule)
         (bench-events machine)
         (rule)

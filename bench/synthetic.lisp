@@ -36,10 +36,13 @@ afterwards S is (logior (logandc2 S EFF-MASK) EFF-BITS)."
   (if value (synth-var i) (list 'not (synth-var i))))
 
 (defun make-synthetic-family (n &key (seed 1995) (events 6) (moves (max 2 (floor n 4)))
-                                    (chain 0.7) (max-depth 16))
+                                    (chain 0.7) (max-depth 16) optimize)
   "The synthetic spec of N boolean variables drawn with SEED: its ops, goals
-and DEFSPEC body."
+and DEFSPEC body. Every op lasts 0.5 s; with OPTIMIZE (:steps or :duration),
+the body says (:optimize OPTIMIZE) and each op lasts 0.25, 0.5, 1 or 2 s,
+drawn with a second seed so that the family is otherwise the same."
   (let ((*random-state* (sb-ext:seed-random-state seed))
+        (durations (sb-ext:seed-random-state (1+ seed)))
         (ops '())
         (goals '())
         (event-forms '()))
@@ -60,7 +63,9 @@ and DEFSPEC body."
                                                            collect (synth-literal-form i v)))))
                                ,@(when adds `(:add ,adds))
                                ,@(when subs `(:sub ,subs))
-                               :duration 0.5)))
+                               :duration ,(if optimize
+                                              (nth (random 4 durations) '(0.25 0.5 1 2))
+                                              0.5))))
                  (push (make-synth-op name pre-mask pre-bits eff-mask eff-bits form) ops)))))
       (dotimes (i n)
         ;; X0 is the free end of the ring: its ops need nothing.
@@ -96,6 +101,7 @@ and DEFSPEC body."
      n ops (remove-duplicates (nreverse goals) :test #'equal)
      `(,(format nil "Synthetic family, ~D boolean variables." n)
        (:max-depth ,max-depth)
+       ,@(when optimize `((:optimize ,optimize)))
        ,@(loop for i below n collect `(player-user::state-variable ,(synth-var i) player-user::boolean player-user::false))
        ,@(mapcar #'synth-op-form ops)
        ,@(nreverse event-forms)))))
@@ -104,4 +110,47 @@ and DEFSPEC body."
   "Define FAMILY's spec in Player; return it."
   (player:define-spec (intern (format nil "SYNTHETIC-~D" (synth-family-n family)) '#:player-user)
                       (synth-family-body family)
+                      :package (find-package '#:player-user)))
+
+;;; A random wide family: N boolean variables and 2N ops, each op guarded by
+;;; a conjunction of 1-3 random literals and setting 1-2 random variables;
+;;; four events ask for conjunctions of 3-6 random literals. Unlike the ring
+;;; above, regression fans out into tens of thousands of plans per goal at
+;;; N = 26: the case that made the old ResultQ scan quadratic (issue 13).
+
+(defun make-random-wide-body (n &key (seed 26) (ops (* 2 n)) (events 4) (max-depth 16) optimize)
+  "The DEFSPEC body of the random wide spec of N booleans drawn with SEED
+(with (:optimize OPTIMIZE) when given; every op then lasts 0.5 s times 1 to 4)."
+  (let ((*random-state* (sb-ext:seed-random-state seed)))
+    (labels ((between (low high) (+ low (random (1+ (- high low)))))
+             (variables (count)
+               (loop with chosen = '()
+                     until (= (length chosen) count)
+                     do (pushnew (random n) chosen)
+                     finally (return chosen)))
+             (literals (count)
+               (mapcar (lambda (i) (synth-literal-form i (zerop (random 2)))) (variables count))))
+      `(,(format nil "Random wide spec, ~D boolean variables, seed ~D." n seed)
+        (:max-depth ,max-depth)
+        ,@(when optimize `((:optimize ,optimize)))
+        ,@(loop for i below n collect `(player-user::state-variable ,(synth-var i) player-user::boolean player-user::false))
+        ,@(loop for k below ops
+                collect (let ((guard (literals (between 1 3)))
+                              (effects (mapcar (lambda (i) (cons i (zerop (random 2)))) (variables (between 1 2))))
+                              (duration (* 0.5 (between 1 4))))
+                          `(player-user::op ,(intern (format nil "W~D" k) '#:player-user)
+                             :precond (and ,@guard)
+                             ,@(let ((adds (loop for (i . v) in effects when v collect (synth-var i))))
+                                 (when adds `(:add ,adds)))
+                             ,@(let ((subs (loop for (i . v) in effects unless v collect (synth-var i))))
+                                 (when subs `(:sub ,subs)))
+                             :duration ,duration)))
+        ,@(loop for k below events
+                collect `(player-user::event ,(intern (format nil "EV-~D" k) '#:player-user)
+                           :state (and ,@(literals (between 3 6)))))))))
+
+(defun define-random-wide-spec (n &rest options)
+  "Define the random wide spec of N booleans (MAKE-RANDOM-WIDE-BODY's OPTIONS) in Player; return it."
+  (player:define-spec (intern (format nil "RANDOM-WIDE-~D" n) '#:player-user)
+                      (apply #'make-random-wide-body n options)
                       :package (find-package '#:player-user)))

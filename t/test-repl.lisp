@@ -20,7 +20,10 @@
     (is (eql 0 (search "#<CONTROLLER peedy t=5.5 holding-note=true posture=stand alert=awake"
                        (prin1-to-string controller)))
         "~A" controller)
-    (dolist (object (append (list spec machine controller (controller-presenter controller))
+    (is (search "#<MACHINE peedy 13 goals, 144 states>" (prin1-to-string (plan-spec spec))))
+    (dolist (object (append (list spec machine controller (controller-presenter controller) (plan-spec spec))
+                            (coerce (player::machine-goal-table machine) 'list)
+                            (coerce (player::goal-plans (aref (player::machine-goal-table machine) 0)) 'list)
                             (player::spec-ops spec) (player::spec-variables spec)
                             (player::spec-events spec) (player::spec-autoscripts spec)
                             (check-spec spec)))

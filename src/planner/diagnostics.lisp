@@ -37,7 +37,7 @@ planned on the spot."
                          (solve-goal (%make-goal :cubes cubes :forms (list goal)
                                                  :expression (cubes-expression cubes spec))
                                      (machine-operators machine) (machine-layout machine)
-                                     (spec-max-depth spec)))
+                                     spec))
                      spec)))
 
 (defun used-ops (machine)

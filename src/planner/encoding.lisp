@@ -1,12 +1,16 @@
 ;;;; encoding.lisp -- the plannable state space, for the planner's bookkeeping.
 ;;;; At run time a state is the one-hot integer of canonical.lisp. The planner
 ;;;; also numbers states densely (mixed radix over the domains) so SolvedStates
-;;;; can be a bit vector with one bit per state.
+;;;; can be a bit vector with one bit per state (solved-states.lisp).
 
 (in-package #:player)
 
 (defparameter *state-limit* (expt 2 26)
   "Most plannable states the planner accepts (the SolvedStates bitmap is this many bits).")
+
+(defparameter *group-threshold* (expt 2 18)
+  "Fewest states for which SolvedStates keeps a bit per full word (solved-states.lisp):
+below it, reading the words themselves is as quick.")
 
 (defstruct (layout (:constructor %make-layout))
   "The plannable variables of a spec with their one-hot fields and dense strides."
@@ -17,9 +21,12 @@
   (masks #() :type simple-vector)
   (strides #() :type simple-vector)
   (state-count 1 :type (integer 1))
-  ;; leading variables spanning exactly one 64-bit word, or NIL (see MARK-CUBE-WORDS)
+  ;; leading variables spanning exactly one 64-bit word, or NIL (see CUBE-WORD-PATTERN)
   (word-prefix nil)
-  (word-masks #() :type simple-vector))
+  (word-masks #() :type simple-vector)
+  ;; the next variables, spanning exactly 64 words (a group), or NIL
+  (group-prefix nil)
+  (group-masks #() :type simple-vector))
 
 (defun make-layout (spec)
   "The layout of SPEC's plannable state; STATE-SPACE-TOO-LARGE past *STATE-LIMIT*."
@@ -36,9 +43,12 @@
                                 :offsets (map 'simple-vector #'var-bit-offset vars)
                                 :masks (map 'simple-vector #'var-field-mask vars)
                                 :strides strides :state-count count)))
-      (when-let ((prefix (word-prefix layout)))
+      (when-let ((prefix (span-prefix layout 0 64)))
         (setf (layout-word-prefix layout) prefix
-              (layout-word-masks layout) (word-value-masks layout prefix)))
+              (layout-word-masks layout) (position-value-masks layout 0 prefix 1))
+        (when-let ((group (and (>= count *group-threshold*) (span-prefix layout prefix 64))))
+          (setf (layout-group-prefix layout) group
+                (layout-group-masks layout) (position-value-masks layout prefix group 64))))
       layout)))
 
 (defun layout-cube-empty-p (cube layout)
@@ -66,39 +76,79 @@
 
 ;;; The planner spends most of its time on the states of cubes. The variables
 ;;; a cube leaves free at the low end of the numbering make its states come in
-;;; contiguous runs, which bit-vector COUNT and FILL handle a word at a time;
-;;; the other variables turn like an odometer over fixnums.
+;;; contiguous runs; the other variables turn like an odometer over fixnums.
+;;; The same holds for the words (64 states) and groups (64 words) of a
+;;; bitmap: dividing the dense numbers by a UNIT drops the lowest variables.
 
-(defun cube-runs (cube layout)
-  "(VALUES CHOICES RUN): CUBE's states are the runs [BASE, BASE+RUN) for every
-BASE that sums one entry of each vector in CHOICES (the constrained and higher
-variables' dense contributions)."
-  (declare (optimize speed))
+(declaim (inline cube-field))
+(defun cube-field (cube layout k)
+  "The bits of the values CUBE allows variable K, shifted to bit 0."
+  (ldb (byte (svref (layout-sizes layout) k) (svref (layout-offsets layout) k)) cube))
+
+(defun field-contributions (field step)
+  "The dense contributions of the values in FIELD of a variable of stride STEP."
+  (declare (type unsigned-byte field) (type fixnum step) (optimize speed))
+  (let ((digit (make-array (logcount field) :element-type 'fixnum))
+        (j 0))
+    (declare (type fixnum j))
+    (loop for i of-type fixnum from 0 below (integer-length field)
+          when (logbitp i field)
+            do (setf (aref digit j) (* i step))
+               (incf j))
+    digit))
+
+(defun merge-digits (low high)
+  "One digit for two: every sum of an entry of LOW and one of HIGH, ascending."
+  (declare (type (simple-array fixnum (*)) low high) (optimize speed))
+  (let ((merged (make-array (* (length low) (length high)) :element-type 'fixnum))
+        (j 0))
+    (declare (type fixnum j))
+    (loop for b of-type fixnum across high
+          do (loop for a of-type fixnum across low
+                   do (setf (aref merged j) (+ a b))
+                      (incf j)))
+    merged))
+
+(defun cube-index-runs (cube layout from unit)
+  "(VALUES INNER OUTER RUN): the indices (dense number / UNIT, where UNIT is the
+stride of variable FROM) of CUBE's states are the runs [BASE+I, BASE+I+RUN)
+for every I in the fixnum vector INNER and every BASE that sums one entry of
+each vector in OUTER (DO-ODOMETER's digits). Variables that CUBE fixes never
+turn: their contribution is added to INNER; the lowest turning variables are
+merged into INNER until it has 64 entries, so the odometer seldom turns."
+  (declare (type fixnum from unit) (optimize speed))
   (let* ((sizes (layout-sizes layout))
          (offsets (layout-offsets layout))
          (strides (layout-strides layout))
          (n (length sizes))
-         (free (loop for k of-type fixnum below n
-                     for size of-type fixnum = (svref sizes k)
-                     while (= (ldb (byte size (the fixnum (svref offsets k))) cube)
-                              (1- (ash 1 size)))
-                     count t))
-         (choices (make-array (- n free))))
-    (declare (type simple-vector sizes offsets strides) (type fixnum n free))
-    (loop for k of-type fixnum from free below n
+         (fields (make-array n :initial-element 0))
+         (constrained n)
+         (constant 0)
+         (digits '()))
+    (declare (type simple-vector sizes offsets strides) (type fixnum n constrained constant))
+    (loop for k of-type fixnum from (1- n) downto from
           for size of-type fixnum = (svref sizes k)
-          for offset of-type fixnum = (svref offsets k)
-          for stride of-type fixnum = (svref strides k)
-          for field = (ldb (byte size offset) cube)
-          for values = (make-array (logcount field) :element-type 'fixnum)
-          do (loop with j of-type fixnum = 0
-                   for i of-type fixnum below size
-                   when (logbitp i field)
-                     do (setf (aref values j) (* i stride))
-                        (incf j))
-             (setf (svref choices (- k free)) values))
-    (values choices
-            (if (< free n) (svref strides free) (layout-state-count layout)))))
+          for field of-type unsigned-byte = (ldb (byte size (the fixnum (svref offsets k))) cube)
+          do (setf (svref fields k) field)
+             (unless (= field (1- (ash 1 size)))
+               (setf constrained k)))
+    (loop for k of-type fixnum from (1- n) downto constrained
+          for field of-type unsigned-byte = (svref fields k)
+          for step of-type fixnum = (floor (the fixnum (svref strides k)) unit)
+          do (if (= (logcount field) 1)
+                 (incf constant (the fixnum (* (1- (integer-length field)) step)))
+                 (push (field-contributions field step) digits)))
+    (loop while (and (rest digits) (< (length (the (simple-array fixnum (*)) (first digits))) 64))
+          do (setf digits (cons (merge-digits (first digits) (second digits)) (cddr digits))))
+    (let ((inner (or (first digits) (make-array 1 :element-type 'fixnum :initial-element 0))))
+      (declare (type (simple-array fixnum (*)) inner))
+      (dotimes (j (length inner)) (incf (aref inner j) constant))
+      (values inner
+              (coerce (rest digits) 'simple-vector)
+              (floor (the fixnum (if (< constrained n)
+                                     (svref strides constrained)
+                                     (layout-state-count layout)))
+                     unit)))))
 
 (defmacro do-odometer ((base choices) &body body)
   "Run BODY with BASE bound to every sum of one entry from each vector of
@@ -123,152 +173,78 @@ CHOICES (a simple-vector of fixnum vectors), kept up to date digit by digit."
                                      (setf (aref ,counters ,k) 0))))
            (return))))))
 
-(defmacro do-cube-runs ((start end cube layout) &body body)
-  "Run BODY with START and END bound to each run [START, END) of CUBE's dense states."
-  (with-gensyms (choices run base)
-    `(multiple-value-bind (,choices ,run) (cube-runs ,cube ,layout)
-       (declare (type simple-vector ,choices) (type fixnum ,run))
-       (do-odometer (,base ,choices)
-         (let ((,start ,base) (,end (+ ,base ,run)))
-           (declare (type fixnum ,start ,end))
-           ,@body)))))
+(defmacro do-cube-runs ((start end cube layout &key (from 0) (unit 1)) &body body)
+  "Run BODY with START and END bound to each run [START, END) of the indices
+(dense number / UNIT) of CUBE's states; UNIT is the stride of variable FROM."
+  (with-gensyms (inner outer run base offset)
+    `(multiple-value-bind (,inner ,outer ,run) (cube-index-runs ,cube ,layout ,from ,unit)
+       (declare (type (simple-array fixnum (*)) ,inner) (type simple-vector ,outer)
+                (type fixnum ,run))
+       (do-odometer (,base ,outer)
+         (loop for ,offset of-type fixnum across ,inner
+               do (let* ((,start (+ ,base ,offset))
+                         (,end (+ ,start ,run)))
+                    (declare (type fixnum ,start ,end))
+                    ,@body))))))
+
+(defmacro do-cube-indices ((index cube layout &key (from 0) (unit 1)) &body body)
+  "Run BODY with INDEX bound to each index (dense number / UNIT) of CUBE's states."
+  (with-gensyms (start end)
+    `(do-cube-runs (,start ,end ,cube ,layout :from ,from :unit ,unit)
+       (loop for ,index of-type fixnum from ,start below ,end
+             do (progn ,@body)))))
 
 ;;; When the first variables of the dense numbering span exactly 64 states
-;;; (six booleans, say), every word of SolvedStates holds all their
-;;; combinations for one assignment of the others: a cube then marks a fixed
-;;; 64-bit pattern in each of the words its other variables select.
+;;; (six booleans, say), every 64-bit word of a bitmap holds all their
+;;; combinations for one assignment of the others: a cube then covers a fixed
+;;; 64-bit pattern in each of the words its other variables select. When the
+;;; next variables span exactly 64 words, a cube likewise covers a fixed
+;;; pattern of the words of each group of 64 words it touches.
 
-(defun word-prefix (layout)
-  "How many leading variables of LAYOUT span exactly 64 states, or NIL."
+(defun span-prefix (layout from span)
+  "How many variables of LAYOUT from FROM on span exactly SPAN values, or NIL."
   (loop with product = 1
-        for size across (layout-sizes layout)
-        for k from 1
-        do (setf product (* product size))
-        when (= product 64) return k
-        while (< product 64)))
+        for k from from below (length (layout-sizes layout))
+        for count from 1
+        do (setf product (* product (svref (layout-sizes layout) k)))
+        when (= product span) return count
+        while (< product span)))
 
-(defun word-value-masks (layout prefix)
-  "For each of the first PREFIX variables, a vector giving for each value the
-64-bit mask of the word positions where the variable has that value."
-  (coerce (loop for k below prefix
-                collect (coerce (loop for i below (svref (layout-sizes layout) k)
-                                      collect (loop for low below 64
-                                                    when (= i (mod (floor low (svref (layout-strides layout) k))
-                                                                   (svref (layout-sizes layout) k)))
-                                                      sum (ash 1 low)))
-                                'simple-vector))
+(defun position-value-masks (layout from count unit)
+  "For each of the COUNT variables from FROM on, a vector giving for each value
+the 64-bit mask of the positions (dense number / UNIT, modulo 64) where the
+variable has that value."
+  (coerce (loop for k from from below (+ from count)
+                for size = (svref (layout-sizes layout) k)
+                for step = (/ (svref (layout-strides layout) k) unit)
+                collect (coerce (loop for i below size
+                                      collect (loop for position below 64
+                                                    when (= i (mod (floor position step) size))
+                                                      sum (ash 1 position)))
+                                '(simple-array (unsigned-byte 64) (*))))
           'simple-vector))
 
-(defun cube-word-pattern (cube layout prefix)
-  "The 64-bit mask of the combinations of the first PREFIX variables CUBE allows."
-  (let ((pattern (1- (ash 1 64)))
-        (masks (layout-word-masks layout)))
-    (dotimes (k prefix pattern)
-      (let ((offset (svref (layout-offsets layout) k))
-            (allowed 0))
-        (loop for i below (svref (layout-sizes layout) k)
-              when (logbitp (+ offset i) cube)
-                do (setf allowed (logior allowed (svref (svref masks k) i))))
-        (setf pattern (logand pattern allowed))))))
+(defun cube-position-pattern (cube layout from masks)
+  "The 64-bit mask of the positions CUBE allows, given the MASKS of
+POSITION-VALUE-MASKS for the variables from FROM on."
+  (declare (type simple-vector masks) (type fixnum from) (optimize speed))
+  (let ((pattern (ldb (byte 64 0) -1)))
+    (declare (type (unsigned-byte 64) pattern))
+    (loop for k of-type fixnum from from
+          for value-masks of-type (simple-array (unsigned-byte 64) (*)) across masks
+          do (let ((field (cube-field cube layout k))
+                   (allowed 0))
+               (declare (type (unsigned-byte 64) allowed))
+               (loop for i of-type fixnum below (length value-masks)
+                     when (logbitp i field)
+                       do (setf allowed (logior allowed (aref value-masks i))))
+               (setf pattern (logand pattern allowed))))
+    pattern))
 
-(defun cube-word-choices (cube layout prefix)
-  "Per variable after the first PREFIX, the word-index contributions of the values CUBE allows."
-  (coerce (loop for k from prefix below (length (layout-sizes layout))
-                collect (coerce (loop for i below (svref (layout-sizes layout) k)
-                                      when (logbitp (+ (svref (layout-offsets layout) k) i) cube)
-                                        collect (/ (* i (svref (layout-strides layout) k)) 64))
-                                '(simple-array fixnum (*))))
-          'simple-vector))
+(defun cube-word-pattern (cube layout)
+  "The 64-bit mask of the states CUBE allows in each of its words."
+  (cube-position-pattern cube layout 0 (layout-word-masks layout)))
 
-(defun mark-cube-words (bitmap cube layout prefix)
-  "MARK-CUBE for a layout whose first PREFIX variables span one word."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  (let ((pattern (cube-word-pattern cube layout prefix))
-        (choices (cube-word-choices cube layout prefix))
-        (new 0))
-    (declare (type (unsigned-byte 64) pattern) (type simple-vector choices) (type fixnum new))
-    (do-odometer (word choices)
-      (let ((old (sb-kernel:%vector-raw-bits bitmap word)))
-        (declare (type (unsigned-byte 64) old))
-        (incf new (logcount (logandc1 old pattern)))
-        (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old pattern))))
-    new))
-
-(defun map-cube-states (function cube layout)
-  "Call FUNCTION on the dense number of every state in CUBE."
-  (do-cube-runs (start end cube layout)
-    (loop for dense from start below end do (funcall function dense))))
-
-;;; SolvedStates is marked and tested a 64-bit word at a time: SBCL stores a
-;;; bit vector's bit I as bit (MOD I 64) of word (FLOOR I 64).
-
-(declaim (inline range-word-mask))
-(defun range-word-mask (start end)
-  "(VALUES WORD MASK COUNT): the word holding bit START, the mask of bits
-[START, END) within it, and how many bits that is."
-  (declare (type fixnum start end) (optimize speed))
-  (multiple-value-bind (word bit) (floor start 64)
-    (let ((count (min (- 64 bit) (- end start))))
-      (values word
-              (ldb (byte 64 0) (ash (ldb (byte count 0) (1- (ash 1 64))) bit))
-              count))))
-
-(defun mark-range (bitmap start end)
-  "Set bits [START, END) of BITMAP; return how many of them were clear."
-  (declare (type simple-bit-vector bitmap) (type fixnum start end) (optimize speed))
-  (let ((new 0))
-    (declare (type fixnum new))
-    (loop while (< start end)
-          do (multiple-value-bind (word mask count) (range-word-mask start end)
-               (declare (type (unsigned-byte 64) mask) (type fixnum count))
-               (let ((old (sb-kernel:%vector-raw-bits bitmap word)))
-                 (declare (type (unsigned-byte 64) old))
-                 (incf new (logcount (logandc1 old mask)))
-                 (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old mask))
-                 (incf start count))))
-    new))
-
-(defun range-has-clear-p (bitmap start end)
-  "True when some bit of [START, END) in BITMAP is clear."
-  (declare (type simple-bit-vector bitmap) (type fixnum start end) (optimize speed))
-  (loop while (< start end)
-        do (multiple-value-bind (word mask count) (range-word-mask start end)
-             (declare (type (unsigned-byte 64) mask) (type fixnum count))
-             (unless (zerop (logandc1 (sb-kernel:%vector-raw-bits bitmap word) mask))
-               (return-from range-has-clear-p t))
-             (incf start count)))
-  nil)
-
-(defun mark-cube (bitmap cube layout)
-  "Set CUBE's states in BITMAP; return how many were not set before."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  (when-let ((prefix (layout-word-prefix layout)))
-    (return-from mark-cube (mark-cube-words bitmap cube layout prefix)))
-  (let ((new 0))
-    (declare (type fixnum new))
-    (do-cube-runs (start end cube layout)
-      (if (< (- end start) 64)
-          (loop for dense of-type fixnum from start below end
-                when (zerop (sbit bitmap dense))
-                  do (setf (sbit bitmap dense) 1)
-                     (incf new))
-          (incf new (mark-range bitmap start end))))
-    new))
-
-(defun cube-has-unmarked-p (bitmap cube layout)
-  "True when some state of CUBE is not set in BITMAP."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  (do-cube-runs (start end cube layout)
-    (when (range-has-clear-p bitmap start end)
-      (return-from cube-has-unmarked-p t)))
-  nil)
-
-(defun count-marked (bitmap)
-  "How many bits of BITMAP are set, a word at a time."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  (multiple-value-bind (words rest) (floor (length bitmap) 64)
-    (+ (loop for i of-type fixnum below words
-             sum (logcount (the (unsigned-byte 64) (sb-kernel:%vector-raw-bits bitmap i)))
-               of-type fixnum)
-       (loop for i of-type fixnum from (* words 64) below (+ (* words 64) rest)
-             count (= 1 (sbit bitmap i))))))
+(defun cube-group-pattern (cube layout)
+  "The 64-bit mask of the words CUBE touches in each of its groups."
+  (cube-position-pattern cube layout (layout-word-prefix layout) (layout-group-masks layout)))

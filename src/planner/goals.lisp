@@ -14,7 +14,7 @@
   (expression nil)
   ;; The goal as written, once per distinct writing.
   (forms '() :type list)
-  ;; PLANs in breadth-first order.
+  ;; PLANs in the order they are tried (breadth first, or cheapest first).
   (plans #() :type simple-vector)
   ;; States from which the goal is reachable.
   (solved-count 0 :type (integer 0))
@@ -22,6 +22,11 @@
   (solved nil)
   ;; True when :MAX-DEPTH cut the search short.
   (truncatedp nil))
+
+(defmethod print-object ((goal goal) stream)
+  (print-unreadable-object (goal stream :type t)
+    (format stream "~D ~A, ~D plan~:P" (1+ (goal-id goal)) (bounded-lisp-text (goal-expression goal) 80)
+            (length (goal-plans goal)))))
 
 (defun map-directives (function directives)
   "Call FUNCTION on every directive of DIRECTIVES, inside :IF bodies too."
@@ -67,10 +72,19 @@ Returns (VALUES GOAL GOALS)."
                                 :forms (list form))))
           (values goal (cons goal goals))))))
 
-(defun solve-goal (goal operators layout max-depth)
-  "Plan GOAL, filling in its plans and coverage."
+(defun spec-optimize (spec)
+  "What SPEC's plans minimise: :STEPS, the number of operators (the default),
+or :DURATION, their total duration; SPEC's (:optimize CRITERION) option."
+  (getf (spec-options spec) :optimize :steps))
+
+(defun solve-goal (goal operators layout spec)
+  "Plan GOAL for SPEC, filling in its plans and coverage: fewest operators
+breadth first (regression.lisp), or least total duration (uniform-cost.lisp)."
   (multiple-value-bind (plans solved truncatedp)
-      (plan-goal (goal-cubes goal) operators layout max-depth)
+      (funcall (ecase (spec-optimize spec)
+                 (:steps #'plan-goal)
+                 (:duration #'plan-goal-by-duration))
+               (goal-cubes goal) operators layout (spec-max-depth spec))
     (setf (goal-plans goal) (coerce plans 'simple-vector)
           (goal-solved goal) solved
           (goal-solved-count goal) (count-marked solved)

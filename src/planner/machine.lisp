@@ -22,6 +22,12 @@
   (autoscript-mask 0 :type integer)
   (compile-seconds 0d0 :type double-float))
 
+(defmethod print-object ((machine machine) stream)
+  ;; One line at the REPL: the plan tables are for PLANS and DESCRIBE.
+  (print-unreadable-object (machine stream :type t)
+    (format stream "~A ~D goal~:P, ~D state~:P" (lisp-text (spec-name (machine-spec machine)))
+            (length (machine-goal-table machine)) (layout-state-count (machine-layout machine)))))
+
 (defun machine-state-count (machine)
   "How many plannable states MACHINE's spec has."
   (check-argument 'machine-state-count 'machine machine #'machine-p "a machine")
@@ -53,7 +59,7 @@ may extend the struct)."
                      (gethash ast goal-of) goal)))
     (let ((goals (coerce (reverse goals) 'simple-vector)))
       (loop for goal across goals
-            do (solve-goal goal operators layout (spec-max-depth spec)))
+            do (solve-goal goal operators layout spec))
       (funcall constructor :spec spec :layout layout :goal-table goals :goal-of goal-of
                      :operators operators :initial-state (initial-state spec)
                      :watched-variables (watched-plannable-variables spec)

@@ -6,8 +6,11 @@
 ;;;; and prepends each operator whose effects could have produced the plan's
 ;;;; start state, regressing that state through the operator's inverse. A new
 ;;;; start state is kept only if it is not subsumed by SolvedStates (the states
-;;;; already solved, here a bit per state). So the first plan whose condition
-;;;; holds in a state is a shortest plan from it.
+;;;; already solved, here a bit per state read a word at a time, see
+;;;; solved-states.lisp: asking it costs about the new state's size, where
+;;;; scanning ResultQ for a plan covering it made planning quadratic in the
+;;;; number of plans). So the first plan whose condition holds in a state is a
+;;;; shortest plan from it.
 
 (in-package #:player)
 
@@ -17,6 +20,10 @@ OPS (OP-DEFs, first to run first) reaches the goal."
   (condition 0 :type integer)
   (ops '() :type list))
 
+(defmethod print-object ((plan plan) stream)
+  (print-unreadable-object (plan stream :type t)
+    (format stream "run ~A" (bounded-lisp-text (mapcar #'op-name (plan-ops plan)) 80))))
+
 (defstruct (planner-op (:constructor %make-planner-op))
   "An operator as the planner sees it: precondition cubes and one-hot effects."
   (op nil :type op-def)
@@ -25,7 +32,9 @@ OPS (OP-DEFs, first to run first) reaches the goal."
   ;; Fields of the variables the op sets.
   (effect-mask 0 :type integer)
   ;; The value bits it sets them to.
-  (effect-bits 0 :type integer))
+  (effect-bits 0 :type integer)
+  ;; Seconds, exactly, for duration-optimal plans (uniform-cost.lisp).
+  (duration 0 :type rational))
 
 (defun make-planner-op (op spec)
   "Normalise OP into a PLANNER-OP of SPEC."
@@ -35,7 +44,16 @@ OPS (OP-DEFs, first to run first) reaches the goal."
                      (expression-cubes (op-precond op) spec)
                      (list (top-cube spec)))
    :effect-mask (op-effect-mask op)
-   :effect-bits (op-effect-bits op)))
+   :effect-bits (op-effect-bits op)
+   :duration (op-planning-duration op)))
+
+(defun op-planning-duration (op)
+  "OP's duration for planning, as an exact rational: its declared :duration; for
+a macro-op, which declares none, the sum of its :seq ops' (:label and :time
+are left out, as are the plans its sub-ops' preconditions may need)."
+  (if (eq (op-kind op) :macro)
+      (reduce #'+ (macro-sub-ops op) :key #'op-planning-duration)
+      (rational (op-duration op))))
 
 (defun planner-ops (spec)
   "The operators the planner may use: every op that is not must-ask, and every
@@ -88,15 +106,14 @@ the plans in breadth-first order, the bitmap of states they cover, and whether
 MAX-DEPTH cut off plans for states still unsolved."
   (let ((result-q (make-queue))
         (working-q (make-queue))
-        (solved-states (make-array (layout-state-count layout) :element-type 'bit
-                                                                :initial-element 0)))
+        (solved-states (make-solved-states layout)))
     (dolist (cube goal-cubes)
       (when (plusp (mark-cube solved-states cube layout))
         (let ((empty-plan (make-plan cube '())))
           (enqueue empty-plan result-q)
           (enqueue empty-plan working-q))))
     (let ((truncatedp (sub-plan result-q working-q solved-states operators layout max-depth)))
-      (values (queue-items result-q) solved-states truncatedp))))
+      (values (queue-items result-q) (solved-states-bits solved-states) truncatedp))))
 
 (defun sub-plan (result-q working-q solved-states operators layout max-depth)
   "Expand WORKING-Q breadth first until it is empty, adding every plan for a
@@ -111,20 +128,21 @@ not yet solved start state to RESULT-Q. Returns true if MAX-DEPTH truncated the 
                      (setf truncatedp (could-extend-p root-state solved-states operators layout)))
                    (dolist (operator operators)
                      (dolist (new-state (regress root-state operator layout))
-                       (when (and (not (covered-by-plan-p new-state root-plan result-q))
-                                  (plusp (mark-cube solved-states new-state layout)))
+                       (unless (subsumed-by-solved-states-p new-state root-state solved-states layout)
+                         (mark-cube solved-states new-state layout)
                          (let ((new-plan (make-plan new-state
                                                     (cons (planner-op-op operator) root-ops))))
                            (enqueue new-plan result-q)
                            (enqueue new-plan working-q))))))))
     truncatedp))
 
-(defun covered-by-plan-p (cube root-plan result-q)
-  "True when one plan's condition already contains CUBE, so SolvedStates holds
-all of it: a cheap first test before counting CUBE's states one by one."
-  (or (cube-subset-p cube (plan-condition root-plan))
-      (loop for plan in (queue-items result-q)
-              thereis (cube-subset-p cube (plan-condition plan)))))
+(defun subsumed-by-solved-states-p (new-state root-state solved-states layout)
+  "True when SolvedStates already holds every state of cube NEW-STATE, so it
+needs no plan. A cube inside ROOT-STATE (solved before it was expanded) is the
+cheap first test; otherwise SolvedStates is read a word at a time, up to the
+first unsolved state."
+  (or (cube-subset-p new-state root-state)
+      (not (cube-has-unmarked-p solved-states new-state layout))))
 
 (defun could-extend-p (root-state solved-states operators layout)
   "True when one more operator before ROOT-STATE would solve new states."

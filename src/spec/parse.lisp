@@ -7,8 +7,12 @@
 (defparameter *default-max-depth* 16
   "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
 
-(defparameter *spec-option-keys* '(:max-depth :scripts :body)
+(defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
+
+(defparameter *optimize-criteria* '(:steps :duration)
+  "What (:optimize CRITERION) may ask the planner to minimise: the number of
+operators (the paper's, the default), or their total :duration.")
 
 (defun parse-spec (name body &key source-file (package *package*) form-positions)
   "Parse BODY, the forms after DEFSPEC NAME, into a validated SPEC.
@@ -57,13 +61,24 @@ points at the line of the form it is about, and names that form."
                           (member (first option) *spec-option-keys*))
                (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~})"
                           (mapcar #'lisp-text *spec-option-keys*)))
-             (if (eq (first option) :max-depth)
-                 (let ((depth (second option)))
-                   (unless (typep depth '(integer 0 1000))
-                     (spec-fail 'type-error-in-spec option ":max-depth must be an integer from 0 to 1000"))
-                   (setf (spec-max-depth *spec*) depth))
-                 (setf (getf (spec-options *spec*) (first option)) (second option)))))
+             (case (first option)
+               (:max-depth
+                (let ((depth (second option)))
+                  (unless (typep depth '(integer 0 1000))
+                    (spec-fail 'type-error-in-spec option ":max-depth must be an integer from 0 to 1000"))
+                  (setf (spec-max-depth *spec*) depth)))
+               (:optimize
+                (setf (getf (spec-options *spec*) :optimize) (parse-optimize-criterion option)))
+               (t (setf (getf (spec-options *spec*) (first option)) (second option))))))
   body)
+
+(defun parse-optimize-criterion (option)
+  "The criterion keyword of OPTION, (:optimize CRITERION); CRITERION is a name
+of *OPTIMIZE-CRITERIA*, as a keyword or not."
+  (let ((criterion (unquote (second option))))
+    (or (find-if (lambda (known) (word-p criterion (symbol-name known))) *optimize-criteria*)
+        (spec-fail 'spec-syntax-error option "unknown :optimize criterion ~A (allowed: ~{~A~^ or ~})"
+                   (bounded-lisp-text criterion 40) (mapcar #'lisp-text *optimize-criteria*)))))
 
 (defun form-kind (form)
   "The keyword naming FORM's kind, or a syntax error."
