@@ -63,13 +63,7 @@ that nests more than LIMIT levels, or NIL.  Strings, |symbols|, ; and #| |#
 comments and #\( characters are skipped, so the count matches what the reader
 will nest; a run of prefixes nests the reader as deeply as parentheses do."
   (let ((depth 0) (prefixes 0) (i 0) (n (length text)))
-    (flet ((skip-delimited (close)
-             ;; Past the closing CLOSE of a string or |symbol|, honouring backslashes.
-             (loop (incf i)
-                   (when (>= i n) (return))
-                   (let ((c (char text i)))
-                     (cond ((char= c #\\) (incf i))
-                           ((char= c close) (return)))))))
+    (flet ((skip-delimited (close) (setf i (delimited-end text i close))))
       (loop while (< i n)
             do (let ((c (char text i)))
                  (case c
@@ -90,6 +84,17 @@ will nest; a run of prefixes nests the reader as deeply as parentheses do."
                             (#\| (setf i (block-comment-end text (+ i 2))))))))
                  (incf i))))
     nil))
+
+(defun delimited-end (text open close)
+  "The position in TEXT of the CLOSE character ending the string or |symbol|
+whose opening delimiter is at OPEN, honouring backslashes; the end of TEXT
+when it is never closed."
+  (let ((n (length text)) (i open))
+    (loop (incf i)
+          (when (>= i n) (return n))
+          (let ((c (char text i)))
+            (cond ((char= c #\\) (incf i))
+                  ((char= c close) (return i)))))))
 
 (defun block-comment-end (text start)
   "The position of the # closing the #| block comment whose text begins at
@@ -197,12 +202,7 @@ backquote or comma prefixes).  Strings, |symbols|, comments and #\\(
 characters are skipped as the reader does; used to point an error at the
 sub-form it is about."
   (let ((positions '()) (depth 0) (i (1+ start)) (n (length text)) (in-element nil))
-    (flet ((skip-delimited (close)
-             (loop (incf i)
-                   (when (>= i n) (return))
-                   (let ((c (char text i)))
-                     (cond ((char= c #\\) (incf i))
-                           ((char= c close) (return))))))
+    (flet ((skip-delimited (close) (setf i (delimited-end text i close)))
            (begin ()
              (when (and (zerop depth) (not in-element))
                (push i positions)
