@@ -30,6 +30,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "classes")
                    (:file "parse")
                    (:file "directives")
+                   (:file "interruption")
+                   (:file "timers")
                    (:file "validate")
                    (:file "initial-values")
                    (:file "code-sites")
@@ -78,6 +80,16 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "presenter")
                      (:file "controller")))
+       ;; The timed controller: events meeting while the character moves.
+       (:module "timeline"
+        :serial t
+        :components ((:file "agenda")
+                     (:file "runs")
+                     (:file "recorder")
+                     (:file "timeline")
+                     (:file "cuts")
+                     (:file "timers")
+                     (:file "api")))
        (:module "anim"
         :serial t
         :components ((:file "vectors")
@@ -180,6 +192,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-c++")
                  (:file "test-c++-hostile")
                  (:file "test-cli")
+                 (:file "test-timeline")
                  (:file "test-hostile-input")
                  (:file "test-repl")
                  (:file "test-anim")

@@ -4,7 +4,8 @@
 ;;;;
 ;;;; Same size as the paper's prototype controller, scaled up: 7 state variables
 ;;;; (one a time variable), 5 autoscripts, 43 operators (3 of them macro-ops, 4
-;;;; must-ask), 9 state classes and 35 events, which compile to 13 goals.
+;;;; must-ask), 9 state classes and 37 events, which compile to 13 goals; two
+;;;; idle timers and a trigger act when he runs on a timed controller.
 ;;;; Durations are in seconds. Try:
 ;;;;   bin/player run specs/peedy.lisp --initial alert=snore,posture=sit \
 ;;;;     --events ev-search,ev-search,ev-bad-speech,ev-thanks
@@ -66,10 +67,15 @@
 
   (op standup :precond sit-op :add posture.stand :duration 1.5)
   (op sit :precond stand-op :add posture.sit :duration 1.5)
-  (op take-off :precond stand-op :add posture.fly :duration 1.25)
-  (op land :precond fly-op :add posture.stand :duration 1.5)
+  ;; A take-off can be called off at any moment: he is still standing. Once
+  ;; his feet reach for the perch (0.85 s into the landing), a cut landing
+  ;; leaves him standing.
+  (op take-off :precond stand-op :add posture.fly :duration 1.25 :interrupt :anytime)
+  (op land :precond fly-op :add posture.stand :duration 1.5
+           :interrupt (:at 0.85) :if-cut (:add posture.stand))
   (op hop :precond stand-op :duration 0.5)
-  (op fly-loop :precond fly-op :duration 3)             ; a lap around the room
+  (op fly-loop :precond fly-op :duration 3              ; a lap around the room,
+              :interrupt (:at 0.75 1.5 2.25))                ; cut at a quarter turn
 
   ;;; Operators: the wing
 
@@ -163,7 +169,10 @@
   (event ev-sleep :state alert.sleep)
   (event ev-nap :state alert.snore)
   (event ev-stand :state stand-op)
-  (event ev-sit :op sit)
+  ;; Sitting down preempts whatever he is doing (CHI'95's fly-then-sit example:
+  ;; bin/player run specs/peedy.lisp --events ev-fly-to@0,ev-sit@0.4).
+  (event ev-sit (:when-busy :preempt) :op sit)
+  (event ev-fly-to :op take-off :op fly-loop :op land)  ; fly round the room to the perch
   (event ev-fly :op take-off)
   (event ev-land :op land)
   (event ev-circle :op fly-loop)
@@ -171,4 +180,12 @@
   (event ev-hop :op hop)
   (event ev-whistle :op whistle)
   (event ev-look :op look-around)
-  (event ev-wide :op camwide))
+  (event ev-wide :op camwide)
+  (event ev-rest :state sit-op)                         ; off his feet
+
+  ;;; Idle behaviour (Persona: "after a period of inaction will sit down ... and
+  ;;; eventually fall asleep"), and a dance whenever the music starts.
+
+  (timer idle-sit :after 20 :event ev-rest :restart-on :any)
+  (timer idle-sleep :after 60 :event ev-sleep :restart-on :any)
+  (trigger music-starts :when music-playing :event ev-dance))

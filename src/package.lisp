@@ -53,6 +53,8 @@
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile
+   #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
+   #:*when-busy-policies*
    #:event-names #:*controller*
    ;; Presenter protocol
    #:presenter #:present-op #:start-autoscript #:stop-autoscript #:run-director

@@ -65,7 +65,7 @@ Fails the test when the event does not succeed."
     (is (equal '("camgoodbye" "camhello" "camwide" "give-note")
                (peedy-names (mapcar #'op-name (remove-if-not #'player::op-must-ask ops)))))
     (is (= 9 (hash-table-count (player::spec-classes spec))))
-    (is (= 35 (length (player::spec-events spec))))
+    (is (= 37 (length (player::spec-events spec))))
     (is (= 13 (length (machine-goals (compile-spec spec)))))))
 
 (test peedy-uses-the-papers-definitions

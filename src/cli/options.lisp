@@ -96,6 +96,34 @@ TEXT does not fit."))
   (declare (ignore option))
   (split-list text))
 
+(defun read-seconds-text (text)
+  "TEXT as a number of seconds from 0 to *MAX-SECONDS*, or NIL."
+  (let ((value (read-cli-value text)))
+    (and (realp value) (finite-real-p value) (<= 0 value *max-seconds*) (to-double value))))
+
+(defmethod read-option-value ((type (eql :timed-events)) text option)
+  ;; EV or EV@SECONDS, comma-separated: names, and (NAME . SECONDS) for a timed
+  ;; arrival.  Times may not decrease: a timed controller cannot go back.
+  (let ((latest 0d0))
+    (mapcar (lambda (part)
+              (let ((at (position #\@ part)))
+                (if (null at)
+                    part
+                    (let ((name (subseq part 0 at))
+                          (time (read-seconds-text (subseq part (1+ at)))))
+                      (when (or (string= name "") (null time))
+                        (bad-option-value option part "EVENT@SECONDS, seconds a number from 0 (e.g. ev-sit@0.4)"))
+                      (when (< time latest)
+                        (usage-fail "~A: ~A comes before an earlier event's time ~A; times may not decrease"
+                                    (option-name option) part (format-number latest)))
+                      (setf latest time)
+                      (cons name time)))))
+            (split-list text))))
+
+(defmethod read-option-value ((type (eql :seconds)) text option)
+  (or (read-seconds-text text)
+      (bad-option-value option text "a number of seconds from 0")))
+
 (defmethod read-option-value ((type (eql :integer)) text option)
   (let ((value (read-cli-value text)))
     (unless (integerp value) (bad-option-value option text "an integer"))
@@ -147,8 +175,11 @@ TEXT does not fit."))
   "refuse a spec holding :code or :c++, so an untrusted spec file runs no code")
 (define-option "--initial" :assignments "VAR=VALUE,..."
   "start from these values instead of the declared initial ones")
-(define-option "--events" :names "EV1,EV2,..."
-  "the events to send, in order, each when the previous one has ended")
+(define-option "--events" :timed-events "EV1,EV2@T,..."
+  "the events to send, in order: EV when the previous ones have ended, EV@T
+arriving at T seconds, whatever is running (then its :when-busy policy decides)")
+(define-option "--at" :seconds "T"
+  "stop the clock at T seconds, showing what happened until then (timers included)")
 (define-option "--fps" :frame-rate "FPS"
   "frames per second of simulated time" :default 30)
 (define-option "--seed" :integer "N"

@@ -2,21 +2,22 @@
 
 (in-package #:player)
 
-(define-command "render" (file &key spec no-code initial events fps seed scripts body size out video)
+(define-command "render" (file &key spec no-code initial events at fps seed scripts body size out video)
     (:summary "play the events in simulated time and draw them offscreen"
      :description "Draws every frame with OSMesa (no display needed), writes a contact sheet
 of evenly spaced frames and, with --video, a video made by ffmpeg (Debian
 package ffmpeg).  A progress bar goes to standard error."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--events" ("--fps" :default 24) "--seed" "--scripts" "--body"
+     :options ("--spec" "--no-code" "--initial" "--events" "--at" ("--fps" :default 24) "--seed" "--scripts" "--body"
                "--size"
                ("--out" :string "DIR" "the directory to write the frames into" :default "render/")
                ("--video" :string "FILE.mp4" "also encode the frames as a video"))
      :output "DIR/frame-0001.png ..., DIR/sheet.png (a contact sheet) and the --video
         file; the trace and the paths written on standard output")
   (when video (find-ffmpeg))
+  (check-scenario-times events at)
   (let* ((simulation (simulate (choose-spec file spec :allow-code (not no-code))
-                               :initial initial :events events :fps fps :seed seed
+                               :initial initial :events events :until at :fps fps :seed seed
                                :scripts scripts :body body :stream *standard-output*))
          (paths (render-simulation simulation :out out :size size :fps fps :video video))
          (frames (butlast paths (if video 2 1))))

@@ -2,12 +2,15 @@
 
 (in-package #:player)
 
-(define-command "run" (file &key spec no-code initial events backend)
+(define-command "run" (file &key spec no-code initial events at backend)
     (:summary "play events in simulated time and print the trace"
-     :description "Each event starts when the previous one's last op has ended.  A failed
-goal shows as (:fail EVENT :goal GOAL :time T) and the next event carries on."
+     :description "Each event starts when the previous one's last op has ended; an event
+given as EV@T arrives at T seconds instead, and if another is still running,
+its :when-busy policy decides (queue, preempt, override or interleave).  A
+failed goal shows as (:fail EVENT :goal GOAL :time T) and the next event
+carries on."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--events"
+     :options ("--spec" "--no-code" "--initial" "--events" "--at"
                ("--backend" (:choice "lisp" "c++") "lisp|c++"
                 "run the controller as Lisp closures, or as generated C++ (needs g++)"
                 :default "lisp"))
@@ -16,14 +19,24 @@ goal shows as (:fail EVENT :goal GOAL :time T) and the next event carries on."
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (machine (compile-spec spec))
          (lisp (string= backend "lisp"))
-         (controller (make-controller machine :initial-state initial
+         (timed (timed-scenario-p events at))
+         (controller (make-controller machine :initial-state initial :timed timed
                                               :presenter (make-trace-presenter
                                                           :stream (and lisp *standard-output*)))))
-    (dolist (event events)
-      (find-compiled-event controller event))
-    (cond ((not lisp)
+    (dolist (entry events)
+      (find-compiled-event controller (event-entry-name entry)))
+    (check-scenario-times events at)
+    (cond ((and timed (not lisp))
+           (usage-fail "timed events (EV@T) and --at need --backend lisp: the C++ backend plays whole events only"))
+          ((not lisp)
            (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events)))
-          (events
-           (dolist (event events)
-             (send-event controller event)))
+          ((or events at)
+           (play-events controller events :until at))
           (t (present-state (controller-presenter controller) controller)))))
+
+(defun check-scenario-times (events at)
+  "A USAGE-ERROR when --at stops the clock before an event of EVENTS arrives."
+  (let ((late (and at (find-if (lambda (entry) (and (consp entry) (> (cdr entry) at))) events))))
+    (when late
+      (usage-fail "--at ~A stops the clock before ~A@~A arrives" (format-number at)
+                  (car late) (format-number (cdr late))))))

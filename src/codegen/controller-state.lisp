@@ -26,7 +26,21 @@
   (span-end 0d0 :type double-float)
   ;; Bit per macro-op now running, against re-entry.
   (active-macros 0 :type integer)
-  (presenter nil))
+  (presenter nil)
+  ;; A timed controller's TIMELINE (see src/runtime/timeline/), else NIL.
+  (timeline nil)
+  ;; While a timed controller plans an event ahead: the recorder its state
+  ;; changes go to, instead of happening now.
+  (recorder nil)
+  ;; The top-level directive of the event running ahead, so an interrupted
+  ;; event can be resumed from it.
+  (step 0 :type fixnum))
+
+(defgeneric record-change (recorder kind controller time a b op)
+  (:documentation "While CONTROLLER plans an event ahead, note a state change
+due at TIME: KIND :DELTA sets the plannable fields of mask A to the bits B,
+KIND :VALUE sets runtime variable A to B.  OP is the op whose end this is, or
+NIL."))
 
 (defun spec-of (controller)
   "CONTROLLER's spec."
@@ -75,8 +89,42 @@ OLD and NEW are value indices (plannable) or numbers."
                                   (value-index-of controller var) time)))))
     new-bits))
 
+(declaim (inline change-state))
+(defun change-state (controller mask bits time &optional op)
+  "Set the plannable fields of MASK to BITS at TIME (at the end of OP, if given).
+A controller planning ahead records the change for its timeline instead of
+telling autoscripts now."
+  (let ((new (logior (logandc2 (controller-bits controller) mask) bits))
+        (recorder (controller-recorder controller)))
+    (if recorder
+        (progn (record-change recorder :delta controller time mask bits op)
+               (setf (controller-bits controller) new))
+        (transition-state controller new time))))
+
+(defun changed-fields (controller old new)
+  "The one-hot fields of CONTROLLER's plannable variables whose values differ
+between states OLD and NEW."
+  (let ((diff (logxor old new)) (mask 0))
+    (unless (zerop diff)
+      (dolist (var (plannable-variables (spec-of controller)))
+        (when (logtest diff (var-field-mask var))
+          (setf mask (logior mask (var-field-mask var))))))
+    mask))
+
+(defun change-state-to (controller new time)
+  "Make NEW CONTROLLER's plannable state at TIME, as CHANGE-STATE does."
+  (if (controller-recorder controller)
+      (let ((mask (changed-fields controller (controller-bits controller) new)))
+        (change-state controller mask (logand new mask) time))
+      (transition-state controller new time)))
+
 (defun set-runtime-value (controller var value time)
-  "Set runtime variable VAR to VALUE at TIME, telling autoscripts that watch it."
+  "Set runtime variable VAR to VALUE at TIME, telling autoscripts that watch it
+(a controller planning ahead records the change instead)."
+  (when (controller-recorder controller)
+    (record-change (controller-recorder controller) :value controller time var value nil)
+    (setf (svref (controller-values controller) (var-slot var)) value)
+    (return-from set-runtime-value value))
   (let ((old (svref (controller-values controller) (var-slot var))))
     (setf (svref (controller-values controller) (var-slot var)) value)
     (unless (eql old value)

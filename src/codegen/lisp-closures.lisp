@@ -24,10 +24,29 @@ returns and controllers run. The C++ backend needs only the MACHINE."
             (lisp-text (spec-name (machine-spec machine))) (length (machine-goal-table machine))
             (layout-state-count (machine-layout machine)) (hash-table-count (compiled-machine-events machine)))))
 
-(defstruct (compiled-event (:constructor make-compiled-event (event run)))
-  "An event compiled to a closure of one argument, the controller."
+(defstruct (compiled-event (:constructor make-compiled-event (event run suffixes)))
+  "An event compiled to a closure of one argument, the controller. SUFFIXES
+holds, for each top-level directive K, a closure running the event from K on
+(noting K in the controller as it goes), so a timed controller can finish an
+interrupted event from where it was cut."
   (event nil :type event-def)
-  (run nil :type function))
+  (run nil :type function)
+  (suffixes #() :type simple-vector))
+
+(defun compile-event-suffixes (steps machine)
+  "The suffix closures of an event's top-level STEPS (see COMPILED-EVENT)."
+  (let* ((count (length steps))
+         (suffixes (make-array (1+ count))))
+    (setf (svref suffixes count) (constantly t))
+    (loop for k from (1- count) downto 0
+          for step in (reverse steps)
+          do (let ((body (compile-step step (svref suffixes (1+ k)) machine))
+                   (k k))
+               (setf (svref suffixes k)
+                     (lambda (controller)
+                       (setf (controller-step controller) k)
+                       (funcall (the function body) controller)))))
+    suffixes))
 
 (defvar *procedures* nil
   "While a machine compiles: hash table of GOAL or OP-DEF -> box (a cons whose
@@ -52,8 +71,9 @@ STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
       (setf (car (procedure-box op)) (compile-executor op machine)))
     (dolist (event (spec-events spec))
       (setf (gethash (name-key (event-name event)) (compiled-machine-events machine))
-            (make-compiled-event event (compile-steps (directive-steps (event-directives event) machine)
-                                                      machine))))
+            (let ((steps (directive-steps (event-directives event) machine)))
+              (make-compiled-event event (compile-steps steps machine)
+                                   (compile-event-suffixes steps machine)))))
     (setf (machine-compile-seconds machine)
           (/ (float (- (get-internal-real-time) start) 1d0) internal-time-units-per-second))
     machine))
@@ -115,9 +135,7 @@ effects. Its precondition is the caller's business."
                    (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
               (note-op-end controller end)
               (unless (zerop mask)
-                (transition-state controller
-                                  (logior (logandc2 (controller-bits controller) mask) bits)
-                                  end))
+                (change-state controller mask bits end op))
               t))))))
 
 (defun compile-macro-executor (op machine)
@@ -150,7 +168,7 @@ made along the way are internal to the macro)."
                       (controller-schedule controller) end)
                 (present-macro-end presenter op start end)
                 (when (eq result t)
-                  (transition-state controller (logior (logandc2 before mask) bits) end))
+                  (change-state-to controller (logior (logandc2 before mask) bits) end))
                 result)))))))
 
 (defun compile-code (form)
@@ -229,8 +247,7 @@ STEP and, on success, returns what NEXT returns; on failure, a FAILURE."))
          (mask (var-field-mask var))
          (bit (var-value-bit var (assign-step-index step))))
     (lambda (controller)
-      (transition-state controller (logior (logandc2 (controller-bits controller) mask) bit)
-                        (controller-schedule controller))
+      (change-state controller mask bit (controller-schedule controller))
       (funcall (the function next) controller))))
 
 (defun checked-sum (value delta integerp)

@@ -21,6 +21,9 @@
   (autoscripts '() :type list)
   ;; EVENT-DEFs in declaration order.
   (events '() :type list)
+  ;; TIMER-DEFs and TRIGGER-DEFs in declaration order (timed controllers only).
+  (timers '() :type list)
+  (triggers '() :type list)
   ;; Slots in the labels array.
   (label-count 0 :type (integer 0))
   ;; Bits of the one-hot plannable state.
@@ -93,6 +96,12 @@
   (duration 1d0 :type double-float)
   ;; For a macro: parsed directives of :SEQ.
   (seq '() :type list)
+  ;; How a timed controller may cut the op short: :NEVER, :ANYTIME, or a
+  ;; list of points, each seconds into the op or the name of a critical time
+  ;; of its script.
+  (interrupt :never)
+  ;; Effects applied instead of OP's own when it is cut, as EFFECTS.
+  (cut-effects '() :type list)
   (form nil))
 
 (defun op-effect-mask (op)
@@ -125,6 +134,30 @@
   (directives '() :type list)
   ;; Time variables this event sets.
   (time-variables '() :type list)
+  ;; What a timed controller does when this event arrives while it is busy
+  ;; (a member of *WHEN-BUSY-POLICIES*), or NIL for the spec's default.
+  (when-busy nil :type symbol)
+  (form nil))
+
+(defstruct (timer-def (:conc-name timer-))
+  "(timer NAME :after SECONDS :event EV [:repeat t] [:restart-on (EV...)]):
+EV is sent AFTER seconds after the timer is armed (when the controller starts,
+and again whenever one of RESTART-ON is sent)."
+  (name nil :type symbol)
+  (after 0d0 :type double-float)
+  (event nil :type (or null event-def))
+  (repeat nil :type boolean)
+  ;; EVENT-DEFs that re-arm the timer, or :ANY for every event sent from outside.
+  (restart-on '() :type (or list (eql :any)))
+  (form nil))
+
+(defstruct (trigger-def (:conc-name trigger-))
+  "(trigger NAME :when EXPRESSION :event EV): EV is sent each time EXPRESSION
+becomes true."
+  (name nil :type symbol)
+  ;; The parsed expression (runtime comparisons allowed).
+  (condition nil)
+  (event nil :type (or null event-def))
   (form nil))
 
 ;;;# At the REPL: one line each (DESCRIBE shows the slots)
@@ -146,6 +179,16 @@
 (defmethod print-object ((event event-def) stream)
   (print-unreadable-object (event stream :type t)
     (format stream "~A ~D directive~:P" (lisp-text (event-name event)) (length (event-directives event)))))
+
+(defmethod print-object ((timer timer-def) stream)
+  (print-unreadable-object (timer stream :type t)
+    (format stream "~A ~As -> ~A" (lisp-text (timer-name timer)) (format-number (timer-after timer))
+            (and (timer-event timer) (lisp-text (event-name (timer-event timer)))))))
+
+(defmethod print-object ((trigger trigger-def) stream)
+  (print-unreadable-object (trigger stream :type t)
+    (format stream "~A -> ~A" (lisp-text (trigger-name trigger))
+            (and (trigger-event trigger) (lisp-text (event-name (trigger-event trigger)))))))
 
 (defmethod print-object ((class class-def) stream)
   (print-unreadable-object (class stream :type t)

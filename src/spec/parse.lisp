@@ -7,7 +7,7 @@
 (defparameter *default-max-depth* 16
   "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
 
-(defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body)
+(defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body :when-busy)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
 (defparameter *optimize-criteria* '(:steps :duration)
@@ -69,6 +69,8 @@ points at the line of the form it is about, and names that form."
                   (setf (spec-max-depth *spec*) depth)))
                (:optimize
                 (setf (getf (spec-options *spec*) :optimize) (parse-optimize-criterion option)))
+               (:when-busy
+                (setf (getf (spec-options *spec*) :when-busy) (parse-when-busy (second option) option)))
                (t (setf (getf (spec-options *spec*) (first option)) (second option))))))
   body)
 
@@ -85,10 +87,10 @@ of *OPTIMIZE-CRITERIA*, as a keyword or not."
   (unless (and (consp form) (proper-list-p form) (symbolp (first form)))
     (spec-fail 'spec-syntax-error form "expected a spec form such as (state-variable ...) or (op ...)"))
   (or (loop for kind in '(:state-variable :time-variable :state-class :op :macro-op
-                          :autoscript :event)
+                          :autoscript :event :timer :trigger)
             when (word-p (first form) (symbol-name kind)) return kind)
       (spec-fail 'spec-syntax-error form
-                 "unknown form ~A (expected state-variable, time-variable, state-class, op, macro-op, autoscript or event)"
+                 "unknown form ~A (expected state-variable, time-variable, state-class, op, macro-op, autoscript, event, timer or trigger)"
                  (lisp-text (first form)))))
 
 ;;; Pass 1: declarations
@@ -100,7 +102,7 @@ of *OPTIMIZE-CRITERIA*, as a keyword or not."
     (:time-variable (add-variable (parse-time-variable form)))
     (:state-class (declare-class form))
     ((:op :macro-op) (declare-op form))
-    (:autoscript)
+    ((:autoscript :timer :trigger))
     (:event (declare-event form))))
 
 (defun check-new-expression-name (name form)
@@ -264,7 +266,9 @@ else a type error naming variable NAME."
     (:op (define-op form))
     (:macro-op (define-macro-op form))
     (:autoscript (define-autoscript form))
-    (:event (define-event form))))
+    (:event (define-event form))
+    (:timer (define-timer form))
+    (:trigger (define-trigger form))))
 
 (defun expression-form-p (list)
   "True when LIST reads as one expression rather than a list of elements."
@@ -344,7 +348,7 @@ about FORM for a dotted list."
   (let* ((op (find-op-named (unquote (second form))))
          (options (parse-options form (cddr form)
                                  '(:script :director :code :precond :add :sub :must-ask
-                                   :duration :c++))))
+                                   :duration :c++ :interrupt :if-cut))))
     (when (> (count-if (lambda (k) (member k options)) '(:script :director :code)) 1)
       (spec-fail 'spec-syntax-error form "give only one of :script, :director and :code"))
     (cond ((member :director options)
@@ -359,7 +363,11 @@ about FORM for a dotted list."
           (op-effects op) (parse-effects options form)
           (op-must-ask op) (parse-flag (getf options :must-ask) form)
           (op-duration op) (parse-duration options form)
-          (op-c++ op) (parse-c++ (getf options :c++) form))))
+          (op-c++ op) (parse-c++ (getf options :c++) form)
+          (op-interrupt op) (parse-interrupt (getf options :interrupt :never) form))
+    (check-interruption-points op form)
+    (when (member :if-cut options)
+      (setf (op-cut-effects op) (parse-cut-effects (getf options :if-cut) op form)))))
 
 (defun parse-flag (value form)
   "A boolean option's value."
@@ -426,6 +434,7 @@ double for floats."
                       (bounded-lisp-text value 40) (eq (var-type var) :integer) (lisp-text (var-name var))))))
 
 (defun define-event (form)
-  "Parse (event NAME DIRECTIVE...)."
-  (setf (event-directives (find-event-named (unquote (second form))))
-        (parse-directives (cddr form) form)))
+  "Parse (event NAME [(:when-busy POLICY)] DIRECTIVE...)."
+  (let ((event (find-event-named (unquote (second form)))))
+    (setf (event-directives event)
+          (parse-directives (parse-event-options event form) form))))

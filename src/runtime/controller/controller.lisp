@@ -30,12 +30,15 @@ variables, and no NaN or infinity among the values?"
 
 (defun make-controller (machine &key initial-state
                                      (presenter (make-trace-presenter :limit *default-trace-limit*))
-                                     (clock 0))
+                                     (clock 0) timed)
   "A new agent running MACHINE (from COMPILE-SPEC, or a spec or its name, which
 is compiled). INITIAL-STATE is an alist ((VARIABLE . VALUE) ...) overriding the
 declared initial values; booleans take true/false/t/nil. PRESENTER receives
 what the agent does (default: a TRACE-PRESENTER). Autoscripts of the initial
-values start at CLOCK (seconds). Signals a SPEC-ERROR for an unknown variable
+values start at CLOCK (seconds). With TIMED, the controller has a timeline:
+SEND-EVENT plans the event and ADVANCE presents it as its time comes, so an
+event can arrive while another plays and be resolved by its :when-busy
+policy; its timers and triggers run. Signals a SPEC-ERROR for an unknown variable
 or a value outside its domain, an ARGUMENT-ERROR for an argument of the wrong
 kind."
   (check-argument 'make-controller 'machine machine #'machine-designator-p *machine-designator*)
@@ -52,6 +55,8 @@ kind."
                                                                   :initial-element 0d0))))
     (install-assignments controller assignments)
     (start-initial-autoscripts controller (controller-clock controller))
+    (when timed
+      (setf (controller-timeline controller) (make-timeline controller)))
     controller))
 
 (defun event-names (machine)
@@ -87,15 +92,27 @@ time)."
                  (setf (gethash name (compiled-machine-event-symbols machine)) compiled))
                 (t compiled))))))
 
-(defun send-event (controller event &key at)
+(defun send-event (controller event &key at when-busy)
   "Process EVENT (a symbol or string) on CONTROLLER, starting at time AT
 (seconds; default: when the previous event's last op ended). Returns T when
 every directive succeeded; otherwise (VALUES NIL GOAL) with the goal, as
 written, that could not be achieved: the rest of the event is skipped and the
 state is the one after the last completed op. Signals UNKNOWN-EVENT for an
 event the spec does not define and ARGUMENT-ERROR for an argument of the wrong
-kind (AT not a finite number of seconds within +-1e15), changing nothing."
+kind (AT not a finite number of seconds within +-1e15), changing nothing.
+
+On a timed controller (MAKE-CONTROLLER :TIMED T) the event arrives at AT
+(default: now; not before now), the clock advancing there first. If another
+event is running, WHEN-BUSY (default: the event's :when-busy policy, else the
+spec's) decides: :QUEUE, :PREEMPT, :OVERRIDE or :INTERLEAVE. Returns T when
+the event was accepted, (VALUES NIL :DROPPED) when it was dropped, and (VALUES
+NIL GOAL) when it started at once and its plan failed."
   (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")
+  (when (controller-timeline controller)
+    (return-from send-event (send-timed-event controller event at when-busy)))
+  (when when-busy
+    (argument-fail 'send-event :when-busy when-busy
+                   "NIL: only a timed controller (make-controller ... :timed t) resolves busy events"))
   (let* ((start (if at (check-seconds 'send-event :at at) (controller-clock controller)))
          (compiled (find-compiled-event controller event))
          (event (compiled-event-event compiled))
@@ -167,12 +184,15 @@ Variables SPEC does not have are dropped; new ones take their initial values."
   "Compile SPEC (default: the current definition of the controller's spec,
 e.g. after re-evaluating its DEFSPEC) and switch CONTROLLER to it, keeping its
 current state, clock and presenter. Autoscripts that stop or start applying
-are told so. Signals STATE-TRANSFER-ERROR, leaving CONTROLLER unchanged, when a
+are told so; a timed controller must be idle, and its timers start over. Signals STATE-TRANSFER-ERROR, leaving CONTROLLER unchanged, when a
 current value does not exist in the new spec."
   (check-argument 'recompile 'controller controller #'controller-p "a controller (from make-controller)")
   (if spec-given
       (check-argument 'recompile 'spec spec #'spec-designator-p *spec-designator*)
       (setf spec (spec-name (spec-of controller))))
+  (when (and (controller-timeline controller) (timeline-busy-p (controller-timeline controller)))
+    (error 'state-transfer-error
+           :message "cannot recompile a timed controller while an event runs or waits: finish or advance past it first"))
   (let* ((machine (compile-spec spec))
          (new-spec (machine-spec machine))
          (assignments (handler-case (initial-assignments new-spec (transferred-state controller new-spec))
@@ -195,4 +215,7 @@ current value does not exist in the new spec."
               do (stop-autoscript presenter proc var value time))
         (loop for (proc var value) in (set-difference after before :test #'same-autoscript-p)
               do (start-autoscript presenter proc var value time))))
+    (when (controller-timeline controller)
+      ;; Its timers start over, from now, with the new spec's.
+      (setf (controller-timeline controller) (make-timeline controller)))
     controller))

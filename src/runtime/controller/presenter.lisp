@@ -43,6 +43,58 @@ method here, so a presenter overrides only what it needs."))
   (:documentation "Play SCRIPT (a symbol: OP's :script, or its name) for OP from
 START; return the duration.  The default returns OP's declared :duration."))
 
+;;; What only a timed controller asks (see src/runtime/timeline/)
+
+(defgeneric planned-op-duration (presenter op start)
+  (:documentation "How long OP will take when PRESENT-OP plays it from START,
+asked before it plays, without playing it.  The default is OP's declared
+:duration; a presenter whose PRESENT-OP answers otherwise overrides this."))
+
+(defgeneric critical-time (presenter op name)
+  (:documentation "The seconds into OP of the critical time NAME of its script,
+for :interrupt (:at NAME).  The default signals a SPEC-ERROR: only a presenter
+with a script library knows critical times."))
+
+(defgeneric present-cut (presenter op start time by)
+  (:documentation "OP, begun at START, is cut at TIME by event BY (OP is NIL
+when the interrupted event had no op running)."))
+
+(defgeneric present-dropped (presenter event time busy-with)
+  (:documentation "EVENT, arriving at TIME while BUSY-WITH ran, is dropped (:override)."))
+
+(defgeneric present-resume (presenter event time)
+  (:documentation "The interrupted EVENT resumes at TIME (:interleave)."))
+
+(defgeneric present-timer (presenter timer time)
+  (:documentation "Timer TIMER (a name) goes off at TIME and sends its event."))
+
+(defgeneric present-trigger (presenter trigger time)
+  (:documentation "Trigger TRIGGER (a name) fires at TIME: its condition became true."))
+
+(defmethod planned-op-duration ((presenter presenter) op start)
+  (declare (ignore start))
+  (op-duration op))
+
+(defmethod critical-time ((presenter presenter) op name)
+  (error 'spec-error :form (op-form op) :spec nil
+                     :message (format nil "op ~A: :interrupt (:at ~A) names a critical time, which only a script library gives (run it with its scripts, or give seconds into the op)"
+                                      (lisp-text (op-name op)) (lisp-text name))))
+
+(defmethod present-cut ((presenter presenter) op start time by)
+  (declare (ignore op start time by)))
+
+(defmethod present-dropped ((presenter presenter) event time busy-with)
+  (declare (ignore event time busy-with)))
+
+(defmethod present-resume ((presenter presenter) event time)
+  (declare (ignore event time)))
+
+(defmethod present-timer ((presenter presenter) timer time)
+  (declare (ignore timer time)))
+
+(defmethod present-trigger ((presenter presenter) trigger time)
+  (declare (ignore trigger time)))
+
 (defmethod present-op ((presenter presenter) op start)
   (case (op-kind op)
     (:director (run-director presenter (op-director op) op start))
@@ -236,3 +288,19 @@ lines are still waiting to be written (an open macro)."
 
 (defmethod present-state ((presenter trace-presenter) controller)
   (record-line presenter (cons :state (controller-state controller))))
+
+(defmethod present-cut ((presenter trace-presenter) op start time by)
+  (declare (ignore start))
+  (record-line presenter (list :cut (and op (op-name op)) :time time :by by)))
+
+(defmethod present-dropped ((presenter trace-presenter) event time busy-with)
+  (record-line presenter (list :dropped event :time time :busy-with busy-with)))
+
+(defmethod present-resume ((presenter trace-presenter) event time)
+  (record-line presenter (list :resume event :time time)))
+
+(defmethod present-timer ((presenter trace-presenter) timer time)
+  (record-line presenter (list :timer timer :time time)))
+
+(defmethod present-trigger ((presenter trace-presenter) trigger time)
+  (record-line presenter (list :trigger trigger :time time)))

@@ -12,7 +12,9 @@
 (defclass body-presenter (trace-presenter)
   ((performance :initarg :performance :reader presenter-performance)
    (autoscript-runs :initform (make-hash-table :test #'equal) :reader autoscript-runs
-                    :documentation "(PROC VARIABLE VALUE) -> the looping run playing it."))
+                    :documentation "(PROC VARIABLE VALUE) -> the looping run playing it.")
+   (op-runs :initform (make-hash-table :test #'equal) :reader op-runs
+            :documentation "(OP . START) -> the script runs playing that op, so a cut can stop them."))
   (:documentation "Plays a controller's ops as scripts of a library on a body.
 PRESENTER-PERFORMANCE gives the frames."))
 
@@ -127,6 +129,56 @@ ARGUMENT-ERROR for an argument of the wrong kind."
       (when run
         (stop-script-run (presenter-performance presenter) run time)
         (remhash key (autoscript-runs presenter))))))
+
+;;;# What a timed controller asks
+
+(defun op-script-name (op)
+  "The script or director OP plays, or NIL for a :code or macro op."
+  (case (op-kind op)
+    (:script (or (op-script op) (op-name op)))
+    (:director (op-director op))))
+
+(defmethod planned-op-duration ((presenter body-presenter) op start)
+  (let ((library (presenter-library presenter))
+        (name (op-script-name op)))
+    (cond ((null name) (op-duration op))
+          ((find-director library name nil)
+           (or (nth-value 1 (director-schedule (find-director library name t) library start))
+               (error 'script-error :form name
+                                    :message (format nil "director ~A never ends (a script it starts loops unstopped), so it cannot play an op"
+                                                     (lisp-text name)))))
+          (t (script-duration (find-script library name t))))))
+
+(defmethod critical-time ((presenter body-presenter) op name)
+  (let ((script (and (eq (op-kind op) :script)
+                     (find-script (presenter-library presenter) (op-script-name op) nil))))
+    (unless script
+      (error 'spec-error :form (op-form op) :spec nil
+                         :message (format nil "op ~A: :interrupt (:at ~A) needs the op to play a script with that critical time"
+                                          (lisp-text (op-name op)) (lisp-text name))))
+    (handler-case (script-critical-time script name)
+      (script-error ()
+        (error 'spec-error :form (op-form op) :spec nil
+                           :message (format nil "op ~A: :interrupt (:at ~A): script ~A has no critical time ~A (it has: ~:[none~;~:*~{~A~^ ~}~])"
+                                            (lisp-text (op-name op)) (lisp-text name) (lisp-text (op-script-name op))
+                                            (lisp-text name) (mapcar (lambda (entry) (lisp-text (car entry)))
+                                                                     (script-critical script))))))))
+
+(defmethod present-op :around ((presenter body-presenter) op start)
+  (let* ((performance (presenter-performance presenter))
+         (before (performance-runs performance)))
+    (multiple-value-prog1 (call-next-method)
+      (let ((runs (ldiff (performance-runs performance) before)))
+        (when runs
+          (setf (gethash (cons op start) (op-runs presenter)) runs))))))
+
+(defmethod present-cut :after ((presenter body-presenter) op start time by)
+  (declare (ignore by))
+  (when op
+    (let ((key (cons op start)))
+      (dolist (run (gethash key (op-runs presenter)))
+        (stop-script-run (presenter-performance presenter) run time))
+      (remhash key (op-runs presenter)))))
 
 ;;;# Checking declared durations
 

@@ -16,24 +16,28 @@ op finished) and FPS.  Frames are sampled from the presenter's performance."
   "FPS when it is a frame rate above 0 and at most *MAX-FPS*; else an ARGUMENT-ERROR of FUNCTION."
   (check-real function :fps fps :above 0 :maximum *max-fps*))
 
-(defun simulate (spec &key initial events (fps 30) (seed 0) scripts body stream)
-  "Play EVENTS (names, in order, each when the previous finished) on a controller
-of SPEC from INITIAL (an alist, as for MAKE-CONTROLLER) with a body presenter
-(SCRIPTS, BODY and SEED as for MAKE-BODY-PRESENTER; trace lines to STREAM).
-Returns a SIMULATION; SIMULATION-FRAMES samples it."
+(defun simulate (spec &key initial events until (fps 30) (seed 0) scripts body stream)
+  "Play EVENTS on a controller of SPEC from INITIAL (an alist, as for MAKE-CONTROLLER)
+with a body presenter (SCRIPTS, BODY and SEED as for MAKE-BODY-PRESENTER; trace
+lines to STREAM).  Each entry of EVENTS is a NAME, sent when the events before
+it have ended, or (NAME . SECONDS), arriving at that time whatever is running
+(a timed controller then resolves it by the event's :when-busy policy); with
+UNTIL (seconds) the clock stops there.  Returns a SIMULATION;
+SIMULATION-FRAMES samples it."
   (check-body-presenter-arguments 'simulate spec scripts body seed stream *default-blend-time*)
   (check-argument 'simulate :initial initial #'initial-state-p *initial-state-phrase*)
   (check-argument 'simulate :events events
-                  (lambda (x) (and (alexandria:proper-list-p x) (every #'name-designator-p x)))
-                  "a proper list of event names (symbols or strings)")
+                  (lambda (x) (and (alexandria:proper-list-p x) (every #'event-entry-p x)))
+                  "a proper list of event names (symbols or strings) or (NAME . SECONDS) pairs")
+  (when until (check-seconds 'simulate :until until :minimum 0))
   (check-fps 'simulate fps)
   (let* ((presenter (make-body-presenter spec :scripts scripts :body body :seed seed :stream stream))
          (controller (make-controller (compile-spec (if (spec-p spec) spec (find-spec spec)))
-                                      :initial-state initial :presenter presenter)))
-    (dolist (event events)
-      (find-compiled-event controller event 'simulate))
-    (dolist (event events)
-      (send-event controller event))
+                                      :initial-state initial :presenter presenter
+                                      :timed (timed-scenario-p events until))))
+    (dolist (entry events)
+      (find-compiled-event controller (event-entry-name entry) 'simulate))
+    (play-events controller events :until until)
     (%make-simulation :controller controller :presenter presenter
                       :end (controller-clock controller) :fps fps)))
 

@@ -1,0 +1,96 @@
+;;;; agenda.lisp -- what a timed controller has yet to do, in time order: a
+;;;; binary heap of items ordered by (TIME, SEQ), so equal times keep the
+;;;; order in which the event planning ahead produced them (an op's end, then
+;;;; the next op's start, as the whole-event trace shows them).
+
+(in-package #:player)
+
+(defstruct (agenda-item (:constructor make-agenda-item (kind time seq run)))
+  "One thing due on a timeline.  KIND says what:
+  :OP          play OP from START (to END, which a cut may bring forward)
+  :DELTA       set the plannable fields of mask A to the bits B
+  :VALUE       set runtime variable A to B
+  :MACRO-START, :MACRO-END   macro-op OP's span, START to END
+  :FAIL        the event could not achieve GOAL
+  :FINISH      the event RUN is over: show the state, start the next one
+  :TIMER       timer state A goes off"
+  (kind :op :type keyword)
+  (time 0d0 :type double-float)
+  (seq 0 :type fixnum)
+  ;; The EVENT-RUN the item belongs to (NIL for a timer).
+  (run nil)
+  (op nil)
+  (start 0d0 :type double-float)
+  (end 0d0 :type double-float)
+  (a nil)
+  (b nil)
+  ;; An op's end :DELTA -> that op's :OP item; a :MACRO-START -> its :MACRO-END.
+  (owner nil)
+  (goal nil)
+  ;; The top-level directive of the event that produced the item.
+  (step 0 :type fixnum)
+  (status :pending :type (member :pending :done :cancelled)))
+
+(declaim (inline item-before-p))
+(defun item-before-p (a b)
+  "Is item A due before item B: an earlier time, or the same time and made earlier?"
+  (let ((ta (agenda-item-time a)) (tb (agenda-item-time b)))
+    (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
+
+(defstruct (agenda (:constructor make-agenda ()))
+  "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  Cancelled items stay
+until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
+  (items (make-array 64) :type simple-vector)
+  (count 0 :type fixnum))
+
+(defun agenda-push (agenda item)
+  "Add ITEM to AGENDA."
+  (let ((items (agenda-items agenda))
+        (i (agenda-count agenda)))
+    (when (= i (length items))
+      (setf items (replace (make-array (* 2 i)) items)
+            (agenda-items agenda) items))
+    (loop while (plusp i)
+          do (let ((parent (ash (1- i) -1)))
+               (if (item-before-p item (svref items parent))
+                   (setf (svref items i) (svref items parent) i parent)
+                   (return))))
+    (setf (svref items i) item)
+    (incf (agenda-count agenda))
+    item))
+
+(defun agenda-remove-top (agenda)
+  "Remove AGENDA's first item."
+  (let* ((items (agenda-items agenda))
+         (count (decf (agenda-count agenda)))
+         (last (svref items count))
+         (i 0))
+    (setf (svref items count) nil)
+    (when (plusp count)
+      (loop (let* ((left (1+ (* 2 i))) (right (1+ left)) (least i) (least-item last))
+              (when (and (< left count) (item-before-p (svref items left) least-item))
+                (setf least left least-item (svref items left)))
+              (when (and (< right count) (item-before-p (svref items right) least-item))
+                (setf least right least-item (svref items right)))
+              (when (= least i) (return))
+              (setf (svref items i) least-item i least)))
+      (setf (svref items i) last))))
+
+(defun agenda-next (agenda)
+  "AGENDA's first pending item, or NIL; cancelled items on top are discarded."
+  (loop while (plusp (agenda-count agenda))
+        do (let ((top (svref (agenda-items agenda) 0)))
+             (if (eq (agenda-item-status top) :cancelled)
+                 (agenda-remove-top agenda)
+                 (return top)))))
+
+(defun map-agenda (function agenda)
+  "Call FUNCTION on each pending item of AGENDA, in no particular order."
+  (loop for i below (agenda-count agenda)
+        for item = (svref (agenda-items agenda) i)
+        when (eq (agenda-item-status item) :pending) do (funcall function item)))
+
+(defun agenda-clear (agenda)
+  "Forget every item of AGENDA."
+  (fill (agenda-items agenda) nil)
+  (setf (agenda-count agenda) 0))

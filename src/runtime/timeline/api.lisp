@@ -1,0 +1,107 @@
+;;;; api.lisp -- the timed controller's API: send an event at a time, move the
+;;;; clock, ask whether the character is busy.
+
+(in-package #:player)
+
+(defun check-timed-controller (function controller)
+  "CONTROLLER's timeline; an ARGUMENT-ERROR of FUNCTION when it has none."
+  (check-argument function 'controller controller #'controller-p "a controller (from make-controller)")
+  (or (controller-timeline controller)
+      (argument-fail function 'controller controller "a timed controller (make-controller ... :timed t)")))
+
+(defun check-time-from-now (function argument time timeline)
+  "TIME as seconds, at or after TIMELINE's NOW; else an ARGUMENT-ERROR."
+  (let ((seconds (check-seconds function argument time)))
+    (when (< seconds (timeline-now timeline))
+      (argument-fail function argument time
+                     (format nil "a time no earlier than now (~A s): a timed controller cannot go back"
+                             (format-number (timeline-now timeline)))))
+    seconds))
+
+(defun send-timed-event (controller event at when-busy)
+  "SEND-EVENT on a timed controller (see there)."
+  (let* ((timeline (controller-timeline controller))
+         (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
+         (compiled (find-compiled-event controller event))
+         (policy (if when-busy
+                     (or (and (symbolp when-busy) (when-busy-policy when-busy))
+                         (argument-fail 'send-event :when-busy when-busy
+                                        (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
+                     (event-policy (compiled-event-event compiled) (spec-of controller)))))
+    (advance-timeline timeline time)
+    (multiple-value-bind (disposition result)
+        (dispatch-event timeline compiled (event-name (compiled-event-event compiled)) time policy :user)
+      (cond ((eq disposition :dropped) (values nil :dropped))
+            ((eq result t) t)
+            (t (values nil (failure-goal-form result)))))))
+
+(defun advance (controller time)
+  "Move timed CONTROLLER's clock to TIME (seconds, not before now), presenting
+in time order what falls due: op starts, state changes with their autoscripts,
+event ends (a :state line), waiting events starting, timers and triggers.
+Returns TIME. Signals an ARGUMENT-ERROR for an untimed controller or a time
+in the past."
+  (let* ((timeline (check-timed-controller 'advance controller))
+         (time (check-time-from-now 'advance 'time time timeline)))
+    (advance-timeline timeline time)
+    time))
+
+(defun finish-events (controller)
+  "Advance timed CONTROLLER until no event is running or waiting (timers that
+are still armed stay pending). Returns the time it stopped at."
+  (let ((timeline (check-timed-controller 'finish-events controller)))
+    (loop while (timeline-busy-p timeline)
+          do (let ((item (agenda-next (timeline-agenda timeline))))
+               (advance-timeline timeline (if item (agenda-item-time item) (timeline-now timeline)))
+               (unless item (return))))
+    (timeline-now timeline)))
+
+(defun controller-busy-p (controller)
+  "Is an event running on timed CONTROLLER now (or waiting to)?"
+  (timeline-busy-p (check-timed-controller 'controller-busy-p controller)))
+
+(defun controller-time (controller)
+  "CONTROLLER's current time: a timed controller's clock, or else when the
+next event would start (the end of the last one)."
+  (check-argument 'controller-time 'controller controller #'controller-p "a controller (from make-controller)")
+  (if (controller-timeline controller)
+      (timeline-now (controller-timeline controller))
+      (controller-clock controller)))
+
+;;;# A scenario of events
+
+(defun event-entry-name (entry)
+  "The event name of a scenario ENTRY: NAME, or (NAME . SECONDS)."
+  (if (consp entry) (car entry) entry))
+
+(defun event-entry-p (x)
+  "Is X a scenario entry: an event name (symbol or string), or (NAME . SECONDS)?"
+  (or (name-designator-p x)
+      (and (consp x) (name-designator-p (car x)) (seconds-p (cdr x)) (>= (cdr x) 0))))
+
+(defun timed-scenario-p (events until)
+  "Does a scenario of EVENTS (stopping at UNTIL) need a timed controller: does
+an entry give its arrival time, or is there a time to stop at?"
+  (or until (some #'consp events)))
+
+(defun play-events (controller events &key until)
+  "Send EVENTS to CONTROLLER in order: each NAME when the events before it have
+ended, each (NAME . SECONDS) at that time whatever is running (a timed
+controller's policies decide).  A timed controller then advances to UNTIL, or
+until no event runs or waits.  Signals an ARGUMENT-ERROR for an entry timed
+before now or after UNTIL."
+  (if (null (controller-timeline controller))
+      (dolist (entry events)
+        (send-event controller (event-entry-name entry)))
+      (progn
+        (dolist (entry events)
+          (cond ((not (consp entry))
+                 (finish-events controller)
+                 (send-event controller entry))
+                ((and until (> (cdr entry) until))
+                 (argument-fail 'play-events :until until
+                                (format nil "a time no earlier than the events' (~A arrives at ~A)"
+                                        (lisp-text (car entry)) (format-number (cdr entry)))))
+                (t (send-event controller (car entry) :at (cdr entry)))))
+        (if until (advance controller until) (finish-events controller))))
+  controller)

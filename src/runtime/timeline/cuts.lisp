@@ -1,0 +1,105 @@
+;;;; cuts.lisp -- interrupting a running event.  Each op running when the new
+;;;; event arrives is cut at its next interruption point (:interrupt :never
+;;;; means at its end, :anytime at once, (:at ...) at the next point of its
+;;;; script) and leaves the state before it plus its :if-cut effects.  The
+;;;; rest of the event is cancelled.  Because plans exist from every state,
+;;;; whatever the cut leaves, the next event's plan starts from there.
+
+(in-package #:player)
+
+(defun resolve-cut-points (timeline)
+  "Give each op with (:at POINT...) its points in seconds, sorted; names are
+asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
+  (let ((presenter (timeline-presenter timeline)))
+    (dolist (op (spec-ops (spec-of (timeline-controller timeline))))
+      (when (listp (op-interrupt op))
+        (setf (gethash op (timeline-cut-points timeline))
+              (sort (mapcar (lambda (point)
+                              (if (realp point) point (to-double (critical-time presenter op point))))
+                            (op-interrupt op))
+                    #'<))))))
+
+(defun op-cut-time (timeline item time)
+  "When the op of :OP ITEM, running at TIME, can stop: its next interruption
+point at or after TIME, else its end."
+  (let* ((op (agenda-item-op item))
+         (start (agenda-item-start item))
+         (end (agenda-item-end item))
+         (interrupt (op-interrupt op)))
+    (cond ((eq interrupt :never) end)
+          ((eq interrupt :anytime) (max time start))
+          (t (or (loop for point in (gethash op (timeline-cut-points timeline))
+                       for at = (+ start point)
+                       when (and (>= at time) (<= at end)) return at)
+                 end)))))
+
+(defun cut-effect-delta (op)
+  "The (MASK . BITS) of OP's :if-cut effects, or NIL when it has none."
+  (let ((effects (op-cut-effects op)))
+    (when effects
+      (cons (loop for (var) in effects sum (var-field-mask var))
+            (loop for (var . index) in effects sum (var-value-bit var index))))))
+
+(defun settled-time (timeline run time)
+  "The earliest moment from TIME when ops of runs other than RUN, already cut
+or finishing, are all over."
+  (reduce #'max (timeline-live-ops timeline)
+          :initial-value time
+          :key (lambda (item) (if (eq (agenda-item-run item) run) time (agenda-item-end item)))))
+
+(defun cut-run (timeline run time by)
+  "Interrupt RUN at TIME for event BY: cut its running ops at their next
+interruption points, cancel the rest of it.  Returns the time the new event
+can start, and the top-level directive RUN would resume from (NIL when nothing
+of it was left to do)."
+  (let ((presenter (timeline-presenter timeline))
+        (cut-time (settled-time timeline run time))
+        (resume nil)
+        (keep '())
+        (shown nil)
+        (finishing nil))
+    (flet ((resume-at (item)
+             (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
+      ;; Running ops: cut short, or let finish.
+      (dolist (item (run-items run))
+        (when (and (eq (agenda-item-kind item) :op) (eq (agenda-item-status item) :done)
+                   (> (agenda-item-end item) time))
+          (let ((at (op-cut-time timeline item time)))
+            (setf cut-time (max cut-time at))
+            (if (< at (agenda-item-end item))
+                (let ((delta (cut-effect-delta (agenda-item-op item))))
+                  (setf (agenda-item-end item) at)
+                  (resume-at item)
+                  (when delta
+                    (let ((change (make-agenda-item :delta at (next-seq timeline) run)))
+                      (setf (agenda-item-a change) (car delta) (agenda-item-b change) (cdr delta)
+                            (agenda-item-step change) (agenda-item-step item))
+                      (push change keep)
+                      (agenda-push (timeline-agenda timeline) change)))
+                  (push item shown))
+                (progn (setf finishing item)
+                       (dolist (other (run-items run))
+                         (when (eq (agenda-item-owner other) item) (push other keep))))))))
+      ;; Everything else still pending is cancelled.
+      (dolist (item (run-items run))
+        (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
+          (unless (eq (agenda-item-kind item) :finish)
+            (resume-at item))
+          (setf (agenda-item-status item) :cancelled))))
+    ;; Close the macros the cut falls in, innermost first.
+    (dolist (item (sort (remove-if-not (lambda (item)
+                                         (and (eq (agenda-item-kind item) :macro-start)
+                                              (eq (agenda-item-status item) :done)
+                                              (agenda-item-owner item)
+                                              (eq (agenda-item-status (agenda-item-owner item)) :cancelled)))
+                                       (run-items run))
+                        #'> :key #'agenda-item-seq))
+      (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time))
+    (if shown
+        (dolist (item (reverse shown))
+          (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by))
+        (present-cut presenter (and finishing (agenda-item-op finishing))
+                     (if finishing (agenda-item-start finishing) time) cut-time by))
+    (setf (run-finished run) t
+          (run-items run) keep)
+    (values cut-time resume)))

@@ -1,0 +1,231 @@
+;;;; timeline.lisp -- a timed controller's clock.  Ops occupy intervals and
+;;;; change the state when they end; ADVANCE moves the clock and presents op
+;;;; starts, state changes (with their autoscripts) and event ends as they fall
+;;;; due.  An event is planned ahead when it starts (RECORDER.LISP), so until
+;;;; something interrupts it, it does exactly what the whole-event API does.
+
+(in-package #:player)
+
+(defstruct (timeline (:constructor %make-timeline (controller presenter)))
+  "The timed part of a controller: its current time NOW, the AGENDA of what is
+due, the event running (CURRENT) and those waiting (QUEUE), and its timers and
+triggers."
+  (controller nil :type controller)
+  ;; The controller's own presenter (the controller's slot holds the recorder
+  ;; while an event is planned ahead).
+  presenter
+  (now 0d0 :type double-float)
+  (agenda (make-agenda) :type agenda)
+  (seq 0 :type fixnum)
+  (current nil)
+  (queue '() :type list)
+  ;; :OP items presented whose (possibly cut) end is still to come.
+  (live-ops '() :type list)
+  ;; Op -> its interruption points in seconds, sorted.
+  (cut-points (make-hash-table :test 'eq) :type hash-table)
+  (recorder nil)
+  (timers '() :type list)
+  (triggers '() :type list)
+  ;; Items applied at the current instant, against loops of zero-length work.
+  (instant-count 0 :type fixnum))
+
+(defun controller-presenter* (timeline)
+  "The presenter TIMELINE's controller presents to."
+  (timeline-presenter timeline))
+
+(defparameter *max-items-per-instant* 100000
+  "How many items a timeline applies at one instant before it decides that
+triggers or zero-length ops loop, and signals a TIMELINE-ERROR.")
+
+(define-condition timeline-error (player-error)
+  ((message :initarg :message :reader timeline-error-message))
+  (:report (lambda (condition stream) (write-string (timeline-error-message condition) stream)))
+  (:documentation "A timed controller cannot go on (e.g. triggers firing each other for ever)."))
+
+(defun make-timeline (controller)
+  "A timeline for CONTROLLER from its clock on: interruption points resolved
+(a SPEC-ERROR for a critical time the presenter cannot give), timers armed,
+triggers noting whether their conditions hold now."
+  (let ((timeline (%make-timeline controller (controller-presenter controller))))
+    (setf (timeline-now timeline) (controller-clock controller)
+          (timeline-recorder timeline) (make-instance 'recorder :timeline timeline))
+    (resolve-cut-points timeline)
+    (start-timers timeline)
+    (start-triggers timeline)
+    timeline))
+
+(defun timeline-busy-p (timeline)
+  "Is an event running (or cutting short) on TIMELINE?"
+  (and (timeline-current timeline) t))
+
+;;;# Starting an event
+
+(defun next-seq (timeline)
+  "A fresh sequence number: items made later sort later at equal times."
+  (incf (timeline-seq timeline)))
+
+(defun project-state (timeline time)
+  "Put into the controller the state it will have at TIME (after NOW): the
+pending state changes due by then, applied without telling anyone."
+  (let ((controller (timeline-controller timeline))
+        (due '()))
+    (map-agenda (lambda (item)
+                  (when (and (member (agenda-item-kind item) '(:delta :value))
+                             (<= (agenda-item-time item) time))
+                    (push item due)))
+                (timeline-agenda timeline))
+    (dolist (item (sort due #'item-before-p))
+      (apply-change controller item))))
+
+(defun apply-change (controller item)
+  "Apply state change ITEM to CONTROLLER's state, silently."
+  (if (eq (agenda-item-kind item) :delta)
+      (setf (controller-bits controller)
+            (logior (logandc2 (controller-bits controller) (agenda-item-a item)) (agenda-item-b item)))
+      (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))))
+
+(defun start-run (timeline run time)
+  "Start RUN at TIME (at or after NOW): show it, plan it ahead and put its items
+on the agenda.  Returns T, or the FAILURE its plan ran into."
+  (let ((presenter (timeline-presenter timeline)))
+    (if (run-resumed run)
+        (present-resume presenter (run-name run) time)
+        (present-event presenter (run-name run) time)))
+  (setf (run-start run) time
+        (timeline-current timeline) run)
+  (let ((result (plan-run-ahead timeline run time)))
+    (dolist (item (run-items run))
+      (agenda-push (timeline-agenda timeline) item))
+    result))
+
+(defun plan-run-ahead (timeline run time)
+  "Run RUN's compiled event on the controller with the recorder as presenter,
+from the state due at TIME, then put the controller's state back.  The
+recorded items end with a :FAIL (if the plan failed) and the :FINISH."
+  (let* ((controller (timeline-controller timeline))
+         (recorder (timeline-recorder timeline))
+         (bits (controller-bits controller))
+         (values (controller-values controller))
+         (*controller* controller)
+         (result nil))
+    (unwind-protect
+         (progn
+           (when (plusp (length values))
+             (setf (controller-values controller) (copy-seq values)))
+           (when (> time (timeline-now timeline))
+             (project-state timeline time))
+           (setf (recorder-run recorder) run
+                 (recorder-last-op recorder) nil
+                 (recorder-open-macros recorder) '()
+                 (controller-presenter controller) recorder
+                 (controller-recorder controller) recorder
+                 (controller-step controller) (run-first-step run)
+                 (controller-schedule controller) time
+                 (controller-span-start controller) time
+                 (controller-span-end controller) time)
+           (dolist (var (event-time-variables (run-event run)))
+             (set-runtime-value controller var time time))
+           (setf result (funcall (the function (svref (compiled-event-suffixes (run-compiled run))
+                                                      (run-first-step run)))
+                                 controller))
+           (unless (eq result t)
+             (setf (agenda-item-goal (record-item recorder :fail (controller-schedule controller)))
+                   (failure-goal-form result)))
+           (record-item recorder :finish (controller-span-end controller)))
+      (setf (controller-presenter controller) (timeline-presenter timeline)
+            (controller-recorder controller) nil
+            (controller-bits controller) bits
+            (controller-values controller) values))
+    result))
+
+;;;# Events arriving
+
+(defun dispatch-event (timeline compiled name time policy source)
+  "Event NAME (COMPILED) arrives at TIME (= NOW) from SOURCE; resolve it by
+POLICY if an event is running.  Returns the disposition (:STARTED, :QUEUED,
+:DROPPED, :PREEMPTED or :INTERLEAVED) and the planning result (T or a FAILURE)."
+  (note-event-for-timers timeline compiled source time)
+  (let ((current (timeline-current timeline))
+        (run (make-event-run compiled name policy source)))
+    (if (null current)
+        (values :started (start-run timeline run time))
+        (ecase policy
+          (:queue
+           (setf (timeline-queue timeline) (append (timeline-queue timeline) (list run)))
+           (values :queued t))
+          (:override
+           (present-dropped (timeline-presenter timeline) name time (run-name current))
+           (values :dropped nil))
+          ((:preempt :interleave)
+           (multiple-value-bind (cut-time resume-step) (cut-run timeline current time name)
+             (when (and (eq policy :interleave) resume-step)
+               (push (resumption current resume-step) (timeline-queue timeline)))
+             (values (if (eq policy :preempt) :preempted :interleaved)
+                     (start-run timeline run cut-time))))))))
+
+(defun resumption (run step)
+  "A run that finishes interrupted RUN from its top-level directive STEP."
+  (let ((again (make-event-run (run-compiled run) (run-name run) (run-policy run) (run-source run))))
+    (setf (run-first-step again) step
+          (run-resumed again) t)
+    again))
+
+;;;# Advancing the clock
+
+(defun advance-timeline (timeline time)
+  "Present and apply, in time order, everything due on TIMELINE up to TIME;
+then NOW is TIME."
+  (let ((agenda (timeline-agenda timeline)))
+    (loop for item = (agenda-next agenda)
+          while (and item (<= (agenda-item-time item) time))
+          do (agenda-remove-top agenda)
+             (note-instant timeline (agenda-item-time item))
+             (setf (timeline-now timeline) (agenda-item-time item)
+                   (agenda-item-status item) :done)
+             (apply-item timeline item)))
+  (setf (timeline-now timeline) time
+        (timeline-live-ops timeline) (delete-if (lambda (item) (<= (agenda-item-end item) time))
+                                                (timeline-live-ops timeline)))
+  (setf (controller-clock (timeline-controller timeline)) time))
+
+(defun note-instant (timeline time)
+  "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
+  (if (= time (timeline-now timeline))
+      (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
+        (setf (timeline-instant-count timeline) 0)
+        (error 'timeline-error
+               :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
+                                (format-number time) *max-items-per-instant*)))
+      (setf (timeline-instant-count timeline) 0)))
+
+(defun apply-item (timeline item)
+  "Do what ITEM says, now that its time has come."
+  (let ((controller (timeline-controller timeline))
+        (presenter (timeline-presenter timeline))
+        (time (agenda-item-time item)))
+    (ecase (agenda-item-kind item)
+      (:op
+       (push item (timeline-live-ops timeline))
+       (present-op presenter (agenda-item-op item) (agenda-item-start item)))
+      (:delta
+       (transition-state controller (logior (logandc2 (controller-bits controller) (agenda-item-a item))
+                                            (agenda-item-b item))
+                         time)
+       (check-triggers timeline time))
+      (:value
+       (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time)
+       (check-triggers timeline time))
+      (:macro-start (present-macro-start presenter (agenda-item-op item) (agenda-item-start item)))
+      (:macro-end (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time))
+      (:fail (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time))
+      (:finish (finish-run timeline (agenda-item-run item) time))
+      (:timer (fire-timer timeline (agenda-item-a item) time)))))
+
+(defun finish-run (timeline run time)
+  "RUN is over at TIME: show the state, and start the first waiting event."
+  (setf (run-finished run) t)
+  (present-state (timeline-presenter timeline) (timeline-controller timeline))
+  (when (eq run (timeline-current timeline))
+    (setf (timeline-current timeline) nil)
+    (when (timeline-queue timeline)
+      (start-run timeline (pop (timeline-queue timeline)) time))))

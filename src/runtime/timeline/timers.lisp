@@ -1,0 +1,84 @@
+;;;; timers.lisp -- events a timed controller sends itself: timers go off a
+;;;; while after they are armed (and are re-armed by the events named in
+;;;; :restart-on), triggers fire when their condition becomes true.  Both send
+;;;; their event through the same policies as an event from outside.
+
+(in-package #:player)
+
+(defstruct (timer-state (:constructor make-timer-state (def)))
+  "A TIMER-DEF on one timeline, and its pending :TIMER item (NIL when disarmed)."
+  (def nil :type timer-def)
+  (item nil))
+
+(defstruct (trigger-state (:constructor make-trigger-state (def condition)))
+  "A TRIGGER-DEF on one timeline: its compiled CONDITION and whether it held at
+the last state change (it fires on a rising edge only)."
+  (def nil :type trigger-def)
+  (condition nil :type function)
+  (held nil :type boolean))
+
+(defun arm-timer (timeline state time)
+  "Make STATE's timer go off its :after seconds after TIME (cancelling a pending one)."
+  (when (timer-state-item state)
+    (setf (agenda-item-status (timer-state-item state)) :cancelled))
+  (let ((item (make-agenda-item :timer (+ time (timer-after (timer-state-def state)))
+                                (next-seq timeline) nil)))
+    (setf (agenda-item-a item) state
+          (timer-state-item state) item)
+    (agenda-push (timeline-agenda timeline) item)))
+
+(defun start-timers (timeline)
+  "Arm every timer of the controller's spec from NOW."
+  (setf (timeline-timers timeline)
+        (mapcar #'make-timer-state (spec-timers (spec-of (timeline-controller timeline)))))
+  (dolist (state (timeline-timers timeline))
+    (arm-timer timeline state (timeline-now timeline))))
+
+(defun note-event-for-timers (timeline compiled source time)
+  "Re-arm, from TIME, the timers the event COMPILED restarts: those listing it,
+and those with :restart-on :any when it comes from outside (SOURCE :USER)."
+  (let ((event (compiled-event-event compiled)))
+    (dolist (state (timeline-timers timeline))
+      (let ((restart-on (timer-restart-on (timer-state-def state))))
+        (when (if (eq restart-on :any) (eq source :user) (member event restart-on))
+          (arm-timer timeline state time))))))
+
+(defun fire-timer (timeline state time)
+  "STATE's timer goes off at TIME: show it, re-arm it if it repeats, send its event."
+  (let ((def (timer-state-def state)))
+    (setf (timer-state-item state) nil)
+    (present-timer (timeline-presenter timeline) (timer-name def) time)
+    (when (timer-repeat def)
+      (arm-timer timeline state time))
+    (send-own-event timeline (timer-event def) time :timer)))
+
+(defun send-own-event (timeline event time source)
+  "Send EVENT (an EVENT-DEF) at TIME from a timer or trigger, by its own policy."
+  (let* ((controller (timeline-controller timeline))
+         (compiled (find-compiled-event controller (event-name event))))
+    (dispatch-event timeline compiled (event-name event) time
+                    (event-policy event (spec-of controller)) source)))
+
+(defun start-triggers (timeline)
+  "Compile the controller's triggers; each notes whether it holds now (a
+condition true from the start is not a rising edge)."
+  (let ((controller (timeline-controller timeline)))
+    (setf (timeline-triggers timeline)
+          (loop for def in (spec-triggers (spec-of controller))
+                for condition = (compile-condition (trigger-condition def) (controller-machine controller))
+                collect (let ((state (make-trigger-state def condition)))
+                          (setf (trigger-state-held state) (and (funcall condition controller) t))
+                          state)))))
+
+(defun check-triggers (timeline time)
+  "After a state change at TIME: fire each trigger whose condition has just become true."
+  (when (timeline-triggers timeline)
+    (let ((controller (timeline-controller timeline)))
+      (setf (controller-schedule controller) time)
+      (dolist (state (timeline-triggers timeline))
+        (let ((holds (and (funcall (trigger-state-condition state) controller) t)))
+          (when (and holds (not (trigger-state-held state)))
+            (setf (trigger-state-held state) t)
+            (present-trigger (timeline-presenter timeline) (trigger-name (trigger-state-def state)) time)
+            (send-own-event timeline (trigger-event (trigger-state-def state)) time :trigger))
+          (setf (trigger-state-held state) holds))))))
