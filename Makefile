@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo test bench fuzz deps embed-example golden
+.PHONY: demo demo-policies test bench fuzz deps embed-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -21,6 +21,12 @@ deps:
 demo: deps
 	bin/player render specs/peedy.lisp --initial alert=snore,posture=sit \
 	  --events ev-search,ev-search,ev-bad-speech,ev-thanks --out demo
+
+# CHI'95's open problem drawn: Peedy flies off, is told to sit 2 s later; one
+# row per :when-busy policy (queue, preempt, override, interleave).
+demo-policies: deps
+	bin/player render specs/peedy.lisp --events ev-fly-to@0,ev-sit@2 \
+	  --policies queue,preempt,override,interleave --size 320x240 --out demo
 
 test: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \

@@ -189,6 +189,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-peedy")
                  (:file "test-peedy-body")
                  (:file "test-properties")
+                 (:file "test-timeline-model")
                  (:file "test-c++")
                  (:file "test-c++-hostile")
                  (:file "test-cli")

@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli"))
+    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -394,6 +394,8 @@ closures and through run-time planning; add the rows; return the ratio."
           (bench-optimize-duration n))
         (rule)
         (bench-events machine)
+        (rule)
+        (bench-timeline machine)
         (rule)
         (bench-bytes machine)
         (rule)

@@ -96,13 +96,14 @@ sky and floor change little along a row, so what differs is what stands there."
   (with-window-programs ()
     (multiple-value-bind (out err code)
         (view-command (list (fixture "anim.lisp") "--size" "160x120" "--frames" "100000"
-                            "--keys" "2@0,escape@0.5")
+                            "--keys" "2@0,escape@1.5")
                       :input (format nil "ev-wave~%bogus~%"))
       (let ((lines (lines out)))
         (is (= 0 code) "exit ~D, stderr: ~A" code err)
         (is (equal '("1 ev-pick" "2 ev-drop" "3 ev-wave" "4 ev-pan")
                    (remove-if-not (lambda (line) (eql 1 (search " ev-" line))) lines)))
-        ;; The key and the typed name both send their events, the second queued after the first.
+        ;; The key and the typed name both send their events at the playback time;
+        ;; the second waits its turn and starts when the first ends, at 1 s.
         (is (member "(:event ev-drop :time 0)" lines :test #'string=) "~A" out)
         (is (member "(:event ev-wave :time 1)" lines :test #'string=) "~A" out)
         (is (find-if (lambda (line) (search "no event bogus" line)) lines))

@@ -178,6 +178,21 @@ TEXT does not fit."))
 (define-option "--events" :timed-events "EV1,EV2@T,..."
   "the events to send, in order: EV when the previous ones have ended, EV@T
 arriving at T seconds, whatever is running (then its :when-busy policy decides)")
+(defun policy-keyword (text)
+  "The :when-busy policy keyword TEXT (one of --when-busy's choices) names, or NIL for NIL."
+  (and text (when-busy-policy (intern (string-upcase text) :keyword))))
+
+(defmethod read-option-value ((type (eql :policies)) text option)
+  ;; POLICY,... as keywords of *WHEN-BUSY-POLICIES*.
+  (mapcar (lambda (part)
+            (or (find part *when-busy-policies* :key #'symbol-name :test #'string-equal)
+                (bad-option-value option part (format nil "policies among ~{~(~A~)~^, ~}"
+                                                      (mapcar #'symbol-name *when-busy-policies*)))))
+          (split-list text)))
+
+(define-option "--when-busy" (quote (:choice "queue" "preempt" "override" "interleave")) "POLICY"
+  "what every event arriving while another plays does, instead of its own
+:when-busy policy")
 (define-option "--at" :seconds "T"
   "stop the clock at T seconds, showing what happened until then (timers included)")
 (define-option "--fps" :frame-rate "FPS"

@@ -2,22 +2,32 @@
 
 (in-package #:player)
 
-(define-command "render" (file &key spec no-code initial events at fps seed scripts body size out video)
+(define-command "render" (file &key spec no-code initial events at when-busy policies fps seed scripts body size out video)
     (:summary "play the events in simulated time and draw them offscreen"
      :description "Draws every frame with OSMesa (no display needed), writes a contact sheet
 of evenly spaced frames and, with --video, a video made by ffmpeg (Debian
 package ffmpeg).  A progress bar goes to standard error."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--events" "--at" ("--fps" :default 24) "--seed" "--scripts" "--body"
+     :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" ("--fps" :default 24) "--seed" "--scripts" "--body"
                "--size"
                ("--out" :string "DIR" "the directory to write the frames into" :default "render/")
-               ("--video" :string "FILE.mp4" "also encode the frames as a video"))
+               ("--video" :string "FILE.mp4" "also encode the frames as a video")
+               ("--policies" :policies "P1,P2,..."
+                "instead, play the scenario once per :when-busy policy (queue, preempt,
+override, interleave) and draw them side by side, a row each, in DIR/policies.png"))
      :output "DIR/frame-0001.png ..., DIR/sheet.png (a contact sheet) and the --video
         file; the trace and the paths written on standard output")
   (when video (find-ffmpeg))
   (check-scenario-times events at)
+  (when policies
+    (when video (usage-fail "--policies draws one contact sheet; it makes no --video"))
+    (let ((path (render-policy-sheet (choose-spec file spec :allow-code (not no-code)) policies
+                                     :initial initial :events events :until at :fps fps :seed seed
+                                     :scripts scripts :body body :size size :out out)))
+      (format t "; rows, top to bottom: ~{~(~A~)~^, ~}~%; wrote ~A~%" policies (namestring path))
+      (return-from command-render)))
   (let* ((simulation (simulate (choose-spec file spec :allow-code (not no-code))
-                               :initial initial :events events :until at :fps fps :seed seed
+                               :initial initial :events events :until at :when-busy (policy-keyword when-busy) :fps fps :seed seed
                                :scripts scripts :body body :stream *standard-output*))
          (paths (render-simulation simulation :out out :size size :fps fps :video video))
          (frames (butlast paths (if video 2 1))))

@@ -2,7 +2,7 @@
 
 (in-package #:player)
 
-(define-command "run" (file &key spec no-code initial events at backend)
+(define-command "run" (file &key spec no-code initial events at when-busy backend)
     (:summary "play events in simulated time and print the trace"
      :description "Each event starts when the previous one's last op has ended; an event
 given as EV@T arrives at T seconds instead, and if another is still running,
@@ -10,7 +10,7 @@ its :when-busy policy decides (queue, preempt, override or interleave).  A
 failed goal shows as (:fail EVENT :goal GOAL :time T) and the next event
 carries on."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--events" "--at"
+     :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy"
                ("--backend" (:choice "lisp" "c++") "lisp|c++"
                 "run the controller as Lisp closures, or as generated C++ (needs g++)"
                 :default "lisp"))
@@ -19,7 +19,7 @@ carries on."
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (machine (compile-spec spec))
          (lisp (string= backend "lisp"))
-         (timed (timed-scenario-p events at))
+         (timed (or (timed-scenario-p events at) when-busy))
          (controller (make-controller machine :initial-state initial :timed timed
                                               :presenter (make-trace-presenter
                                                           :stream (and lisp *standard-output*)))))
@@ -31,7 +31,7 @@ carries on."
           ((not lisp)
            (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events)))
           ((or events at)
-           (play-events controller events :until at))
+           (play-events controller events :until at :when-busy (policy-keyword when-busy)))
           (t (present-state (controller-presenter controller) controller)))))
 
 (defun check-scenario-times (events at)

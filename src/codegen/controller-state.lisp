@@ -111,11 +111,12 @@ between states OLD and NEW."
           (setf mask (logior mask (var-field-mask var))))))
     mask))
 
-(defun change-state-to (controller new time)
-  "Make NEW CONTROLLER's plannable state at TIME, as CHANGE-STATE does."
+(defun change-state-to (controller new time &optional op)
+  "Make NEW CONTROLLER's plannable state at TIME (at the end of OP, if given),
+as CHANGE-STATE does."
   (if (controller-recorder controller)
       (let ((mask (changed-fields controller (controller-bits controller) new)))
-        (change-state controller mask (logand new mask) time))
+        (change-state controller mask (logand new mask) time op))
       (transition-state controller new time)))
 
 (defun set-runtime-value (controller var value time)

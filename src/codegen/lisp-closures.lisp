@@ -168,7 +168,7 @@ made along the way are internal to the macro)."
                       (controller-schedule controller) end)
                 (present-macro-end presenter op start end)
                 (when (eq result t)
-                  (change-state-to controller (logior (logandc2 before mask) bits) end))
+                  (change-state-to controller (logior (logandc2 before mask) bits) end op))
                 result)))))))
 
 (defun compile-code (form)

@@ -16,13 +16,13 @@ op finished) and FPS.  Frames are sampled from the presenter's performance."
   "FPS when it is a frame rate above 0 and at most *MAX-FPS*; else an ARGUMENT-ERROR of FUNCTION."
   (check-real function :fps fps :above 0 :maximum *max-fps*))
 
-(defun simulate (spec &key initial events until (fps 30) (seed 0) scripts body stream)
+(defun simulate (spec &key initial events until when-busy (fps 30) (seed 0) scripts body stream)
   "Play EVENTS on a controller of SPEC from INITIAL (an alist, as for MAKE-CONTROLLER)
 with a body presenter (SCRIPTS, BODY and SEED as for MAKE-BODY-PRESENTER; trace
 lines to STREAM).  Each entry of EVENTS is a NAME, sent when the events before
 it have ended, or (NAME . SECONDS), arriving at that time whatever is running
-(a timed controller then resolves it by the event's :when-busy policy); with
-UNTIL (seconds) the clock stops there.  Returns a SIMULATION;
+(a timed controller then resolves it by the event's :when-busy policy, or by
+WHEN-BUSY if given); with UNTIL (seconds) the clock stops there.  Returns a SIMULATION;
 SIMULATION-FRAMES samples it."
   (check-body-presenter-arguments 'simulate spec scripts body seed stream *default-blend-time*)
   (check-argument 'simulate :initial initial #'initial-state-p *initial-state-phrase*)
@@ -37,7 +37,7 @@ SIMULATION-FRAMES samples it."
                                       :timed (timed-scenario-p events until))))
     (dolist (entry events)
       (find-compiled-event controller (event-entry-name entry) 'simulate))
-    (play-events controller events :until until)
+    (play-events controller events :until until :when-busy when-busy)
     (%make-simulation :controller controller :presenter presenter
                       :end (controller-clock controller) :fps fps)))
 

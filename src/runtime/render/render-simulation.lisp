@@ -233,3 +233,41 @@ arguments of the wrong kind."
               (list (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
                                          (floor width factor) (floor height factor)))
               (and video (list video))))))
+
+;;;# Policies side by side
+
+(defun render-policy-sheet (spec policies &key initial events until (fps 24) (seed 0) scripts body
+                                               (size '(640 480)) (out "render/") (columns 6))
+  "Play the scenario EVENTS (as for SIMULATE) once per policy of POLICIES, every
+event that arrives while another plays following that policy, and draw one
+row per policy of COLUMNS frames evenly spaced over the longest run into
+OUT/policies.png.  Returns its path.  Signals what SIMULATE and
+RENDER-SIMULATION signal."
+  (check-argument 'render-policy-sheet 'policies policies
+                  (lambda (x) (and (alexandria:proper-list-p x) x
+                                   (every (lambda (p) (member p *when-busy-policies*)) x)))
+                  (format nil "a non-empty list of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*)))
+  (check-argument 'render-policy-sheet :columns columns (lambda (x) (typep x '(integer 1 24)))
+                  "an integer from 1 to 24")
+  (let* ((simulations (mapcar (lambda (policy)
+                                (simulate spec :initial initial :events events :until until :when-busy policy
+                                               :fps fps :seed seed :scripts scripts :body body))
+                              policies))
+         (end (reduce #'max simulations :key #'simulation-end))
+         (times (loop for k below columns
+                      collect (if (= columns 1) 0d0 (* end (/ k (float (1- columns) 1d0)))))))
+    (multiple-value-bind (width height) (image-size size)
+      (let ((output (prepare-output-directory out))
+            (factor (max 1 (ceiling width *thumbnail-width*)))
+            (thumbnails '()))
+        (with-offscreen-context ((context) width height)
+          (let ((renderer (make-renderer width height)))
+            (dolist (simulation simulations)
+              (dolist (time times)
+                (render-scene renderer (performance-frame (simulation-performance simulation) time))
+                (push (list (thumbnail (renderer-pixels renderer) width height factor) time) thumbnails)))
+            (delete-renderer renderer)))
+        (let ((*sheet-columns* columns)
+              (*sheet-rows* (length policies)))
+          (write-contact-sheet (merge-pathnames "policies.png" output) (nreverse thumbnails)
+                               (floor width factor) (floor height factor)))))))

@@ -52,9 +52,11 @@ does happens at that time."
 ;;;# Events and the trace
 
 (defun view-send-event (viewer event)
-  "Send EVENT now, or when the ops already playing end: events queue as in `run`."
+  "Send EVENT at the current playback time.  The viewer's controller is timed:
+if another event is playing, EVENT's :when-busy policy decides (by default it
+waits its turn), so a preempting event cuts the animation live."
   (let ((controller (viewer-controller viewer)))
-    (send-event controller event :at (max (viewer-now viewer) (controller-clock controller)))))
+    (send-event controller event :at (max (viewer-now viewer) (controller-time controller)))))
 
 (defun trace-line-time (line)
   "When trace LINE happens, or NIL for a :state line (it follows the line before)."
@@ -193,6 +195,8 @@ shown; return the number of frames shown."
                (dolist (input (glfw-poll-input)) (handle-input viewer input))
                (play-script-keys viewer)
                (read-terminal viewer)
+               (advance (viewer-controller viewer)
+                        (max (viewer-now viewer) (controller-time (viewer-controller viewer))))
                (draw-view viewer)
                (print-due-trace viewer)
                (let ((title (view-title viewer)))
@@ -249,7 +253,8 @@ opens, for an argument of the wrong kind."
                   "a proper list of (seconds . key) with seconds a finite number from 0")
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (presenter (make-body-presenter spec :scripts scripts :body body :seed seed))
-         (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter))
+         (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter
+                                                          :timed t))
          (event-keys (view-event-keys spec)))
     (let ((problem (scripted-keys-problem keys event-keys)))
       (when problem (error 'player-error-with-message :message problem)))

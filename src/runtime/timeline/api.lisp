@@ -84,12 +84,12 @@ next event would start (the end of the last one)."
 an entry give its arrival time, or is there a time to stop at?"
   (or until (some #'consp events)))
 
-(defun play-events (controller events &key until)
+(defun play-events (controller events &key until when-busy)
   "Send EVENTS to CONTROLLER in order: each NAME when the events before it have
 ended, each (NAME . SECONDS) at that time whatever is running (a timed
-controller's policies decide).  A timed controller then advances to UNTIL, or
-until no event runs or waits.  Signals an ARGUMENT-ERROR for an entry timed
-before now or after UNTIL."
+controller's policies decide; WHEN-BUSY, if given, overrides every event's).
+A timed controller then advances to UNTIL, or until no event runs or waits.
+Signals an ARGUMENT-ERROR for an entry timed before now or after UNTIL."
   (if (null (controller-timeline controller))
       (dolist (entry events)
         (send-event controller (event-entry-name entry)))
@@ -102,6 +102,6 @@ before now or after UNTIL."
                  (argument-fail 'play-events :until until
                                 (format nil "a time no earlier than the events' (~A arrives at ~A)"
                                         (lisp-text (car entry)) (format-number (cdr entry)))))
-                (t (send-event controller (car entry) :at (cdr entry)))))
+                (t (send-event controller (car entry) :at (cdr entry) :when-busy when-busy))))
         (if until (advance controller until) (finish-events controller))))
   controller)

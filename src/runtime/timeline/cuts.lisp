@@ -80,6 +80,8 @@ of it was left to do)."
                 (progn (setf finishing item)
                        (dolist (other (run-items run))
                          (when (eq (agenda-item-owner other) item) (push other keep))))))))
+      ;; A macro whose sub-ops all finish by the cut ends as it would have.
+      (setf keep (keep-finished-macros run keep cut-time))
       ;; Everything else still pending is cancelled.
       (dolist (item (run-items run))
         (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
@@ -103,3 +105,23 @@ of it was left to do)."
     (setf (run-finished run) t
           (run-items run) keep)
     (values cut-time resume)))
+
+(defun keep-finished-macros (run keep cut-time)
+  "KEEP, plus the end (and end state change) of each macro of RUN that ends by
+CUT-TIME with every pending item inside it kept: its last sub-op runs to its
+end through the cut, so the macro ends then, declared effects and all."
+  (let ((items (sort (copy-list (run-items run)) #'< :key #'agenda-item-seq)))
+    (dolist (item items keep)
+      (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)
+                 (<= (agenda-item-time item) cut-time))
+        (let ((opening (find item items :key #'agenda-item-owner)))
+          (when (and opening
+                     (every (lambda (inner)
+                              (or (not (eq (agenda-item-status inner) :pending))
+                                  (member inner keep)
+                                  (<= (agenda-item-seq inner) (agenda-item-seq opening))
+                                  (>= (agenda-item-seq inner) (agenda-item-seq item))))
+                            items))
+            (push item keep)
+            (dolist (other items)
+              (when (eq (agenda-item-owner other) item) (push other keep)))))))))

@@ -12,6 +12,8 @@
         :documentation "The EVENT-RUN being planned.")
    (last-op :initform nil :accessor recorder-last-op
             :documentation "The :OP item recorded last, whose end delta comes next.")
+   (last-macro-end :initform nil :accessor recorder-last-macro-end
+                   :documentation "The :MACRO-END item recorded last, whose end delta comes next.")
    (open-macros :initform '() :accessor recorder-open-macros
                 :documentation "The :MACRO-START items of the macros still running, innermost first."))
   (:documentation "The presenter of a controller while it plans an event ahead
@@ -47,7 +49,8 @@
     (setf (agenda-item-op item) op (agenda-item-start item) (to-double start)
           (agenda-item-end item) (to-double end)
           (agenda-item-end opening) (to-double end)
-          (agenda-item-owner opening) item)))
+          (agenda-item-owner opening) item
+          (recorder-last-macro-end recorder) item)))
 
 (defmethod present-failure ((recorder recorder) event goal time)
   (declare (ignore event))
@@ -57,6 +60,11 @@
   (declare (ignore controller))
   (let ((item (record-item recorder kind time)))
     (setf (agenda-item-a item) a (agenda-item-b item) b)
-    (when (and op (recorder-last-op recorder) (eq op (agenda-item-op (recorder-last-op recorder))))
-      (setf (agenda-item-owner item) (recorder-last-op recorder)))
+    (let ((last-op (recorder-last-op recorder))
+          (last-macro-end (recorder-last-macro-end recorder)))
+      (cond ((null op))
+            ((and last-op (eq op (agenda-item-op last-op)))
+             (setf (agenda-item-owner item) last-op))
+            ((and last-macro-end (eq op (agenda-item-op last-macro-end)))
+             (setf (agenda-item-owner item) last-macro-end))))
     item))

@@ -18,7 +18,9 @@ triggers."
   (agenda (make-agenda) :type agenda)
   (seq 0 :type fixnum)
   (current nil)
+  ;; Runs waiting, first first; QUEUE-TAIL is its last cons, for O(1) appending.
   (queue '() :type list)
+  (queue-tail '() :type list)
   ;; :OP items presented whose (possibly cut) end is still to come.
   (live-ops '() :type list)
   ;; Op -> its interruption points in seconds, sorted.
@@ -116,6 +118,7 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
              (project-state timeline time))
            (setf (recorder-run recorder) run
                  (recorder-last-op recorder) nil
+                 (recorder-last-macro-end recorder) nil
                  (recorder-open-macros recorder) '()
                  (controller-presenter controller) recorder
                  (controller-recorder controller) recorder
@@ -140,6 +143,26 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
 
 ;;;# Events arriving
 
+(defun enqueue-run (timeline run)
+  "Put RUN last in TIMELINE's queue."
+  (let ((cell (list run)))
+    (if (timeline-queue timeline)
+        (setf (cdr (timeline-queue-tail timeline)) cell)
+        (setf (timeline-queue timeline) cell))
+    (setf (timeline-queue-tail timeline) cell)))
+
+(defun push-run-first (timeline run)
+  "Put RUN first in TIMELINE's queue."
+  (push run (timeline-queue timeline))
+  (unless (cdr (timeline-queue timeline))
+    (setf (timeline-queue-tail timeline) (timeline-queue timeline))))
+
+(defun pop-run (timeline)
+  "Take the first run off TIMELINE's queue."
+  (prog1 (pop (timeline-queue timeline))
+    (unless (timeline-queue timeline)
+      (setf (timeline-queue-tail timeline) '()))))
+
 (defun dispatch-event (timeline compiled name time policy source)
   "Event NAME (COMPILED) arrives at TIME (= NOW) from SOURCE; resolve it by
 POLICY if an event is running.  Returns the disposition (:STARTED, :QUEUED,
@@ -151,15 +174,18 @@ POLICY if an event is running.  Returns the disposition (:STARTED, :QUEUED,
         (values :started (start-run timeline run time))
         (ecase policy
           (:queue
-           (setf (timeline-queue timeline) (append (timeline-queue timeline) (list run)))
+           (enqueue-run timeline run)
            (values :queued t))
           (:override
            (present-dropped (timeline-presenter timeline) name time (run-name current))
            (values :dropped nil))
           ((:preempt :interleave)
            (multiple-value-bind (cut-time resume-step) (cut-run timeline current time name)
+             ;; A cut falling now leaves its :if-cut state now: apply it
+             ;; before the new event plans from it.
+             (advance-timeline timeline time)
              (when (and (eq policy :interleave) resume-step)
-               (push (resumption current resume-step) (timeline-queue timeline)))
+               (push-run-first timeline (resumption current resume-step)))
              (values (if (eq policy :preempt) :preempted :interleaved)
                      (start-run timeline run cut-time))))))))
 
@@ -228,4 +254,4 @@ then NOW is TIME."
   (when (eq run (timeline-current timeline))
     (setf (timeline-current timeline) nil)
     (when (timeline-queue timeline)
-      (start-run timeline (pop (timeline-queue timeline)) time))))
+      (start-run timeline (pop-run timeline) time))))

@@ -1,0 +1,65 @@
+;;;; timeline.lisp -- issue 12's figures: events per second through a timed
+;;;; controller when half the events interrupt the one playing, and what
+;;;; ADVANCE costs per item it presents.
+
+(in-package #:player-bench)
+
+(defun timed-stream (machine count &key (seed 12))
+  "COUNT (EVENT . INTERRUPTS-P) pairs drawn from MACHINE's events with SEED:
+about half arrive while the previous event plays and preempt it."
+  (let ((names (coerce (player:event-names machine) 'simple-vector))
+        (*random-state* (sb-ext:seed-random-state seed)))
+    (coerce (loop repeat count
+                  collect (cons (svref names (random (length names))) (zerop (random 2))))
+            'simple-vector)))
+
+(defun play-timed-stream (controller stream)
+  "Send STREAM to timed CONTROLLER: an interrupting event 0.3 s after now, by
+:preempt; the others once everything before has finished."
+  (let ((timeline (player::controller-timeline controller)))
+    (loop for (name . interrupts) across stream
+          do (if interrupts
+                 (player:send-event controller name :at (+ (player::timeline-now timeline) 0.3d0)
+                                                    :when-busy :preempt)
+                 (progn (player:finish-events controller)
+                        (player:send-event controller name))))
+    (player:finish-events controller)))
+
+(defun fresh-timed-controller (machine)
+  "A timed controller of MACHINE on a null presenter, its timers disarmed (so
+only the stream's events play)."
+  (let ((controller (player:make-controller machine :timed t :presenter (player:make-null-presenter))))
+    (dolist (state (player::timeline-timers (player::controller-timeline controller)))
+      (let ((item (player::timer-state-item state)))
+        (when item (setf (player::agenda-item-status item) :cancelled))))
+    controller))
+
+(defun bench-timeline (machine)
+  "Rows: timed events/s with half interrupting, and ADVANCE's cost per due item."
+  (let* ((stream (timed-stream machine 20000))
+         (items 0)
+         (seconds (seconds-per-call
+                   (lambda ()
+                     (let ((controller (fresh-timed-controller machine)))
+                       (play-timed-stream controller stream)
+                       (setf items (player::timeline-seq (player::controller-timeline controller)))))
+                   :batches 5 :batch-seconds 0.2d0))
+         (rate (/ (length stream) seconds)))
+    (row "12. events/s, timed controller, null presenter, half the events preempt"
+         (format-count rate) ">= 1 M/s" (>= rate 1d6))
+    (note "timed stream: ~D events made ~D agenda items (~,1F per event)"
+          (length stream) items (/ items (length stream)))
+    ;; ADVANCE alone: plan a long queue ahead, then time presenting it.
+    (let* ((queued (map 'simple-vector #'car (timed-stream machine 20000 :seed 13)))
+           (per-item
+             (let ((total 0d0) (count 0))
+               (dotimes (run 5)
+                 (let ((controller (fresh-timed-controller machine)))
+                   (loop for name across queued do (player:send-event controller name :when-busy :queue))
+                   (let ((start (now)))
+                     (player:finish-events controller)
+                     (incf total (- (now) start))
+                     (incf count (player::timeline-seq (player::controller-timeline controller))))))
+               (/ total count))))
+      (row "12. advance: seconds per item presented (queued events, null presenter)"
+           (format-seconds per-item) "< 1 us" (< per-item 1d-6)))))
