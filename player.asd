@@ -85,6 +85,7 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "agenda")
                      (:file "runs")
+                     (:file "footprints")
                      (:file "recorder")
                      (:file "timeline")
                      (:file "cuts")
@@ -135,6 +136,7 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "performance")
                      (:file "body-presenter")
+                     (:file "op-channels")
                      (:file "simulation")))
        (:module "render"
         :serial t
@@ -205,6 +207,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-face-drivers")
                  (:file "test-scripts")
                  (:file "test-performance")
+                 (:file "test-op-channels")
                  (:file "test-simulate")
                  (:file "test-render-base")
                  (:file "test-mesh")

@@ -243,6 +243,11 @@
                                            (0.95 :vec3 0 0.17 0.01) (1.25 :vec3 0 0.25 0))
                                           :interpolation :catmull-rom)))
 
+(defscript glance (:duration 0.6
+                   :documentation "A glance toward a voice off to his left: the eyes alone, the head keeps its course.")
+  (:at 0 :motor (:gaze :target (:point 0.8 0.3 0.5) :speed 1.5 :head-threshold 90) :for 0.45)
+  (:at 0.45 :motor (:gaze :target (:object camera) :speed 1.5 :head-threshold 90) :for 0.15))
+
 (defscript fly-loop (:duration 3
                      :documentation "A lap of the room: a banked circle out to his left and round behind, back to the hover.")
   ;; A circle of radius 0.45 m through the hover point, flown counter-clockwise

@@ -3,8 +3,8 @@
 ;;;; "Lifelike Computer Characters: the Persona project at Microsoft Research").
 ;;;;
 ;;;; Same size as the paper's prototype controller, scaled up: 7 state variables
-;;;; (one a time variable), 5 autoscripts, 43 operators (3 of them macro-ops, 4
-;;;; must-ask), 9 state classes and 37 events, which compile to 13 goals; two
+;;;; (one a time variable), 5 autoscripts, 44 operators (3 of them macro-ops, 4
+;;;; must-ask), 9 state classes and 38 events, which compile to 13 goals; two
 ;;;; idle timers and a trigger act when he runs on a timed controller.
 ;;;; Durations are in seconds. Try:
 ;;;;   bin/player run specs/peedy.lisp --initial alert=snore,posture=sit \
@@ -75,7 +75,11 @@
            :interrupt (:at 0.85) :if-cut (:add posture.stand))
   (op hop :precond stand-op :duration 0.5)
   (op fly-loop :precond fly-op :duration 3              ; a lap around the room,
-              :interrupt (:at 0.75 1.5 2.25))                ; cut at a quarter turn
+              :interrupt (:at 0.75 1.5 2.25)                 ; cut at a quarter turn,
+              :channels (parrot-root root neck tail))        ; his eyes stay free
+  ;; A glance at a voice moves only his eyes and needs nothing: it plays
+  ;; beside whatever keeps his eyes free (try ev-circle@0,ev-voice@1 while flying).
+  (op glance :duration 0.6 :channels (eyes))
 
   ;;; Operators: the wing
 
@@ -182,6 +186,7 @@
   (event ev-look :op look-around)
   (event ev-wide :op camwide)
   (event ev-rest :state sit-op)                         ; off his feet
+  (event ev-voice :op glance)                           ; someone speaks off to his left
 
   ;;; Idle behaviour (Persona: "after a period of inaction will sit down ... and
   ;;; eventually fall asleep"), and a dance whenever the music starts.

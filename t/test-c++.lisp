@@ -110,13 +110,13 @@ fills the cache), THREADS at a time. Returns an alist (MACHINE . ERROR-TEXT) of 
   "Initial states Peedy's events are played from, C++ against Lisp.")
 
 (test c++-peedy-matches-lisp
-  "Peedy's generated C++ compiles, and prints the Lisp trace for all 37 events in
+  "Peedy's generated C++ compiles, and prints the Lisp trace for all 38 events in
 order from several initial states, and for seeded random event sequences."
   (let* ((spec (peedy-spec))
          (machine (compile-spec spec))
          (events (event-names machine))
          (prng (make-rs-prng 35)))
-    (is (= 37 (length events)))
+    (is (= 38 (length events)))
     (finishes (run-c++-trace machine))
     (dolist (initial *peedy-initial-states*)
       (let ((problem (compare-backends machine initial events)))

@@ -74,8 +74,8 @@
          (library (peedy-script-library spec))
          (names (player::spec-script-names spec)))
     (is (null (player::missing-scripts library names)))
-    ;; 40 script ops (the macro-ops need none) and 5 autoscript procedures.
-    (is (= 45 (length names)))
+    ;; 41 script ops (the macro-ops need none) and 5 autoscript procedures.
+    (is (= 46 (length names)))
     (is (find "stream" names :test #'string-equal) "search plays the script (or director) stream")
     (is (player::find-director library 'stream) "stream is a director")
     (is (string-equal "parrot" (player::spec-body-name spec)))))

@@ -59,13 +59,13 @@ Fails the test when the event does not succeed."
                (peedy-names (mapcar #'player::var-name
                               (remove :time vars :key #'player::var-kind :test-not #'eq)))))
     (is (= 5 (length (player::spec-autoscripts spec))))
-    (is (= 43 (length ops)))
+    (is (= 44 (length ops)))
     (is (equal '("celebrate" "hard-wake" "soft-wake")
                (peedy-names (mapcar #'op-name (remove :macro ops :key #'op-kind :test-not #'eq)))))
     (is (equal '("camgoodbye" "camhello" "camwide" "give-note")
                (peedy-names (mapcar #'op-name (remove-if-not #'player::op-must-ask ops)))))
     (is (= 9 (hash-table-count (player::spec-classes spec))))
-    (is (= 37 (length (player::spec-events spec))))
+    (is (= 38 (length (player::spec-events spec))))
     (is (= 13 (length (machine-goals (compile-spec spec)))))))
 
 (test peedy-uses-the-papers-definitions

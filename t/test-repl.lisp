@@ -15,8 +15,8 @@
          (machine (compile-spec spec))
          (controller (make-controller machine :initial-state '((alert . snore)))))
     (send-event controller 'ev-search)
-    (is (string= "#<SPEC peedy 7 vars, 43 ops, 37 events>" (prin1-to-string spec)))
-    (is (search "peedy 13 goals, 144 states, 37 events" (prin1-to-string machine)))
+    (is (string= "#<SPEC peedy 7 vars, 44 ops, 38 events>" (prin1-to-string spec)))
+    (is (search "peedy 13 goals, 144 states, 38 events" (prin1-to-string machine)))
     (is (eql 0 (search "#<CONTROLLER peedy t=5.5 holding-note=true posture=stand alert=awake"
                        (prin1-to-string controller)))
         "~A" controller)

@@ -379,3 +379,53 @@ which ones the script has; a bare trace presenter says it needs a library."
     (declare (ignore out))
     (is (= 2 code))
     (is (search "need --backend lisp" err))))
+
+;;; Parallel events on disjoint channels
+
+(defparameter *channel-forms*
+  '((state-variable holding boolean false)
+    (op search :add holding :duration 3 :channels (wings legs))
+    (op glance :duration 1 :channels (head))
+    (op nod :duration 1 :channels head)
+    (op shrug :duration 1)
+    (event ev-search :op search)
+    (event ev-voice :op glance)
+    (event ev-nod (:when-busy :override) :op nod)
+    (event ev-shrug (:when-busy :override) :op shrug))
+  "A search on the wings and legs; a glance and a nod of the head; a shrug
+that declares no channels.")
+
+(defun channel-trace (sends)
+  "The trace of SENDS ((EVENT . TIME)...) on a spec of *CHANNEL-FORMS*."
+  (let ((spec (define-spec 'channels *channel-forms* :package (find-package '#:player-tests))))
+    (unwind-protect
+         (let ((c (make-controller spec :timed t)))
+           (play-events c sends)
+           (trace-of c))
+      (remove-spec 'channels))))
+
+(test disjoint-events-play-side-by-side
+  "An event on other channels, touching other variables, plays at once beside
+the running one; one that meets it on a channel follows its policy."
+  (is (equal '("(:event ev-search :time 0)"
+               "(:op search :script search :start 0 :end 3)"
+               "(:event ev-voice :time 1)"
+               "(:op glance :script glance :start 1 :end 2)"
+               "(:dropped ev-nod :time 1.5 :busy-with ev-voice)"
+               "(:state (holding . nil))"
+               "(:state (holding . t))")
+             (channel-trace '((ev-search . 0) (ev-voice . 1) (ev-nod . 1.5)))))
+  ;; An op without declared channels meets everything.
+  (is (equal "(:dropped ev-shrug :time 1 :busy-with ev-search)"
+             (third (channel-trace '((ev-search . 0) (ev-shrug . 1))))))
+  ;; A nod after the glance has ended plays beside the search too.
+  (is (member "(:op nod :script nod :start 2.5 :end 3.5)"
+              (channel-trace '((ev-search . 0) (ev-voice . 1) (ev-nod . 2.5))) :test #'string=)))
+
+(test check-reports-ops-sharing-a-channel
+  (let ((spec (define-spec 'channels *channel-forms* :package (find-package '#:player-tests))))
+    (unwind-protect
+         (let ((shared (remove :shared-channel (check-spec spec) :key #'player::diagnostic-kind :test-not #'eq)))
+           (is (= 1 (length shared)))
+           (is (search "ops glance and nod both drive head" (player::diagnostic-message (first shared)))))
+      (remove-spec 'channels))))

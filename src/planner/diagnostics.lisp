@@ -6,7 +6,7 @@
 
 (defstruct (diagnostic (:constructor make-diagnostic (kind message &optional details)))
   "One finding of CHECK-SPEC. KIND is :UNREACHABLE-GOAL, :UNUSED-OP,
-:TRUNCATED or :UNREACHABLE-STATES."
+:TRUNCATED, :UNREACHABLE-STATES or :SHARED-CHANNEL."
   (kind nil :type keyword)
   (message "" :type string)
   (details nil))
@@ -144,4 +144,21 @@ MAX-DEPTH truncated, and states unreachable from the initial state."
                                                    spec)))
                                unreachable)
               diagnostics)))
-    (nreverse diagnostics)))
+    (nreverse (revappend (channel-diagnostics spec) diagnostics))))
+
+(defun channel-diagnostics (spec)
+  "A :SHARED-CHANNEL diagnostic for each pair of SPEC's ops that declare a
+common :channels name while no plannable variable appears in both (their
+preconditions and effects): only the channel then stops two events that play
+them from overlapping on a timed controller."
+  (let ((ops (remove-if-not #'op-channels (spec-ops spec))))
+    (loop for (op . rest) on ops
+          nconc (loop for other in rest
+                      for shared = (intersection (op-channels op) (op-channels other) :test #'string=)
+                      when (and shared (not (logtest (op-variable-fields op spec)
+                                                     (op-variable-fields other spec))))
+                        collect (make-diagnostic
+                                 :shared-channel
+                                 (format nil "ops ~A and ~A both drive ~{~A~^, ~} and no state variable keeps them apart: events playing them wait for each other (or cut each other) on the channel"
+                                         (lisp-text (op-name op)) (lisp-text (op-name other)) shared)
+                                 (list (op-name op) (op-name other) shared))))))

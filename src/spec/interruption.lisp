@@ -94,3 +94,34 @@ when it is cut."
       (when (and (realp point) (> point (op-duration op)))
         (spec-fail 'type-error-in-spec form "interruption point ~A lies after op ~A's :duration ~A"
                    (format-number point) (lisp-text (op-name op)) (format-number (op-duration op)))))))
+
+;;; Ops: :channels
+
+(defun parse-channels (value form)
+  "An op's :CHANNELS (NAME...): the body channels it drives, as lower-case
+strings (joint names, joint roles, or names of the author's choosing)."
+  (let ((names (if (and value (symbolp value)) (list value) value)))
+    (unless (and (proper-list-p names) names
+                 (every (lambda (name) (or (stringp name) (and (symbolp name) name (not (eq name t)))))
+                        names))
+      (spec-fail 'spec-syntax-error form ":channels takes a list of channel names, e.g. (wings head), not ~A"
+                 (bounded-lisp-text value 40)))
+    (remove-duplicates (mapcar (lambda (name) (string-downcase (string name))) names) :test #'string=)))
+
+(defun cube-fields (cube spec)
+  "The fields of the plannable variables CUBE constrains (does not allow every value of)."
+  (loop for var in (plannable-variables spec)
+        for field = (var-field-mask var)
+        unless (= (logand cube field) field) sum field))
+
+(defun expression-fields (ast spec)
+  "The fields state expression AST constrains."
+  (reduce #'logior (expression-cubes ast spec) :key (lambda (cube) (cube-fields cube spec))
+                                               :initial-value 0))
+
+(defun op-variable-fields (op spec)
+  "The fields of the plannable variables OP's precondition, effects and
+:if-cut effects mention."
+  (logior (if (op-precond op) (expression-fields (op-precond op) spec) 0)
+          (op-effect-mask op)
+          (loop for (var) in (op-cut-effects op) sum (var-field-mask var))))

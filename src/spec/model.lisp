@@ -102,6 +102,9 @@
   (interrupt :never)
   ;; Effects applied instead of OP's own when it is cut, as EFFECTS.
   (cut-effects '() :type list)
+  ;; The body channels it declares (:channels), as lower-case strings; NIL
+  ;; when undeclared (a script library may infer them).
+  (channels '() :type list)
   (form nil))
 
 (defun op-effect-mask (op)

@@ -348,7 +348,7 @@ about FORM for a dotted list."
   (let* ((op (find-op-named (unquote (second form))))
          (options (parse-options form (cddr form)
                                  '(:script :director :code :precond :add :sub :must-ask
-                                   :duration :c++ :interrupt :if-cut))))
+                                   :duration :c++ :interrupt :if-cut :channels))))
     (when (> (count-if (lambda (k) (member k options)) '(:script :director :code)) 1)
       (spec-fail 'spec-syntax-error form "give only one of :script, :director and :code"))
     (cond ((member :director options)
@@ -366,6 +366,8 @@ about FORM for a dotted list."
           (op-c++ op) (parse-c++ (getf options :c++) form)
           (op-interrupt op) (parse-interrupt (getf options :interrupt :never) form))
     (check-interruption-points op form)
+    (when (member :channels options)
+      (setf (op-channels op) (parse-channels (getf options :channels) form)))
     (when (member :if-cut options)
       (setf (op-cut-effects op) (parse-cut-effects (getf options :if-cut) op form)))))
 

@@ -71,6 +71,14 @@ when the interrupted event had no op running)."))
 (defgeneric present-trigger (presenter trigger time)
   (:documentation "Trigger TRIGGER (a name) fires at TIME: its condition became true."))
 
+(defgeneric op-channel-set (presenter op)
+  (:documentation "The body channels OP drives, as a list of lower-case strings,
+or :ALL when nothing says (then it conflicts with every op).  The default is
+OP's declared :channels; a presenter with a script library infers the rest."))
+
+(defmethod op-channel-set ((presenter presenter) op)
+  (or (op-channels op) :all))
+
 (defmethod planned-op-duration ((presenter presenter) op start)
   (declare (ignore start))
   (op-duration op))

@@ -40,20 +40,26 @@ point at or after TIME, else its end."
       (cons (loop for (var) in effects sum (var-field-mask var))
             (loop for (var . index) in effects sum (var-value-bit var index))))))
 
-(defun settled-time (timeline run time)
-  "The earliest moment from TIME when ops of runs other than RUN, already cut
-or finishing, are all over."
+(defun settled-time (timeline run time footprint)
+  "The earliest moment from TIME when the ops of earlier, already cut runs that
+meet FOOTPRINT (the interrupting event's) are all over.  RUN's own are cut
+below; runs playing beside it on other channels do not matter."
   (reduce #'max (timeline-live-ops timeline)
           :initial-value time
-          :key (lambda (item) (if (eq (agenda-item-run item) run) time (agenda-item-end item)))))
+          :key (lambda (item)
+                 (let ((other (agenda-item-run item)))
+                   (if (and (not (eq other run)) (run-finished other)
+                            (footprints-meet-p footprint (run-footprint other)))
+                       (agenda-item-end item)
+                       time)))))
 
-(defun cut-run (timeline run time by)
+(defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
 interruption points, cancel the rest of it.  Returns the time the new event
 can start, and the top-level directive RUN would resume from (NIL when nothing
 of it was left to do)."
   (let ((presenter (timeline-presenter timeline))
-        (cut-time (settled-time timeline run time))
+        (cut-time (settled-time timeline run time footprint))
         (resume nil)
         (keep '())
         (shown nil)
@@ -103,7 +109,8 @@ of it was left to do)."
         (present-cut presenter (and finishing (agenda-item-op finishing))
                      (if finishing (agenda-item-start finishing) time) cut-time by))
     (setf (run-finished run) t
-          (run-items run) keep)
+          (run-items run) keep
+          (timeline-runs timeline) (remove run (timeline-runs timeline)))
     (values cut-time resume)))
 
 (defun keep-finished-macros (run keep cut-time)

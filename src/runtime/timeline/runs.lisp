@@ -16,6 +16,8 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (start 0d0 :type double-float)
   ;; The run's AGENDA-ITEMs, newest first.
   (items '() :type list)
+  ;; What the event may touch (FOOTPRINTS.LISP).
+  (footprint nil)
   (finished nil :type boolean))
 
 (defmethod print-object ((run event-run) stream)

@@ -8,8 +8,8 @@
 
 (defstruct (timeline (:constructor %make-timeline (controller presenter)))
   "The timed part of a controller: its current time NOW, the AGENDA of what is
-due, the event running (CURRENT) and those waiting (QUEUE), and its timers and
-triggers."
+due, the events running (RUNS: one, or several on disjoint channels) and those
+waiting (QUEUE), and its timers and triggers."
   (controller nil :type controller)
   ;; The controller's own presenter (the controller's slot holds the recorder
   ;; while an event is planned ahead).
@@ -17,7 +17,8 @@ triggers."
   (now 0d0 :type double-float)
   (agenda (make-agenda) :type agenda)
   (seq 0 :type fixnum)
-  (current nil)
+  ;; The EVENT-RUNs playing, oldest first.
+  (runs '() :type list)
   ;; Runs waiting, first first; QUEUE-TAIL is its last cons, for O(1) appending.
   (queue '() :type list)
   (queue-tail '() :type list)
@@ -57,8 +58,8 @@ triggers noting whether their conditions hold now."
     timeline))
 
 (defun timeline-busy-p (timeline)
-  "Is an event running (or cutting short) on TIMELINE?"
-  (and (timeline-current timeline) t))
+  "Is an event running (or waiting) on TIMELINE?"
+  (or (timeline-runs timeline) (timeline-queue timeline)))
 
 ;;;# Starting an event
 
@@ -89,16 +90,45 @@ pending state changes due by then, applied without telling anyone."
 (defun start-run (timeline run time)
   "Start RUN at TIME (at or after NOW): show it, plan it ahead and put its items
 on the agenda.  Returns T, or the FAILURE its plan ran into."
+  (let ((result (plan-run-ahead timeline run time)))
+    (install-run timeline run time)
+    result))
+
+(defun install-run (timeline run time)
+  "RUN, planned ahead from TIME, starts: show it, note its footprint, put its
+items on the agenda."
   (let ((presenter (timeline-presenter timeline)))
     (if (run-resumed run)
         (present-resume presenter (run-name run) time)
         (present-event presenter (run-name run) time)))
-  (setf (run-start run) time
-        (timeline-current timeline) run)
-  (let ((result (plan-run-ahead timeline run time)))
-    (dolist (item (run-items run))
-      (agenda-push (timeline-agenda timeline) item))
-    result))
+  (setf (run-start run) time)
+  (unless (run-footprint run)
+    (setf (run-footprint run) (planned-footprint timeline run)))
+  (setf (timeline-runs timeline) (append (timeline-runs timeline) (list run)))
+  (dolist (item (run-items run))
+    (agenda-push (timeline-agenda timeline) item)))
+
+(defun planned-footprint (timeline run)
+  "The footprint of RUN, planned ahead."
+  (run-footprint-from-items run (spec-of (timeline-controller timeline)) (timeline-presenter timeline)))
+
+(defun plan-on-trial (timeline run time)
+  "Plan RUN ahead from TIME to learn its footprint, unless its event runs code.
+Returns the planning result, or :UNTRIED; RUN keeps its items and footprint."
+  (if (event-runs-code-p (run-event run))
+      :untried
+      (prog1 (plan-run-ahead timeline run time)
+        (setf (run-footprint run) (planned-footprint timeline run)))))
+
+(defun meets-running-p (timeline run)
+  "Does planned RUN (its footprint known) meet a running event?"
+  (some (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint other)))
+        (timeline-runs timeline)))
+
+(defun forget-plan (run)
+  "Drop what RUN planned on trial (it will be planned again when it starts)."
+  (setf (run-items run) '()
+        (run-footprint run) nil))
 
 (defun plan-run-ahead (timeline run time)
   "Run RUN's compiled event on the controller with the recorder as presenter,
@@ -164,30 +194,52 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
       (setf (timeline-queue-tail timeline) '()))))
 
 (defun dispatch-event (timeline compiled name time policy source)
-  "Event NAME (COMPILED) arrives at TIME (= NOW) from SOURCE; resolve it by
-POLICY if an event is running.  Returns the disposition (:STARTED, :QUEUED,
-:DROPPED, :PREEMPTED or :INTERLEAVED) and the planning result (T or a FAILURE)."
+  "Event NAME (COMPILED) arrives at TIME (= NOW) from SOURCE.  It is planned
+on trial; if its footprint meets no running event's it starts now, beside any
+others; else POLICY decides against those it meets.  Returns the disposition
+(:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the planning
+result (T or a FAILURE)."
   (note-event-for-timers timeline compiled source time)
-  (let ((current (timeline-current timeline))
-        (run (make-event-run compiled name policy source)))
-    (if (null current)
+  (let ((run (make-event-run compiled name policy source)))
+    (if (null (timeline-runs timeline))
         (values :started (start-run timeline run time))
-        (ecase policy
-          (:queue
-           (enqueue-run timeline run)
-           (values :queued t))
-          (:override
-           (present-dropped (timeline-presenter timeline) name time (run-name current))
-           (values :dropped nil))
-          ((:preempt :interleave)
-           (multiple-value-bind (cut-time resume-step) (cut-run timeline current time name)
-             ;; A cut falling now leaves its :if-cut state now: apply it
-             ;; before the new event plans from it.
-             (advance-timeline timeline time)
+        (let ((trial (plan-on-trial timeline run time)))
+          (if (and (not (eq trial :untried)) (not (meets-running-p timeline run)))
+              (progn (install-run timeline run time)
+                     (values :started trial))
+              (resolve-busy timeline run time policy))))))
+
+(defun resolve-busy (timeline run time policy)
+  "RUN arrives at TIME while events it meets play: do what POLICY says."
+  (let* ((name (run-name run))
+         (met (if (run-footprint run)
+                  (remove-if-not (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint other)))
+                                 (timeline-runs timeline))
+                  (timeline-runs timeline)))
+         (footprint (or (run-footprint run) (make-footprint :all 0 '()))))
+    (forget-plan run)
+    (ecase policy
+      (:queue
+       (enqueue-run timeline run)
+       (values :queued t))
+      (:override
+       (present-dropped (timeline-presenter timeline) name time (run-name (first met)))
+       (values :dropped nil))
+      ((:preempt :interleave)
+       (let ((cut-time time) (resumptions '()))
+         (dolist (other met)
+           (multiple-value-bind (at resume-step) (cut-run timeline other time name footprint)
+             (setf cut-time (max cut-time at))
              (when (and (eq policy :interleave) resume-step)
-               (push-run-first timeline (resumption current resume-step)))
-             (values (if (eq policy :preempt) :preempted :interleaved)
-                     (start-run timeline run cut-time))))))))
+               (push (resumption other resume-step) resumptions))))
+         ;; A cut falling now leaves its :if-cut state now: apply it
+         ;; before the new event plans from it.
+         (advance-timeline timeline time)
+         ;; The interrupted resume in the order they started, before the queue.
+         (dolist (again resumptions)
+           (push-run-first timeline again))
+         (values (if (eq policy :preempt) :preempted :interleaved)
+                 (start-run timeline run cut-time)))))))
 
 (defun resumption (run step)
   "A run that finishes interrupted RUN from its top-level directive STEP."
@@ -248,10 +300,20 @@ then NOW is TIME."
       (:timer (fire-timer timeline (agenda-item-a item) time)))))
 
 (defun finish-run (timeline run time)
-  "RUN is over at TIME: show the state, and start the first waiting event."
+  "RUN is over at TIME: show the state, and start the waiting events that no
+running event meets any more, first first."
   (setf (run-finished run) t)
   (present-state (timeline-presenter timeline) (timeline-controller timeline))
-  (when (eq run (timeline-current timeline))
-    (setf (timeline-current timeline) nil)
-    (when (timeline-queue timeline)
-      (start-run timeline (pop-run timeline) time))))
+  (setf (timeline-runs timeline) (remove run (timeline-runs timeline)))
+  (start-waiting-runs timeline time))
+
+(defun start-waiting-runs (timeline time)
+  "Start, at TIME, the first waiting runs while no running event meets the first."
+  (loop for next = (first (timeline-queue timeline))
+        while next
+        do (if (null (timeline-runs timeline))
+               (start-run timeline (pop-run timeline) time)
+               (let ((trial (plan-on-trial timeline next time)))
+                 (if (and (not (eq trial :untried)) (not (meets-running-p timeline next)))
+                     (install-run timeline (pop-run timeline) time)
+                     (progn (forget-plan next) (return)))))))

@@ -1,0 +1,53 @@
+;;;; footprints.lisp -- what a planned event touches: the body channels of the
+;;;; ops it will play and the variables their preconditions and effects (and
+;;;; its own assignments) mention.  The plan is known before anything plays,
+;;;; so the footprint is exact for the state the event starts from.  Two
+;;;; events whose footprints are disjoint cannot disturb each other, so a
+;;;; timed controller plays them side by side instead of applying a :when-busy
+;;;; policy: Peedy turns his head to a voice while he flies his lap.
+
+(in-package #:player)
+
+(defstruct (footprint (:constructor make-footprint (channels fields runtime)))
+  "CHANNELS: lower-case strings, or :ALL; FIELDS: the plannable variables' one-hot
+fields, as a mask; RUNTIME: the runtime variables."
+  (channels '() :type (or list (eql :all)))
+  (fields 0 :type integer)
+  (runtime '() :type list))
+
+(defun footprints-meet-p (a b)
+  "Do footprints A and B share a channel or a variable?  An event with no op
+on a known channel (its channels :ALL, or none) meets every other: only two
+events that both play on known, disjoint channels run side by side."
+  (or (member (footprint-channels a) '(:all nil)) (member (footprint-channels b) '(:all nil))
+      (intersection (footprint-channels a) (footprint-channels b) :test #'string=)
+      (logtest (footprint-fields a) (footprint-fields b))
+      (intersection (footprint-runtime a) (footprint-runtime b))))
+
+(defun run-footprint-from-items (run spec presenter)
+  "The footprint of RUN as planned: the channels (as PRESENTER knows them) and
+variables of the ops its items play, and the variables its changes set."
+  (let ((channels '()) (fields 0) (runtime '()))
+    (dolist (item (run-items run))
+      (case (agenda-item-kind item)
+        (:op (let* ((op (agenda-item-op item))
+                    (set (op-channel-set presenter op)))
+               (setf channels (if (or (eq set :all) (eq channels :all)) :all (union channels set :test #'string=))
+                     fields (logior fields (op-variable-fields op spec)))))
+        (:macro-start (setf fields (logior fields (op-variable-fields (agenda-item-op item) spec))))
+        (:delta (setf fields (logior fields (agenda-item-a item))))
+        (:value (pushnew (agenda-item-a item) runtime))))
+    (make-footprint channels fields runtime)))
+
+(defun directives-run-code-p (directives)
+  "Do parsed DIRECTIVES hold a :code directive (at any depth of :if)?"
+  (some (lambda (directive)
+          (case (first directive)
+            (:code t)
+            (:if (directives-run-code-p (third directive)))))
+        directives))
+
+(defun event-runs-code-p (event)
+  "Does EVENT run Lisp of its own (a :code directive)?  Such an event is never
+planned on trial, since planning it runs the code."
+  (directives-run-code-p (event-directives event)))
