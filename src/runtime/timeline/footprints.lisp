@@ -19,25 +19,37 @@ fields, as a mask; RUNTIME: the runtime variables."
   "Do footprints A and B share a channel or a variable?  An event with no op
 on a known channel (its channels :ALL, or none) meets every other: only two
 events that both play on known, disjoint channels run side by side."
-  (or (member (footprint-channels a) '(:all nil)) (member (footprint-channels b) '(:all nil))
+  (or (meets-everything-p a) (meets-everything-p b)
       (intersection (footprint-channels a) (footprint-channels b) :test #'string=)
       (logtest (footprint-fields a) (footprint-fields b))
       (intersection (footprint-runtime a) (footprint-runtime b))))
 
-(defun run-footprint-from-items (run spec presenter)
-  "The footprint of RUN as planned: the channels (as PRESENTER knows them) and
-variables of the ops its items play, and the variables its changes set."
+(defun op-footprint (timeline op)
+  "(CHANNELS . FIELDS) of OP on TIMELINE: its channels as the presenter knows
+them and the fields its precondition and effects mention (worked out once)."
+  (let ((table (timeline-op-footprints timeline)))
+    (or (gethash op table)
+        (setf (gethash op table)
+              (cons (op-channel-set (timeline-presenter timeline) op)
+                    (op-variable-fields op (spec-of (timeline-controller timeline))))))))
+
+(defun run-footprint-from-items (timeline run)
+  "The footprint of RUN as planned: the channels and variables of the ops its
+items play, and the variables its changes set."
   (let ((channels '()) (fields 0) (runtime '()))
     (dolist (item (run-items run))
       (case (agenda-item-kind item)
-        (:op (let* ((op (agenda-item-op item))
-                    (set (op-channel-set presenter op)))
+        (:op (destructuring-bind (set . op-fields) (op-footprint timeline (agenda-item-op item))
                (setf channels (if (or (eq set :all) (eq channels :all)) :all (union channels set :test #'string=))
-                     fields (logior fields (op-variable-fields op spec)))))
-        (:macro-start (setf fields (logior fields (op-variable-fields (agenda-item-op item) spec))))
+                     fields (logior fields op-fields))))
+        (:macro-start (setf fields (logior fields (cdr (op-footprint timeline (agenda-item-op item))))))
         (:delta (setf fields (logior fields (agenda-item-a item))))
         (:value (pushnew (agenda-item-a item) runtime))))
     (make-footprint channels fields runtime)))
+
+(defun meets-everything-p (footprint)
+  "Does FOOTPRINT meet every other, whatever it is (no known channels)?"
+  (member (footprint-channels footprint) '(:all nil)))
 
 (defun directives-run-code-p (directives)
   "Do parsed DIRECTIVES hold a :code directive (at any depth of :if)?"

@@ -19,6 +19,8 @@ waiting (QUEUE), and its timers and triggers."
   (seq 0 :type fixnum)
   ;; The EVENT-RUNs playing, oldest first.
   (runs '() :type list)
+  ;; Op -> (CHANNELS . FIELDS), see OP-FOOTPRINT.
+  (op-footprints (make-hash-table :test 'eq) :type hash-table)
   ;; Runs waiting, first first; QUEUE-TAIL is its last cons, for O(1) appending.
   (queue '() :type list)
   (queue-tail '() :type list)
@@ -29,6 +31,10 @@ waiting (QUEUE), and its timers and triggers."
   (recorder nil)
   (timers '() :type list)
   (triggers '() :type list)
+  ;; Sends of timers and triggers that went off at NOW, newest first: they are
+  ;; dispatched once everything else due at NOW has happened, as a send from
+  ;; outside at that time would be.
+  (deferred '() :type list)
   ;; Items applied at the current instant, against loops of zero-length work.
   (instant-count 0 :type fixnum))
 
@@ -110,12 +116,14 @@ items on the agenda."
 
 (defun planned-footprint (timeline run)
   "The footprint of RUN, planned ahead."
-  (run-footprint-from-items run (spec-of (timeline-controller timeline)) (timeline-presenter timeline)))
+  (run-footprint-from-items timeline run))
 
 (defun plan-on-trial (timeline run time)
-  "Plan RUN ahead from TIME to learn its footprint, unless its event runs code.
-Returns the planning result, or :UNTRIED; RUN keeps its items and footprint."
-  (if (event-runs-code-p (run-event run))
+  "Plan RUN ahead from TIME to learn its footprint, unless its event runs code
+or a running event meets everything anyway.  Returns the planning result, or
+:UNTRIED; RUN keeps its items and footprint."
+  (if (or (event-runs-code-p (run-event run))
+          (some (lambda (other) (meets-everything-p (run-footprint other))) (timeline-runs timeline)))
       :untried
       (prog1 (plan-run-ahead timeline run time)
         (setf (run-footprint run) (planned-footprint timeline run)))))
@@ -124,6 +132,14 @@ Returns the planning result, or :UNTRIED; RUN keeps its items and footprint."
   "Does planned RUN (its footprint known) meet a running event?"
   (some (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint other)))
         (timeline-runs timeline)))
+
+(defun meets-finishing-p (timeline run)
+  "Does planned RUN meet an op of an interrupted event that still plays out?"
+  (some (lambda (item)
+          (let ((other (agenda-item-run item)))
+            (and (run-finished other) (> (agenda-item-end item) (timeline-now timeline))
+                 (footprints-meet-p (run-footprint run) (run-footprint other)))))
+        (timeline-live-ops timeline)))
 
 (defun forget-plan (run)
   "Drop what RUN planned on trial (it will be planned again when it starts)."
@@ -204,10 +220,16 @@ result (T or a FAILURE)."
     (if (null (timeline-runs timeline))
         (values :started (start-run timeline run time))
         (let ((trial (plan-on-trial timeline run time)))
-          (if (and (not (eq trial :untried)) (not (meets-running-p timeline run)))
-              (progn (install-run timeline run time)
-                     (values :started trial))
-              (resolve-busy timeline run time policy))))))
+          (cond ((or (eq trial :untried) (meets-running-p timeline run))
+                 (resolve-busy timeline run time policy))
+                ((meets-finishing-p timeline run)
+                 ;; Only the last op of an interrupted event is in its way:
+                 ;; start when that is over.
+                 (let ((start (settled-time timeline nil time (run-footprint run))))
+                   (forget-plan run)
+                   (values :started (start-run timeline run start))))
+                (t (install-run timeline run time)
+                   (values :started trial)))))))
 
 (defun resolve-busy (timeline run time policy)
   "RUN arrives at TIME while events it meets play: do what POLICY says."
@@ -234,7 +256,7 @@ result (T or a FAILURE)."
                (push (resumption other resume-step) resumptions))))
          ;; A cut falling now leaves its :if-cut state now: apply it
          ;; before the new event plans from it.
-         (advance-timeline timeline time)
+         (advance-timeline timeline time :dispatch nil)
          ;; The interrupted resume in the order they started, before the queue.
          (dolist (again resumptions)
            (push-run-first timeline again))
@@ -250,17 +272,27 @@ result (T or a FAILURE)."
 
 ;;;# Advancing the clock
 
-(defun advance-timeline (timeline time)
+(defun advance-timeline (timeline time &key (dispatch t))
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
-then NOW is TIME."
+then NOW is TIME.  Events that timers and triggers send at an instant are
+dispatched when everything else due then has happened (unless DISPATCH is
+false: then they wait for the ADVANCE-TIMELINE that called this one)."
   (let ((agenda (timeline-agenda timeline)))
-    (loop for item = (agenda-next agenda)
-          while (and item (<= (agenda-item-time item) time))
-          do (agenda-remove-top agenda)
-             (note-instant timeline (agenda-item-time item))
-             (setf (timeline-now timeline) (agenda-item-time item)
-                   (agenda-item-status item) :done)
-             (apply-item timeline item)))
+    (loop
+      (let ((item (agenda-next agenda)))
+        (cond ((and item (<= (agenda-item-time item) time)
+                    (not (and dispatch (timeline-deferred timeline)
+                              (> (agenda-item-time item) (timeline-now timeline)))))
+               (agenda-remove-top agenda)
+               (note-instant timeline (agenda-item-time item))
+               (setf (timeline-now timeline) (agenda-item-time item)
+                     (agenda-item-status item) :done)
+               (apply-item timeline item))
+              ((and dispatch (timeline-deferred timeline))
+               (let ((sends (reverse (timeline-deferred timeline))))
+                 (setf (timeline-deferred timeline) '())
+                 (mapc #'funcall sends)))
+              (t (return))))))
   (setf (timeline-now timeline) time
         (timeline-live-ops timeline) (delete-if (lambda (item) (<= (agenda-item-end item) time))
                                                 (timeline-live-ops timeline)))
@@ -314,6 +346,7 @@ running event meets any more, first first."
         do (if (null (timeline-runs timeline))
                (start-run timeline (pop-run timeline) time)
                (let ((trial (plan-on-trial timeline next time)))
-                 (if (and (not (eq trial :untried)) (not (meets-running-p timeline next)))
+                 (if (and (not (eq trial :untried)) (not (meets-running-p timeline next))
+                          (not (meets-finishing-p timeline next)))
                      (install-run timeline (pop-run timeline) time)
                      (progn (forget-plan next) (return)))))))

@@ -53,11 +53,14 @@ and those with :restart-on :any when it comes from outside (SOURCE :USER)."
     (send-own-event timeline (timer-event def) time :timer)))
 
 (defun send-own-event (timeline event time source)
-  "Send EVENT (an EVENT-DEF) at TIME from a timer or trigger, by its own policy."
+  "Send EVENT (an EVENT-DEF) at TIME from a timer or trigger, by its own
+policy, once everything else due at TIME has happened."
   (let* ((controller (timeline-controller timeline))
          (compiled (find-compiled-event controller (event-name event))))
-    (dispatch-event timeline compiled (event-name event) time
-                    (event-policy event (spec-of controller)) source)))
+    (push (lambda ()
+            (dispatch-event timeline compiled (event-name event) time
+                            (event-policy event (spec-of controller)) source))
+          (timeline-deferred timeline))))
 
 (defun start-triggers (timeline)
   "Compile the controller's triggers; each notes whether it holds now (a
