@@ -71,6 +71,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cpp-names")
                    (:file "cpp")
                    (:file "cpp-steps")
+                   (:file "cpp-timeline")
                    (:file "cpp-source")
                    (:file "cpp-build")))
      (:module "runtime"

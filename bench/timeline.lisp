@@ -28,10 +28,12 @@ about half arrive while the previous event plays and preempt it."
 (defun fresh-timed-controller (machine)
   "A timed controller of MACHINE on a null presenter, its timers disarmed (so
 only the stream's events play)."
-  (let ((controller (player:make-controller machine :timed t :presenter (player:make-null-presenter))))
-    (dolist (state (player::timeline-timers (player::controller-timeline controller)))
+  (let* ((controller (player:make-controller machine :timed t :presenter (player:make-null-presenter)))
+         (timeline (player::controller-timeline controller)))
+    (dolist (state (player::timeline-timers timeline))
       (let ((item (player::timer-state-item state)))
         (when item (setf (player::agenda-item-status item) :cancelled))))
+    (setf (player::timeline-timers timeline) '())
     controller))
 
 (defun bench-timeline (machine)

@@ -9,7 +9,7 @@
 (defparameter *c++-compiler* "g++"
   "The compiler command, looked up on PATH.")
 
-(defparameter *driver-body*
+(defparameter *driver-presenter*
   "namespace {
 
 std::string number(double x) { return ctl::format_number(x); }
@@ -50,7 +50,13 @@ public:
     add(std::string(\"(:fail \") + event + \" :goal \" + goal + \" :time \" + number(time) + \")\");
   }
   void event_end(const ctl::Controller& controller) override { add(controller.state_line()); }
+"
+  "The start of the trace-printing driver's code, after its header (it names
+the controller's namespace through the alias ctl): a presenter recording
+trace lines, up to its members for the timed API.")
 
+(defparameter *driver-presenter-end*
+  "
 private:
   std::vector<std::string> lines_;
   std::vector<std::size_t> open_;
@@ -73,7 +79,11 @@ private:
 
 }  // namespace
 
-// Arguments: N, then N pairs VARIABLE VALUE (as Player prints them), then the
+"
+  "The rest of the driver's presenter.")
+
+(defparameter *driver-main*
+  "// Arguments: N, then N pairs VARIABLE VALUE (as Player prints them), then the
 // events' indices. Without events it prints the initial state line.
 int main(int argc, char** argv) {
   ctl::State state = ctl::initial_state();
@@ -99,11 +109,108 @@ int main(int argc, char** argv) {
   return 0;
 }
 "
-  "The trace-printing driver's code, after its header: it names the controller's
-namespace through the alias ctl.")
+  "The driver's main() for the whole-event API.")
 
-(defun driver-source (name namespace)
-  "A main() printing Player's trace for the controller NAME in NAMESPACE."
+(defparameter *timed-driver-presenter*
+  "  void cut(const ctl::Op* op, double, double time, const char* by) override {
+    add(std::string(\"(:cut \") + (op ? op->name : \"nil\") + \" :time \" + number(time) + \" :by \" + by + \")\");
+  }
+  void dropped(const char* event, double time, const char* busy_with) override {
+    add(std::string(\"(:dropped \") + event + \" :time \" + number(time) + \" :busy-with \" + busy_with + \")\");
+  }
+  void resumed(const char* event, double time) override {
+    add(std::string(\"(:resume \") + event + \" :time \" + number(time) + \")\");
+  }
+  void timer(const char* name, double time) override {
+    add(std::string(\"(:timer \") + name + \" :time \" + number(time) + \")\");
+  }
+  void trigger(const char* name, double time) override {
+    add(std::string(\"(:trigger \") + name + \" :time \" + number(time) + \")\");
+  }
+  // At the end of a scenario stopped midway: the lines still waiting, an open
+  // macro's with its end at its start (as Player's trace holds them).
+  void print_rest() {
+    for (; flushed_ < lines_.size(); ++flushed_) print_line(lines_[flushed_]);
+  }
+"
+  "The driver presenter's members for the timed API, printing as Player's trace.")
+
+(defparameter *timed-driver-main*
+  "// Stop with the timeline's message when it cannot move on.
+void check_timeline(const ctl::Controller& controller) {
+  if (controller.timeline_error().empty()) return;
+  std::fprintf(stderr, \"%s\\n\", controller.timeline_error().c_str());
+  std::exit(3);
+}
+
+// Arguments: N, then N pairs VARIABLE VALUE (as Player prints them), then
+// UNTIL (seconds, or - to play until no event runs or waits), POLICY (0 for
+// each event's own, else 1 + the policy's position in WhenBusy's list) for
+// the timed entries, then the entries: INDEX (sent when the events before it
+// have ended) or INDEX@SECONDS.
+int main(int argc, char** argv) {
+  ctl::State state = ctl::initial_state();
+  const int pairs = argc > 1 ? std::atoi(argv[1]) : 0;
+  int next = 2;
+  for (int i = 0; i < pairs; ++i, next += 2) {
+    if (next + 1 >= argc || !ctl::assign(state, argv[next], argv[next + 1])) {
+      std::fprintf(stderr, \"bad initial value %s\\n\", next < argc ? argv[next] : \"(missing)\");
+      return 2;
+    }
+  }
+  if (next + 1 >= argc) {
+    std::fprintf(stderr, \"missing UNTIL or POLICY\\n\");
+    return 2;
+  }
+  const std::string until = argv[next++];
+  const int policy = std::atoi(argv[next++]);
+  TracePresenter presenter;
+  ctl::Controller controller(presenter, state);
+  for (; next < argc; ++next) {
+    const std::string entry = argv[next];
+    const std::size_t at = entry.find('@');
+    const int index = std::atoi(entry.substr(0, at).c_str());
+    if (index < 0 || index >= ctl::event_count) {
+      std::fprintf(stderr, \"unknown event index %s\\n\", argv[next]);
+      return 2;
+    }
+    const ctl::Event event = static_cast<ctl::Event>(index);
+    if (at == std::string::npos) {
+      controller.finish_events();
+      check_timeline(controller);
+      controller.send_timed(event, controller.now());
+    } else {
+      const double time = std::strtod(entry.c_str() + at + 1, nullptr);
+      if (time < controller.now()) {
+        std::fprintf(stderr, \"%s arrives at %s, before now (%s): a timed controller cannot go back\\n\",
+                     ctl::event_name(event), number(time).c_str(), number(controller.now()).c_str());
+        return 2;
+      }
+      controller.send_timed(event, time, static_cast<ctl::Controller::WhenBusy>(policy));
+    }
+    check_timeline(controller);
+  }
+  if (until == \"-\") {
+    controller.finish_events();
+  } else {
+    const double time = std::strtod(until.c_str(), nullptr);
+    if (time < controller.now()) {
+      std::fprintf(stderr, \"until %s lies before now (%s): a timed controller cannot go back\\n\",
+                   number(time).c_str(), number(controller.now()).c_str());
+      return 2;
+    }
+    controller.advance(time);
+  }
+  check_timeline(controller);
+  presenter.print_rest();
+  return 0;
+}
+"
+  "The timed driver's main(): plays a timed scenario as PLAY-EVENTS does.")
+
+(defun driver-source (name namespace &key timed)
+  "A main() printing Player's trace for the controller NAME in NAMESPACE; with
+TIMED, playing a timed scenario on a controller emitted with the timed layer."
   (concatenate 'string
                (format nil "// ~A_main.cpp -- generated by Player: plays events and prints the trace.
 #include \"~A.hpp\"
@@ -116,7 +223,10 @@ namespace through the alias ctl.")
 namespace ctl = ~A;
 
 " name name namespace)
-               *driver-body*))
+               *driver-presenter*
+               (if timed *timed-driver-presenter* "")
+               *driver-presenter-end*
+               (if timed *timed-driver-main* *driver-main*)))
 
 (defun c++-cache-root ()
   "Where compiled drivers are kept: $XDG_CACHE_HOME/player/c++/ or ~/.cache/player/c++/."
@@ -152,16 +262,17 @@ or NIL when the program cannot be started."
     (list (file-namestring (output-file directory name "cpp"))
           (file-namestring (output-file directory main "cpp")))))
 
-(defun build-c++-driver (machine)
-  "Generate MACHINE's C++ with a driver and compile it (once per content);
+(defun build-c++-driver (machine &key timed)
+  "Generate MACHINE's C++ (with TIMED, its timed layer too) with a driver and
+compile it (once per content);
 return the executable's pathname. Each build runs in a directory of its own and
 only the finished executable is renamed into place, so processes sharing the
 cache never run, or write into, another's half-written files."
   (let* ((name (c++-safe-identifier (spec-name (machine-spec machine))))
          ;; Prefixed, so no spec name can collide with the C library's globals.
          (namespace (concatenate 'string "player_" name)))
-    (multiple-value-bind (header source) (c++-sources machine name namespace)
-      (let* ((driver (driver-source name namespace))
+    (multiple-value-bind (header source) (c++-sources machine name namespace :timed timed)
+      (let* ((driver (driver-source name namespace :timed timed))
              (directory (merge-pathnames (format nil "~A/" (content-key header source driver *c++-flags*))
                                          (c++-cache-root)))
              (executable (merge-pathnames "driver" directory)))
@@ -226,17 +337,63 @@ value as Player prints them, values checked and canonical."
         while end
         collect (subseq text start end)))
 
-(defun run-c++-trace (machine &key initial-state events)
-  "Build MACHINE's C++ driver and run EVENTS (symbols or names) from
-INITIAL-STATE (an alist); return the trace as a list of lines."
+(defun seconds-argument (seconds)
+  "SECONDS as the driver reads it: the double, in digits that read back to it."
+  (let ((*read-default-float-format* 'double-float))
+    (prin1-to-string (to-double seconds))))
+
+(defun check-timed-scenario (events until)
+  "Signal an ARGUMENT-ERROR of RUN-C++-TRACE unless EVENTS are scenario entries
+(NAME or (NAME . SECONDS)) none of which arrives after UNTIL."
+  (unless (every #'event-entry-p events)
+    (argument-fail 'run-c++-trace :events events
+                   "a list of event names and (NAME . SECONDS) conses, seconds from 0"))
+  (when until
+    (check-seconds 'run-c++-trace :until until)
+    (dolist (entry events)
+      (when (and (consp entry) (> (cdr entry) until))
+        (argument-fail 'run-c++-trace :until until
+                       (format nil "a time no earlier than the events' (~A arrives at ~A)"
+                               (lisp-text (car entry)) (format-number (cdr entry))))))))
+
+(defun scenario-arguments (spec events until when-busy)
+  "A timed scenario as the timed driver's arguments: UNTIL (or -), WHEN-BUSY's
+number (0 for none), then each entry as INDEX or INDEX@SECONDS."
+  (list* (if until (seconds-argument until) "-")
+         (if when-busy (princ-to-string (policy-number when-busy)) "0")
+         (mapcar (lambda (entry)
+                  (if (consp entry)
+                      (format nil "~D@~A" (event-index spec (car entry)) (seconds-argument (cdr entry)))
+                      (princ-to-string (event-index spec entry))))
+                events)))
+
+(defun run-c++-trace (machine &key initial-state events until when-busy)
+  "Build MACHINE's C++ driver and run EVENTS from INITIAL-STATE (an alist);
+return the trace as a list of lines.  Events are names (symbols or strings),
+sent one after another as whole events.  A timed scenario -- an entry
+(NAME . SECONDS), or UNTIL given -- plays on the timed layer as PLAY-EVENTS
+does on (MAKE-CONTROLLER MACHINE :TIMED T): each NAME when the events before
+it have ended, each (NAME . SECONDS) at that time whatever runs; then the clock
+advances to UNTIL, or until no event runs or waits.  WHEN-BUSY (a policy
+keyword), if given, overrides the policy of every timed entry, as PLAY-EVENTS'
+does."
   (check-argument 'run-c++-trace 'events events #'proper-form-list-p "a list of event names")
-  (let* ((machine (ensure-machine machine 'run-c++-trace))
-         (spec (machine-spec machine))
-         (arguments (append (initial-state-arguments spec initial-state)
-                            (mapcar (lambda (event) (princ-to-string (event-index spec event))) events)))
-         (executable (build-c++-driver machine)))
-    (multiple-value-bind (code out err) (run-program-capturing (namestring executable) arguments)
-      (unless (eql code 0)
-        (error 'player-error-with-message
-               :message (format nil "the generated C++ controller failed (exit ~A): ~A" code err)))
-      (split-at-nul out))))
+  (let ((timed (timed-scenario-p events until))
+        (when-busy (and when-busy
+                        (or (and (symbolp when-busy) (when-busy-policy when-busy))
+                            (argument-fail 'run-c++-trace :when-busy when-busy
+                                           (format nil "one of ~{~A~^, ~}"
+                                                   (mapcar #'lisp-text *when-busy-policies*)))))))
+    (when timed (check-timed-scenario events until))
+    (let* ((machine (ensure-machine machine 'run-c++-trace))
+           (spec (machine-spec machine))
+           (arguments (append (initial-state-arguments spec initial-state)
+                              (if timed
+                                  (scenario-arguments spec events until when-busy)
+                                  (mapcar (lambda (event) (princ-to-string (event-index spec event))) events))))
+           (executable (build-c++-driver machine :timed timed)))
+      (multiple-value-bind (code out err) (run-program-capturing (namestring executable) arguments)
+        (unless (eql code 0)
+          (error 'player-error-with-message
+                 :message (format nil "the generated C++ controller failed (exit ~A): ~A" code err)))
+        (split-at-nul out)))))

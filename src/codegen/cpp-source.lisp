@@ -73,6 +73,7 @@ std::string exponent_form(double x) {
   (let ((spec (machine-spec machine)))
     (emit-banner machine (format nil "~A.cpp" name))
     (emit "#include \"~A.hpp\"~%" name)
+    (when *c++-timed* (emit "#include <algorithm>~%#include <cstring>"))
     (emit-text "#include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -102,6 +103,7 @@ std::string exponent_form(double x) {
     (loop for goal across (machine-goal-table machine) do (emit-achiever goal machine))
     (dolist (op (spec-ops spec)) (emit-executor op machine))
     (dolist (event (spec-events spec)) (emit-event event machine))
+    (when *c++-timed* (emit-timed-source machine))
     (emit "}  // namespace ~A" namespace)))
 
 (defun op-script-text (op)
@@ -306,7 +308,7 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
   "GOAL's state-achieving procedure: 1 reached, 0 no plan, 2 a macro inside failed."
   (let ((spec (machine-spec machine)))
     (emit "// Goal ~A" (c++-comment-text (lisp-text (goal-expression goal))))
-    (emit "int Controller::~A() {" (goal-fn-id goal))
+    (emit "int Controller::~A() {" (goal-call-id goal))
     (emit "  const std::uint64_t s = state_.bits;")
     (emit "  (void)s;")
     (loop for plan across (goal-plans goal)
@@ -314,7 +316,7 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
           do (emit "  ~A ((s & ~~~A) == 0) {  // ~A" keyword (c++-hex (plan-condition plan))
                    (c++-comment-text (lisp-text (cube-expression (plan-condition plan) spec))))
              (dolist (op (plan-ops plan))
-               (emit "    if (~A() != 1) return 2;" (op-id op)))
+               (emit "    if (~A() != 1) return 2;" (op-call-id op)))
              (emit "    return 1;~%  }"))
     (emit "  return 0;~%}~%")))
 

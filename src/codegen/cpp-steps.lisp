@@ -8,6 +8,27 @@
 (defvar *indent* "  ")
 (defvar *owner* nil "Name of the event or macro whose steps are emitted, for hook names.")
 (defvar *hook-count* 0)
+(defvar *planning* nil
+  "True while the timed layer's planning twins are emitted (cpp-timeline.lisp):
+steps then call the twins and record state changes instead of making them.")
+
+(defun planning-id (id)
+  "The planning twin of the procedure or setter named ID: plan_ID_ (no other
+generated name ends in an underscore after a name that is not a C++ keyword)."
+  (concatenate 'string "plan_" id "_"))
+
+(defun goal-call-id (goal)
+  "The procedure steps call to achieve GOAL: its achiever, or the planning twin."
+  (if *planning* (planning-id (goal-fn-id goal)) (goal-fn-id goal)))
+
+(defun op-call-id (op)
+  "The procedure steps call to run OP: its executor, or the planning twin."
+  (if *planning* (planning-id (op-id op)) (op-id op)))
+
+(defun setter-call-id (var)
+  "The setter of number VAR steps call: set_VAR, or its planning twin."
+  (let ((setter (format nil "set_~A" (var-id var))))
+    (if *planning* (planning-id setter) setter)))
 
 (defun emit-steps (steps indent machine owner)
   "Emit STEPS at INDENT."
@@ -25,7 +46,7 @@
 (defun emit-achieve-call (goal failure)
   "Call GOAL's achiever, failing with FAILURE's goal text when there is no plan."
   (emit-line "{ const int r = ~A(); if (r == 0) return fail(~A); if (r != 1) return 2; }"
-             (goal-fn-id goal) (c++-string (lisp-text (failure-goal-form failure)))))
+             (goal-call-id goal) (c++-string (lisp-text (failure-goal-form failure)))))
 
 (defmethod emit-step ((step achieve-step) machine)
   (declare (ignore machine))
@@ -35,7 +56,7 @@
   (declare (ignore machine))
   (when (op-step-goal step)
     (emit-achieve-call (op-step-goal step) (op-step-failure step)))
-  (emit-line "if (~A() != 1) return 2;" (op-id (op-step-op step))))
+  (emit-line "if (~A() != 1) return 2;" (op-call-id (op-step-op step))))
 
 (defmethod emit-step ((step label-step) machine)
   (declare (ignore machine))
@@ -58,9 +79,12 @@
 
 (defmethod emit-step ((step assign-step) machine)
   (declare (ignore machine))
-  (let ((var (assign-step-variable step)))
-    (emit-line "transition((state_.bits & ~~~A) | ~A, schedule_);"
-               (c++-hex (var-field-mask var)) (c++-hex (var-value-bit var (assign-step-index step))))))
+  (let* ((var (assign-step-variable step))
+         (mask (c++-hex (var-field-mask var)))
+         (bit (c++-hex (var-value-bit var (assign-step-index step)))))
+    (if *planning*
+        (emit-line "record_delta_(~A, ~A, schedule_, nullptr);" mask bit)
+        (emit-line "transition((state_.bits & ~~~A) | ~A, schedule_);" mask bit))))
 
 ;;; :add/:sub (VAR N): a sum that would leave the variable's type (64 bits, or
 ;;; a finite double) fails the event with the goal (:overflow VAR), leaving the
@@ -94,7 +118,7 @@ subtraction, since it has no literal."
          (test (integer-overflow-test field delta)))
     (when test
       (emit-line "if (~A) return fail(~A);" test failure))
-    (emit-line "set_~A(~A, schedule_);" (var-id var) (integer-sum field delta))))
+    (emit-line "~A(~A, schedule_);" (setter-call-id var) (integer-sum field delta))))
 
 (defun emit-float-increment (var delta failure)
   "Add DELTA to float VAR, failing with FAILURE where the sum is not finite."
@@ -102,7 +126,7 @@ subtraction, since it has no literal."
   (let ((*indent* (concatenate 'string *indent* "  ")))
     (emit-line "const double next = state_.~A + ~A;" (var-id var) (c++-double delta))
     (emit-line "if (!std::isfinite(next)) return fail(~A);" failure)
-    (emit-line "set_~A(next, schedule_);" (var-id var)))
+    (emit-line "~A(next, schedule_);" (setter-call-id var)))
   (emit-line "}"))
 
 (defun code-comment-text (form)

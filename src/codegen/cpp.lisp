@@ -12,6 +12,10 @@
 
 (defvar *names* nil "The C++NAMES of the machine being generated.")
 
+(defvar *c++-timed* nil
+  "True while the machine being generated gets the timed layer too (see
+cpp-timeline.lisp): advance, send_timed and finish_events on the Controller.")
+
 (defstruct (c++-names (:constructor %make-c++-names))
   "Identifiers for every named thing of one machine."
   (table (make-identifier-table))
@@ -131,12 +135,15 @@ autoscript watches, or an :add/:sub delta."
                               (namestring path) (namestring directory))))
     path))
 
-(defun emit-c++ (machine directory &key name namespace)
+(defun emit-c++ (machine directory &key name namespace timed)
   "Write NAME.hpp and NAME.cpp for MACHINE (or a spec or its name) into
 DIRECTORY: standalone C++17 with a Presenter to implement and a Controller
 class. NAME defaults to the spec's name, NAMESPACE to NAME, both made C++
 identifiers; given, each must satisfy C++-IDENTIFIER-TEXT-P (else a
-C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR. Returns the
+C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR. With TIMED,
+the Controller also has the timed API of MAKE-CONTROLLER :TIMED T (advance,
+send_timed, finish_events; policies, cuts, timers and triggers); a spec
+whose :interrupt names critical times is then a PLAYER-ERROR. Returns the
 two pathnames, both inside DIRECTORY."
   (check-argument 'emit-c++ 'directory directory #'pathname-designator-p *path-phrase*)
   (let* ((machine (ensure-machine machine 'emit-c++))
@@ -147,7 +154,7 @@ two pathnames, both inside DIRECTORY."
          (directory (directory-pathname directory))
          (hpp (output-file directory name "hpp"))
          (cpp (output-file directory name "cpp")))
-    (multiple-value-bind (header source) (c++-sources machine name namespace)
+    (multiple-value-bind (header source) (c++-sources machine name namespace :timed timed)
       (ensure-directories-exist directory)
       (write-text-file hpp header)
       (write-text-file cpp source)
@@ -158,9 +165,12 @@ two pathnames, both inside DIRECTORY."
   (with-open-file (out path :direction :output :if-exists :supersede :external-format :utf-8)
     (write-string text out)))
 
-(defun c++-sources (machine name namespace)
-  "(VALUES HEADER-TEXT SOURCE-TEXT) for MACHINE."
-  (let* ((*names* (%make-c++-names :machine machine))
+(defun c++-sources (machine name namespace &key timed)
+  "(VALUES HEADER-TEXT SOURCE-TEXT) for MACHINE; with TIMED, the Controller
+also has the timed API (see cpp-timeline.lisp), and a spec whose :interrupt
+names critical times is a PLAYER-ERROR."
+  (let* ((*c++-timed* timed)
+         (*names* (%make-c++-names :machine machine))
          (spec (machine-spec machine))
          (bits (spec-bit-count spec)))
     (when (> bits 64)
@@ -168,6 +178,9 @@ two pathnames, both inside DIRECTORY."
              :message (format nil "the C++ backend packs the state into 64 bits; spec ~A needs ~D"
                               (lisp-text (spec-name spec)) bits)))
     (check-c++-integers machine)
+    (when timed
+      (check-c++-interruption-points spec)
+      (reserve-timed-names (c++-names-table *names*)))
     (values (with-output-to-string (*out*) (emit-header machine name namespace))
             (with-output-to-string (*out*) (emit-source machine name namespace)))))
 
@@ -191,7 +204,9 @@ two pathnames, both inside DIRECTORY."
          (guard (string-upcase (format nil "PLAYER_~A_HPP" (c++-base-identifier name)))))
     (emit-banner machine (format nil "~A.hpp" name))
     (emit "#ifndef ~A~%#define ~A~%" guard guard)
-    (emit "#include <cstdint>~%#include <string>~%")
+    (if *c++-timed*
+        (emit "#include <cstdint>~%#include <deque>~%#include <memory>~%#include <string>~%#include <vector>~%")
+        (emit "#include <cstdint>~%#include <string>~%"))
     (emit "namespace ~A {~%" namespace)
     (emit "/// The events the controller accepts.")
     (emit "enum class Event : int {~{~%  ~A,~}~%};" (mapcar #'event-enum (spec-events spec)))
@@ -247,9 +262,9 @@ public:
   virtual void event_end(const Controller& /*controller*/) {}
   /// A :code directive or op: its Lisp form has no C++ meaning, so the
   /// controller calls this hook, named after the event or op, instead.
-  virtual void code_hook(const char* /*hook*/) {}
-};
-"))
+  virtual void code_hook(const char* /*hook*/) {}")
+  (when *c++-timed* (emit-timed-presenter-members))
+  (emit "};~%"))
 
 (defun runtime-c++-type (var)
   "The C++ type of runtime variable VAR."
@@ -306,6 +321,7 @@ public:
       (when (eq (op-kind op) :macro) (emit "  int ~A_seq();" (op-id op))))
     (dolist (event (spec-events spec))
       (emit "  int ~A();" (event-id event)))
+    (when *c++-timed* (emit-timed-members machine))
     (emit "};~%")))
 
 (defun accessor-type (var)

@@ -329,7 +329,7 @@ false: then they wait for the ADVANCE-TIMELINE that called this one)."
       (:macro-end (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time))
       (:fail (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time))
       (:finish (finish-run timeline (agenda-item-run item) time))
-      (:timer (fire-timer timeline (agenda-item-a item) time)))))
+      (:timer (fire-timer timeline (agenda-item-a item) item time)))))
 
 (defun finish-run (timeline run time)
   "RUN is over at TIME: show the state, and start the waiting events that no

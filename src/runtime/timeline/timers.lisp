@@ -6,8 +6,14 @@
 (in-package #:player)
 
 (defstruct (timer-state (:constructor make-timer-state (def)))
-  "A TIMER-DEF on one timeline, and its pending :TIMER item (NIL when disarmed)."
+  "A TIMER-DEF on one timeline: when it is due (DUE, NIL when disarmed, and
+SEQ, its place among things due then) and its :TIMER item on the agenda.
+Re-arming only moves DUE later; the item, when its old time comes, goes back
+on the agenda for the new one, so a timer restarted by every event keeps one
+item on the agenda, not one per restart."
   (def nil :type timer-def)
+  (due nil :type (or null double-float))
+  (seq 0 :type fixnum)
   (item nil))
 
 (defstruct (trigger-state (:constructor make-trigger-state (def condition)))
@@ -18,14 +24,25 @@ the last state change (it fires on a rising edge only)."
   (held nil :type boolean))
 
 (defun arm-timer (timeline state time)
-  "Make STATE's timer go off its :after seconds after TIME (cancelling a pending one)."
-  (when (timer-state-item state)
-    (setf (agenda-item-status (timer-state-item state)) :cancelled))
-  (let ((item (make-agenda-item :timer (+ time (timer-after (timer-state-def state)))
-                                (next-seq timeline) nil)))
-    (setf (agenda-item-a item) state
-          (timer-state-item state) item)
-    (agenda-push (timeline-agenda timeline) item)))
+  "Make STATE's timer go off its :after seconds after TIME."
+  (setf (timer-state-due state) (+ time (timer-after (timer-state-def state)))
+        (timer-state-seq state) (next-seq timeline))
+  (unless (timer-state-item state)
+    (let ((item (make-agenda-item :timer (timer-state-due state) (timer-state-seq state) nil)))
+      (setf (agenda-item-a item) state
+            (timer-state-item state) item)
+      (agenda-push (timeline-agenda timeline) item))))
+
+(defun timer-item-due (timeline state item time)
+  "STATE's :TIMER ITEM has come up at TIME: if the timer was re-armed since,
+put ITEM back on the agenda for its new time and return NIL; else T."
+  (if (and (= (timer-state-due state) time) (= (timer-state-seq state) (agenda-item-seq item)))
+      (progn (setf (timer-state-item state) nil) t)
+      (progn (setf (agenda-item-time item) (timer-state-due state)
+                   (agenda-item-seq item) (timer-state-seq state)
+                   (agenda-item-status item) :pending)
+             (agenda-push (timeline-agenda timeline) item)
+             nil)))
 
 (defun start-timers (timeline)
   "Arm every timer of the controller's spec from NOW."
@@ -43,10 +60,16 @@ and those with :restart-on :any when it comes from outside (SOURCE :USER)."
         (when (if (eq restart-on :any) (eq source :user) (member event restart-on))
           (arm-timer timeline state time))))))
 
-(defun fire-timer (timeline state time)
+(defun fire-timer (timeline state item time)
+  "STATE's timer (its :TIMER ITEM come up at TIME) goes off, unless it was
+re-armed for later: show it, re-arm it if it repeats, send its event."
+  (when (timer-item-due timeline state item time)
+    (fire-due-timer timeline state time)))
+
+(defun fire-due-timer (timeline state time)
   "STATE's timer goes off at TIME: show it, re-arm it if it repeats, send its event."
   (let ((def (timer-state-def state)))
-    (setf (timer-state-item state) nil)
+    (setf (timer-state-due state) nil)
     (present-timer (timeline-presenter timeline) (timer-name def) time)
     (when (timer-repeat def)
       (arm-timer timeline state time))
