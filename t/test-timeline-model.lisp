@@ -43,6 +43,28 @@
 ;;;;    initial state with every completed op's effects and every cut op's
 ;;;;    :if-cut effects applied in time order; ops never overlap.
 ;;;;
+;;;;  * events play side by side: an event arriving while others run is
+;;;;    planned on trial from the state then (the model asks an untimed
+;;;;    controller, whose whole-event path is checked against the reference BFS
+;;;;    elsewhere, for that plan: TM-PLAN); its footprint is the channels of the
+;;;;    plain ops it plays (:ALL for one declaring none, NIL for no op) and the
+;;;;    variables of its ops' (macros' too) preconditions, effects and :if-cut
+;;;;    effects.  Footprints meet when either has channels :ALL or NIL or they
+;;;;    share a channel or a variable.  Meeting no running run it starts at
+;;;;    once beside them -- or, when it meets an op of an interrupted run still
+;;;;    playing out, when those ops end; else its policy applies against the
+;;;;    runs it meets (:busy-with the first).  A queued event starts when a run
+;;;;    ends and nothing running or still playing meets its trial plan then.
+;;;;    A run plans all of itself when it starts, so its later directives see
+;;;;    its own changes only (TM-RUN-STATE);
+;;;;  * a timer's or trigger's line shows when it goes off; its event is
+;;;;    dispatched once everything else due then has happened, in the order
+;;;;    they went off.  The generator gives a trigger only an event that cannot
+;;;;    raise its condition again by itself (TM-COMPILE-SPEC), so streams do not
+;;;;    livelock;
+;;;;  * known presenter bug, tolerated while *TM-TOLERATE-CROSSING-MACRO-LINES*:
+;;;;    macro lines of runs side by side whose spans cross get each other's :end.
+;;;;
 ;;;; The model takes from the trace only which ops the planner chose (any
 ;;;; shortest plan will do); everything else -- when each event starts, whether
 ;;;; the controller is busy at each send, every :event, :resume, :dropped, :cut,
@@ -80,9 +102,21 @@ sub-ops' changes stay, its declared effects never apply).")
 (defvar *tm-statistics* nil
   "A plist describing the last property run: streams, sends, busy sends, cuts...")
 
+(defparameter *tm-channel-sets* '(("head") ("wings") ("legs") ("head" "wings") ("wings" "legs"))
+  "The :channels a plain op of an unpartitioned spec may declare.")
+
+(defstruct (tm-timer (:conc-name tmt-))
+  "A (timer NAME :after AFTER :event EVENT [:repeat t] [:restart-on R]) of a spec;
+RESTART-ON :ANY or a list of event names."
+  name after event repeat restart-on)
+
+(defstruct (tm-trigger (:conc-name tmg-))
+  "A (trigger NAME :when CONDITION :event EVENT) of a spec; CONDITION a model AST."
+  name condition event)
+
 (defstruct (tm-spec (:conc-name tms-))
   "A random spec with timing: its forms, its RANDOM-SPEC model, and what the
-model adds (durations, interruption, policies)."
+model adds (durations, interruption, policies, channels, timers, triggers)."
   seed forms model
   ;; Plain op name -> duration in seconds (a rational).
   (durations (make-hash-table))
@@ -93,7 +127,18 @@ model adds (durations, interruption, policies)."
   ;; Event name -> its (:when-busy POLICY), when it has one.
   (event-policies (make-hash-table))
   ;; The spec's (:when-busy POLICY), or NIL.
-  (default-policy nil))
+  (default-policy nil)
+  ;; Plain op name -> its declared :channels (lower-case strings); absent: none.
+  (channels (make-hash-table))
+  ;; True when variables, ops and events were split into two disjoint groups.
+  (partitioned nil)
+  (timers '())
+  (triggers '())
+  ;; Filled once the spec is compiled (TM-COMPUTE-FOOTPRINTS): the machine,
+  ;; op name -> its variables (indices), and the plans TM-PLAN worked out.
+  machine
+  (op-variables (make-hash-table))
+  (plans (make-hash-table :test 'equal)))
 
 (defun tm-event-generator (prng model)
   "An :EVENT-GENERATOR for RANDOM-SPEC: events Q0... of 2 or 3 top-level
@@ -107,16 +152,102 @@ resume from."
                                                `(:state ,(random-condition prng model))
                                                `(:op ,(mop-name (rs-pick prng (model-ops model)))))))))
 
+;;; Partitioned specs: two groups of variables, ops and events that never meet
+
+(defun tm-group-condition (prng model vars)
+  "A conjunction of 1 or 2 literals on distinct variables of VARS (indices)."
+  (let ((literals (loop for i in (rs-sample prng vars (rs-between prng 1 (min 2 (length vars))))
+                        for var = (svref (model-variables model) i)
+                        collect (if (and (eq (mvar-kind var) :enumerated) (rs-chance prng 0.2))
+                                    `(:not (:is ,i ,(rs-below prng (length (mvar-domain var)))))
+                                    `(:is ,i ,(rs-below prng (length (mvar-domain var))))))))
+    (if (rest literals) `(:and ,@literals) (first literals))))
+
+(defun tm-group-effects (prng model vars)
+  "1 or 2 effects on distinct variables of VARS."
+  (loop for i in (rs-sample prng vars (rs-between prng 1 (min 2 (length vars))))
+        collect (cons i (rs-below prng (length (mvar-domain (svref (model-variables model) i)))))))
+
+(defun tm-partition-model (prng model groups)
+  "Rewrite MODEL's ops and events so that each belongs to one of two groups of
+variables (variable I in group I mod 2): its preconditions, effects and goals
+mention only its group's.  Fills GROUPS (op name -> 0 or 1)."
+  (let ((vars (vector (loop for i below (model-variable-count model) when (evenp i) collect i)
+                      (loop for i below (model-variable-count model) when (oddp i) collect i))))
+    ;; Plain ops and helpers first, then the macros, in the group of their first helper.
+    (dolist (op (model-ops model))
+      (unless (eq (mop-kind op) :macro)
+        (let ((group (rs-below prng 2)))
+          (setf (gethash (mop-name op) groups) group)
+          (when (mop-precond op)
+            (setf (mop-precond op) (tm-group-condition prng model (svref vars group))))
+          (when (mop-effects op)
+            (setf (mop-effects op) (tm-group-effects prng model (svref vars group)))))))
+    (dolist (op (model-ops model))
+      (when (eq (mop-kind op) :macro)
+        (let ((group (gethash (first (mop-seq op)) groups)))
+          (setf (gethash (mop-name op) groups) group
+                (mop-seq op) (remove-if-not (lambda (name) (eql (gethash name groups) group)) (mop-seq op))
+                (mop-precond op) (if (equal (mop-precond op) '(:const t))
+                                     '(:const t)
+                                     (tm-group-condition prng model (svref vars group)))
+                (mop-effects op) (tm-group-effects prng model (svref vars group))))))
+    (dolist (event (model-events model))
+      (let* ((named (find :op (mevent-directives event) :key #'first))
+             (group (if named (gethash (second named) groups) (rs-below prng 2)))
+             (choices (remove-if-not (lambda (op) (eql (gethash (mop-name op) groups) group))
+                                     (model-ops model))))
+        (setf (mevent-directives event)
+              (loop for directive in (mevent-directives event)
+                    collect (ecase (first directive)
+                              (:state `(:state ,(tm-group-condition prng model (svref vars group))))
+                              (:op (if (eql (gethash (second directive) groups) group)
+                                       directive
+                                       `(:op ,(mop-name (rs-pick prng choices))))))))))))
+
+(defun tm-random-timers (prng spec)
+  "Sometimes one or two timers and sometimes a trigger for SPEC."
+  (let* ((model (tms-model spec))
+         (names (mapcar #'mevent-name (model-events model))))
+    (when (rs-chance prng 0.4)
+      (setf (tms-timers spec)
+            (loop for i below (rs-between prng 1 2)
+                  collect (let ((repeat (rs-chance prng 0.3)))
+                            (make-tm-timer :name (rs-symbol "t~D" i)
+                                           :after (if repeat
+                                                      (rs-pick prng '(24 32 40))
+                                                      (/ (rs-pick prng '(4 8 12 16 20 24 40 64)) 8))
+                                           :event (rs-pick prng names)
+                                           :repeat repeat)))))
+    (when (rs-chance prng 0.35)
+      (setf (tms-triggers spec)
+            (list (make-tm-trigger :name (rs-symbol "r0") :condition (random-condition prng model)
+                                   :event (rs-pick prng names)))))
+    ;; :restart-on lists only events no timer sends, so timers never re-arm each other for ever.
+    (let ((free (set-difference names (mapcar #'tmt-event (tms-timers spec)))))
+      (dolist (timer (tms-timers spec))
+        (setf (tmt-restart-on timer)
+              (case (rs-below prng 3)
+                (0 nil)
+                (1 :any)
+                (t (and free (rs-sample prng free (rs-between prng 1 2))))))))))
+
 (defun tm-random-spec (seed)
   "The TM-SPEC for SEED: RANDOM-SPEC's spec and events plus TM-EVENT-GENERATOR's,
-then (from a PRNG of its own) every plain op's :duration, :interrupt and
-sometimes :if-cut, some events' (:when-busy P) and sometimes the spec's."
+then (from a PRNG of its own) sometimes a partition of it into two groups that
+never meet, every plain op's :duration, :interrupt, sometimes :if-cut and
+:channels, some events' (:when-busy P), sometimes the spec's, timers and a trigger."
   (multiple-value-bind (forms model)
       (random-spec seed :name (rs-symbol "timeline-model-~D" seed)
                         :max-variables 5 :max-states 256 :op-event-count 3
                         :event-generator #'tm-event-generator)
+    (declare (ignore forms))
     (let ((prng (make-rs-prng (+ 104729 seed)))
-          (spec (make-tm-spec :seed seed :model model)))
+          (spec (make-tm-spec :seed seed :model model))
+          (groups (make-hash-table)))
+      (when (and (>= (model-variable-count model) 2) (rs-chance prng 0.45))
+        (setf (tms-partitioned spec) t)
+        (tm-partition-model prng model groups))
       (dolist (op (model-ops model))
         (unless (eq (mop-kind op) :macro)
           (let* ((name (mop-name op))
@@ -131,13 +262,29 @@ sometimes :if-cut, some events' (:when-busy P) and sometimes the spec's."
             (setf (gethash name (tms-durations spec)) (/ eighths 8)
                   (gethash name (tms-interrupts spec)) interrupt)
             (when (and (not (eq interrupt :never)) (not (mop-must-ask op)) (rs-chance prng 0.6))
-              (setf (gethash name (tms-cut-effects spec)) (random-effects prng model))))))
+              (setf (gethash name (tms-cut-effects spec))
+                    (if (tms-partitioned spec)
+                        ;; Within the op's own group, so the groups stay apart.
+                        (let ((mine (loop for i below (model-variable-count model)
+                                          when (= (mod i 2) (gethash name groups)) collect i)))
+                          (tm-group-effects prng model mine))
+                        (random-effects prng model)))))))
+      ;; Channels: a partitioned spec's group 0 drives the head, group 1 the
+      ;; wings and legs; elsewhere some ops declare some.
+      (let ((declaring (if (tms-partitioned spec) 0.9 (if (rs-chance prng 0.5) 0.7 0))))
+        (dolist (op (model-ops model))
+          (when (and (not (eq (mop-kind op) :macro)) (rs-chance prng declaring))
+            (setf (gethash (mop-name op) (tms-channels spec))
+                  (cond ((not (tms-partitioned spec)) (rs-pick prng *tm-channel-sets*))
+                        ((zerop (gethash (mop-name op) groups)) '("head"))
+                        (t (rs-pick prng '(("wings") ("legs") ("wings" "legs")))))))))
       (dolist (event (model-events model))
         (when (rs-chance prng 0.5)
           (setf (gethash (mevent-name event) (tms-event-policies spec)) (rs-pick prng *tm-policies*))))
       (when (rs-chance prng 0.5)
         (setf (tms-default-policy spec) (rs-pick prng *tm-policies*)))
-      (setf (tms-forms spec) (tm-decorate-forms spec forms))
+      (tm-random-timers prng spec)
+      (setf (tms-forms spec) (tm-decorate-forms spec (model-spec-forms model)))
       spec)))
 
 (defun tm-form-kind-p (form kind)
@@ -145,8 +292,9 @@ sometimes :if-cut, some events' (:when-busy P) and sometimes the spec's."
   (and (consp form) (symbolp (first form)) (string= (symbol-name (first form)) kind)))
 
 (defun tm-decorate-forms (spec forms)
-  "FORMS with SPEC's timing: :duration, :interrupt, :if-cut on the ops,
-(:when-busy P) on events and, when SPEC has a default, as a spec option."
+  "FORMS with SPEC's timing: :duration, :interrupt, :if-cut, :channels on the
+ops, (:when-busy P) on events and, when SPEC has a default, as a spec option;
+then its timers and triggers."
   (let ((model (tms-model spec)))
     (append
      (when (tms-default-policy spec)
@@ -155,20 +303,32 @@ sometimes :if-cut, some events' (:when-busy P) and sometimes the spec's."
            collect (cond ((tm-form-kind-p form "OP")
                           (let* ((name (second form))
                                  (interrupt (gethash name (tms-interrupts spec)))
-                                 (cut (gethash name (tms-cut-effects spec))))
+                                 (cut (gethash name (tms-cut-effects spec)))
+                                 (channels (gethash name (tms-channels spec))))
                             (append form
                                     (list :duration (float (gethash name (tms-durations spec))))
                                     (cond ((eq interrupt :never) '())
                                           ((eq interrupt :anytime) (list :interrupt :anytime))
                                           (t (list :interrupt (cons :at (mapcar #'float interrupt)))))
                                     (when cut
-                                      (list :if-cut (render-effect-options model cut))))))
+                                      (list :if-cut (render-effect-options model cut)))
+                                    (when channels
+                                      (list :channels channels)))))
                          ((and (tm-form-kind-p form "EVENT")
                                (gethash (second form) (tms-event-policies spec)))
                           (list* (first form) (second form)
                                  (list :when-busy (gethash (second form) (tms-event-policies spec)))
                                  (cddr form)))
-                         (t form))))))
+                         (t form)))
+     (loop for timer in (tms-timers spec)
+           collect `(,(rs-symbol "timer") ,(tmt-name timer) :after ,(float (tmt-after timer))
+                     :event ,(tmt-event timer)
+                     ,@(when (tmt-repeat timer) (list :repeat (rs-symbol "true")))
+                     ,@(when (tmt-restart-on timer) (list :restart-on (tmt-restart-on timer)))))
+     (loop for trigger in (tms-triggers spec)
+           collect `(,(rs-symbol "trigger") ,(tmg-name trigger)
+                     :when ,(render-expression model (tmg-condition trigger))
+                     :event ,(tmg-event trigger))))))
 
 (defun tm-op-duration (spec op)
   "OP's (a MODEL-OP) duration in seconds: a macro's is its :seq ops' sum."
@@ -182,57 +342,89 @@ sometimes :if-cut, some events' (:when-busy P) and sometimes the spec's."
 (defun tm-random-stream (spec seed stream)
   "Stream number STREAM of SPEC: (VALUES ACTIONS INITIAL-STATE).  ACTIONS are
 (:send EVENT TIME POLICY-OR-NIL) and (:check TIME), in time order; half the gaps
-between sends are short (0 to 3 s), half long (40 s and more)."
+between sends are short (0 to 3 s), half long (40 s and more).  With timers
+or triggers, a last (:check T) 12 s after the last send and a (:settle) (see TM-PLAY-STREAM)."
   (let* ((prng (make-rs-prng (+ (* 1000 seed) stream 7)))
          (model (tms-model spec))
          (events (model-events model))
          (initial (model-index-state model (rs-below prng (model-state-count model))))
          (time 0)
+         (last 0)
          (actions '()))
     (loop repeat (rs-between prng 6 14)
           do (push (list :send (mevent-name (rs-pick prng events)) time
                          (if (rs-chance prng 0.35) nil (rs-pick prng *tm-policies*)))
                    actions)
+             (setf last time)
              (let ((gap (if (rs-chance prng 0.85)
                             (/ (rs-pick prng '(0 0 1 1 2 2 3 4 6 8)) 8)
                             (+ 40 (rs-below prng 20)))))
                (when (and (plusp gap) (rs-chance prng 0.4))
                  (push (list :check (+ time (* gap (/ (rs-between prng 1 4) 4)))) actions))
                (incf time gap)))
+    (when (or (tms-timers spec) (tms-triggers spec))
+      (setf actions (remove-if (lambda (action) (and (eq (first action) :check) (> (second action) last)))
+                               actions))
+      (push (list :check (+ last 12)) actions)
+      (push (list :settle (+ last 12)) actions))
     (values (nreverse actions) initial)))
 
 ;;;# Playing a stream on the timed controller
+
+(defparameter *tm-settle-steps* 12
+  "How many 50 s steps a :settle action advances at most while the controller
+stays busy (a repeating timer or triggers may keep it busy for ever).")
 
 (defstruct (tm-play (:conc-name tmp-))
   "What the controller did with a stream."
   lines
   ;; Per send, the list of values SEND-EVENT returned.
   results
-  ;; Per :check, (STATE-ALIST BUSY-P).
+  ;; Per :check (and per step of a :settle), (STATE-ALIST BUSY-P).
   checks
-  final-state final-busy)
+  ;; The times a :settle advanced to.
+  settle-times
+  final-state final-busy
+  ;; :LIVELOCK (still busy after settling) or :ZERO-TIME-LOOP (a TIMELINE-ERROR).
+  abandoned)
 
 (defun tm-play-stream (machine spec actions initial)
-  "Play ACTIONS on a fresh timed controller of MACHINE from INITIAL, then FINISH-EVENTS."
+  "Play ACTIONS on a fresh timed controller of MACHINE from INITIAL, then FINISH-EVENTS.
+A (:settle T) advances by 50 s steps from T while the controller is busy."
   (let* ((model (tms-model spec))
          (presenter (make-trace-presenter))
          (controller (make-controller machine :timed t :presenter presenter
                                               :initial-state (model-state-alist model initial)))
-         (results '()) (checks '()))
-    (dolist (action actions)
-      (ecase (first action)
-        (:send (destructuring-bind (event time policy) (rest action)
-                 (push (multiple-value-list
-                        (if policy
-                            (send-event controller event :at (float time 1d0) :when-busy policy)
-                            (send-event controller event :at (float time 1d0))))
-                       results)))
-        (:check (advance controller (float (second action) 1d0))
-         (push (list (controller-state controller) (controller-busy-p controller)) checks))))
-    (finish-events controller)
+         (results '()) (checks '()) (settle-times '()) (abandoned nil))
+    (flet ((check (time)
+             (advance controller (float time 1d0))
+             (push (list (controller-state controller) (controller-busy-p controller)) checks)))
+      (handler-case
+          (progn
+            (dolist (action actions)
+              (ecase (first action)
+                (:send (destructuring-bind (event time policy) (rest action)
+                         (push (multiple-value-list
+                                (if policy
+                                    (send-event controller event :at (float time 1d0) :when-busy policy)
+                                    (send-event controller event :at (float time 1d0))))
+                               results)))
+                (:check (check (second action)))
+                (:settle (loop for step from 1 to *tm-settle-steps*
+                               while (controller-busy-p controller)
+                               do (let ((time (+ (second action) (* 50 step))))
+                                    (push time settle-times)
+                                    (check time)))
+                 (when (controller-busy-p controller)
+                   (setf abandoned :livelock)))))
+            (unless abandoned
+              (finish-events controller)))
+        (player::timeline-error () (setf abandoned :zero-time-loop))))
     (make-tm-play :lines (trace-lines presenter) :results (nreverse results) :checks (nreverse checks)
+                  :settle-times (nreverse settle-times)
                   :final-state (controller-state controller)
-                  :final-busy (controller-busy-p controller))))
+                  :final-busy (controller-busy-p controller)
+                  :abandoned abandoned)))
 
 ;;;# The reference model
 
@@ -248,12 +440,16 @@ between sends are short (0 to 3 s), half long (40 s and more)."
   macro
   ;; For a macro: the :end its trace line should show in the end.
   expected-end
-  (cut nil))
+  (cut nil)
+  ;; Set once a run of the model has taken it as one of its ops.
+  (claimed nil))
 
 (defstruct (tm-change (:conc-name tmc-))
-  "A state change at TIME: KIND :EFFECTS (DATA an effects alist) or :SET (DATA
-a whole state vector); RUN and OP that made it."
-  time kind data run op)
+  "A state change at TIME: DATA an effects alist ((VAR-INDEX . VALUE-INDEX)...);
+RUN and OP that made it; KEY its place among things due at the same time (see
+TM-KEY); APPLIED once the model's clock has passed it; MACRO-END for a macro's
+end (the state it started from with its declared effects)."
+  time data run op key applied macro-end)
 
 (defstruct (tm-run (:conc-name tmr-))
   "An event's run as the model plays it: the directives still to do and the
@@ -263,33 +459,57 @@ op lines the trace attributes to it."
   (pos 0) (remaining 0)
   ;; When its next op starts (its schedule).
   at
-  ;; Its op lines not yet consumed, oldest first.
-  ops
+  ;; The index of its :event or :resume line, the state it was planned from
+  ;; (the controller plans an event ahead, all of it, when it starts) and the
+  ;; ops of that plan (names).
+  line base plan-names
   ;; The macro under way: its TM-OP, the state it started from, its sub-ops to come.
   macro macro-before macro-seq
   complete end failed fail-goal cut
   ;; What SEND-EVENT returned when this run started from a send, or :NONE.
-  (result :none))
+  (result :none)
+  ;; Where its things fall among those due at the same time (TM-KEY).
+  block (sub 0) next-key
+  footprint)
+
+(defstruct (tm-timer-state (:conc-name tmts-))
+  "A timer as the model plays it: when it goes off next (NIL: disarmed)."
+  timer time key)
 
 (defstruct (tm-context (:conc-name tmx-))
   "The model's replay of one stream."
   spec model initial predecessors
   (distances (make-hash-table :test 'equal))
+  ;; The state as the controller has it: the initial one with the changes applied so far.
+  state
   ;; TM-CHANGEs, newest first.
   (changes '())
   ;; Every plain op and sub-op consumed, newest first.
   (ops '())
   ;; Every macro consumed.
   (macros '())
-  ;; The control lines of the trace (:event :resume :dropped :cut :fail :state)
-  ;; as (INDEX . LINE), and the next to match.
+  ;; The control lines of the trace (:event :resume :dropped :cut :fail :state
+  ;; :timer :trigger) as (INDEX . LINE), and the next to match.
   control (cursor 0)
-  ;; Event/resume line index -> its op lines (TM-OPs), oldest first.
-  (attribution (make-hash-table))
+  ;; The op lines of the trace (TM-OPs), in order.
+  (op-lines '())
+  ;; The model's clock: the time of what it plays, then the time it advanced to.
+  (now 0)
+  ;; Events timers and triggers sent at NOW, first first, to be dispatched once
+  ;; everything else due then has happened: (NAME SOURCE).
+  (deferred '())
+  ;; Every run, newest first; those playing, oldest first.
   (runs '())
-  current
-  ;; Waiting runs: (NAME KIND FIRST-STEP RESULT).
+  (active '())
+  ;; Waiting runs, first first: (NAME KIND FIRST-STEP RESULT).
   (queue '())
+  ;; The counter of TM-KEY blocks.
+  (blocks 0)
+  timers
+  ;; (TM-TRIGGER . HELD) per trigger.
+  triggers
+  ;; Against loops at one instant.
+  instant (instant-count 0)
   statistics)
 
 (defun tm-fail (control &rest arguments)
@@ -300,21 +520,39 @@ op lines the trace attributes to it."
   "Count N more cases of KEY in CONTEXT's statistics."
   (incf (getf (tmx-statistics context) key 0) n))
 
+;;; Order at equal times.  The controller's agenda orders things due at the
+;;; same time by when they were made: a run's things when it starts (in its
+;;; own order), a timer's going off when it is armed, a cut's :if-cut change
+;;; at the cut.  The model numbers those makings: a KEY is BLOCK * 10^6 + SUB.
+
+(defconstant +tm-block+ 1000000)
+
+(defun tm-new-block (context)
+  "A new block of keys, after every block made so far."
+  (incf (tmx-blocks context)))
+
+(defun tm-fresh-key (run)
+  "RUN's next key, after every one it has had."
+  (+ (* (tmr-block run) +tm-block+) (incf (tmr-sub run))))
+
+(defun tm-finish-key (run)
+  "The key of RUN's end: after all its things."
+  (+ (* (tmr-block run) +tm-block+) (1- +tm-block+)))
+
 (defun tm-state-at (context time)
-  "The model's state at TIME: the initial state with every change due by TIME
-applied in time order (equal times in the order the model made them)."
+  "The model's state at TIME as a run starting then sees it: the initial state
+with every change due by TIME applied in time order."
   (let ((state (copy-seq (tmx-initial context))))
-    (dolist (change (stable-sort (remove-if (lambda (change) (> (tmc-time change) time))
-                                            (reverse (tmx-changes context)))
-                                 #'< :key #'tmc-time))
-      (ecase (tmc-kind change)
-        (:effects (loop for (i . k) in (tmc-data change) do (setf (svref state i) k)))
-        (:set (replace state (tmc-data change)))))
+    (dolist (change (sort (remove-if (lambda (change) (> (tmc-time change) time))
+                                     (copy-list (tmx-changes context)))
+                          (lambda (a b) (or (< (tmc-time a) (tmc-time b))
+                                            (and (= (tmc-time a) (tmc-time b)) (< (tmc-key a) (tmc-key b)))))))
+      (loop for (i . k) in (tmc-data change) do (setf (svref state i) k)))
     state))
 
-(defun tm-add-change (context time kind data run op)
+(defun tm-add-change (context time data run op key)
   "Note a TM-CHANGE (see there) in CONTEXT; return it."
-  (let ((change (make-tm-change :time time :kind kind :data data :run run :op op)))
+  (let ((change (make-tm-change :time time :data data :run run :op op :key key)))
     (push change (tmx-changes context))
     change))
 
@@ -342,6 +580,149 @@ applied in time order (equal times in the order the model made them)."
 (defun tm-state-text (context state)
   "STATE (a model state vector) as readable text."
   (state-text (tmx-model context) state))
+
+;;; Footprints
+
+(defun tm-support (model ast)
+  "The variables (indices) whose value AST's truth depends on."
+  (when ast
+    (let ((count (model-state-count model)))
+      (loop for i below (model-variable-count model)
+            when (loop for n below count
+                       for state = (model-index-state model n)
+                       for truth = (model-eval ast state)
+                         thereis (loop for k below (length (mvar-domain (svref (model-variables model) i)))
+                                       thereis (let ((other (copy-seq state)))
+                                                 (setf (svref other i) k)
+                                                 (not (eq truth (model-eval ast other))))))
+              collect i))))
+
+(defun tm-compute-footprints (spec machine)
+  "Note MACHINE (SPEC compiled) in SPEC, for the untimed controllers that give
+the model an event's plan (TM-PLAN), and each op's variables: those its
+precondition's truth depends on, its effects' and its :if-cut effects'."
+  (let ((model (tms-model spec)))
+    (setf (tms-machine spec) machine)
+    (dolist (op (model-ops model))
+      (setf (gethash (mop-name op) (tms-op-variables spec))
+            (union (tm-support model (mop-precond op))
+                   (union (mapcar #'car (mop-effects op))
+                          (mapcar #'car (gethash (mop-name op) (tms-cut-effects spec)))))))))
+
+(defun tm-untimed-ops (machine model name step state)
+  "The names of the ops (macros and their sub-ops too) an untimed controller of
+MACHINE plays for event NAME from its top-level directive STEP in STATE."
+  (let* ((presenter (make-trace-presenter))
+         (controller (make-controller machine :presenter presenter
+                                              :initial-state (model-state-alist model state))))
+    (if (zerop step)
+        (send-event controller name)
+        ;; A resumption plans the event from directive STEP on.
+        (let ((compiled (player::find-compiled-event controller name))
+              (player::*controller* controller))
+          (setf (player::controller-schedule controller) 0d0
+                (player::controller-span-start controller) 0d0
+                (player::controller-span-end controller) 0d0)
+          (funcall (svref (player::event-suffixes compiled machine) step) controller)))
+    (loop for line in (trace-lines presenter)
+          when (eq (first line) :op) collect (second line))))
+
+(defun tm-trigger-safe-p (spec machine condition event)
+  "Can a trigger on CONDITION send EVENT without firing itself for ever?  From
+every state where CONDITION holds, EVENT's plan never makes it false, neither
+by an op's effects nor by its :if-cut effects (so only other events can give it
+a new rising edge)."
+  (let ((model (tms-model spec)))
+    (loop for n below (model-state-count model)
+          for start = (model-index-state model n)
+          always (or (not (model-eval condition start))
+                     (let ((state (copy-seq start))
+                           ;; A macro under way: its sub-ops to come, its end state.
+                           (subs 0) (macro-end nil))
+                       (loop for name in (tm-untimed-ops machine model event 0 start)
+                             for op = (model-find-op model name)
+                             always (and (model-eval condition
+                                                     (let ((cut (copy-seq state)))
+                                                       (loop for (i . k) in (gethash name (tms-cut-effects spec))
+                                                             do (setf (svref cut i) k))
+                                                       cut))
+                                         (progn
+                                           (cond ((eq (mop-kind op) :macro)
+                                                  (setf subs (length (mop-seq op))
+                                                        macro-end (model-apply-effects op state)))
+                                                 (t (setf state (model-apply-effects op state))
+                                                    (when (and macro-end (zerop (decf subs)))
+                                                      (setf state macro-end macro-end nil))))
+                                           (model-eval condition state))
+                                         (or (null macro-end) (model-eval condition macro-end)))))))))
+
+(defun tm-compile-spec (spec)
+  "Define and compile SPEC; returns its machine.  A trigger whose event could
+fire it again for ever (see TM-TRIGGER-SAFE-P; or one sent by :interleave, as
+an interrupted event resuming may raise its condition again) sends instead the first event
+after it (in the model's order) that cannot, or is dropped."
+  (flet ((compile-it ()
+           (setf (tms-forms spec) (tm-decorate-forms spec (model-spec-forms (tms-model spec))))
+           (compile-spec (define-spec (model-name (tms-model spec)) (tms-forms spec)
+                                      :package (find-package '#:player-user)))))
+    (let ((machine (compile-it))
+          (names (mapcar #'mevent-name (model-events (tms-model spec))))
+          (changed nil))
+      (setf (tms-triggers spec)
+            (loop for trigger in (tms-triggers spec)
+                  for chosen = (find-if (lambda (event)
+                                          ;; Nor does it interleave: an interrupted
+                                          ;; event resuming could raise it again.
+                                          (and (not (eq :interleave
+                                                        (or (gethash event (tms-event-policies spec))
+                                                            (tms-default-policy spec))))
+                                               (tm-trigger-safe-p spec machine (tmg-condition trigger) event)))
+                                        (let ((tail (member (tmg-event trigger) names)))
+                                          (append tail (ldiff names tail))))
+                  unless (eq chosen (tmg-event trigger)) do (setf changed t)
+                  when chosen collect (progn (setf (tmg-event trigger) chosen) trigger)))
+      (when changed
+        (remove-spec (model-name (tms-model spec)))
+        (setf machine (compile-it)))
+      machine)))
+
+(defun tm-plan (context name step state)
+  "Event NAME's plan from its top-level directive STEP in STATE, as an untimed
+controller (whose whole-event path is checked against the reference BFS
+elsewhere) plays it: (VALUES FOOTPRINT OP-NAMES).  FOOTPRINT is (CHANNELS .
+VARIABLES): the union of the declared channels of the plain ops it plays (:ALL
+if one declares none, NIL if it plays none) and of its ops' (macros too)
+variables."
+  (let* ((spec (tmx-spec context))
+         (model (tmx-model context))
+         (key (list name step (model-state-index model state)))
+         (cached (gethash key (tms-plans spec))))
+    (unless cached
+      (let ((names (tm-untimed-ops (tms-machine spec) model name step state)))
+        (let ((channels '())
+              (variables '()))
+          (dolist (op-name names)
+            (let ((op (model-find-op model op-name)))
+              (unless op (tm-fail "the untimed controller plays ~S, not an op of the spec" op-name))
+              (unless (eq (mop-kind op) :macro)
+                (let ((declared (gethash op-name (tms-channels spec))))
+                  (setf channels (if (or (null declared) (eq channels :all))
+                                     :all
+                                     (union channels declared :test #'string=)))))
+              (setf variables (union variables (gethash op-name (tms-op-variables spec))))))
+          (setf cached (list (cons channels variables) names)
+                (gethash key (tms-plans spec)) cached))))
+    (values (first cached) (second cached))))
+
+(defun tm-meet-p (a b)
+  "Do footprints A and B ((CHANNELS . VARIABLES)) meet?"
+  (or (member (car a) '(:all nil)) (member (car b) '(:all nil))
+      (intersection (car a) (car b) :test #'string=)
+      (intersection (cdr a) (cdr b))))
+
+(defun tm-op-channels (context name)
+  "Op NAME's declared channels, or :ALL."
+  (or (gethash name (tms-channels (tmx-spec context))) :all))
 
 ;;; Matching the control lines
 
@@ -383,23 +764,45 @@ returns its index in the trace."
   (let* ((index (tm-expect context (list kind name :time time)
                            (format nil "~(~A~) ~A starting at ~A" kind name (float time 1d0))))
          (event (find name (model-events (tmx-model context)) :key #'mevent-name))
-         (run (make-tm-run :name name :kind kind :start time :at time
-                           :directives (mevent-directives event)
-                           :pos first-step
-                           :ops (gethash index (tmx-attribution context))
-                           :result result)))
+         ;; It plans from the state then: now, what has happened so far; later,
+         ;; with everything due by then.
+         (base (if (> time (tmx-now context)) (tm-state-at context time) (copy-seq (tmx-state context))))
+         (run (multiple-value-bind (footprint names) (tm-plan context name first-step base)
+                (make-tm-run :name name :kind kind :start time :at time
+                             :directives (mevent-directives event)
+                             :pos first-step
+                             :line index :base base :plan-names names
+                             :result result
+                             :block (tm-new-block context)
+                             :footprint footprint))))
+    (setf (tmr-next-key run) (tm-fresh-key run))
+    (when (tmx-active context)
+      (tm-count context :beside))
     (push run (tmx-runs context))
+    (setf (tmx-active context) (append (tmx-active context) (list run)))
     (when (eq kind :resume) (tm-count context :resumed))
-    (setf (tmx-current context) run)))
+    run))
 
-(defun tm-walk (context run limit)
-  "Play RUN as far as LIMIT: consume its op lines starting by then, begin its
-directives due by then, and note when it is complete."
+(defun tm-run-state (context run)
+  "The state RUN plans its next step in: the one it started from with its own
+changes so far (the controller plans an event ahead when it starts; the events
+playing beside it touch none of its variables)."
+  (let ((state (copy-seq (tmr-base run))))
+    (dolist (change (sort (remove-if-not (lambda (change)
+                                           (and (eq (tmc-run change) run) (<= (tmc-time change) (tmr-at run))))
+                                         (copy-list (tmx-changes context)))
+                          (lambda (a b) (tm-key< (tmc-time a) (tmc-key a) (tmc-time b) (tmc-key b)))))
+      (loop for (i . k) in (tmc-data change) do (setf (svref state i) k)))
+    state))
+
+(defun tm-step (context run)
+  "Play RUN's next thing at its schedule: begin its directives due then until
+it consumes an op line, or is complete."
   (loop
-    (when (or (tmr-complete run) (tmr-cut run) (> (tmr-at run) limit))
+    (when (or (tmr-complete run) (tmr-cut run))
       (return))
-    (cond ((tmr-macro run) (tm-consume-sub-op context run))
-          ((plusp (tmr-remaining run)) (tm-consume-op context run))
+    (cond ((tmr-macro run) (tm-consume-sub-op context run) (return))
+          ((plusp (tmr-remaining run)) (tm-consume-op context run) (return))
           ((>= (tmr-pos run) (length (tmr-directives run)))
            (setf (tmr-complete run) t (tmr-end run) (tmr-at run)))
           (t (tm-begin-directive context run)))))
@@ -407,7 +810,7 @@ directives due by then, and note when it is complete."
 (defun tm-begin-directive (context run)
   "Work out how many ops RUN's next directive takes, from the state at its start."
   (let* ((directive (nth (tmr-pos run) (tmr-directives run)))
-         (state (tm-state-at context (tmr-at run)))
+         (state (tm-run-state context run))
          (distance (tm-distance context (tm-directive-goal context directive) state)))
     (cond ((null distance)
            (setf (tmr-failed run) t
@@ -418,9 +821,17 @@ directives due by then, and note when it is complete."
           ((zerop distance) (incf (tmr-pos run)))
           (t (setf (tmr-remaining run) distance)))))
 
-(defun tm-next-line (run what)
-  "RUN's next op line, which the model expects to be WHAT."
-  (or (pop (tmr-ops run))
+(defun tm-next-line (context run what)
+  "RUN's next op line, which the model expects to be WHAT: the first op line
+after RUN's :event or :resume line that no run has taken and that RUN's plan
+plays (the ops of runs playing side by side are disjoint)."
+  (or (let ((line (find-if (lambda (line)
+                             (and (not (tmo-claimed line)) (> (tmo-index line) (tmr-line run))
+                                  (member (tmo-name line) (tmr-plan-names run))))
+                           (tmx-op-lines context))))
+        (when line
+          (setf (tmo-claimed line) t)
+          line))
       (tm-fail "~A ~A (from ~A): the model expects ~A at ~A, but the trace shows no more ops of it"
                (tmr-kind run) (tmr-name run) (float (tmr-start run) 1d0) what (float (tmr-at run) 1d0))))
 
@@ -429,22 +840,24 @@ directives due by then, and note when it is complete."
   (unless (= (tmo-start line) (tmr-at run))
     (tm-fail "~A ~A: op ~A (line ~D) starts at ~A; the previous one ended at ~A"
              (tmr-kind run) (tmr-name run) (tmo-name line) (tmo-index line)
-             (tmo-start line) (float (tmr-at run) 1d0)))
+             (float (tmo-start line) 1d0) (float (tmr-at run) 1d0)))
   (unless (or (eq (mop-kind (tmo-mop line)) :macro) (= (tmo-end line) (+ (tmo-start line) duration)))
     (tm-fail "op ~A (line ~D) is shown ending at ~A; it starts at ~A and lasts ~A"
-             (tmo-name line) (tmo-index line) (tmo-end line) (tmo-start line) (float duration 1d0)))
+             (tmo-name line) (tmo-index line) (float (tmo-end line) 1d0) (float (tmo-start line) 1d0)
+             (float duration 1d0)))
   (setf (tmo-run line) run
         (tmo-directive line) (tmr-pos run)
         (tmo-effective-end line) (+ (tmr-at run) duration)))
 
 (defun tm-consume-op (context run)
   "RUN's next plan op (or the requested op of an (:op X) directive)."
-  (let* ((line (tm-next-line run "a plan op"))
+  (let* ((line (tm-next-line context run "a plan op"))
          (model (tmx-model context))
          (op (tmo-mop line))
          (directive (nth (tmr-pos run) (tmr-directives run)))
          (requested (and (eq (first directive) :op) (= 1 (tmr-remaining run))))
-         (state (tm-state-at context (tmr-at run)))
+         (state (tm-run-state context run))
+         (real (tm-state-at context (tmr-at run)))
          (duration (tm-op-duration (tmx-spec context) op)))
     (tm-check-op-line run line duration)
     (cond ((and requested (not (eq (tmo-name line) (second directive))))
@@ -453,24 +866,27 @@ directives due by then, and note when it is complete."
           ((and (not requested) (not (member op (model-plan-operators model))))
            (tm-fail "~A ~A: op ~A (line ~D) is must-ask, yet inside a plan"
                     (tmr-kind run) (tmr-name run) (tmo-name line) (tmo-index line))))
-    (unless (model-op-applicable-p op state)
-      (tm-fail "op ~A (line ~D) starts at ~A, but its precondition is false in the state then, ~A"
-               (tmo-name line) (tmo-index line) (tmo-start line) (tm-state-text context state)))
+    (unless (and (model-op-applicable-p op state) (model-op-applicable-p op real))
+      (tm-fail "op ~A (line ~D) starts at ~A, but its precondition is false in the state then, ~A (as planned: ~A)"
+               (tmo-name line) (tmo-index line) (float (tmo-start line) 1d0) (tm-state-text context real)
+               (tm-state-text context state)))
     (tm-count context :ops)
     (if (eq (mop-kind op) :macro)
         (progn (push line (tmx-macros context))
                (setf (tmr-macro run) line
                      (tmr-macro-before run) state
-                     (tmr-macro-seq run) (mop-seq op)))
+                     (tmr-macro-seq run) (mop-seq op)
+                     (tmr-next-key run) (tm-fresh-key run)))
         (progn (push line (tmx-ops context))
-               (tm-add-change context (+ (tmr-at run) duration) :effects (mop-effects op) run line)
+               (tm-add-change context (+ (tmr-at run) duration) (mop-effects op) run line (tm-fresh-key run))
                (incf (tmr-at run) duration)
+               (setf (tmr-next-key run) (tm-fresh-key run))
                (tm-op-done context run)))))
 
 (defun tm-consume-sub-op (context run)
   "The next sub-op of RUN's macro under way; after its last, the macro's end."
   (let* ((name (first (tmr-macro-seq run)))
-         (line (tm-next-line run (format nil "sub-op ~A of macro ~A" name (tmo-name (tmr-macro run)))))
+         (line (tm-next-line context run (format nil "sub-op ~A of macro ~A" name (tmo-name (tmr-macro run)))))
          (op (tmo-mop line))
          (duration (tm-op-duration (tmx-spec context) op)))
     (unless (eq (tmo-name line) name)
@@ -479,18 +895,30 @@ directives due by then, and note when it is complete."
     (tm-check-op-line run line duration)
     (setf (tmo-macro line) (tmr-macro run))
     (push line (tmx-ops context))
-    (tm-add-change context (+ (tmr-at run) duration) :effects (mop-effects op) run line)
+    (tm-add-change context (+ (tmr-at run) duration) (mop-effects op) run line (tm-fresh-key run))
     (incf (tmr-at run) duration)
     (pop (tmr-macro-seq run))
-    (unless (tmr-macro-seq run)
-      (let ((macro (tmr-macro run)))
-        (setf (tmo-expected-end macro) (tmr-at run)
-              (tmo-effective-end macro) (tmr-at run))
-        ;; Tagged with the last sub-op: the macro's end goes with it.
-        (tm-add-change context (tmr-at run) :set
-                       (model-apply-effects (tmo-mop macro) (tmr-macro-before run)) run line)
-        (setf (tmr-macro run) nil)
-        (tm-op-done context run)))))
+    (if (tmr-macro-seq run)
+        (setf (tmr-next-key run) (tm-fresh-key run))
+        (let* ((macro (tmr-macro run))
+               (mop (tmo-mop macro))
+               (after (model-apply-effects mop (tmr-macro-before run)))
+               ;; The variables its sub-ops or its effects touch take their
+               ;; values in the state it started from with its effects.
+               (touched (remove-duplicates
+                         (append (mapcar #'car (mop-effects mop))
+                                 (loop for sub in (mop-seq mop)
+                                       append (mapcar #'car (mop-effects (model-find-op (tmx-model context) sub))))))))
+          (setf (tmo-expected-end macro) (tmr-at run)
+                (tmo-effective-end macro) (tmr-at run))
+          ;; Tagged with the last sub-op: the macro's end goes with it.
+          (setf (tmc-macro-end (tm-add-change context (tmr-at run)
+                                              (loop for i in touched collect (cons i (svref after i)))
+                                              run line (tm-fresh-key run)))
+                t)
+          (setf (tmr-macro run) nil
+                (tmr-next-key run) (tm-fresh-key run))
+          (tm-op-done context run)))))
 
 (defun tm-op-done (context run)
   "A top-level op of RUN's directive is over: when it was the directive's last,
@@ -498,7 +926,7 @@ its goal must hold, and the next directive follows."
   (when (zerop (decf (tmr-remaining run)))
     (let ((directive (nth (tmr-pos run) (tmr-directives run))))
       (when (eq (first directive) :state)
-        (let ((state (tm-state-at context (tmr-at run))))
+        (let ((state (tm-run-state context run)))
           (unless (model-eval (second directive) state)
             (tm-fail "~A ~A: after its plan for directive ~D the goal does not hold in ~A"
                      (tmr-kind run) (tmr-name run) (tmr-pos run) (tm-state-text context state))))))
@@ -513,26 +941,158 @@ its goal must hold, and the next directive follows."
           (tm-fail "send-event of ~A returned ~S; its run ~:[succeeded~;failed~] so the model expects ~S"
                    (tmr-name run) result (tmr-failed run) expected))))))
 
-(defun tm-advance (context time)
-  "Play everything due by TIME: the running event's ops, its end (a :fail and
-a :state line), the waiting events starting."
+;;; The clock
+
+(defun tm-key< (time-a key-a time-b key-b)
+  (or (< time-a time-b) (and (= time-a time-b) (< key-a key-b))))
+
+(defun tm-next-happening (context limit)
+  "The first thing due by LIMIT: (TIME KEY KIND THING), KIND :STEP (a run's next
+op or end), :CHANGE or :TIMER; or NIL."
+  (let ((best nil))
+    (flet ((consider (time key kind thing)
+             (when (and (<= time limit) (or (null best) (tm-key< time key (first best) (second best))))
+               (setf best (list time key kind thing)))))
+      (dolist (run (tmx-active context))
+        (consider (tmr-at run) (tmr-next-key run) :step run))
+      (dolist (change (tmx-changes context))
+        (unless (tmc-applied change)
+          (consider (tmc-time change) (tmc-key change) :change change)))
+      (dolist (timer (tmx-timers context))
+        (when (tmts-time timer)
+          (consider (tmts-time timer) (tmts-key timer) :timer timer))))
+    best))
+
+(defun tm-busy-p (context)
+  "Is an event running or waiting?"
+  (or (tmx-active context) (tmx-queue context)))
+
+(defun tm-advance (context limit &key (dispatch t))
+  "Play everything due by LIMIT, in time order (equal times by key): runs'
+ops and ends, state changes (and the triggers they fire), timers.  The events
+timers and triggers send at an instant are dispatched, in the order they went
+off, once everything else due then has happened (unless DISPATCH is false:
+then they wait for the advance under way)."
   (loop
-    (let ((run (tmx-current context)))
-      (unless run (return))
-      (tm-walk context run time)
-      (unless (tmr-complete run) (return))
-      (let ((end (tmr-end run)))
-        (when (tmr-failed run)
-          (tm-count context :fails)
-          (tm-expect context (list :fail (tmr-name run) :goal (tmr-fail-goal run) :time end)
-                     (format nil "~(~A~) ~A failing at ~A" (tmr-kind run) (tmr-name run) (float end 1d0))))
-        (tm-expect context (list :state (tm-state-at context end))
-                   (format nil "~(~A~) ~A ending at ~A" (tmr-kind run) (tmr-name run) (float end 1d0)))
-        (tm-check-result run)
-        (setf (tmx-current context) nil)
-        (when (tmx-queue context)
-          (destructuring-bind (name kind first-step result) (pop (tmx-queue context))
-            (tm-start-run context name kind first-step end result)))))))
+    (let ((next (tm-next-happening context limit)))
+      (cond ((and next (not (and dispatch (tmx-deferred context) (> (first next) (tmx-now context)))))
+             (destructuring-bind (time key kind thing) next
+               (declare (ignore key))
+               (if (eql time (tmx-instant context))
+                   (when (> (incf (tmx-instant-count context)) 20000)
+                     (tm-fail "the model does not move on at time ~A" (float time 1d0)))
+                   (setf (tmx-instant context) time (tmx-instant-count context) 0))
+               (setf (tmx-now context) time)
+               (ecase kind
+                 (:change (tm-apply-change context thing))
+                 (:timer (tm-fire-timer context thing))
+                 (:step (tm-step context thing)
+                  (when (tmr-complete thing)
+                    (tm-finish-run context thing))))))
+            ((and dispatch (tmx-deferred context))
+             (let ((sends (tmx-deferred context)))
+               (setf (tmx-deferred context) '())
+               (loop for (name source) in sends
+                     do (tm-dispatch context name (tmx-now context) nil :none source))))
+            (t (return)))))
+  (setf (tmx-now context) (max limit (tmx-now context))))
+
+(defun tm-finish (context)
+  "FINISH-EVENTS: while an event runs or waits, play everything up to the next thing due."
+  (loop while (tm-busy-p context)
+        do (let ((next (tm-next-happening context (expt 10 9))))
+             (tm-advance context (if next (first next) (tmx-now context)))
+             (unless next (return)))))
+
+(defun tm-apply-change (context change)
+  "CHANGE falls due: the state takes it, then the triggers look."
+  (setf (tmc-applied change) t)
+  (loop for (i . k) in (tmc-data change) do (setf (svref (tmx-state context) i) k))
+  (tm-check-triggers context (tmc-time change)))
+
+(defun tm-check-triggers (context time)
+  "After a state change at TIME, each trigger whose condition went from false
+to true shows (:trigger NAME :time TIME) and sends its event."
+  (dolist (entry (tmx-triggers context))
+    (let* ((trigger (car entry))
+           (holds (model-eval (tmg-condition trigger) (tmx-state context))))
+      (when (and holds (not (cdr entry)))
+        (setf (cdr entry) t)
+        (tm-count context :triggers)
+        (tm-expect context (list :trigger (tmg-name trigger) :time time)
+                   (format nil "trigger ~A's condition becoming true at ~A" (tmg-name trigger) (float time 1d0)))
+        (tm-defer context (tmg-event trigger) :trigger))
+      (setf (cdr entry) holds))))
+
+(defun tm-arm-timer (context timer-state time)
+  "Make TIMER-STATE go off its :after after TIME."
+  (setf (tmts-time timer-state) (+ time (tmt-after (tmts-timer timer-state)))
+        (tmts-key timer-state) (* (tm-new-block context) +tm-block+)))
+
+(defun tm-fire-timer (context timer-state)
+  "A timer goes off: its line, its re-arming if it repeats, its event."
+  (let ((timer (tmts-timer timer-state))
+        (time (tmts-time timer-state)))
+    (tm-count context :timers)
+    (setf (tmts-time timer-state) nil)
+    (tm-expect context (list :timer (tmt-name timer) :time time)
+               (format nil "timer ~A going off at ~A" (tmt-name timer) (float time 1d0)))
+    (when (tmt-repeat timer)
+      (tm-count context :repeats)
+      (tm-arm-timer context timer-state time))
+    (tm-defer context (tmt-event timer) :timer)))
+
+(defun tm-defer (context name source)
+  "Event NAME, sent now by a timer or trigger (SOURCE), waits until everything
+else due now has happened."
+  (setf (tmx-deferred context) (append (tmx-deferred context) (list (list name source)))))
+
+(defun tm-finish-run (context run)
+  "RUN is complete: its :fail and :state lines, then the waiting events no
+running event meets start."
+  (let ((end (tmr-end run)))
+    (when (tmr-failed run)
+      (tm-count context :fails)
+      (tm-expect context (list :fail (tmr-name run) :goal (tmr-fail-goal run) :time end)
+                 (format nil "~(~A~) ~A failing at ~A" (tmr-kind run) (tmr-name run) (float end 1d0))))
+    (tm-expect context (list :state (copy-seq (tmx-state context)))
+               (format nil "~(~A~) ~A ending at ~A" (tmr-kind run) (tmr-name run) (float end 1d0)))
+    (tm-check-result run)
+    (setf (tmx-active context) (remove run (tmx-active context)))
+    (tm-start-waiting context end)))
+
+(defun tm-untried-p (context)
+  "Does a running event meet everything (no op on a known channel)?  Then an
+event arriving is not planned on trial: it meets every running one."
+  (some (lambda (run) (member (car (tmr-footprint run)) '(:all nil))) (tmx-active context)))
+
+(defun tm-finishing-ops (context footprint)
+  "The ops of interrupted (or finished) runs still playing after NOW whose
+run's footprint meets FOOTPRINT."
+  (remove-if-not (lambda (op)
+                   (let ((run (tmo-run op)))
+                     (and (not (member run (tmx-active context)))
+                          (<= (tmo-start op) (tmx-now context))
+                          (> (tmo-effective-end op) (tmx-now context))
+                          (tm-meet-p footprint (tmr-footprint run)))))
+                 (tmx-ops context)))
+
+(defun tm-start-waiting (context time)
+  "Start, at TIME, the first waiting runs while no running event, and no op of
+an interrupted one still playing, meets the first's trial plan (from the state
+now)."
+  (loop for next = (first (tmx-queue context))
+        while next
+        do (destructuring-bind (name kind first-step result) next
+             (cond ((null (tmx-active context)))
+                   ((tm-untried-p context) (return))
+                   (t (let ((trial (tm-plan context name first-step (tmx-state context))))
+                        (when (or (some (lambda (run) (tm-meet-p trial (tmr-footprint run))) (tmx-active context))
+                                  (tm-finishing-ops context trial))
+                          (return))
+                        (tm-count context :queue-beside))))
+             (pop (tmx-queue context))
+             (tm-start-run context name kind first-step time result))))
 
 (defun tm-stop-time (context line time)
   "When op LINE, running at TIME, stops: its next interruption point."
@@ -549,27 +1109,33 @@ a :state line), the waiting events starting."
 (defun tm-first-directive-with-work (context run)
   "The first of RUN's directives from its position that would do anything from
 the state at its schedule (an op, or a failure), or NIL."
-  (let ((state (tm-state-at context (tmr-at run))))
+  (let ((state (tm-run-state context run)))
     (loop for position from (tmr-pos run) below (length (tmr-directives run))
           for directive = (nth position (tmr-directives run))
           unless (and (eq (first directive) :state)
                       (eql 0 (tm-distance context (second directive) state)))
             return position)))
 
-(defun tm-cut (context run time by)
-  "Event BY cuts RUN at TIME.  Returns (VALUES START RESUME): when BY starts,
-and the directive RUN would resume from (NIL: nothing left of it)."
+(defun tm-cut (context run time by footprint)
+  "Event BY (of FOOTPRINT) cuts RUN at TIME.  Returns (VALUES START RESUME):
+when BY can start as far as RUN and the runs cut before it are concerned, and
+the directive RUN would resume from (NIL: nothing left of it)."
   (let* ((live (remove-if-not (lambda (op) (and (<= (tmo-start op) time) (> (tmo-effective-end op) time)))
                               (tmx-ops context)))
          (own (remove-if-not (lambda (op) (eq (tmo-run op) run)) live))
-         (others (remove run live :key #'tmo-run))
+         ;; Ops of runs over (cut) that meet BY still finishing.
+         (others (remove-if (lambda (op)
+                              (let ((other (tmo-run op)))
+                                (or (eq other run) (member other (tmx-active context))
+                                    (not (tm-meet-p footprint (tmr-footprint other))))))
+                            live))
          (start time)
          (shown '())
          (finishing nil)
          (macro-cut nil)
          (resume nil))
     (when (rest own)
-      (tm-fail "~A ~A has ~D ops running at ~A" (tmr-kind run) (tmr-name run) (length own) time))
+      (tm-fail "~A ~A has ~D ops running at ~A" (tmr-kind run) (tmr-name run) (length own) (float time 1d0)))
     (dolist (op others) (setf start (max start (tmo-effective-end op))))
     (let ((op (first own)))
       (when op
@@ -586,7 +1152,7 @@ and the directive RUN would resume from (NIL: nothing left of it)."
                   (tm-count context :if-cut)
                   (when (= stop time) (tm-count context :if-cut-at-the-send-time))
                   ;; Made by the cut, not by RUN's plan: no run to cancel it with.
-                  (tm-add-change context stop :effects cut-effects nil op))
+                  (tm-add-change context stop cut-effects nil op (* (tm-new-block context) +tm-block+)))
                 (push op shown))
               (setf finishing op
                     macro-cut (and (tmo-macro op)
@@ -597,7 +1163,7 @@ and the directive RUN would resume from (NIL: nothing left of it)."
           (remove-if (lambda (change)
                        (and (eq (tmc-run change) run) (> (tmc-time change) time)
                             (not (and finishing (eq (tmc-op change) finishing)
-                                      (or (eq (tmc-kind change) :effects) (not macro-cut))))))
+                                      (or (not (tmc-macro-end change)) (not macro-cut))))))
                      (tmx-changes context)))
     (when macro-cut
       (tm-count context :macro-cuts)
@@ -607,11 +1173,9 @@ and the directive RUN would resume from (NIL: nothing left of it)."
       (setf resume (cond (macro-cut (tmo-directive macro-cut))
                          ((plusp (tmr-remaining run)) (tmr-pos run))
                          (t (tm-first-directive-with-work context run)))))
-    (setf (tmr-cut run) t (tmr-macro run) nil)
-    (when (tmr-ops run)
-      (tm-fail "~A ~A, cut at ~A by ~A, still shows op ~A (line ~D) afterwards"
-               (tmr-kind run) (tmr-name run) (float time 1d0) by
-               (tmo-name (first (tmr-ops run))) (tmo-index (first (tmr-ops run)))))
+    (setf (tmr-cut run) t (tmr-macro run) nil
+          (tmr-end run) (max start (if finishing (tmo-effective-end finishing) time))
+          (tmx-active context) (remove run (tmx-active context)))
     (if shown
         (dolist (op shown)
           (tm-expect context (list :cut (tmo-name op) :time (tmo-effective-end op) :by by)
@@ -620,125 +1184,209 @@ and the directive RUN would resume from (NIL: nothing left of it)."
                    (format nil "~A cutting ~A at ~A (no op stopped short)" by (tmr-name run) (float time 1d0))))
     (values start resume)))
 
-(defun tm-send (context name time given-policy result)
-  "Event NAME sent at TIME with :when-busy GIVEN-POLICY (or none); RESULT is
-what SEND-EVENT returned."
-  (tm-advance context time)
-  (tm-count context :sends)
+(defun tm-dispatch (context name time given-policy result source)
+  "Event NAME arrives at TIME from SOURCE (:USER, :TIMER or :TRIGGER) with
+:when-busy GIVEN-POLICY (or none); RESULT is what SEND-EVENT returned (:NONE
+when no one asked)."
   (let* ((spec (tmx-spec context))
          (policy (or given-policy
                      (gethash name (tms-event-policies spec))
                      (tms-default-policy spec)
                      :queue))
-         (run (tmx-current context)))
-    (cond ((null run)
+         ;; Its trial plan, from the state now (none when a running event
+         ;; meets everything anyway): what it would do if it started now.
+         (untried (tm-untried-p context))
+         (trial (and (tmx-active context) (not untried)
+                     (tm-plan context name 0 (tmx-state context))))
+         (footprint (or trial '(:all)))
+         (met (if untried
+                  (tmx-active context)
+                  (remove-if-not (lambda (run) (tm-meet-p footprint (tmr-footprint run))) (tmx-active context)))))
+    ;; Timers it restarts.
+    (dolist (timer (tmx-timers context))
+      (let ((restart-on (tmt-restart-on (tmts-timer timer))))
+        (when (if (eq restart-on :any) (eq source :user) (member name restart-on))
+          (tm-count context :timer-restarts)
+          (tm-arm-timer context timer time))))
+    (cond ((null (tmx-active context))
            (tm-count context :idle)
            (tm-start-run context name :event 0 time result))
+          ((null met)
+           (tm-count context :parallel)
+           (let ((finishing (tm-finishing-ops context footprint)))
+             ;; Only ops of interrupted events still playing out are in its
+             ;; way: it starts when they are over.
+             (when finishing (tm-count context :after-finishing))
+             (tm-start-run context name :event 0
+                           (reduce #'max finishing :key #'tmo-effective-end :initial-value time)
+                           result)))
           (t
-           (tm-count context :busy)
+           (when (eq source :user) (tm-count context :busy))
            (tm-count context policy)
            (ecase policy
              (:queue
-              (unless (equal result '(t))
+              (unless (member result '(:none (t)) :test #'equal)
                 (tm-fail "send-event of ~A at ~A (queued) returned ~S, not T" name (float time 1d0) result))
               (setf (tmx-queue context) (append (tmx-queue context) (list (list name :event 0 :none)))))
              (:override
-              (unless (equal result '(nil :dropped))
+              (unless (member result '(:none (nil :dropped)) :test #'equal)
                 (tm-fail "send-event of ~A at ~A (dropped) returned ~S, not NIL :DROPPED" name (float time 1d0) result))
-              (tm-expect context (list :dropped name :time time :busy-with (tmr-name run))
-                         (format nil "~A sent at ~A while ~A runs, :override" name (float time 1d0) (tmr-name run))))
+              (tm-expect context (list :dropped name :time time :busy-with (tmr-name (first met)))
+                         (format nil "~A sent at ~A while ~A runs, :override" name (float time 1d0) (tmr-name (first met)))))
              ((:preempt :interleave)
-              (multiple-value-bind (start resume) (tm-cut context run time name)
-                (setf (tmx-current context) nil)
-                (when (and (eq policy :interleave) resume)
-                  (push (list (tmr-name run) :resume resume :none) (tmx-queue context)))
+              (when (rest met) (tm-count context :multi-cuts))
+              (let ((start time) (resumptions '()))
+                (dolist (run met)
+                  (multiple-value-bind (at resume) (tm-cut context run time name footprint)
+                    (setf start (max start at))
+                    (when (and (eq policy :interleave) resume)
+                      (push (list (tmr-name run) :resume resume :none) resumptions))))
+                ;; What falls due now happens before the newcomer plans (the
+                ;; events timers and triggers send then wait for the
+                ;; dispatching that is under way).
+                (tm-advance context time :dispatch nil)
+                (setf (tmx-queue context) (append (nreverse resumptions) (tmx-queue context)))
                 (tm-start-run context name :event 0 start result))))))))
 
+(defun tm-send (context name time given-policy result)
+  "Event NAME sent at TIME with :when-busy GIVEN-POLICY (or none); RESULT is
+what SEND-EVENT returned."
+  (tm-advance context time)
+  (tm-count context :sends)
+  (tm-dispatch context name time given-policy result :user))
+
 (defun tm-attribute (context lines)
-  "Read LINES: the control lines in order, and each op line given to the
-event or resume line before it."
+  "Read LINES: the control lines in order, and the op lines (which the runs of
+the model take as they play, see TM-NEXT-LINE)."
   (let ((model (tmx-model context))
-        (owner nil)
-        (control '()))
+        (control '())
+        (ops '()))
     (loop for line in lines
           for index from 0
           do (case (first line)
-               ((:event :resume :dropped :cut :fail :state)
-                (push (cons index line) control)
-                (when (member (first line) '(:event :resume))
-                  (setf owner index)
-                  (setf (gethash index (tmx-attribution context)) '())))
+               ((:event :resume :dropped :cut :fail :state :timer :trigger)
+                (push (cons index line) control))
                (:op
                 (let ((op (model-find-op model (second line))))
                   (unless op (tm-fail "line ~D: ~S is not an op of the spec" index line))
-                  (unless owner (tm-fail "line ~D: op ~S before any event" index line))
                   (push (make-tm-op :name (second line) :mop op :index index
                                     :start (rational (getf (cddr line) :start))
                                     :end (rational (getf (cddr line) :end)))
-                        (gethash owner (tmx-attribution context)))))
+                        ops)))
                ((:autoscript-start :autoscript-stop))
                (t (tm-fail "line ~D: unexpected trace line ~S" index line))))
-    (maphash (lambda (key ops) (setf (gethash key (tmx-attribution context)) (reverse ops)))
-             (tmx-attribution context))
-    (setf (tmx-control context) (nreverse control))))
+    (setf (tmx-op-lines context) (nreverse ops)
+          (tmx-control context) (nreverse control))))
+
+(defun tm-check-overlaps (context)
+  "Ops that share a channel (one with none shares every one) never overlap in
+time; two runs overlap only when their footprints do not meet."
+  (let ((ops (sort (copy-list (tmx-ops context)) #'< :key #'tmo-index)))
+    (loop for (a . rest) on ops
+          for channels-a = (tm-op-channels context (tmo-name a))
+          do (dolist (b rest)
+               (let ((channels-b (tm-op-channels context (tmo-name b))))
+                 (when (and (or (eq channels-a :all) (eq channels-b :all)
+                                (intersection channels-a channels-b :test #'string=))
+                            (< (tmo-start a) (tmo-effective-end b))
+                            (< (tmo-start b) (tmo-effective-end a)))
+                   (tm-fail "op ~A (line ~D, ~A to ~A) and op ~A (line ~D, ~A to ~A) overlap on channels ~A and ~A"
+                            (tmo-name a) (tmo-index a) (float (tmo-start a) 1d0) (float (tmo-effective-end a) 1d0)
+                            (tmo-name b) (tmo-index b) (float (tmo-start b) 1d0) (float (tmo-effective-end b) 1d0)
+                            channels-a channels-b))))))
+  (let ((runs (reverse (tmx-runs context))))
+    (loop for (a . rest) on runs
+          do (dolist (b rest)
+               (when (and (tmr-end a) (tmr-end b)
+                          (< (max (tmr-start a) (tmr-start b)) (min (tmr-end a) (tmr-end b))))
+                 (tm-count context :overlapping-runs)
+                 (when (tm-meet-p (tmr-footprint a) (tmr-footprint b))
+                   (tm-fail "~(~A~) ~A (~A to ~A) and ~(~A~) ~A (~A to ~A) overlap, but their footprints meet"
+                            (tmr-kind a) (tmr-name a) (float (tmr-start a) 1d0) (float (tmr-end a) 1d0)
+                            (tmr-kind b) (tmr-name b) (float (tmr-start b) 1d0) (float (tmr-end b) 1d0))))))))
+
+(defvar *tm-tolerate-crossing-macro-lines* nil
+  "When true, the model does not check the :end of macro lines whose spans
+cross a macro of another event playing beside them.  NIL: they are checked (the
+trace presenter once closed macro lines last-opened-first and gave each the
+other's :end; it now closes the line of the macro that ended).")
+
+(defun tm-crossing-macro-p (context macro)
+  "Does MACRO's span overlap that of a macro of another run?"
+  (let ((end (or (tmo-expected-end macro) (tmo-end macro))))
+    (some (lambda (other)
+            (let ((other-end (or (tmo-expected-end other) (tmo-end other))))
+              (and (not (eq other macro)) (not (eq (tmo-run other) (tmo-run macro)))
+                   (< (max (tmo-start macro) (tmo-start other)) (min end other-end)))))
+          (tmx-macros context))))
 
 (defun tm-replay (spec actions initial play &key predecessors)
   "Check PLAY (what the controller did with ACTIONS from INITIAL) against the
 model.  Returns (VALUES PROBLEM STATISTICS): PROBLEM NIL or a string."
+  (when (tmp-abandoned play)
+    (return-from tm-replay (values nil (list (tmp-abandoned play) 1))))
   (let* ((model (tms-model spec))
          (context (make-tm-context :spec spec :model model :initial initial
+                                   :state (copy-seq initial)
                                    :predecessors (or predecessors (reference-predecessors model)))))
+    (setf (tmx-timers context) (loop for timer in (tms-timers spec)
+                                     collect (make-tm-timer-state :timer timer))
+          (tmx-triggers context) (loop for trigger in (tms-triggers spec)
+                                       collect (cons trigger (model-eval (tmg-condition trigger) initial))))
+    (dolist (timer (tmx-timers context))
+      (tm-arm-timer context timer 0))
     (values
      (catch 'tm-problem
        (tm-attribute context (tmp-lines play))
        (let ((results (tmp-results play))
              (checks (tmp-checks play)))
-         (dolist (action actions)
-           (ecase (first action)
-             (:send (destructuring-bind (name time policy) (rest action)
-                      (tm-send context name time policy (pop results))))
-             (:check (let ((time (second action)))
-                       (destructuring-bind (alist busy) (pop checks)
-                         (tm-advance context time)
-                         (tm-count context :checks)
-                         (let ((state (tm-state-at context time)))
-                           (unless (equalp state (model-state-from-alist model alist))
-                             (tm-fail "at the checkpoint ~A the controller's state is ~A; the model's ~A"
-                                      (float time 1d0) (tm-state-text context (model-state-from-alist model alist))
-                                      (tm-state-text context state))))
-                         (unless (eq (and busy t) (and (tmx-current context) t))
-                           (tm-fail "at the checkpoint ~A controller-busy-p says ~S; the model says ~:[idle~;busy~]"
-                                    (float time 1d0) busy (tmx-current context))))))))
-         (tm-advance context (expt 10 9))
-         (when (tmx-current context)
-           (tm-fail "after finish-events the model still runs ~A" (tmr-name (tmx-current context))))
+         (flet ((check (time)
+                  (destructuring-bind (alist busy) (pop checks)
+                    (tm-advance context time)
+                    (tm-count context :checks)
+                    (let ((state (tmx-state context)))
+                      (unless (equalp state (model-state-from-alist model alist))
+                        (tm-fail "at the checkpoint ~A the controller's state is ~A; the model's ~A"
+                                 (float time 1d0) (tm-state-text context (model-state-from-alist model alist))
+                                 (tm-state-text context state))))
+                    (unless (eq (and busy t) (and (tm-busy-p context) t))
+                      (tm-fail "at the checkpoint ~A controller-busy-p says ~S; the model says ~:[idle~;busy~]"
+                               (float time 1d0) busy (tm-busy-p context))))))
+           (dolist (action actions)
+             (ecase (first action)
+               (:send (destructuring-bind (name time policy) (rest action)
+                        (tm-send context name time policy (pop results))))
+               (:check (check (second action)))
+               (:settle (dolist (time (tmp-settle-times play))
+                          (tm-count context :settles)
+                          (check time))))))
+         (tm-finish context)
+         (when (tm-busy-p context)
+           (tm-fail "after finish-events the model still runs ~A"
+                    (mapcar #'tmr-name (tmx-active context))))
          (when (tmp-final-busy play)
            (tm-fail "controller-busy-p is true after finish-events"))
          (let ((extra (nth (tmx-cursor context) (tmx-control context))))
            (when extra
              (tm-fail "the trace goes on with ~A (line ~D), which the model does not expect"
                       (tm-show-line context (cdr extra)) (car extra))))
-         (dolist (run (tmx-runs context))
-           (when (tmr-ops run)
-             (tm-fail "~A ~A shows op ~A (line ~D), which the model does not expect"
-                      (tmr-kind run) (tmr-name run) (tmo-name (first (tmr-ops run))) (tmo-index (first (tmr-ops run))))))
-         (let ((final (tm-state-at context (expt 10 9))))
+         (let ((stray (find-if-not #'tmo-claimed (tmx-op-lines context))))
+           (when stray
+             (tm-fail "the trace shows op ~A (line ~D, from ~A), which no run of the model plays"
+                      (tmo-name stray) (tmo-index stray) (float (tmo-start stray) 1d0))))
+         (let ((final (tmx-state context)))
            (unless (equalp final (model-state-from-alist model (tmp-final-state play)))
              (tm-fail "the final state is ~A; the model's ~A"
                       (tm-state-text context (model-state-from-alist model (tmp-final-state play)))
                       (tm-state-text context final))))
-         ;; One channel: no op starts before the one shown before it ended.
-         (let ((previous nil))
-           (dolist (op (sort (copy-list (tmx-ops context)) #'< :key #'tmo-index))
-             (when (and previous (< (tmo-start op) (tmo-effective-end previous)))
-               (tm-fail "op ~A (line ~D) starts at ~A, while op ~A (line ~D) runs until ~A"
-                        (tmo-name op) (tmo-index op) (float (tmo-start op) 1d0)
-                        (tmo-name previous) (tmo-index previous) (float (tmo-effective-end previous) 1d0)))
-             (setf previous op)))
+         (tm-check-overlaps context)
          ;; A macro's line ends when its :seq did, or where it was cut.
          (dolist (macro (tmx-macros context))
            (let ((line (nth (tmo-index macro) (tmp-lines play))))
-             (unless (and (tmo-expected-end macro) (= (getf (cddr line) :end) (tmo-expected-end macro)))
+             (unless (or (and (tmo-expected-end macro) (= (getf (cddr line) :end) (tmo-expected-end macro)))
+                         (and *tm-tolerate-crossing-macro-lines*
+                              (tm-crossing-macro-p context macro)
+                              (tm-count context :crossing-macro-lines)))
                (tm-fail "macro ~A (line ~D) is shown ending at ~A; the model says ~A"
                         (tmo-name macro) (tmo-index macro) (getf (cddr line) :end)
                         (and (tmo-expected-end macro) (float (tmo-expected-end macro) 1d0))))))
@@ -776,9 +1424,9 @@ Returns (VALUES PROBLEMS STATISTICS)."
          (totals '()))
     (handler-case
         (unwind-protect
-             (let* ((machine (compile-spec (define-spec name (tms-forms spec)
-                                                        :package (find-package '#:player-user))))
+             (let* ((machine (tm-compile-spec spec))
                     (predecessors (reference-predecessors model)))
+               (tm-compute-footprints spec machine)
                (dolist (stream (if only (list only) (loop for i from 1 to streams collect i)))
                  (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
                    (let ((play nil))
@@ -809,7 +1457,8 @@ Returns (VALUES PROBLEMS STATISTICS)."
   (let* ((spec (tm-random-spec seed))
          (name (model-name (tms-model spec))))
     (unwind-protect
-         (let ((machine (compile-spec (define-spec name (tms-forms spec) :package (find-package '#:player-user)))))
+         (let ((machine (tm-compile-spec spec)))
+           (tm-compute-footprints spec machine)
            (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
              (let ((play (let ((*package* (find-package '#:player-user)))
                            (tm-play-stream machine spec actions initial))))
@@ -843,8 +1492,14 @@ agree with the reference model (see the top of this file)."
       (is (>= streams 1200) "only ~D streams" streams)
       ;; The generator must keep exercising every case.
       (is (<= 0.3 (/ busy (max sends 1)) 0.7) "~D of ~D sends arrived while busy" busy sends)
-      (dolist (key '(:queue :override :preempt :interleave :resumed :cut-short :if-cut :fails :macro-cuts :checks))
+      (dolist (key '(:queue :override :preempt :interleave :resumed :cut-short :if-cut :fails :macro-cuts :checks
+                     :parallel :beside :queue-beside :overlapping-runs :multi-cuts :timers :repeats
+                     :timer-restarts :triggers :settles))
         (is (>= (getf totals key 0) 20) "only ~D cases of ~(~A~)" (getf totals key 0) key))
+      ;; Streams given up on (a repeating timer or triggers keep it busy for ever).
+      (is (<= (+ (getf totals :livelock 0) (getf totals :zero-time-loop 0)) (/ streams 50))
+          "~D streams livelocked, ~D looped at one instant"
+          (getf totals :livelock 0) (getf totals :zero-time-loop 0))
       (is (zerop failing) "~D of ~D streams disagree with the model; the first:~{~%~%~A~}"
           failing streams problems))))
 

@@ -16,7 +16,9 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   (events (make-hash-table :test 'equal))
   ;; Event symbol -> COMPILED-EVENT, filled as events are sent, so the usual
   ;; lookup by symbol allocates nothing.
-  (event-symbols (make-hash-table :test 'eq :synchronized t)))
+  (event-symbols (make-hash-table :test 'eq :synchronized t))
+  ;; The goal and op procedure boxes, for closures compiled later (EVENT-SUFFIXES).
+  (procedures nil))
 
 (defmethod print-object ((machine compiled-machine) stream)
   (print-unreadable-object (machine stream :type t)
@@ -24,17 +26,23 @@ returns and controllers run. The C++ backend needs only the MACHINE."
             (lisp-text (spec-name (machine-spec machine))) (length (machine-goal-table machine))
             (layout-state-count (machine-layout machine)) (hash-table-count (compiled-machine-events machine)))))
 
-(defstruct (compiled-event (:constructor make-compiled-event (event run suffixes)))
-  "An event compiled to a closure of one argument, the controller. SUFFIXES
-holds, for each top-level directive K, a closure running the event from K on
-(noting K in the controller as it goes), so a timed controller can finish an
-interrupted event from where it was cut."
+(defvar *procedures* nil
+  "While a machine compiles: hash table of GOAL or OP-DEF -> box (a cons whose
+CAR is the procedure), so procedures can call each other before they exist.")
+
+(defstruct (compiled-event (:constructor make-compiled-event (event run steps)))
+  "An event compiled to a closure of one argument, the controller. STEPS are
+its top-level IR steps; a timed controller asks for EVENT-SUFFIXES, compiled
+from them the first time."
   (event nil :type event-def)
   (run nil :type function)
-  (suffixes #() :type simple-vector))
+  (steps '() :type list)
+  (suffixes nil :type (or null simple-vector)))
 
 (defun compile-event-suffixes (steps machine)
-  "The suffix closures of an event's top-level STEPS (see COMPILED-EVENT)."
+  "For each top-level step K of STEPS, a closure running the event from K on
+(noting K in the controller as it goes), so a timed controller can finish an
+interrupted event from where it was cut; then one that does nothing."
   (let* ((count (length steps))
          (suffixes (make-array (1+ count))))
     (setf (svref suffixes count) (constantly t))
@@ -48,9 +56,14 @@ interrupted event from where it was cut."
                        (funcall (the function body) controller)))))
     suffixes))
 
-(defvar *procedures* nil
-  "While a machine compiles: hash table of GOAL or OP-DEF -> box (a cons whose
-CAR is the procedure), so procedures can call each other before they exist.")
+(defun event-suffixes (compiled machine)
+  "The suffix closures (see COMPILE-EVENT-SUFFIXES) of COMPILED, an event of
+compiled MACHINE; compiled on first use, so whole-event controllers never pay
+for them."
+  (or (compiled-event-suffixes compiled)
+      (let ((*procedures* (compiled-machine-procedures machine)))
+        (setf (compiled-event-suffixes compiled)
+              (compile-event-suffixes (compiled-event-steps compiled) machine)))))
 
 (defun procedure-box (key)
   "The box of KEY's shared procedure, created empty on first request."
@@ -72,8 +85,8 @@ STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
     (dolist (event (spec-events spec))
       (setf (gethash (name-key (event-name event)) (compiled-machine-events machine))
             (let ((steps (directive-steps (event-directives event) machine)))
-              (make-compiled-event event (compile-steps steps machine)
-                                   (compile-event-suffixes steps machine)))))
+              (make-compiled-event event (compile-steps steps machine) steps))))
+    (setf (compiled-machine-procedures machine) *procedures*)
     (setf (machine-compile-seconds machine)
           (/ (float (- (get-internal-real-time) start) 1d0) internal-time-units-per-second))
     machine))

@@ -277,9 +277,14 @@ lines are still waiting to be written (an open macro)."
     (record-line presenter line)))
 
 (defmethod present-macro-end ((presenter trace-presenter) op start end)
-  (declare (ignore op start))
-  (let ((line (pop (trace-open-macros presenter))))
-    (setf (getf (cddr line) :end) end))
+  ;; The line of this macro (OP from START): the innermost open one, unless a
+  ;; timed controller plays macros of two events side by side.
+  (let ((line (find-if (lambda (line) (and (eq (second line) (op-name op))
+                                           (eql (getf (cddr line) :start) start)))
+                       (trace-open-macros presenter))))
+    (when line
+      (setf (trace-open-macros presenter) (remove line (trace-open-macros presenter) :count 1)
+            (getf (cddr line) :end) end)))
   (flush-trace presenter))
 
 (defmethod start-autoscript ((presenter trace-presenter) proc variable value time)

@@ -49,7 +49,7 @@ below; runs playing beside it on other channels do not matter."
           :key (lambda (item)
                  (let ((other (agenda-item-run item)))
                    (if (and (not (eq other run)) (run-finished other)
-                            (footprints-meet-p footprint (run-footprint other)))
+                            (footprints-meet-p footprint (run-footprint* timeline other)))
                        (agenda-item-end item)
                        time)))))
 
@@ -58,6 +58,8 @@ below; runs playing beside it on other channels do not matter."
 interruption points, cancel the rest of it.  Returns the time the new event
 can start, and the top-level directive RUN would resume from (NIL when nothing
 of it was left to do)."
+  ;; Its footprint stays needed (SETTLED-TIME) after its items are trimmed.
+  (run-footprint* timeline run)
   (let ((presenter (timeline-presenter timeline))
         (cut-time (settled-time timeline run time footprint))
         (resume nil)
@@ -87,7 +89,8 @@ of it was left to do)."
                        (dolist (other (run-items run))
                          (when (eq (agenda-item-owner other) item) (push other keep))))))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
-      (setf keep (keep-finished-macros run keep cut-time))
+      (when (find :macro-end (run-items run) :key #'agenda-item-kind)
+        (setf keep (keep-finished-macros run keep cut-time shown)))
       ;; Everything else still pending is cancelled.
       (dolist (item (run-items run))
         (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
@@ -113,10 +116,11 @@ of it was left to do)."
           (timeline-runs timeline) (remove run (timeline-runs timeline)))
     (values cut-time resume)))
 
-(defun keep-finished-macros (run keep cut-time)
+(defun keep-finished-macros (run keep cut-time cut-ops)
   "KEEP, plus the end (and end state change) of each macro of RUN that ends by
-CUT-TIME with every pending item inside it kept: its last sub-op runs to its
-end through the cut, so the macro ends then, declared effects and all."
+CUT-TIME with every pending item inside it kept and none of its sub-ops in
+CUT-OPS (the :OP items cut short): its last sub-op runs to its end through the
+cut, so the macro ends then, declared effects and all."
   (let ((items (sort (copy-list (run-items run)) #'< :key #'agenda-item-seq)))
     (dolist (item items keep)
       (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)
@@ -124,10 +128,11 @@ end through the cut, so the macro ends then, declared effects and all."
         (let ((opening (find item items :key #'agenda-item-owner)))
           (when (and opening
                      (every (lambda (inner)
-                              (or (not (eq (agenda-item-status inner) :pending))
-                                  (member inner keep)
-                                  (<= (agenda-item-seq inner) (agenda-item-seq opening))
-                                  (>= (agenda-item-seq inner) (agenda-item-seq item))))
+                              (or (<= (agenda-item-seq inner) (agenda-item-seq opening))
+                                  (>= (agenda-item-seq inner) (agenda-item-seq item))
+                                  (and (not (member inner cut-ops))
+                                       (or (not (eq (agenda-item-status inner) :pending))
+                                           (member inner keep)))))
                             items))
             (push item keep)
             (dolist (other items)

@@ -108,8 +108,6 @@ items on the agenda."
         (present-resume presenter (run-name run) time)
         (present-event presenter (run-name run) time)))
   (setf (run-start run) time)
-  (unless (run-footprint run)
-    (setf (run-footprint run) (planned-footprint timeline run)))
   (setf (timeline-runs timeline) (append (timeline-runs timeline) (list run)))
   (dolist (item (run-items run))
     (agenda-push (timeline-agenda timeline) item)))
@@ -118,19 +116,25 @@ items on the agenda."
   "The footprint of RUN, planned ahead."
   (run-footprint-from-items timeline run))
 
+(defun run-footprint* (timeline run)
+  "RUN's footprint, worked out from its items when first asked (before a cut
+trims them)."
+  (or (run-footprint run)
+      (setf (run-footprint run) (planned-footprint timeline run))))
+
 (defun plan-on-trial (timeline run time)
   "Plan RUN ahead from TIME to learn its footprint, unless its event runs code
 or a running event meets everything anyway.  Returns the planning result, or
 :UNTRIED; RUN keeps its items and footprint."
   (if (or (event-runs-code-p (run-event run))
-          (some (lambda (other) (meets-everything-p (run-footprint other))) (timeline-runs timeline)))
+          (some (lambda (other) (meets-everything-p (run-footprint* timeline other))) (timeline-runs timeline)))
       :untried
       (prog1 (plan-run-ahead timeline run time)
         (setf (run-footprint run) (planned-footprint timeline run)))))
 
 (defun meets-running-p (timeline run)
   "Does planned RUN (its footprint known) meet a running event?"
-  (some (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint other)))
+  (some (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))
         (timeline-runs timeline)))
 
 (defun meets-finishing-p (timeline run)
@@ -138,7 +142,7 @@ or a running event meets everything anyway.  Returns the planning result, or
   (some (lambda (item)
           (let ((other (agenda-item-run item)))
             (and (run-finished other) (> (agenda-item-end item) (timeline-now timeline))
-                 (footprints-meet-p (run-footprint run) (run-footprint other)))))
+                 (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))))
         (timeline-live-ops timeline)))
 
 (defun forget-plan (run)
@@ -174,7 +178,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                  (controller-span-end controller) time)
            (dolist (var (event-time-variables (run-event run)))
              (set-runtime-value controller var time time))
-           (setf result (funcall (the function (svref (compiled-event-suffixes (run-compiled run))
+           (setf result (funcall (the function (svref (event-suffixes (run-compiled run)
+                                                                      (controller-machine controller))
                                                       (run-first-step run)))
                                  controller))
            (unless (eq result t)
@@ -235,7 +240,7 @@ result (T or a FAILURE)."
   "RUN arrives at TIME while events it meets play: do what POLICY says."
   (let* ((name (run-name run))
          (met (if (run-footprint run)
-                  (remove-if-not (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint other)))
+                  (remove-if-not (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))
                                  (timeline-runs timeline))
                   (timeline-runs timeline)))
          (footprint (or (run-footprint run) (make-footprint :all 0 '()))))
