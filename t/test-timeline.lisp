@@ -429,3 +429,19 @@ the running one; one that meets it on a channel follows its policy."
            (is (= 1 (length shared)))
            (is (search "ops glance and nod both drive head" (player::diagnostic-message (first shared)))))
       (remove-spec 'channels))))
+
+;;; On the body
+
+(test a-cut-stops-the-script-on-the-body
+  "Simulated, a preempted lap stops its script at the cut: the fly-loop run's
+stop is the cut time, and the landing starts there."
+  (let* ((simulation (player::simulate (peedy-spec) :events '((ev-fly-to . 0) (ev-sit . 2)) :stream nil))
+         (runs (player::performance-runs (player::simulation-performance simulation)))
+         (lap (find "fly-loop" runs :key (lambda (run) (string (player::script-name (player::script-run-script run))))
+                                    :test #'string-equal))
+         (land (find "land" runs :key (lambda (run) (string (player::script-name (player::script-run-script run))))
+                                 :test #'string-equal)))
+    (is (= 1.25d0 (player::script-run-start lap)))
+    (is (eql 2d0 (player::script-run-stop lap)))
+    (is (= 2d0 (player::script-run-start land)))
+    (is (= 5d0 (player::simulation-end simulation)))))
