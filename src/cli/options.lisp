@@ -176,8 +176,7 @@ TEXT does not fit."))
 (define-option "--initial" :assignments "VAR=VALUE,..."
   "start from these values instead of the declared initial ones")
 (define-option "--events" :timed-events "EV1,EV2@T,..."
-  "the events to send, in order: EV when the previous ones have ended, EV@T
-arriving at T seconds, whatever is running (then its :when-busy policy decides)")
+  "the events to send, in order: EV when the previous ones have ended, EV@T arriving at T seconds, whatever is running (then its :when-busy policy decides)")
 (defun policy-keyword (text)
   "The :when-busy policy keyword TEXT (one of --when-busy's choices) names, or NIL for NIL."
   (and text (when-busy-policy (intern (string-upcase text) :keyword))))
@@ -191,8 +190,7 @@ arriving at T seconds, whatever is running (then its :when-busy policy decides)"
           (split-list text)))
 
 (define-option "--when-busy" (quote (:choice "queue" "preempt" "override" "interleave")) "POLICY"
-  "what every event arriving while another plays does, instead of its own
-:when-busy policy")
+  "what every event arriving while another plays does, instead of its own :when-busy policy")
 (define-option "--at" :seconds "T"
   "stop the clock at T seconds, showing what happened until then (timers included)")
 (define-option "--fps" :frame-rate "FPS"

@@ -13,10 +13,10 @@ package ffmpeg).  A progress bar goes to standard error."
                ("--out" :string "DIR" "the directory to write the frames into" :default "render/")
                ("--video" :string "FILE.mp4" "also encode the frames as a video")
                ("--policies" :policies "P1,P2,..."
-                "instead, play the scenario once per :when-busy policy (queue, preempt,
-override, interleave) and draw them side by side, a row each, in DIR/policies.png"))
+                "instead, play the scenario once per :when-busy policy (queue, preempt, override, interleave) and draw them side by side, a row each, in DIR/policies.png"))
      :output "DIR/frame-0001.png ..., DIR/sheet.png (a contact sheet) and the --video
-        file; the trace and the paths written on standard output")
+        file, or with --policies DIR/policies.png alone; the trace and the paths
+        written on standard output")
   (when video (find-ffmpeg))
   (check-scenario-times events at)
   (when policies
