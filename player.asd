@@ -197,6 +197,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-c++-hostile")
                  (:file "test-cli")
                  (:file "test-timeline")
+                 (:file "test-c++-timeline")
                  (:file "test-hostile-input")
                  (:file "test-repl")
                  (:file "test-anim")

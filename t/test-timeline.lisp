@@ -445,3 +445,18 @@ stop is the cut time, and the landing starts there."
     (is (eql 2d0 (player::script-run-stop lap)))
     (is (= 2d0 (player::script-run-start land)))
     (is (= 5d0 (player::simulation-end simulation)))))
+
+(test finish-events-gives-up-on-endless-events
+  "A timer that repeats faster than its event plays keeps the controller busy
+for ever: FINISH-EVENTS says so instead of hanging."
+  (let ((player::*finish-events-limit* 5000))
+    (with-spec (spec endless
+                 (state-variable x boolean false)
+                 (op wave :duration 2)
+                 (event ev-wave :op wave)
+                 (timer tick :after 1 :event ev-wave :repeat t))
+      (let ((c (make-controller spec :timed t :presenter (make-null-presenter))))
+        (send-event c 'ev-wave)
+        (handler-case (progn (finish-events c) (fail "finish-events returned"))
+          (timeline-error (e)
+            (is (search "events never stop coming" (princ-to-string e)))))))))

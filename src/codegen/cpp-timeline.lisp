@@ -9,7 +9,12 @@
 ;;;; event with a case per top-level directive, so an interrupted event can
 ;;;; resume); they record agenda items instead of presenting.  The agenda is a
 ;;;; heap of items ordered by (time, seq); cuts, policies, timers and triggers
-;;;; follow the Lisp runtime step for step, so the traces are identical.
+;;;; follow the Lisp runtime step for step, so the traces are identical:
+;;;; several runs play at once when their footprints (the channels ops
+;;;; declare, the fields and runtime variables a plan touches) are disjoint,
+;;;; an event arriving while others play is planned on trial to learn its
+;;;; footprint, and the events timers and triggers send wait until the rest
+;;;; of their instant has happened.
 
 (in-package #:player)
 
@@ -64,15 +69,18 @@ critical time needs a script library, which the C++ controller has not."
 
 (defparameter *c++-timed-api*
   "public:
-  // The timed API: ops occupy time, and an event arriving while another plays
-  // is resolved by its :when-busy policy.  A controller uses either this or
-  // send/send_at, not both.
+  // The timed API: ops occupy time, and an event arriving while others play
+  // either plays beside them (when its plan's channels and variables meet
+  // none of theirs) or is resolved by its :when-busy policy against those it
+  // meets.  A controller uses either this or send/send_at, not both.
   enum class WhenBusy : int { as_declared, queue, preempt, override, interleave };
+  ~Controller();
   /// E arrives at AT (not before now()): the clock advances there first; then E
   /// starts, or POLICY (by default E's :when-busy) resolves it against the
-  /// running event.  True when E was accepted; false when it was dropped, when
-  /// it started and its plan failed (failed_goal() names the goal), when AT
-  /// lies before now(), or when the timeline has stopped (timeline_error()).
+  /// running events it meets.  True when E was accepted; false when it was
+  /// dropped, when it started and its plan failed (failed_goal() names the
+  /// goal), when AT lies before now(), or when the timeline has stopped
+  /// (timeline_error()).
   bool send_timed(Event e, double at, WhenBusy policy = WhenBusy::as_declared);
   /// Move the clock to TIME (not before now()), presenting what falls due: op
   /// starts, state changes with their autoscripts, event ends, waiting events,
@@ -81,7 +89,7 @@ critical time needs a script library, which the C++ controller has not."
   /// Advance until no event runs or waits (armed timers stay armed); returns now().
   double finish_events();
   /// Is an event running (or waiting)?
-  bool busy() const { return current_ != nullptr; }
+  bool busy() const { return !runs_.empty() || !queue_.empty(); }
   /// The timed clock.
   double now() const { return timeline_started_ ? now_ : clock_; }
   /// Empty, or why the timeline stopped (over 100000 things at one instant:
@@ -90,14 +98,15 @@ critical time needs a script library, which the C++ controller has not."
 "
   "The timed API's declarations in the Controller.")
 
-(defparameter *c++-timed-types*
+(defparameter *c++-timed-item*
   "private:
+  struct Run;
   // Something due on the timeline (see src/runtime/timeline/agenda.lisp).
   struct Item {
     int kind = 0;
     double time = 0;
     long long seq = 0;
-    long long run = 0;           // the id of its Run (0 for a timer)
+    std::shared_ptr<Run> run;    // the Run it belongs to (null for a timer)
     int event = 0;               // its Run's event
     int op = 0;
     double start = 0, end = 0;
@@ -110,32 +119,57 @@ critical time needs a script library, which the C++ controller has not."
     int step = 0;                // the top-level directive that made it
     int status = 0;              // pending, done or cancelled
     int timer = 0;
-  };
-  // One event on the timeline, from its start to its end or cut.
+  };"
+  "The timed layer's agenda item, in the Controller.")
+
+(defparameter *c++-timed-footprint*
+  "  // What a planned event touches (see src/runtime/timeline/footprints.lisp):
+  // the channels its ops declare (ALL when one declares none), the one-hot
+  // fields and the runtime variables (by slot) it mentions.
+  struct Footprint {
+    bool all = false;
+    std::uint64_t channels[~D] = {};
+    std::uint64_t fields = 0;
+    std::uint64_t runtime[~D] = {};
+  };"
+  "The Footprint struct; its arrays are sized for the machine's channels and runtime variables.")
+
+(defparameter *c++-timed-types*
+  "  // One event on the timeline, from its start to its end or cut.
   struct Run {
-    long long id = 0;
     int event = 0, policy = 0, source = 0, first_step = 0;
-    bool resumed = false;
+    bool resumed = false, finished = false;
+    bool planned = false;                      // FOOTPRINT is known
     double start = 0;
-    std::vector<std::shared_ptr<Item>> items;  // in the order they were made
+    Footprint footprint;
+    std::vector<std::shared_ptr<Item>> items;  // in the order they were made (until it ends)
+  };
+  // An event a timer or trigger sends at TIME, once the rest of that instant is done.
+  struct Send {
+    int event = 0;
+    double time = 0;
+    int source = 0;
   };
   bool timeline_started_ = false;
   double now_ = 0;
-  long long seq_ = 0, runs_ = 0, instant_count_ = 0;
+  long long seq_ = 0, instant_count_ = 0;
   int step_ = 0;
   std::vector<std::shared_ptr<Item>> agenda_;    // a heap, earliest first
   std::vector<std::shared_ptr<Item>> live_ops_;  // ops presented, their end to come
-  std::shared_ptr<Run> current_;
+  std::vector<std::shared_ptr<Run>> runs_;       // the events playing, oldest first
   std::deque<std::shared_ptr<Run>> queue_;
-  Run* recording_ = nullptr;                     // the run being planned ahead
+  std::vector<Send> deferred_;                   // sends due at now_, first first
+  std::shared_ptr<Run> recording_;               // the run being planned ahead
   Item* last_op_ = nullptr;                      // whose end's change comes next
   Item* last_macro_end_ = nullptr;               // likewise
   std::vector<Item*> open_macros_;
   std::string timeline_error_;
   static bool later_(const Item& a, const Item& b);
   static bool heap_order_(const std::shared_ptr<Item>& a, const std::shared_ptr<Item>& b);
+  static bool meets_everything_(const Footprint& footprint);
+  static bool footprints_meet_(const Footprint& a, const Footprint& b);
   void start_timeline_();
-  bool advance_to_(double time);
+  bool advance_to_(double time, bool dispatch = true);
   bool note_instant_(double time);
   void push_item_(const std::shared_ptr<Item>& item);
   std::shared_ptr<Item> next_item_();
@@ -150,15 +184,23 @@ critical time needs a script library, which the C++ controller has not."
   void record_macro_end_(int op, double start, double end);
   void project_state_(double time);
   int dispatch_(int event, double time, int policy, int source);
+  int resolve_busy_(const std::shared_ptr<Run>& run, double time, int policy);
   int start_run_(const std::shared_ptr<Run>& run, double time);
-  int plan_run_(Run& run, double time);
-  double settled_time_(long long run, double time) const;
-  double cut_run_(Run& run, double time, int by, int& resume);
+  void install_run_(const std::shared_ptr<Run>& run, double time);
+  int plan_run_(const std::shared_ptr<Run>& run, double time);
+  int plan_on_trial_(const std::shared_ptr<Run>& run, double time);
+  void note_footprint_(Run& run) const;
+  void forget_plan_(Run& run) const;
+  bool meets_running_(const Run& run) const;
+  bool meets_finishing_(const Run& run) const;
+  double settled_time_(const Run* run, double time, const Footprint& footprint) const;
+  double cut_run_(Run& run, double time, int by, const Footprint& footprint, int& resume);
   void keep_finished_macros_(const Run& run, std::vector<std::shared_ptr<Item>>& keep, double cut_time);
   void apply_item_(const std::shared_ptr<Item>& item);
-  void finish_run_(long long run, double time);
+  void finish_run_(std::shared_ptr<Run> run, double time);
+  void start_waiting_runs_(double time);
   void arm_timer_(int timer, double time);
-  void fire_timer_(int timer, double time);
+  void fire_timer_(const std::shared_ptr<Item>& item, double time);
   void send_own_(int event, double time, int source);
   // Generated for this machine:
   int plan_event_(int event, int from);
@@ -174,13 +216,33 @@ critical time needs a script library, which the C++ controller has not."
   bool trigger_holds_(int trigger);"
   "The timed layer's private types, members and procedures in the Controller.")
 
+(defun spec-channel-names (spec)
+  "The channel names SPEC's ops declare, each once, in order of first mention."
+  (let ((names '()))
+    (dolist (op (spec-ops spec) (nreverse names))
+      (dolist (name (op-channels op))
+        (pushnew name names :test #'string=)))))
+
+(defun channel-words (spec)
+  "How many 64-bit words hold a set of SPEC's channels (at least one)."
+  (max 1 (ceiling (length (spec-channel-names spec)) 64)))
+
+(defun runtime-words (machine)
+  "How many 64-bit words hold a set of MACHINE's runtime variables (at least one)."
+  (max 1 (ceiling (length (runtime-vars machine)) 64)))
+
 (defun emit-timed-members (machine)
   "The timed layer's part of the Controller declaration: the API, the agenda,
 and the planning twins of the machine's procedures."
-  (let ((spec (machine-spec machine)))
+  (let* ((spec (machine-spec machine))
+         (timers (max 1 (length (spec-timers spec)))))
     (emit-text *c++-timed-api*)
+    (emit-text *c++-timed-item*)
+    (emit *c++-timed-footprint* (channel-words spec) (runtime-words machine))
     (emit-text *c++-timed-types*)
-    (emit "  std::shared_ptr<Item> timer_items_[~D];" (max 1 (length (spec-timers spec))))
+    (emit "  std::shared_ptr<Item> timer_items_[~D];" timers)
+    (emit "  double timer_due_[~D] = {};" timers)
+    (emit "  long long timer_seq_[~D] = {};" timers)
     (emit "  bool trigger_held_[~D] = {};" (max 1 (length (spec-triggers spec))))
     (dolist (var (runtime-vars machine))
       (when (eq (var-kind var) :number)
@@ -233,6 +295,10 @@ constexpr long long kMaxItemsPerInstant = 100000;"
     (emit-table "double" "kTimerAfter" (mapcar (lambda (timer) (c++-double (timer-after timer))) (spec-timers spec)))
     (emit-table "int" "kTimerEvents" (mapcar (lambda (timer) (princ-to-string (event-number (timer-event timer) spec)))
                                              (spec-timers spec)))
+    (emit-op-footprint-tables machine)
+    (emit-table "bool" "kEventRunsCode" (mapcar (lambda (event) (if (event-runs-code-p event) "true" "false"))
+                                                (spec-events spec))
+                "false")
     (emit-table "bool" "kTimerRepeats" (mapcar (lambda (timer) (if (timer-repeat timer) "true" "false"))
                                                (spec-timers spec))
                 "false")
@@ -249,6 +315,25 @@ constexpr long long kMaxItemsPerInstant = 100000;"
     (emit "    if ((old_bits ^ new_bits) & field) mask |= field;")
     (emit "  return mask;~%}~%")
     (emit "}  // namespace~%")))
+
+(defun op-channel-words (op names words)
+  "OP's declared channels as WORDS 64-bit words, bit I for the Ith of NAMES."
+  (let ((bits (reduce #'logior (op-channels op)
+                      :key (lambda (name) (ash 1 (position name names :test #'string=)))
+                      :initial-value 0)))
+    (loop for word below words collect (c++-hex (ldb (byte 64 (* 64 word)) bits)))))
+
+(defun emit-op-footprint-tables (machine)
+  "What each op touches (OP-FOOTPRINT's twin): whether it declares no channels
+(then it meets every op), the channels it declares, the fields it mentions."
+  (let* ((spec (machine-spec machine))
+         (ops (spec-ops-of machine))
+         (names (spec-channel-names spec))
+         (words (channel-words spec)))
+    (emit-table "bool" "kOpChannelsAll" (mapcar (lambda (op) (if (op-channels op) "false" "true")) ops) "true")
+    (emit "[[maybe_unused]] const std::uint64_t kOpChannels[][~D] = {~{{~{~A~^, ~}}, ~}{0}};"
+          words (mapcar (lambda (op) (op-channel-words op names words)) ops))
+    (emit-table "std::uint64_t" "kOpFields" (mapcar (lambda (op) (c++-hex (op-variable-fields op spec))) ops))))
 
 (defun event-number (event spec)
   "EVENT's index among SPEC's events (its Event value)."
@@ -292,7 +377,7 @@ std::shared_ptr<Controller::Item> Controller::next_item_() {
   item->kind = kind;
   item->time = time;
   item->seq = ++seq_;
-  item->run = recording_->id;
+  item->run = recording_;
   item->event = recording_->event;
   item->step = step_;
   recording_->items.push_back(item);
@@ -369,92 +454,220 @@ void Controller::project_state_(double time) {
 }
 
 // Plan RUN ahead from TIME: its items, then the state put back (labels stay).
-int Controller::plan_run_(Run& run, double time) {
+int Controller::plan_run_(const std::shared_ptr<Run>& run, double time) {
   const State saved = state_;
   if (time > now_) project_state_(time);
-  recording_ = &run;
+  recording_ = run;
   last_op_ = last_macro_end_ = nullptr;
   open_macros_.clear();
-  step_ = run.first_step;
+  step_ = run->first_step;
   schedule_ = span_start_ = span_end_ = time;
-  record_time_variables_(run.event, time);
-  const int result = plan_event_(run.event, run.first_step);
+  record_time_variables_(run->event, time);
+  const int result = plan_event_(run->event, run->first_step);
   if (result != 1) record_(kItemFail, schedule_).goal = failed_goal_;
   record_(kItemFinish, span_end_);
-  recording_ = nullptr;
+  recording_.reset();
   restore_values_(saved);
   return result;
 }
 "
   "Planning an event ahead: the twins of the whole-event procedures record items.")
 
+(defparameter *c++-footprints*
+  "bool Controller::meets_everything_(const Footprint& footprint) {
+  if (footprint.all) return true;
+  for (const std::uint64_t word : footprint.channels)
+    if (word != 0) return false;
+  return true;
+}
+
+// Do footprints A and B share a channel or a variable?  One with no known
+// channel (ALL, or none) meets every other.
+bool Controller::footprints_meet_(const Footprint& a, const Footprint& b) {
+  if (meets_everything_(a) || meets_everything_(b) || (a.fields & b.fields) != 0) return true;
+  for (std::size_t i = 0; i < sizeof a.channels / sizeof a.channels[0]; ++i)
+    if ((a.channels[i] & b.channels[i]) != 0) return true;
+  for (std::size_t i = 0; i < sizeof a.runtime / sizeof a.runtime[0]; ++i)
+    if ((a.runtime[i] & b.runtime[i]) != 0) return true;
+  return false;
+}
+
+// RUN's footprint as planned: the channels and fields of the ops its items
+// play, and the variables its changes set.
+void Controller::note_footprint_(Run& run) const {
+  Footprint footprint;
+  for (const std::shared_ptr<Item>& item : run.items) {
+    switch (item->kind) {
+      case kItemOp:
+        if (kOpChannelsAll[item->op]) {
+          footprint.all = true;
+        } else {
+          for (std::size_t i = 0; i < sizeof footprint.channels / sizeof footprint.channels[0]; ++i)
+            footprint.channels[i] |= kOpChannels[item->op][i];
+        }
+        footprint.fields |= kOpFields[item->op];
+        break;
+      case kItemMacroStart:
+        footprint.fields |= kOpFields[item->op];
+        break;
+      case kItemDelta:
+        footprint.fields |= item->mask;
+        break;
+      case kItemValue:
+        footprint.runtime[item->var / 64] |= std::uint64_t{1} << (item->var % 64);
+        break;
+      default:
+        break;
+    }
+  }
+  run.footprint = footprint;
+  run.planned = true;
+}
+
+// Drop what RUN planned on trial (it is planned again when it starts).
+void Controller::forget_plan_(Run& run) const {
+  run.items.clear();
+  run.footprint = Footprint();
+  run.planned = false;
+}
+
+// Plan RUN ahead from TIME to learn its footprint: its plan's result, or -1
+// (untried) when its event runs code or a running event meets everything anyway.
+int Controller::plan_on_trial_(const std::shared_ptr<Run>& run, double time) {
+  if (kEventRunsCode[run->event]) return -1;
+  for (const std::shared_ptr<Run>& other : runs_)
+    if (meets_everything_(other->footprint)) return -1;
+  const int result = plan_run_(run, time);
+  note_footprint_(*run);
+  return result;
+}
+
+// Does planned RUN meet a running event?
+bool Controller::meets_running_(const Run& run) const {
+  for (const std::shared_ptr<Run>& other : runs_)
+    if (footprints_meet_(run.footprint, other->footprint)) return true;
+  return false;
+}
+
+// Does planned RUN meet an op of an interrupted event that still plays out?
+bool Controller::meets_finishing_(const Run& run) const {
+  for (const std::shared_ptr<Item>& op : live_ops_)
+    if (op->run->finished && op->end > now_ && footprints_meet_(run.footprint, op->run->footprint)) return true;
+  return false;
+}
+"
+  "Footprints: what a planned event touches, and whether two meet.")
+
 (defparameter *c++-dispatch*
   "int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
+  const int result = plan_run_(run, time);
+  install_run_(run, time);
+  return result;
+}
+
+// RUN, planned ahead from TIME, starts: show it, note its footprint, put its
+// items on the agenda.
+void Controller::install_run_(const std::shared_ptr<Run>& run, double time) {
   if (run->resumed)
     presenter_.resumed(kEventNames[run->event], time);
   else
     presenter_.event_start(kEventNames[run->event], time);
   run->start = time;
-  current_ = run;
-  const int result = plan_run_(*run, time);
+  if (!run->planned) note_footprint_(*run);
+  runs_.push_back(run);
   for (const std::shared_ptr<Item>& item : run->items) push_item_(item);
-  return result;
 }
 
-// EVENT arrives at TIME (now) from SOURCE: 1 accepted, 0 dropped, 2 its plan failed.
+// EVENT arrives at TIME (now) from SOURCE: planned on trial, it starts beside
+// the running events when it meets none of them, else POLICY resolves it
+// against those it meets.  1 accepted, 0 dropped, 2 its plan failed.
 int Controller::dispatch_(int event, double time, int policy, int source) {
   note_event_for_timers_(event, source, time);
   const std::shared_ptr<Run> run = std::make_shared<Run>();
-  run->id = ++runs_;
   run->event = event;
   run->policy = policy;
   run->source = source;
-  if (!current_) return start_run_(run, time);
+  if (runs_.empty()) return start_run_(run, time);
+  const int trial = plan_on_trial_(run, time);
+  if (trial < 0 || meets_running_(*run)) return resolve_busy_(run, time, policy);
+  if (meets_finishing_(*run)) {
+    // Only the last op of an interrupted event is in its way: start when that is over.
+    const double start = settled_time_(nullptr, time, run->footprint);
+    forget_plan_(*run);
+    return start_run_(run, start);
+  }
+  install_run_(run, time);
+  return trial;
+}
+
+// RUN arrives at TIME while events it meets play: do what POLICY says.
+int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int policy) {
+  std::vector<std::shared_ptr<Run>> met;
+  for (const std::shared_ptr<Run>& other : runs_)
+    if (!run->planned || footprints_meet_(run->footprint, other->footprint)) met.push_back(other);
+  Footprint footprint = run->footprint;
+  if (!run->planned) footprint.all = true;
+  forget_plan_(*run);
   if (policy == kQueue) {
     queue_.push_back(run);
     return 1;
   }
   if (policy == kOverride) {
-    presenter_.dropped(kEventNames[event], time, kEventNames[current_->event]);
+    presenter_.dropped(kEventNames[run->event], time, kEventNames[met.front()->event]);
     return 0;
   }
-  int resume = -1;
-  const double cut_time = cut_run_(*current_, time, event, resume);
-  // A cut falling now leaves its :if-cut state now: apply it before the new
-  // event plans from it.
-  if (!advance_to_(time)) return 0;
-  if (policy == kInterleave && resume >= 0) {
-    const std::shared_ptr<Run> again = std::make_shared<Run>();
-    again->id = ++runs_;
-    again->event = current_->event;
-    again->policy = current_->policy;
-    again->source = current_->source;
-    again->first_step = resume;
-    again->resumed = true;
-    queue_.push_front(again);
+  double cut_time = time;
+  std::vector<std::shared_ptr<Run>> resumptions;
+  for (const std::shared_ptr<Run>& other : met) {
+    int resume = -1;
+    const double at = cut_run_(*other, time, run->event, footprint, resume);
+    if (at > cut_time) cut_time = at;
+    if (policy == kInterleave && resume >= 0) {
+      const std::shared_ptr<Run> again = std::make_shared<Run>();
+      again->event = other->event;
+      again->policy = other->policy;
+      again->source = other->source;
+      again->first_step = resume;
+      again->resumed = true;
+      resumptions.push_back(again);
+    }
   }
+  // A cut falling now leaves its :if-cut state now: apply it before the new
+  // event plans from it (sends of timers and triggers wait).
+  if (!advance_to_(time, false)) return 0;
+  // The interrupted resume in the order they started, before the queue.
+  for (auto again = resumptions.rbegin(); again != resumptions.rend(); ++again) queue_.push_front(*again);
   return start_run_(run, cut_time);
 }
 
+// A timer or trigger sends EVENT at TIME by its own policy, once everything
+// else due at TIME has happened.
 void Controller::send_own_(int event, double time, int source) {
-  dispatch_(event, time, kEventPolicies[event], source);
+  Send send;
+  send.event = event;
+  send.time = time;
+  send.source = source;
+  deferred_.push_back(send);
 }
 
-// When ops of runs other than RUN, cut or finishing, are all over.
-double Controller::settled_time_(long long run, double time) const {
+// The earliest moment from TIME when the ops of earlier, already cut runs
+// (not RUN) that meet FOOTPRINT are all over.
+double Controller::settled_time_(const Run* run, double time, const Footprint& footprint) const {
   double settled = time;
   for (const std::shared_ptr<Item>& op : live_ops_) {
-    const double end = op->run == run ? time : op->end;
-    if (end > settled) settled = end;
+    const Run* other = op->run.get();
+    if (other != run && other->finished && footprints_meet_(footprint, other->footprint) && op->end > settled)
+      settled = op->end;
   }
   return settled;
 }
 
-// Interrupt RUN at TIME for event BY: running ops stop at their next
-// interruption point, the rest is cancelled.  Returns when the new event can
-// start; RESUME is the directive RUN would resume from (-1: nothing left).
-double Controller::cut_run_(Run& run, double time, int by, int& resume) {
-  double cut_time = settled_time_(run.id, time);
+// Interrupt RUN at TIME for event BY (whose footprint is FOOTPRINT): running
+// ops stop at their next interruption point, the rest is cancelled.  Returns
+// when the new event can start; RESUME is the directive RUN would resume
+// from (-1: nothing left).
+double Controller::cut_run_(Run& run, double time, int by, const Footprint& footprint, int& resume) {
+  double cut_time = settled_time_(&run, time, footprint);
   std::vector<std::shared_ptr<Item>> keep;
   std::vector<const Item*> shown;
   const Item* finishing = nullptr;
@@ -476,7 +689,7 @@ double Controller::cut_run_(Run& run, double time, int by, int& resume) {
         change->kind = kItemDelta;
         change->time = at;
         change->seq = ++seq_;
-        change->run = run.id;
+        change->run = item.run;
         change->event = run.event;
         change->mask = mask;
         change->bits = bits;
@@ -512,7 +725,14 @@ double Controller::cut_run_(Run& run, double time, int by, int& resume) {
   } else {
     presenter_.cut(nullptr, time, cut_time, kEventNames[by]);
   }
-  run.items = keep;
+  // RUN is over: its kept items play out on the agenda.
+  run.finished = true;
+  run.items.clear();
+  for (auto it = runs_.begin(); it != runs_.end(); ++it)
+    if (it->get() == &run) {
+      runs_.erase(it);
+      break;
+    }
   return cut_time;
 }
 
@@ -547,7 +767,7 @@ void Controller::keep_finished_macros_(const Run& run, std::vector<std::shared_p
   }
 }
 "
-  "Events arriving: starting, queueing, dropping, cutting.")
+  "Events arriving: starting beside others, queueing, dropping, cutting.")
 
 (defparameter *c++-clock*
   "void Controller::start_timeline_() {
@@ -558,13 +778,18 @@ void Controller::keep_finished_macros_(const Run& run, std::vector<std::shared_p
   start_triggers_();
 }
 
+Controller::~Controller() {
+  // A playing run and its items hold each other: let go.
+  for (const std::shared_ptr<Run>& run : runs_) run->items.clear();
+}
+
 bool Controller::send_timed(Event e, double at, WhenBusy policy) {
   start_timeline_();
   if (!timeline_error_.empty() || !(at >= now_) || !advance_to_(at)) return false;
   failed_goal_ = \"\";
   const int event = static_cast<int>(e);
   const int chosen = policy == WhenBusy::as_declared ? kEventPolicies[event] : static_cast<int>(policy);
-  return dispatch_(event, at, chosen, kFromOutside) == 1;
+  return dispatch_(event, at, chosen, kFromOutside) == 1 && timeline_error_.empty();
 }
 
 bool Controller::advance(double time) {
@@ -575,20 +800,36 @@ bool Controller::advance(double time) {
 
 double Controller::finish_events() {
   start_timeline_();
-  while (current_ && timeline_error_.empty()) {
+  while (busy() && timeline_error_.empty()) {
     const std::shared_ptr<Item> item = next_item_();
     if (!advance_to_(item ? item->time : now_) || !item) break;
   }
   return now_;
 }
 
-bool Controller::advance_to_(double time) {
-  for (std::shared_ptr<Item> item = next_item_(); item && item->time <= time; item = next_item_()) {
-    pop_item_();
-    if (!note_instant_(item->time)) return false;
-    now_ = item->time;
-    item->status = kDone;
-    apply_item_(item);
+// Present and apply, in time order, everything due up to TIME; then now_ is
+// TIME.  The events timers and triggers send at an instant are dispatched
+// once everything else due then has happened (unless DISPATCH is false: then
+// they wait for the advance_to_ that called this one).
+bool Controller::advance_to_(double time, bool dispatch) {
+  for (;;) {
+    const std::shared_ptr<Item> item = next_item_();
+    if (item && item->time <= time && !(dispatch && !deferred_.empty() && item->time > now_)) {
+      pop_item_();
+      if (!note_instant_(item->time)) return false;
+      now_ = item->time;
+      item->status = kDone;
+      apply_item_(item);
+    } else if (dispatch && !deferred_.empty()) {
+      std::vector<Send> sends;
+      sends.swap(deferred_);
+      for (const Send& send : sends) {
+        dispatch_(send.event, send.time, kEventPolicies[send.event], send.source);
+        if (!timeline_error_.empty()) return false;
+      }
+    } else {
+      break;
+    }
   }
   now_ = time;
   live_ops_.erase(std::remove_if(live_ops_.begin(), live_ops_.end(),
@@ -643,33 +884,66 @@ void Controller::apply_item_(const std::shared_ptr<Item>& item) {
       finish_run_(item->run, time);
       break;
     default:
-      fire_timer_(item->timer, time);
+      fire_timer_(item, time);
       break;
   }
 }
 
-void Controller::finish_run_(long long run, double time) {
+// RUN is over at TIME: show the state, and start the waiting events that no
+// running event meets any more, first first.
+void Controller::finish_run_(std::shared_ptr<Run> run, double time) {
+  run->finished = true;
   presenter_.event_end(*this);
-  if (!current_ || current_->id != run) return;
-  current_.reset();
-  if (queue_.empty()) return;
-  const std::shared_ptr<Run> next = queue_.front();
-  queue_.pop_front();
-  start_run_(next, time);
+  runs_.erase(std::remove(runs_.begin(), runs_.end(), run), runs_.end());
+  run->items.clear();
+  start_waiting_runs_(time);
 }
 
+// Start, at TIME, the first waiting runs while no running event meets the first.
+void Controller::start_waiting_runs_(double time) {
+  while (!queue_.empty()) {
+    const std::shared_ptr<Run> next = queue_.front();
+    if (runs_.empty()) {
+      queue_.pop_front();
+      start_run_(next, time);
+      continue;
+    }
+    const int trial = plan_on_trial_(next, time);
+    if (trial < 0 || meets_running_(*next) || meets_finishing_(*next)) {
+      forget_plan_(*next);
+      return;
+    }
+    queue_.pop_front();
+    install_run_(next, time);
+  }
+}
+
+// Make TIMER go off its :after seconds after TIME.  Re-arming only moves its
+// due time later; its item, when the old time comes, goes back on the agenda
+// for the new one (so a timer restarted by every event keeps one item).
 void Controller::arm_timer_(int timer, double time) {
-  if (timer_items_[timer]) timer_items_[timer]->status = kCancelled;
+  timer_due_[timer] = time + kTimerAfter[timer];
+  timer_seq_[timer] = ++seq_;
+  if (timer_items_[timer]) return;
   const std::shared_ptr<Item> item = std::make_shared<Item>();
   item->kind = kItemTimer;
-  item->time = time + kTimerAfter[timer];
-  item->seq = ++seq_;
+  item->time = timer_due_[timer];
+  item->seq = timer_seq_[timer];
   item->timer = timer;
   timer_items_[timer] = item;
   push_item_(item);
 }
 
-void Controller::fire_timer_(int timer, double time) {
+// A timer's ITEM has come up at TIME: it goes off, unless it was re-armed for later.
+void Controller::fire_timer_(const std::shared_ptr<Item>& item, double time) {
+  const int timer = item->timer;
+  if (!(timer_due_[timer] == time && timer_seq_[timer] == item->seq)) {
+    item->time = timer_due_[timer];
+    item->seq = timer_seq_[timer];
+    item->status = kPending;
+    push_item_(item);
+    return;
+  }
   timer_items_[timer].reset();
   presenter_.timer(kTimerNames[timer], time);
   if (kTimerRepeats[timer]) arm_timer_(timer, time);
@@ -893,6 +1167,7 @@ twins of the machine's procedures."
     (emit-timed-tables machine)
     (emit-text *c++-agenda*)
     (emit-text *c++-recording*)
+    (emit-text *c++-footprints*)
     (emit-text *c++-dispatch*)
     (emit-text *c++-clock*)
     (emit-planning-setters machine)
