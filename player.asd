@@ -47,6 +47,12 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "goals")
                    (:file "machine")
                    (:file "diagnostics")))
+     ;; Looking at a planned machine: its state graph as Graphviz, explanations.
+     (:module "inspect"
+      :serial t
+      :components ((:file "state-graph")
+                   (:file "dot")
+                   (:file "explain")))
      (:module "compose"
       :serial t
       :components ((:file "conditions")
@@ -157,6 +163,15 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "render-simulation")
                      (:file "glfw")
                      (:file "viewer")))))
+     ;; Recorded traces as regression tests: record a scenario, verify a replay.
+     (:module "regression"
+      :serial t
+      :components ((:file "conditions")
+                   (:file "recording")
+                   (:file "scenario")
+                   (:file "files")
+                   (:file "differences")
+                   (:file "api")))
      (:module "cli"
       :serial t
       :components ((:file "options")
@@ -165,11 +180,15 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "main")
                    (:file "run")
                    (:file "plans")
+                   (:file "dot")
                    (:file "check")
+                   (:file "explain")
                    (:file "emit-c++")
                    (:file "simulate")
                    (:file "render")
-                   (:file "view"))))))
+                   (:file "view")
+                   (:file "record")
+                   (:file "verify"))))))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -186,8 +205,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-language")
                  (:file "test-errors")
                  (:file "test-planner")
+                 (:file "test-explain")
                  (:file "reference-ucs")
                  (:file "test-planner-scale")
+                 (:file "test-dot")
                  (:file "test-controller")
                  (:file "test-peedy")
                  (:file "test-peedy-body")
@@ -211,6 +232,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-performance")
                  (:file "test-op-channels")
                  (:file "test-simulate")
+                 (:file "test-record")
                  (:file "test-render-base")
                  (:file "test-mesh")
                  (:file "test-reach")

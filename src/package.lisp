@@ -15,6 +15,8 @@
    #:machine-state-count #:check-spec #:diagnostic #:diagnostic-kind
    #:diagnostic-message #:diagnostic-details
    #:*default-max-depth*
+   #:explain-plan #:print-explanation #:explanation-step #:explained-op #:explained-op-p #:explained-op-name #:explained-op-reason #:explained-op-target #:explained-op-literals #:explained-goal #:explained-goal-p #:explained-goal-holds #:explained-unreachable #:explained-unreachable-p
+   #:write-state-graph #:write-state-graph-file #:build-state-graph #:state-graph-error #:graphviz-error #:*dot-program*
    ;; C++ backend
    #:emit-c++ #:run-c++-trace #:*c++-flags* #:*c++-compiler*
    ;; Animation engine and body model
@@ -90,7 +92,8 @@
    #:seq-rev #:seq-restrict #:seq-count #:seq-suffixes #:seq-all #:seq-exists
    #:graph-merge #:graph-traces #:map-graph-traces #:random-trace
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
-   #:graph->spec #:graph->spec-forms))
+   #:graph->spec #:graph->spec-forms
+   #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*))
 
 (defpackage #:player-user
   (:use #:cl #:player)

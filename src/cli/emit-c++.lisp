@@ -9,14 +9,15 @@
     (bad-option-value option text "a C++ identifier (a letter, then letters, digits or _; not a keyword)"))
   text)
 
-(define-command "emit-c++" (file &key spec no-code out name namespace)
+(define-command "emit-c++" (file &key spec no-code out name namespace timed)
     (:summary "write NAME.hpp and NAME.cpp, a standalone C++17 controller"
      :arguments ("SPEC-FILE")
      :options ("--spec" "--no-code"
                ("--out" :string "DIR" "the directory to write into (required)")
                ("--name" :c++-identifier "NAME" "the files' base name" :default-text "the spec's name")
-               ("--namespace" :c++-identifier "NS" "the C++ namespace" :default-text "NAME"))
+               ("--namespace" :c++-identifier "NS" "the C++ namespace" :default-text "NAME")
+               ("--timed" :flag "" "also give the Controller the timed API: send_timed, advance and finish_events, with :when-busy policies, cuts, channels, timers and triggers"))
      :output "DIR/NAME.hpp and DIR/NAME.cpp; their paths on standard output")
   (unless out (usage-fail "emit-c++ needs --out DIR"))
   (let ((machine (plan-spec (choose-spec file spec :allow-code (not no-code)))))
-    (format t "~{~A~%~}" (mapcar #'namestring (emit-c++ machine out :name name :namespace namespace)))))
+    (format t "~{~A~%~}" (mapcar #'namestring (emit-c++ machine out :name name :namespace namespace :timed timed)))))

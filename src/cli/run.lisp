@@ -26,10 +26,9 @@ carries on."
     (dolist (entry events)
       (find-compiled-event controller (event-entry-name entry)))
     (check-scenario-times events at)
-    (cond ((and timed (not lisp))
-           (usage-fail "timed events (EV@T) and --at need --backend lisp: the C++ backend plays whole events only"))
-          ((not lisp)
-           (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events)))
+    (cond ((not lisp)
+           (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events :until at
+                                                       :when-busy (policy-keyword when-busy))))
           ((or events at)
            (play-events controller events :until at :when-busy (policy-keyword when-busy)))
           (t (present-state (controller-presenter controller) controller)))))

@@ -302,13 +302,6 @@ long long and double)."
 
 ;;; Runtime conditions (:if)
 
-(defun state-only-p (ast)
-  "True when AST mentions no numeric comparison."
-  (case (first ast)
-    (:cmp nil)
-    ((:not :and :or) (every #'state-only-p (rest ast)))
-    (t t)))
-
 (defun compile-condition (ast machine)
   "A predicate of the controller for :IF condition AST."
   (let ((spec (machine-spec machine)))

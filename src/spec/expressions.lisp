@@ -174,3 +174,11 @@ event (or macro); anything else is an absolute time expression."
     (if (realp form)
         `(:relative ,(spec-seconds form form ":time"))
         `(:absolute ,(parse-number-expression form)))))
+
+(defun state-only-p (ast)
+  "True when parsed expression AST mentions no numeric comparison, so the
+plannable state alone decides it."
+  (case (first ast)
+    (:cmp nil)
+    ((:not :and :or) (every #'state-only-p (rest ast)))
+    (t t)))
