@@ -15,8 +15,10 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   ;; Event name key -> COMPILED-EVENT.
   (events (make-hash-table :test 'equal))
   ;; Event symbol -> COMPILED-EVENT, filled as events are sent, so the usual
-  ;; lookup by symbol allocates nothing.
-  (event-symbols (make-hash-table :test 'eq :synchronized t))
+  ;; lookup by symbol allocates nothing and takes no lock. Never changed once
+  ;; published: a new symbol replaces the whole table (copy on write), so
+  ;; controllers on several threads may read it while one adds to it.
+  (event-symbols (make-hash-table :test 'eq))
   ;; The goal and op procedure boxes, for closures compiled later (EVENT-SUFFIXES).
   (procedures nil))
 

@@ -72,6 +72,14 @@ name) accepts, in spec order."
                 (t (find-spec machine)))))
     (mapcar #'event-name (spec-events spec))))
 
+(defun remember-event-symbol (machine symbol compiled)
+  "Publish a copy of MACHINE's symbol table with SYMBOL -> COMPILED added (the
+table is never changed in place, so readers need no lock); return COMPILED."
+  (let ((table (alexandria:copy-hash-table (compiled-machine-event-symbols machine))))
+    (setf (gethash symbol table) compiled
+          (compiled-machine-event-symbols machine) table)
+    compiled))
+
 (defun find-compiled-event (controller name &optional (function 'send-event))
   "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none, an
 ARGUMENT-ERROR of FUNCTION when NAME is neither a symbol nor a string.
@@ -89,7 +97,7 @@ time)."
           (cond ((null compiled)
                  (error 'unknown-event :name name :known (event-names controller)))
                 ((and (symbolp name) (symbol-package name))
-                 (setf (gethash name (compiled-machine-event-symbols machine)) compiled))
+                 (remember-event-symbol machine name compiled))
                 (t compiled))))))
 
 (defun send-event (controller event &key at when-busy)

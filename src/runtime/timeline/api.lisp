@@ -46,25 +46,13 @@ in the past."
     (advance-timeline timeline time)
     time))
 
-(defparameter *finish-events-limit* 1000000
-  "How many agenda steps FINISH-EVENTS takes before it decides that timers or
-triggers keep the controller busy for ever, and signals a TIMELINE-ERROR.")
-
 (defun finish-events (controller)
   "Advance timed CONTROLLER until no event runs or waits (timers that are
 still armed stay pending). Returns the time it stopped at. Signals a
 TIMELINE-ERROR, at the time reached, when events never stop coming (a timer
 that repeats faster than its event plays, say): ADVANCE to a time instead."
   (let ((timeline (check-timed-controller 'finish-events controller)))
-    (loop repeat *finish-events-limit*
-          while (timeline-busy-p timeline)
-          do (let ((item (agenda-next (timeline-agenda timeline))))
-               (advance-timeline timeline (if item (agenda-item-time item) (timeline-now timeline)))
-               (unless item (return)))
-          finally (when (timeline-busy-p timeline)
-                    (error 'timeline-error
-                           :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
-                                            (format-number (timeline-now timeline)) *finish-events-limit*))))
+    (advance-timeline timeline most-positive-double-float :until-idle t)
     (timeline-now timeline)))
 
 (defun controller-busy-p (controller)

@@ -36,11 +36,18 @@ waiting (QUEUE), and its timers and triggers."
   ;; outside at that time would be.
   (deferred '() :type list)
   ;; Items applied at the current instant, against loops of zero-length work.
-  (instant-count 0 :type fixnum))
+  (instant-count 0 :type fixnum)
+  ;; The runtime values an event planned ahead works on (the controller's are
+  ;; copied in, and put back after), so planning allocates no vector.
+  (scratch-values #() :type simple-vector))
 
 (defun controller-presenter* (timeline)
   "The presenter TIMELINE's controller presents to."
   (timeline-presenter timeline))
+
+(defparameter *finish-events-limit* 1000000
+  "How many agenda items FINISH-EVENTS applies before it decides that timers
+or triggers keep the controller busy for ever, and signals a TIMELINE-ERROR.")
 
 (defparameter *max-items-per-instant* 100000
   "How many items a timeline applies at one instant before it decides that
@@ -57,7 +64,8 @@ triggers or zero-length ops loop, and signals a TIMELINE-ERROR.")
 triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
-          (timeline-recorder timeline) (make-instance 'recorder :timeline timeline))
+          (timeline-recorder timeline) (make-instance 'recorder :timeline timeline)
+          (timeline-scratch-values timeline) (copy-seq (controller-values controller)))
     (resolve-cut-points timeline)
     (start-timers timeline)
     (start-triggers timeline)
@@ -163,7 +171,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
     (unwind-protect
          (progn
            (when (plusp (length values))
-             (setf (controller-values controller) (copy-seq values)))
+             (setf (controller-values controller)
+                   (replace (timeline-scratch-values timeline) values)))
            (when (> time (timeline-now timeline))
              (project-state timeline time))
            (setf (recorder-run recorder) run
@@ -277,17 +286,31 @@ result (T or a FAILURE)."
 
 ;;;# Advancing the clock
 
-(defun advance-timeline (timeline time &key (dispatch t))
+(defun advance-timeline (timeline time &key (dispatch t) until-idle)
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
 then NOW is TIME.  Events that timers and triggers send at an instant are
 dispatched when everything else due then has happened (unless DISPATCH is
-false: then they wait for the ADVANCE-TIMELINE that called this one)."
-  (let ((agenda (timeline-agenda timeline)))
+false: then they wait for the ADVANCE-TIMELINE that called this one).  With
+UNTIL-IDLE, stop instead at the first instant after which no event runs or
+waits (NOW is then that instant), signalling a TIMELINE-ERROR after
+*FINISH-EVENTS-LIMIT* items if that never comes."
+  (let ((agenda (timeline-agenda timeline))
+        (steps 0))
+    (declare (fixnum steps))
     (loop
       (let ((item (agenda-next agenda)))
-        (cond ((and item (<= (agenda-item-time item) time)
+        (cond ((and until-idle (null (timeline-deferred timeline))
+                    (or (null item) (> (agenda-item-time item) (timeline-now timeline)))
+                    (or (null item) (not (timeline-busy-p timeline))))
+               (setf time (timeline-now timeline))
+               (return))
+              ((and item (<= (agenda-item-time item) time)
                     (not (and dispatch (timeline-deferred timeline)
                               (> (agenda-item-time item) (timeline-now timeline)))))
+               (when (and until-idle (> (incf steps) *finish-events-limit*))
+                 (error 'timeline-error
+                        :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
+                                         (format-number (timeline-now timeline)) *finish-events-limit*)))
                (agenda-remove-top agenda)
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)
