@@ -144,6 +144,7 @@ run the resulting state machine as Lisp closures or embedded C++."
         :components ((:file "performance")
                      (:file "body-presenter")
                      (:file "op-channels")
+                     (:file "script-check")
                      (:file "simulation")))
        (:module "render"
         :serial t
@@ -231,6 +232,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-scripts")
                  (:file "test-performance")
                  (:file "test-op-channels")
+                 (:file "test-script-check")
                  (:file "test-simulate")
                  (:file "test-record")
                  (:file "test-render-base")

@@ -201,14 +201,30 @@ ARGUMENT-ERROR for an argument of the wrong kind."
                                    (list (op-name op) (op-duration op) (script-duration script)))))
 
 (defun script-diagnostics (spec &optional scripts)
-  "CHECK's findings about SPEC's script library (SCRIPTS, else its (:scripts FILE)):
+  "CHECK's findings about SPEC's script library (SCRIPTS, a library or a file,
+else its (:scripts FILE)): errors for everything playing SPEC would fail on
+\(see DIAGNOSTIC-SEVERITY) -- a library or pose library that cannot be read,
+as one :SCRIPT-LIBRARY diagnostic; and, set up on a scratch body of SPEC's
+skeleton as playing would, each item of a needed script that cannot play
+\(:MOTOR-CALL, :SCENE-NAME; see CHECK-LIBRARY-SCRIPTS) -- then warnings for
 missing scripts and durations that disagree.  NIL when SPEC names no library."
   (when (or scripts (getf (spec-options spec) :scripts))
-    (let* ((library (spec-script-library spec :scripts scripts))
-           (missing (missing-scripts library (spec-script-names spec))))
-      (append (and missing
-                   (list (make-diagnostic :missing-scripts
-                                          (format nil "the script library lacks ~{~A~^, ~}"
-                                                  (mapcar #'lisp-text missing))
-                                          missing)))
-              (script-duration-diagnostics spec library)))))
+    (let ((library (handler-case (spec-script-library spec :scripts scripts)
+                     (spec-error (condition)
+                       (return-from script-diagnostics (list (library-failure-diagnostic condition)))))))
+      (let* ((needed (spec-script-names spec))
+             (missing (missing-scripts library needed))
+             (skeleton (let ((body (or (spec-body-name spec) *default-body*)))
+                         (if (skeleton-p body) body (load-skeleton body))))
+             (poses (and (script-library-poses library)
+                         (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton)
+                           (spec-error (condition)
+                             (return-from script-diagnostics (list (library-failure-diagnostic condition))))))))
+        (append (check-library-scripts library skeleton needed
+                                       :characters (list (spec-name spec)) :poses poses)
+                (and missing
+                     (list (make-diagnostic :missing-scripts
+                                            (format nil "the script library lacks ~{~A~^, ~}"
+                                                    (mapcar #'lisp-text missing))
+                                            missing)))
+                (script-duration-diagnostics spec library))))))
