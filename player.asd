@@ -78,6 +78,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cpp")
                    (:file "cpp-steps")
                    (:file "cpp-timeline")
+                   (:file "cpp-timeline-agenda")
+                   (:file "cpp-timeline-dispatch")
+                   (:file "cpp-timeline-machine")
                    (:file "cpp-source")
                    (:file "cpp-build")))
      (:module "runtime"
