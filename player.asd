@@ -52,6 +52,8 @@ run the resulting state machine as Lisp closures or embedded C++."
       :serial t
       :components ((:file "state-graph")
                    (:file "dot")
+                   (:file "explanation-steps")
+                   (:file "unreachable-goals")
                    (:file "explain")))
      (:module "compose"
       :serial t
