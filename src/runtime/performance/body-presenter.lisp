@@ -86,19 +86,34 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
   "A body presenter for SPEC: its character, named after SPEC, has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE)).  Trace lines go to STREAM when given.
-Signals an error listing every missing script before anything plays, and an
+Before anything plays, signals a SCRIPT-ERROR listing every missing script,
+or naming the first item of a needed script that cannot play on this body
+(what CHECK reports as an error, at the item's file and line); an
 ARGUMENT-ERROR for an argument of the wrong kind."
   (check-body-presenter-arguments 'make-body-presenter spec scripts body seed stream blend-time)
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
-         (library (spec-script-library spec :scripts scripts)))
-    (check-spec-scripts spec library)
-    (make-instance 'body-presenter
-                   :stream stream
-                   :performance (make-performance
-                                 library
-                                 (list (list (spec-name spec)
-                                             (or body (spec-body-name spec) *default-body*)))
-                                 :seed seed :blend-time blend-time))))
+         (library (spec-script-library spec :scripts scripts))
+         (performance (progn
+                        (check-spec-scripts spec library)
+                        (make-performance library
+                                          (list (list (spec-name spec)
+                                                      (or body (spec-body-name spec) *default-body*)))
+                                          :seed seed :blend-time blend-time))))
+    (check-scripts-play spec performance)
+    (make-instance 'body-presenter :stream stream :performance performance)))
+
+(defun check-scripts-play (spec performance)
+  "Signal a SCRIPT-ERROR for the first item of a script SPEC needs that cannot
+play on PERFORMANCE's character (CHECK-LIBRARY-SCRIPTS), so a render never
+stops halfway on it."
+  (let ((failure (first (check-library-scripts
+                         (performance-library performance)
+                         (character-spec-skeleton (first (performance-characters performance)))
+                         (spec-script-names spec)
+                         :characters (list (spec-name spec))
+                         :poses (performance-poses performance)))))
+    (when failure
+      (error 'script-error :spec (spec-name spec) :message (diagnostic-message failure)))))
 
 (defun presenter-library (presenter)
   "The script library PRESENTER plays."
