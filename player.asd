@@ -219,6 +219,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-peedy")
                  (:file "test-peedy-body")
                  (:file "test-properties")
+                 (:file "timeline-streams")
+                 (:file "timeline-model")
                  (:file "test-timeline-model")
                  (:file "test-c++")
                  (:file "test-c++-hostile")
