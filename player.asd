@@ -28,6 +28,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "expressions")
                    (:file "canonical")
                    (:file "classes")
+                   (:file "variables")
                    (:file "parse")
                    (:file "directives")
                    (:file "interruption")
