@@ -396,3 +396,15 @@ error line containing FRAGMENT."
                    "--goal" "posture.sitt")
   (check-dot-error 2 "--goal takes one state expression" "--goal" "(and a")
   (check-dot-error 2 "--out takes a file name ending in .dot, .gv, .svg or .png" "--out" "graph.pdf"))
+
+(test the-current-state-is-marked
+  "WRITE-STATE-GRAPH :CURRENT marks exactly the node of that state."
+  (let* ((machine (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp")))))
+         (controller (make-controller machine :initial-state '((posture . sit) (alert . sleep))))
+         (text (with-output-to-string (out)
+                 (write-state-graph machine out :current (player::controller-bits controller))))
+         (marked (remove-if-not (lambda (line) (search "penwidth=3" line)) (lines text))))
+    (is (= 1 (length marked)))
+    (is (search "posture=sit" (first marked)))
+    (is (search "alert=sleep" (first marked)))
+    (signals argument-error (write-state-graph machine (make-broadcast-stream) :current -1))))

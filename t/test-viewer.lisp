@@ -208,3 +208,20 @@ sky and floor change little along a row, so what differs is what stands there."
       ;; Keys 1 and 2 sent their events, the second queued after the first; 9 is no key.
       (is (equal '("(:event ev-on :time 0.5)" "(:event ev-off :time 1.5)")
                  (remove-if-not (lambda (line) (search "(:event" line)) (trace-of controller)))))))
+
+(test view-keeps-the-state-graph-with-the-current-state
+  "With --dot, the viewer rewrites the state graph whenever the state changes,
+the current state's node marked: after ev-pick, the holding one."
+  (with-window-programs ()
+    (let ((path (format nil "/tmp/player-view-~36R.dot" (random (expt 2 40) (make-random-state t)))))
+      (unwind-protect
+           (multiple-value-bind (out err code)
+               (view-command (list (fixture "anim.lisp") "--size" "160x120" "--frames" "100000"
+                                   "--keys" "1@0,escape@1.5" "--dot" path))
+             (declare (ignore out))
+             (is (= 0 code) "exit ~D, stderr: ~A" code err)
+             (let ((marked (remove-if-not (lambda (line) (search "penwidth=3" line))
+                                          (lines (alexandria:read-file-into-string path)))))
+               (is (= 1 (length marked)) "~S" marked)
+               (is (search "label=\"holding=true\"" (first marked)))))
+        (when (probe-file path) (delete-file path))))))

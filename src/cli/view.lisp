@@ -18,7 +18,7 @@
                                         (option-name option) name (mapcar #'car *view-control-keys*)))))))
           (split-list text)))
 
-(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys)
+(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot)
     (:summary "play the controller live in a window"
      :description "Keys from the printed map (or event names typed at the terminal) send
 events, space pauses, the arrows and the mouse orbit the camera, the scroll
@@ -28,11 +28,12 @@ without a screen."
      :options ("--spec" "--no-code" "--initial" "--body" "--scripts" "--size" "--seed"
                ("--frames" :positive-integer "N" "stop after N frames")
                ("--screenshot" :string "FILE.png" "save the last frame shown")
-               ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5"))
+               ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5")
+               ("--dot" :string "FILE" "keep the state graph (.dot, .svg or .png, as for `player dot`) in FILE, rewritten with the current state marked whenever it changes"))
      :output "a window; the key map and the trace on standard output")
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (problem (scripted-keys-problem keys (view-event-keys spec))))
     (when problem (usage-fail "--keys: ~A" problem))
     (view-spec spec :initial initial :body body :scripts scripts
                     :frames frames :screenshot screenshot :size size
-                    :seed seed :keys keys)))
+                    :seed seed :keys keys :dot dot)))

@@ -68,6 +68,9 @@ need it), as a DOT attribute list ` [name=value, ...]`; nothing when empty."
               (list :peripheries "2"))
             (when in-goal
               (list :style "filled" :fillcolor (dot-string *goal-fill-color*)))
+            (when (eql state (state-graph-current graph))
+              (list :color (dot-string *current-state-color*) :penwidth "3"
+                    :tooltip (dot-string "the controller is here")))
             (when (and plan-tree (not in-goal) (null (state-plan goal state)))
               (list :color (dot-string *no-plan-color*) :fontcolor (dot-string *no-plan-color*)
                     :tooltip (dot-string "no plan reaches the goal from here"))))))
@@ -139,18 +142,26 @@ its op, with the extra DOT ATTRIBUTES."
     (format stream "}~%")
     graph))
 
-(defun write-state-graph (machine stream &key goal)
+(defparameter *current-state-color* "#d62728"
+  "The border colour of the node of the state a running controller is in.")
+
+(defun write-state-graph (machine stream &key goal current)
   "Write MACHINE's plannable state graph (MACHINE a machine, a spec or a
 spec's name) to STREAM as Graphviz DOT text, and return the STATE-GRAPH
 drawn.  GOAL, a state expression as written in a spec (posture.sit, a class
 name, (and ...)), shades its states and adds its plan tree.  Signals an
 ARGUMENT-ERROR for a MACHINE or STREAM of the wrong kind, and a
 STATE-GRAPH-ERROR for a GOAL that is not a state expression of the spec and
-for a spec with too many states (see BUILD-STATE-GRAPH)."
+for a spec with too many states (see BUILD-STATE-GRAPH).  CURRENT, a
+one-hot state (a controller's CONTROLLER-BITS), is drawn with a red border."
   (let ((machine (ensure-machine machine 'write-state-graph)))
     (check-argument 'write-state-graph 'stream stream
                     (lambda (s) (and (streamp s) (output-stream-p s))) "an output stream")
-    (write-dot-graph (build-state-graph machine :goal goal) stream)))
+    (check-argument 'write-state-graph :current current (lambda (x) (or (null x) (typep x '(integer 0))))
+                    "NIL or a one-hot state (a non-negative integer)")
+    (let ((graph (build-state-graph machine :goal goal)))
+      (setf (state-graph-current graph) current)
+      (write-dot-graph graph stream))))
 
 ;;;# Files, rendered by Graphviz
 
@@ -199,9 +210,9 @@ a GRAPHVIZ-ERROR with its message when it fails."
       (state-graph-fail "cannot write the file ~A" (uiop:native-namestring path))))
   path)
 
-(defun write-state-graph-file (machine path &key goal)
+(defun write-state-graph-file (machine path &key goal current)
   "Write MACHINE's state graph (see WRITE-STATE-GRAPH, for MACHINE and GOAL)
-to the file PATH (a pathname or native file name), as its type says: DOT text
+(and CURRENT) to the file PATH (a pathname or native file name), as its type says: DOT text
 for .dot or .gv, an image drawn by *DOT-PROGRAM* for .svg or .png.  Returns
 the pathname.  Signals an ARGUMENT-ERROR for a MACHINE or PATH of the wrong
 kind, a STATE-GRAPH-ERROR for another type or a file that cannot be written
@@ -216,7 +227,7 @@ missing or fails."
                      (state-graph-fail "cannot tell how to write ~A: give a file ending in .dot, .gv, .svg or .png"
                                        (uiop:native-namestring path)))))
     (unless (eq format :dot) (find-dot))
-    (let ((text (with-output-to-string (out) (write-state-graph machine out :goal goal))))
+    (let ((text (with-output-to-string (out) (write-state-graph machine out :goal goal :current current))))
       (if (eq format :dot)
           (write-graph-text text path)
           (render-dot text path format)))))

@@ -62,7 +62,9 @@ CLUSTER-VARIABLE is the variable whose values group the states, or NIL."
   (goal nil)
   (goal-form nil)
   (plan-edges '() :type list)
-  (cluster-variable nil))
+  (cluster-variable nil)
+  ;; The one-hot state a running controller is in, drawn highlighted, or NIL.
+  (current nil))
 
 (defmethod print-object ((graph state-graph) stream)
   (print-unreadable-object (graph stream :type t)

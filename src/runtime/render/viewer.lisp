@@ -28,6 +28,9 @@ scripted key presses still due (SCRIPT, (SECONDS . KEY) by time), the clock
 frame's animation time), the mouse DRAG (NIL, :START, or the last (X . Y)),
 trace lines PRINTED so far, the TITLE shown and whether the terminal is still read."
   window controller performance renderer name keys script
+  ;; A file the state graph is written to, current state highlighted, and the
+  ;; state last written (see WRITE-CURRENT-STATE-GRAPH).
+  (dot nil) (dot-state nil)
   (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
 
 (defun viewer-wall-time (viewer)
@@ -57,6 +60,15 @@ if another event is playing, EVENT's :when-busy policy decides (by default it
 waits its turn), so a preempting event cuts the animation live."
   (let ((controller (viewer-controller viewer)))
     (send-event controller event :at (max (viewer-now viewer) (controller-time controller)))))
+
+(defun write-current-state-graph (viewer)
+  "When VIEWER has a --dot file and its controller's state changed since it
+was last written, write the state graph there with the current state marked."
+  (let* ((controller (viewer-controller viewer))
+         (state (controller-bits controller)))
+    (when (and (viewer-dot viewer) (not (eql state (viewer-dot-state viewer))))
+      (write-state-graph-file (controller-machine controller) (viewer-dot viewer) :current state)
+      (setf (viewer-dot-state viewer) state))))
 
 (defun trace-line-time (line)
   "When trace LINE happens, or NIL for a :state line (it follows the line before)."
@@ -197,6 +209,7 @@ shown; return the number of frames shown."
                (read-terminal viewer)
                (advance (viewer-controller viewer)
                         (max (viewer-now viewer) (controller-time (viewer-controller viewer))))
+               (write-current-state-graph viewer)
                (draw-view viewer)
                (print-due-trace viewer)
                (let ((title (view-title viewer)))
@@ -228,12 +241,13 @@ with EVENT-KEYS, as a message; NIL when they all can."
           return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
                          key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
 
-(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys)
+(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot)
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
 the end).  Returns after FRAMES frames (NIL: when the window closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
-if given.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+if given, and rewriting the state graph into DOT (a .dot, .svg or .png file)
+each time the state changes, the current state marked.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -244,6 +258,8 @@ opens, for an argument of the wrong kind."
   (check-argument 'view-spec :frames frames (lambda (x) (or (null x) (typep x '(integer 1))))
                   "NIL or a positive integer")
   (check-argument 'view-spec :screenshot screenshot (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :dot dot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
   (check-argument 'view-spec :keys keys
                   (lambda (x) (and (alexandria:proper-list-p x)
@@ -261,6 +277,7 @@ opens, for an argument of the wrong kind."
     (multiple-value-bind (width height) (image-size size)
       (with-glfw-window (window width height (lisp-text (spec-name spec)))
         (let ((viewer (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
+                                    :dot dot
                                     :performance (presenter-performance presenter) :keys event-keys
                                     :script (sort (copy-list keys) #'< :key #'car))))
           (multiple-value-bind (fb-width fb-height) (glfw-framebuffer-size window)
