@@ -145,9 +145,9 @@ stops it, or NIL when it plays through."
 
 (test severities-of-the-existing-kinds
   (dolist (kind '(:unreachable-goal :unused-op :truncated :unreachable-states :shared-channel
-                  :missing-scripts :duration-mismatch))
+                  :duration-mismatch))
     (is (eq :warning (player::diagnostic-severity (player::make-diagnostic kind "x")))))
-  (dolist (kind '(:script-library :motor-call :scene-name))
+  (dolist (kind '(:script-library :missing-scripts :motor-call :scene-name))
     (is (eq :error (player::diagnostic-severity (player::make-diagnostic kind "x"))))))
 
 ;;;# bin/player check

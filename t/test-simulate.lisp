@@ -56,10 +56,11 @@
     (declare (ignore err))
     (is (= 0 code))
     (is (search "warning: op pan declares :duration 3 but its script pan lasts 2 s" out)))
+  ;; Simulate refuses a library that lacks scripts, so check calls it an error.
   (multiple-value-bind (out err code) (player-command "check" (fixture "anim-missing.lisp"))
-    (declare (ignore err))
-    (is (= 0 code))
-    (is (search "lacks juggle, deep-bow" out))))
+    (is (= 1 code))
+    (is (search "error: the script library lacks juggle, deep-bow" out) "~A" out)
+    (is (search "player: error: check found" err) "~A" err)))
 
 (defun simulate-error (&rest arguments)
   "Run simulate with ARGUMENTS; return its stderr and exit code."

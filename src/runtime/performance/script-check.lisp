@@ -22,15 +22,16 @@
 ;;;# Severity
 
 (defparameter *error-diagnostic-kinds*
-  '(:script-library :motor-call :scene-name)
+  '(:script-library :missing-scripts :motor-call :scene-name)
   "The DIAGNOSTIC kinds that are errors: what playing the spec would fail on.
 Every other kind (:unreachable-goal, :unused-op, :truncated,
-:unreachable-states, :shared-channel, :missing-scripts, :duration-mismatch)
-is a warning.
+:unreachable-states, :shared-channel, :duration-mismatch) is a warning.
   :SCRIPT-LIBRARY  the library or its pose library cannot be read (a
                    malformed form, an unknown motor function or parameter, a
                    value of the wrong type, a director starting an unknown
                    script ...);
+  :MISSING-SCRIPTS scripts or directors the spec's ops and autoscripts
+                   need that the library lacks (simulate refuses them);
   :MOTOR-CALL      a motor call the spec's body cannot perform (an unknown
                    pose, joint, role or DOF, a written angle past its limit);
   :SCENE-NAME      an item or target naming an object, joint or role the
