@@ -82,11 +82,8 @@ private:
 "
   "The rest of the driver's presenter.")
 
-(defparameter *driver-main*
-  "// Arguments: N, then N pairs VARIABLE VALUE (as Player prints them), then the
-// events' indices. Without events it prints the initial state line.
-int main(int argc, char** argv) {
-  ctl::State state = ctl::initial_state();
+(defparameter *driver-read-initial-state*
+  "  ctl::State state = ctl::initial_state();
   const int pairs = argc > 1 ? std::atoi(argv[1]) : 0;
   int next = 2;
   for (int i = 0; i < pairs; ++i, next += 2) {
@@ -95,7 +92,18 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  TracePresenter presenter;
+"
+  "The start of both drivers' main(): the initial state from N, then N pairs
+VARIABLE VALUE; NEXT is then the index of the first argument after them.")
+
+(defparameter *driver-main*
+  (concatenate 'string
+   "// Arguments: N, then N pairs VARIABLE VALUE (as Player prints them), then the
+// events' indices. Without events it prints the initial state line.
+int main(int argc, char** argv) {
+"
+   *driver-read-initial-state*
+   "  TracePresenter presenter;
   ctl::Controller controller(presenter, state);
   if (next >= argc) print_line(controller.state_line());
   for (; next < argc; ++next) {
@@ -108,7 +116,7 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
-"
+")
   "The driver's main() for the whole-event API.")
 
 (defparameter *timed-driver-presenter*
@@ -136,7 +144,8 @@ int main(int argc, char** argv) {
   "The driver presenter's members for the timed API, printing as Player's trace.")
 
 (defparameter *timed-driver-main*
-  "// Stop with the timeline's message when it cannot move on.
+  (concatenate 'string
+   "// Stop with the timeline's message when it cannot move on.
 void check_timeline(const ctl::Controller& controller) {
   if (controller.timeline_error().empty()) return;
   std::fprintf(stderr, \"%s\\n\", controller.timeline_error().c_str());
@@ -149,16 +158,9 @@ void check_timeline(const ctl::Controller& controller) {
 // the timed entries, then the entries: INDEX (sent when the events before it
 // have ended) or INDEX@SECONDS.
 int main(int argc, char** argv) {
-  ctl::State state = ctl::initial_state();
-  const int pairs = argc > 1 ? std::atoi(argv[1]) : 0;
-  int next = 2;
-  for (int i = 0; i < pairs; ++i, next += 2) {
-    if (next + 1 >= argc || !ctl::assign(state, argv[next], argv[next + 1])) {
-      std::fprintf(stderr, \"bad initial value %s\\n\", next < argc ? argv[next] : \"(missing)\");
-      return 2;
-    }
-  }
-  if (next + 1 >= argc) {
+"
+   *driver-read-initial-state*
+   "  if (next + 1 >= argc) {
     std::fprintf(stderr, \"missing UNTIL or POLICY\\n\");
     return 2;
   }
@@ -205,7 +207,7 @@ int main(int argc, char** argv) {
   presenter.print_rest();
   return 0;
 }
-"
+")
   "The timed driver's main(): plays a timed scenario as PLAY-EVENTS does.")
 
 (defun driver-source (name namespace &key timed)

@@ -325,18 +325,23 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
   (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
     (format nil "(~A & ~~~A) | ~A" bits-expression (c++-hex mask) (c++-hex bits))))
 
+(defun emit-op-procedure-opening (op id)
+  "Open the procedure ID that plays OP: its :c++ text, and for a :code op the
+embedder's hook (the whole-event procedure and its timed planning twin alike)."
+  (emit "int Controller::~A() {" id)
+  (when (op-c++ op) (emit "  ~A" (op-c++ op)))
+  (when (eq (op-kind op) :code)
+    (emit "  // :code ~A has no C++ meaning: the embedder implements the hook."
+          (code-comment-text (op-code op)))
+    (emit "  presenter_.code_hook(~A);" (c++-string (lisp-text (op-name op))))))
+
 (defun emit-executor (op machine)
   "OP's operator-execution procedure (its precondition is the caller's business)."
   (let ((index (op-index op machine)))
     (if (eq (op-kind op) :macro)
         (emit-macro-executor op index machine)
         (progn
-          (emit "int Controller::~A() {" (op-id op))
-          (when (op-c++ op) (emit "  ~A" (op-c++ op)))
-          (when (eq (op-kind op) :code)
-            (emit "  // :code ~A has no C++ meaning: the embedder implements the hook."
-                  (code-comment-text (op-code op)))
-            (emit "  presenter_.code_hook(~A);" (c++-string (lisp-text (op-name op)))))
+          (emit-op-procedure-opening op (op-id op))
           (emit "  const double start = schedule_;")
           (emit "  const double end = start + presenter_.~A(kOps[~D], start);"
                 (if (eq (op-kind op) :director) "run_director" "play") index)

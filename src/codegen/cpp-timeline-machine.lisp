@@ -9,12 +9,7 @@
 (defun emit-planning-executor (op machine)
   "OP's planning twin: record the op (and its end's state change) instead of playing it."
   (let ((index (op-index op machine)))
-    (emit "int Controller::~A() {" (planning-id (op-id op)))
-    (when (op-c++ op) (emit "  ~A" (op-c++ op)))
-    (when (eq (op-kind op) :code)
-      (emit "  // :code ~A has no C++ meaning: the embedder implements the hook."
-            (code-comment-text (op-code op)))
-      (emit "  presenter_.code_hook(~A);" (c++-string (lisp-text (op-name op)))))
+    (emit-op-procedure-opening op (planning-id (op-id op)))
     (emit "  const double start = schedule_;")
     (emit "  const double end = start + presenter_.planned_duration(kOps[~D], start);" index)
     (emit "  record_op_(~D, start, end);" index)
