@@ -69,7 +69,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "traces")
                    (:file "cradle")
                    (:file "graph-spec")
-                   (:file "cradle-spec")))
+                   (:file "cradle-spec")
+                   (:file "spec-graph")
+                   (:file "graph-expressions")
+                   (:file "graph-option")))
      (:module "codegen"
       :serial t
       :components ((:file "ir")
@@ -257,5 +260,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "fuzz-minimize")
                  (:file "test-fuzz")
                  (:file "test-api-arguments")
-                 (:file "test-compose"))))
+                 (:file "test-compose")
+                 (:file "test-compose-specs"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
