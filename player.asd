@@ -70,6 +70,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cradle")
                    (:file "graph-spec")
                    (:file "cradle-spec")
+                   (:file "cradle-scripts")
                    (:file "spec-graph")
                    (:file "graph-expressions")
                    (:file "graph-option")))

@@ -115,7 +115,7 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
                      (program-error ()
                        (graph-expression-fail form "~A is not written ~A" (bounded-lisp-text form 80) (third entry)))
                      ((or graph-error argument-error) (condition)
-                       (graph-expression-fail form "~A: ~A" (bounded-lisp-text form 80) condition)))))
+                       (graph-expression-fail form "~A" condition)))))
                 (t (graph-expression-fail form "~A is not a graph expression (a registered graph's name or (BUILDER ARGUMENT...))"
                                           (bounded-lisp-text form 80))))))
     (when (> (graph-edge-count graph) *graph-expression-edge-limit*)
