@@ -262,5 +262,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-fuzz")
                  (:file "test-api-arguments")
                  (:file "test-compose")
-                 (:file "test-compose-specs"))))
+                 (:file "test-compose-specs")
+                 (:file "test-cradle-render"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
