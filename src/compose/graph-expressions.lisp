@@ -31,8 +31,9 @@
   (:documentation "A (:graph EXPR) option of a defspec is not a graph
 expression, or its graph cannot be built; FORM is the offending part."))
 
-(defparameter *max-cradle-spheres* 7
-  "The largest N a graph expression's (newton-cradle N) builds.")
+(defparameter *max-cradle-spheres* 6
+  "The largest N a graph expression's (newton-cradle N) builds: past it a build takes
+minutes (see bench/cradle.lisp), too long for loading a spec file.")
 
 (defparameter *graph-expression-edge-limit* 500000
   "The most edges a graph built by a graph expression may have, at any step.")
