@@ -172,7 +172,18 @@ from the initial state, plans as long as SPEC's (none where SPEC has none)."
       (is (= 3 (length (player::spec-ops spec)))))
     (let ((spec (spec-of '(:graph (sum (graph (a) ()) (graph () ((a . b)))) :variable v) '(:max-depth 3))))
       (is (= 3 (player::spec-max-depth spec)))
-      (is (string-equal "V" (player::var-name (first (player::spec-variables spec))))))))
+      (is (string-equal "V" (player::var-name (first (player::spec-variables spec))))))
+    ;; specs defined before, combined: the door and the lamp at once
+    (let ((spec (spec-of '(:graph (product (spec compose-door) (spec compose-lamp))))))
+      (is (= (* (graph-node-count (spec->graph 'compose-door)) (graph-node-count (spec->graph 'compose-lamp)))
+             (length (player::var-domain (first (player::spec-variables spec)))))))
+    ;; graphs too large are refused before they are built
+    (let ((player::*graph-expression-edge-limit* 1000)
+          (lefts (loop for i from 1 to 20 collect (cons i 0)))
+          (rights (loop for i from 1 to 20 collect (cons 0 i))))
+      (signals graph-expression-error (spec-of `(:graph (merge (complete ,lefts) (complete ,rights)))))
+      (signals graph-expression-error (spec-of `(:graph (product (complete ,lefts) (complete ,rights)))))
+      (signals graph-expression-error (spec-of `(:graph (complete ,(loop for i below 40 collect i))))))))
 
 (test graph-option-errors-are-located
   (flet ((check (option &rest words)

@@ -26,11 +26,6 @@
 
 (in-package #:player)
 
-(define-condition graph-expression-error (spec-error)
-  ()
-  (:documentation "A (:graph EXPR) option of a defspec is not a graph
-expression, or its graph cannot be built; FORM is the offending part."))
-
 (defparameter *max-cradle-spheres* 6
   "The largest N a graph expression's (newton-cradle N) builds: past it a build takes
 minutes (see bench/cradle.lisp), too long for loading a spec file.")
@@ -181,6 +176,15 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
         (graph-expression-fail form "the product would have ~D edges, more than ~D" edges *graph-expression-edge-limit*)))
     (apply #'graph-product graphs)))
 
+(defun merged-edge-count (graph1 graph2 leafp)
+  "How many edges (before duplicates merge) GRAPH-MERGE would join from GRAPH1
+and GRAPH2: counted first, so a merge too large is refused before it is built."
+  (let ((counts (make-node-table)))
+    (loop for e2 being the hash-keys of (graph-edge-table graph2)
+          do (incf (gethash (cons (tree-left (car e2) :leafp leafp) (tree-left (cdr e2) :leafp leafp)) counts 0)))
+    (loop for e1 being the hash-keys of (graph-edge-table graph1)
+          sum (gethash (cons (tree-right (car e1) :leafp leafp) (tree-right (cdr e1) :leafp leafp)) counts 0))))
+
 (define-graph-builder ("merge" "⊗") "(merge G G... [:leaf atom|sphere])" (&rest arguments)
   (let* ((tail (member :leaf arguments))
          (graphs (ldiff arguments tail))
@@ -188,7 +192,14 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
     (unless (and (>= (length graphs) 2) (or (null tail) (and (= (length tail) 2) (word-p leaf "ATOM" "SPHERE"))))
       (graph-expression-fail form "write (merge G G... [:leaf atom|sphere]), not ~A" (bounded-lisp-text form 80)))
     (let ((leafp (if (word-p leaf "SPHERE") #'sphere-state-p #'atom)))
-      (reduce (lambda (a b) (graph-merge a b :leafp leafp)) (mapcar #'interpret-graph graphs)))))
+      (reduce (lambda (a b)
+                (check-merge-nodes a "first" leafp)
+                (check-merge-nodes b "second" leafp)
+                (let ((edges (merged-edge-count a b leafp)))
+                  (when (> edges *graph-expression-edge-limit*)
+                    (graph-expression-fail form "the merge would have ~D edges, more than ~D" edges *graph-expression-edge-limit*)))
+                (graph-merge a b :leafp leafp))
+              (mapcar #'interpret-graph graphs)))))
 
 (define-graph-builder ("restrict") "(restrict G PRED)" (graph predicate)
   (restrict (interpret-graph graph) (interpret-predicate predicate)))
@@ -199,7 +210,9 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
 (define-graph-builder ("spec") "(spec NAME)" (name)
   (unless (and (symbolp name) name (find-spec name nil))
     (graph-expression-fail form "(spec NAME): no spec named ~A is defined before this one" (lisp-text name)))
-  (values (spec->graph name)))
+  ;; A spec file may name any spec: keep the graph small enough to load quickly.
+  (let ((*spec-graph-state-limit* (min *spec-graph-state-limit* 20000)))
+    (values (spec->graph name))))
 
 ;;; Predicates and patterns
 
