@@ -14,7 +14,8 @@
 ;;;;   (merge G G [:leaf atom|sphere]) or (⊗ G G ...)  G1 ⊗ G2; :leaf sphere for cradle graphs
 ;;;;   (restrict G PRED)               G \ p
 ;;;;   (reachable G NODE...)           the part of G reachable from the NODEs
-;;;;   (spec NAME)                     SPEC->GRAPH of a spec defined before
+;;;;   (spec NAME)                     SPEC->GRAPH of a spec defined before (its
+;;;;                                   values are symbols of that spec's package)
 ;;;; PRED is a pattern (both ends of an edge must match it, PRED-NODES),
 ;;;; (=> P1 P2) (the paper's implication, PRED-IMPLIES), (then P1 P2) (PRED-EDGE)
 ;;;; or (& PRED PRED...) (PRED-AND). Patterns are the paper's, as in
@@ -27,8 +28,8 @@
 (in-package #:player)
 
 (defparameter *max-cradle-spheres* 6
-  "The largest N a graph expression's (newton-cradle N) builds: past it a build takes
-minutes (see bench/cradle.lisp), too long for loading a spec file.")
+  "The largest N a graph expression's (newton-cradle N) builds: n = 6 takes
+seconds, n = 7 more than SBCL's default 1 GB heap (see bench/cradle.lisp).")
 
 (defparameter *graph-expression-edge-limit* 500000
   "The most edges a graph built by a graph expression may have, at any step.")
