@@ -148,6 +148,8 @@ run the resulting state machine as Lisp closures or embedded C++."
        (:module "performance"
         :serial t
         :components ((:file "performance")
+                     (:file "captions")
+                     (:file "placeholders")
                      (:file "body-presenter")
                      (:file "op-channels")
                      (:file "script-check")
@@ -166,6 +168,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "camera")
                      (:file "antialias")
                      (:file "shaders")
+                     (:file "caption-font")
+                     (:file "captions")
                      (:file "renderer")
                      (:file "render-simulation")
                      (:file "glfw")

@@ -14,7 +14,12 @@
    (autoscript-runs :initform (make-hash-table :test #'equal) :reader autoscript-runs
                     :documentation "(PROC VARIABLE VALUE) -> the looping run playing it.")
    (op-runs :initform (make-hash-table :test #'equal) :reader op-runs
-            :documentation "(OP . START) -> the script runs playing that op, so a cut can stop them."))
+            :documentation "(OP . START) -> the script runs playing that op, so a cut can stop them.")
+   (placeholder :initarg :placeholder :initform nil :reader presenter-placeholder-p
+                :documentation "True when the library is made up (placeholders.lisp): each
+op then shows its name as a caption while it plays.")
+   (captions :initform (make-hash-table :test #'equal) :reader op-captions
+             :documentation "(OP . START) -> the caption showing that op's name, so a cut can end it."))
   (:documentation "Plays a controller's ops as scripts of a library on a body.
 PRESENTER-PERFORMANCE gives the frames."))
 
@@ -43,9 +48,14 @@ PRESENTER-PERFORMANCE gives the frames."))
                  append (copy-list (autoscript-procs auto))))
    :test #'string-equal :from-end t))
 
+(defun spec-names-scripts-p (spec)
+  "Does SPEC give (:scripts FILE)?"
+  (and (getf (spec-options spec) :scripts) t))
+
 (defun spec-script-library (spec &key scripts)
   "The script library for SPEC: SCRIPTS (a SCRIPT-LIBRARY or a file), else SPEC's
-(:scripts FILE) option.  Signals a SPEC-ERROR when there is neither."
+(:scripts FILE) option.  Signals a SPEC-ERROR when there is neither (a body
+presenter then plays placeholders, see MAKE-PLACEHOLDER-LIBRARY)."
   (when (script-library-p scripts)
     (return-from spec-script-library scripts))
   (let ((path (or (and scripts (pathname scripts)) (spec-option-path spec :scripts))))
@@ -85,22 +95,27 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
                                       (blend-time *default-blend-time*))
   "A body presenter for SPEC: its character, named after SPEC, has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
-SCRIPTS (else SPEC's (:scripts FILE)).  Trace lines go to STREAM when given.
+SCRIPTS (else SPEC's (:scripts FILE), else placeholders: a gesture per op with
+its name as a caption, see MAKE-PLACEHOLDER-LIBRARY).  Trace lines go to STREAM when given.
 Before anything plays, signals a SCRIPT-ERROR listing every missing script,
 or naming the first item of a needed script that cannot play on this body
 (what CHECK reports as an error, at the item's file and line); an
 ARGUMENT-ERROR for an argument of the wrong kind."
   (check-body-presenter-arguments 'make-body-presenter spec scripts body seed stream blend-time)
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
-         (library (spec-script-library spec :scripts scripts))
+         (body (or body (spec-body-name spec) *default-body*))
+         (skeleton (if (skeleton-p body) body (load-skeleton body)))
+         (placeholder (not (or scripts (spec-names-scripts-p spec))))
+         (library (if placeholder
+                      (make-placeholder-library spec skeleton)
+                      (spec-script-library spec :scripts scripts)))
          (performance (progn
                         (check-spec-scripts spec library)
-                        (make-performance library
-                                          (list (list (spec-name spec)
-                                                      (or body (spec-body-name spec) *default-body*)))
+                        (make-performance library (list (list (spec-name spec) skeleton))
                                           :seed seed :blend-time blend-time))))
     (check-scripts-play spec performance)
-    (make-instance 'body-presenter :stream stream :performance performance)))
+    (make-instance 'body-presenter :stream stream :performance performance
+                                   :placeholder placeholder)))
 
 (defun check-scripts-play (spec performance)
   "Signal a SCRIPT-ERROR for the first item of a script SPEC needs that cannot
@@ -129,6 +144,10 @@ stops halfway on it."
 
 (defmethod run-director ((presenter body-presenter) director op start)
   (declare (ignore op))
+  ;; A placeholder library plays every director as a script of its name.
+  (when (presenter-placeholder-p presenter)
+    (return-from run-director
+      (script-duration (script-run-script (perform-script (presenter-performance presenter) director start)))))
   (or (perform-director (presenter-performance presenter) director start)
       (error 'script-error :form director
                            :message (format nil "director ~A never ends (a script it starts loops unstopped), so it cannot play an op"
@@ -182,10 +201,15 @@ stops halfway on it."
 (defmethod present-op :around ((presenter body-presenter) op start)
   (let* ((performance (presenter-performance presenter))
          (before (performance-runs performance)))
-    (multiple-value-prog1 (call-next-method)
+    (let ((duration (call-next-method)))
       (let ((runs (ldiff (performance-runs performance) before)))
         (when runs
-          (setf (gethash (cons op start) (op-runs presenter)) runs))))))
+          (setf (gethash (cons op start) (op-runs presenter)) runs)))
+      (when (presenter-placeholder-p presenter)
+        (setf (gethash (cons op start) (op-captions presenter))
+              (add-caption performance (string-downcase (string (op-name op)))
+                           start (+ start duration))))
+      duration)))
 
 (defmethod present-cut :after ((presenter body-presenter) op start time by)
   (declare (ignore by))
@@ -193,7 +217,9 @@ stops halfway on it."
     (let ((key (cons op start)))
       (dolist (run (gethash key (op-runs presenter)))
         (stop-script-run (presenter-performance presenter) run time))
-      (remhash key (op-runs presenter)))))
+      (remhash key (op-runs presenter))
+      (let ((caption (gethash key (op-captions presenter))))
+        (when caption (cut-caption caption time))))))
 
 ;;;# Checking declared durations
 

@@ -40,6 +40,8 @@ The rest is what the current replay has made of it."
           :documentation "The pose library the library's (poses FILE) names, loaded, or NIL.")
    (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
    (runs :initform '() :accessor performance-runs :documentation "Top-level runs, newest first.")
+   (captions :initform '() :accessor performance-captions
+             :documentation "CAPTIONs shown over the frames, newest first (see captions.lisp).")
    ;; The replay: rebuilt from the runs whenever time goes back.
    (scene :initform nil :accessor performance-scene)
    (all-runs :initform '() :accessor replay-runs)
@@ -361,4 +363,5 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
           (bring-to performance (cue-time cue))
           (play-cue performance cue))))
     (bring-to performance time)
+    (setf (scene-caption (performance-scene performance)) (caption-at performance time))
     (performance-scene performance)))
