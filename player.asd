@@ -144,11 +144,13 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "scripts")
                      (:file "directors")
-                     (:file "script-library")))
+                     (:file "script-library")
+                     (:file "pose-when")))
        (:module "performance"
         :serial t
         :components ((:file "performance")
                      (:file "captions")
+                     (:file "starting-pose")
                      (:file "placeholders")
                      (:file "body-presenter")
                      (:file "op-channels")

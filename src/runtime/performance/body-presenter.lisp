@@ -18,6 +18,8 @@
    (placeholder :initarg :placeholder :initform nil :reader presenter-placeholder-p
                 :documentation "True when the library is made up (placeholders.lisp): each
 op then shows its name as a caption while it plays.")
+   (starting-poses :initarg :starting-poses :initform '() :reader presenter-starting-poses
+                   :documentation "The library's (:pose-when ...) entries, checked (STARTING-POSEs).")
    (captions :initform (make-hash-table :test #'equal) :reader op-captions
              :documentation "(OP . START) -> the caption showing that op's name, so a cut can end it."))
   (:documentation "Plays a controller's ops as scripts of a library on a body.
@@ -98,6 +100,7 @@ BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE), else placeholders: a gesture per op with
 its name as a caption, see MAKE-PLACEHOLDER-LIBRARY).  Trace lines go to STREAM when given.
 Before anything plays, signals a SCRIPT-ERROR listing every missing script,
+naming a (:pose-when ...) entry whose expression or pose is unknown,
 or naming the first item of a needed script that cannot play on this body
 (what CHECK reports as an error, at the item's file and line); an
 ARGUMENT-ERROR for an argument of the wrong kind."
@@ -115,7 +118,17 @@ ARGUMENT-ERROR for an argument of the wrong kind."
                                           :seed seed :blend-time blend-time))))
     (check-scripts-play spec performance)
     (make-instance 'body-presenter :stream stream :performance performance
-                                   :placeholder placeholder)))
+                                   :placeholder placeholder
+                                   :starting-poses (check-starting-poses library spec skeleton
+                                                                         (performance-poses performance)))))
+
+(defmethod present-initial-state ((presenter body-presenter) controller)
+  ;; The character starts in the first (:pose-when ...) pose whose expression holds.
+  (let ((start (choose-starting-pose (presenter-starting-poses presenter) (controller-bits controller)))
+        (performance (presenter-performance presenter)))
+    (unless (eq start (performance-starting-pose performance))
+      (setf (performance-starting-pose performance) start)
+      (rebuild-scene performance))))
 
 (defun check-scripts-play (spec performance)
   "Signal a SCRIPT-ERROR for the first item of a script SPEC needs that cannot

@@ -40,6 +40,8 @@ The rest is what the current replay has made of it."
           :documentation "The pose library the library's (poses FILE) names, loaded, or NIL.")
    (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
    (runs :initform '() :accessor performance-runs :documentation "Top-level runs, newest first.")
+   (starting-pose :initform nil :accessor performance-starting-pose
+                  :documentation "The STARTING-POSE the first character starts in (starting-pose.lisp), or NIL.")
    (captions :initform '() :accessor performance-captions
              :documentation "CAPTIONs shown over the frames, newest first (see captions.lisp).")
    ;; The replay: rebuilt from the runs whenever time goes back.
@@ -192,6 +194,8 @@ Returns its duration (NIL when it loops for ever)."
         (setf (body-seed body) (performance-seed performance))
         (when (performance-poses performance)
           (setf (body-pose-library body) (performance-poses performance)))))
+    (setf (performance-scene performance) scene)
+    (start-performance-pose performance)
     (dolist (spec (script-library-objects library))
       (let ((object (make-instance 'scene-object :name (scene-object-spec-name spec)
                                                  :kind (scene-object-spec-kind spec)

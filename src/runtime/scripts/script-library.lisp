@@ -17,7 +17,8 @@ and the file it came from (or NIL)."
   (objects '() :type list)
   (poses nil)
   (source nil :read-only t)
-  (definitions '() :type list))         ; scripts and directors, in file order
+  (definitions '() :type list)          ; scripts and directors, in file order
+  (pose-whens '() :type list))          ; (:pose-when ...) entries, in file order (pose-when.lisp)
 
 (defmethod print-object ((library script-library) stream)
   (print-unreadable-object (library stream :type t)
@@ -106,7 +107,8 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
           do (let ((*source-position* (and source position (cons source position))))
                (add-library-form library form)))
     (setf (script-library-definitions library) (reverse (script-library-definitions library))
-          (script-library-objects library) (reverse (script-library-objects library)))
+          (script-library-objects library) (reverse (script-library-objects library))
+          (script-library-pose-whens library) (reverse (script-library-pose-whens library)))
     (check-script-library library)
     library))
 
@@ -133,8 +135,9 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
                (script-fail form "object ~A is declared twice" (lisp-text (second form))))
              (push object (script-library-objects library))))
           ((equal head "poses") (set-pose-library library form))
-          (t (script-fail form "a script library may contain defscript, defdirector, defobject ~
-                                and poses forms, not ~:[this~;~:*a ~A form~]"
+          ((equal head "pose-when") (push (parse-pose-when form) (script-library-pose-whens library)))
+          (t (script-fail form "a script library may contain defscript, defdirector, defobject, ~
+                                poses and :pose-when forms, not ~:[this~;~:*a ~A form~]"
                           head)))))
 
 (defun add-definition (library definition name-of table-of what form)
