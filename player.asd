@@ -254,6 +254,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-reach")
                  (:file "test-render")
                  (:file "test-viewer")
+                 (:file "test-authoring")
                  (:file "test-readme")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")

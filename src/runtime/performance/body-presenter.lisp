@@ -258,7 +258,8 @@ stops halfway on it."
   "CHECK's findings about SPEC's script library (SCRIPTS, a library or a file,
 else its (:scripts FILE)): errors for everything playing SPEC would fail on
 \(see DIAGNOSTIC-SEVERITY) -- a library or pose library that cannot be read,
-as one :SCRIPT-LIBRARY diagnostic; and, set up on a scratch body of SPEC's
+or a (:pose-when ...) entry naming what the spec or pose library lacks, as one
+:SCRIPT-LIBRARY diagnostic; and, set up on a scratch body of SPEC's
 skeleton as playing would, each item of a needed script that cannot play
 \(:MOTOR-CALL, :SCENE-NAME; see CHECK-LIBRARY-SCRIPTS) -- then warnings for
 missing scripts and durations that disagree.  NIL when SPEC names no library."
@@ -274,7 +275,9 @@ missing scripts and durations that disagree.  NIL when SPEC names no library."
                          (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton)
                            (spec-error (condition)
                              (return-from script-diagnostics (list (library-failure-diagnostic condition))))))))
-        (append (check-library-scripts library skeleton needed
+        (append (handler-case (progn (check-starting-poses library spec skeleton poses) '())
+                  (spec-error (condition) (list (library-failure-diagnostic condition))))
+                (check-library-scripts library skeleton needed
                                        :characters (list (spec-name spec)) :poses poses)
                 (and missing
                      (list (make-diagnostic :missing-scripts
