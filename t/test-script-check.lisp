@@ -57,7 +57,8 @@
 
 (defun write-script-check-case (name script form-text)
   "Write case NAME: lib.lisp (Peedy's library, then FORM-TEXT) and spec.lisp,
-a spec SC-NAME on the parrot whose op BAD plays SCRIPT on event EV-BAD.
+a spec SC-NAME on the parrot whose op BAD plays SCRIPT on event EV-BAD (and
+which has Peedy's posture, which the library's starting poses name).
 Return the spec's path and the line FORM-TEXT starts on."
   (let* ((directory (script-check-directory name))
          (peedy (alexandria:read-file-into-string (checkout-file "specs/peedy-scripts.lisp")))
@@ -71,6 +72,7 @@ Return the spec's path and the line FORM-TEXT starts on."
 (defspec sc-~(~A~)
   (:scripts \"lib.lisp\")
   (:body parrot)
+  (state-variable posture string stand (fly stand sit))
   (state-variable done boolean false)
   (op bad :script ~(~A~) :add done)
   (event ev-bad :op bad))
