@@ -255,6 +255,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-render")
                  (:file "test-viewer")
                  (:file "test-authoring")
+                 (:file "test-sub-form-lines")
                  (:file "test-readme")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")

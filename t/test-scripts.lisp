@@ -241,7 +241,7 @@ contains every string of FRAGMENTS; DESCRIPTION says what THUNK does."
 
 (test library-file-errors
   (with-library-file (path (format nil "(defscript a ())~%~%(defscript b (:duration 1)~%  (:at 2 :set (x y) 1))~%"))
-    (signals-script-error ((format nil "~A:3: script b: the item starts at 2, after the script's duration 1 in (:at 2 :set"
+    (signals-script-error ((format nil "~A:4: script b: the item starts at 2, after the script's duration 1 in (:at 2 :set"
                                    (file-namestring path)))
       (player::load-script-library path)))
   (with-library-file (path "(defscript a () #.(error \"no\"))")

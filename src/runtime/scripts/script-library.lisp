@@ -18,7 +18,8 @@ and the file it came from (or NIL)."
   (poses nil)
   (source nil :read-only t)
   (definitions '() :type list)          ; scripts and directors, in file order
-  (pose-whens '() :type list))          ; (:pose-when ...) entries, in file order (pose-when.lisp)
+  (pose-whens '() :type list)           ; (:pose-when ...) entries, in file order (pose-when.lisp)
+  (places nil))                         ; the *SUB-FORM-PLACES* of its forms, or NIL
 
 (defmethod print-object ((library script-library) stream)
   (print-unreadable-object (library stream :type t)
@@ -82,7 +83,7 @@ a SCRIPT-LIBRARY.  Signals a SCRIPT-ERROR, naming the file and line, when the
 file is missing, not a regular file or unreadable, or any form is malformed or
 inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
   (check-argument 'load-script-library 'path path #'pathname-designator-p *path-phrase*)
-  (let ((entries (read-data-file path :what "script library"
+  (multiple-value-bind (entries text) (read-data-file path :what "script library"
                                       :fail (lambda (position message kind)
                                               (let ((*source-position* (and position (cons (probe-file path) position))))
                                                 (case kind
@@ -90,19 +91,25 @@ inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
                                                                          (namestring path)))
                                                   (:read (script-fail nil "unreadable script library ~A: ~A"
                                                                       (namestring path) message))
-                                                  (t (script-fail nil "~A" message))))))))
+                                                  (t (script-fail nil "~A" message))))))
     (build-script-library (mapcar (lambda (entry) (cons (first entry) (second entry))) entries)
-                          (probe-file path))))
+                          (probe-file path)
+                          ;; Errors about an item, step or clause name its own line.
+                          (sub-form-places entries text (probe-file path)))))
 
 (defun parse-script-library-forms (forms &key source)
   "A SCRIPT-LIBRARY from FORMS as if read from the file SOURCE (a pathname, for
 resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
   (build-script-library (mapcar (lambda (form) (cons form nil)) forms) source))
 
-(defun build-script-library (entries source)
-  "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file SOURCE."
+(defun build-script-library (entries source &optional places)
+  "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file
+SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
   (let ((library (%make-script-library source))
-        (*current-spec-name* nil))
+        (*current-spec-name* nil)
+        (*sub-form-places* places))
+    ;; Kept, so CHECK can name the line of a key that fails on a body.
+    (setf (script-library-places library) places)
     (loop for (form . position) in entries
           do (let ((*source-position* (and source position (cons source position))))
                (add-library-form library form)))
