@@ -148,10 +148,14 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "scripts")
                      (:file "directors")
-                     (:file "script-library")))
+                     (:file "script-library")
+                     (:file "pose-when")))
        (:module "performance"
         :serial t
         :components ((:file "performance")
+                     (:file "captions")
+                     (:file "starting-pose")
+                     (:file "placeholders")
                      (:file "body-presenter")
                      (:file "op-channels")
                      (:file "script-check")
@@ -170,6 +174,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "camera")
                      (:file "antialias")
                      (:file "shaders")
+                     (:file "caption-font")
+                     (:file "captions")
                      (:file "renderer")
                      (:file "render-simulation")
                      (:file "glfw")
@@ -252,6 +258,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-reach")
                  (:file "test-render")
                  (:file "test-viewer")
+                 (:file "test-authoring")
+                 (:file "test-sub-form-lines")
                  (:file "test-readme")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")

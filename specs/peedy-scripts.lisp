@@ -27,6 +27,12 @@
 
 (poses "peedy-poses.lisp")
 
+;;; Starting poses: the first whose state expression holds in the controller's
+;;; initial state is Peedy's pose before anything plays (else his rest pose),
+;;; at the position the posture's scripts leave him in.
+(:pose-when posture.sit sit :position (0 -0.026 0))
+(:pose-when posture.fly fly-body :position (0 0.25 0))
+
 ;;; ---------------------------------------------------------------------------
 ;;; The scene
 

@@ -167,6 +167,7 @@
       (is (= 1 (length diagnostics)) "only flex declares a :duration")
       (is (search "flex" (player:diagnostic-message (first diagnostics)))))))
 
-(test a-spec-without-a-library-is-an-error
+(test a-spec-without-a-library-plays-placeholders
   (with-elbow-spec (spec)
-    (signals player:spec-error (player:make-body-presenter spec))))
+    (signals player:spec-error (player::spec-script-library spec))
+    (is (player::presenter-placeholder-p (player:make-body-presenter spec)))))

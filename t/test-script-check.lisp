@@ -13,7 +13,8 @@
 
 (defparameter *script-check-cases*
   ;; (NAME SCRIPT KIND FORM-TEXT ITEM-LINE-OFFSET FRAGMENT)
-  ;; ITEM-LINE-OFFSET: the reported line, counted from the bad form's first line.
+  ;; ITEM-LINE-OFFSET: the reported line, counted from the bad form's first line:
+  ;; the line of the item or step at fault, whether the library reader or CHECK finds it.
   '((unknown-pose bad-pose :motor-call
      "(defscript bad-pose (:duration 1)
   (:at 0.2 :motor (:pose :name no-such-pose)))"
@@ -22,15 +23,15 @@
      "(defscript bad-angle (:duration 1)
   (:at 0 :motor (:keyframe :keys ((0.2 ((neck x 10)))
                                   (0.35 ((l_ankle x -124)))))))"
-     1 "DOF x of joint l_ankle: -124 degrees is outside its limits -120 to 0")
+     2 "DOF x of joint l_ankle: -124 degrees is outside its limits -120 to 0")
     (unknown-parameter bad-param :script-library
      "(defscript bad-param (:duration 1)
   (:at 0 :motor (:gaze :target (:object user) :sped 2)))"
-     0 "motor function :gaze has no parameter :sped")
+     1 "motor function :gaze has no parameter :sped")
     (wrong-type bad-type :script-library
      "(defscript bad-type (:duration 1)
   (:at 0 :motor (:head :action :nod :count \"two\")))"
-     0 "motor function :head: :count must be")
+     1 "motor function :head: :count must be")
     (unknown-joint bad-joint :motor-call
      "(defscript bad-joint (:duration 1)
   (:at 0 :motor (:keyframe :keys ((0.5 ((l_elbo x 10)))))))"
@@ -39,7 +40,7 @@
      "(defdirector bad-director
   (:start nod)
   (:start no-such-script))"
-     0 "no-such-script is not a script of the library")
+     2 "no-such-script is not a script of the library")
     (unknown-attach-joint bad-attach :scene-name
      "(defscript bad-attach (:duration 1)
   (:at 0 :play nod)
@@ -57,7 +58,8 @@
 
 (defun write-script-check-case (name script form-text)
   "Write case NAME: lib.lisp (Peedy's library, then FORM-TEXT) and spec.lisp,
-a spec SC-NAME on the parrot whose op BAD plays SCRIPT on event EV-BAD.
+a spec SC-NAME on the parrot whose op BAD plays SCRIPT on event EV-BAD (and
+which has Peedy's posture, which the library's starting poses name).
 Return the spec's path and the line FORM-TEXT starts on."
   (let* ((directory (script-check-directory name))
          (peedy (alexandria:read-file-into-string (checkout-file "specs/peedy-scripts.lisp")))
@@ -71,6 +73,7 @@ Return the spec's path and the line FORM-TEXT starts on."
 (defspec sc-~(~A~)
   (:scripts \"lib.lisp\")
   (:body parrot)
+  (state-variable posture string stand (fly stand sit))
   (state-variable done boolean false)
   (op bad :script ~(~A~) :add done)
   (event ev-bad :op bad))

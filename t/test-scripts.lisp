@@ -241,7 +241,7 @@ contains every string of FRAGMENTS; DESCRIPTION says what THUNK does."
 
 (test library-file-errors
   (with-library-file (path (format nil "(defscript a ())~%~%(defscript b (:duration 1)~%  (:at 2 :set (x y) 1))~%"))
-    (signals-script-error ((format nil "~A:3: script b: the item starts at 2, after the script's duration 1 in (:at 2 :set"
+    (signals-script-error ((format nil "~A:4: script b: the item starts at 2, after the script's duration 1 in (:at 2 :set"
                                    (file-namestring path)))
       (player::load-script-library path)))
   (with-library-file (path "(defscript a () #.(error \"no\"))")
@@ -302,7 +302,7 @@ contains every string of FRAGMENTS; DESCRIPTION says what THUNK does."
     (("a looping script must last some time") (defscript bow (:loop t) (:at 0 :set (a b) 1)))
     (("script bow is defined twice") (defscript bow ()) (defscript bow ()))
     (("bow is defined both as a script and as a director") (defscript bow ()) (defdirector bow (:start bow)))
-    (("a script library may contain defscript, defdirector, defobject and poses forms, not a defun form") (defun f ()))
+    (("a script library may contain defscript, defdirector, defobject, poses and :pose-when forms, not a defun form") (defun f ()))
     (("a script library may contain" "not this") 42))
   "Each entry: (FRAGMENTS FORM...), a library whose error report contains every fragment.")
 

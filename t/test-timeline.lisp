@@ -327,6 +327,8 @@ which ones the script has; a bare trace presenter says it needs a library."
   (let ((library (checkout-file "specs/peedy-scripts.lisp")))
     (with-spec (spec crit
                  (state-variable p boolean false)
+                 ;; Peedy's library starts him in a pose by his posture.
+                 (state-variable posture string stand (fly stand sit))
                  (op bow :duration 1.25 :interrupt (:at stroke))
                  (op shrug :duration 1 :interrupt (:at nope))
                  (event ev :op bow))

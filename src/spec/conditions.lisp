@@ -11,6 +11,12 @@
 (defvar *source-position* nil
   "While a spec file is loaded: (FILE . CHARACTER-POSITION) of the form being read.")
 
+(defvar *sub-form-places* nil
+  "While the forms of a data file (a spec, script library or pose library) are
+parsed: an EQ table from each list inside them to its (FILE . CHARACTER-POSITION)
+\(see SUB-FORM-PLACES), so an error about a sub-form -- an item, a key, a
+clause -- names the sub-form's own line; or NIL.")
+
 (defvar *current-spec-name* nil
   "While a spec is parsed: its name, so errors can say which spec they are in.")
 
@@ -25,13 +31,24 @@ so errors can say which form they are in.")
    (spec :initarg :spec :initform *current-spec-name* :reader spec-error-spec
          :documentation "The name of the spec being defined, or NIL.")
    (position :initarg :position :initform *source-position*
-             :reader spec-error-position
+             :reader %spec-error-position
              :documentation "(FILE . CHARACTER-POSITION) of the form at fault (or of the
 top-level form around it), or NIL.")
+   (places :initform *sub-form-places* :reader spec-error-places
+           :documentation "The *SUB-FORM-PLACES* when the error was made, where FORM's own place may be.")
    (label :initarg :label :initform *current-form-label* :reader spec-error-label
           :documentation "The kind and name of the spec form at fault, e.g. \"op whistle\", or NIL."))
   (:report report-spec-error)
   (:documentation "A spec is malformed or inconsistent. FORM is the offending form."))
+
+(defun spec-error-position (condition)
+  "(FILE . CHARACTER-POSITION) of CONDITION's offending form: the form's own
+place in its file when it was read from one (*SUB-FORM-PLACES*), else the
+place the error was given (the form around it), or NIL."
+  (let ((form (spec-error-form condition))
+        (places (spec-error-places condition)))
+    (or (and places (consp form) (values (gethash form places)))
+        (%spec-error-position condition))))
 
 (defun report-spec-error (condition stream)
   "Write CONDITION as one sentence: where, which spec, what, and the form."

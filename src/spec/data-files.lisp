@@ -232,3 +232,78 @@ sub-form it is about."
                    (t (begin)))
                  (incf i))))
     (nreverse positions)))
+
+;;;# Where every list of a form starts
+
+(defun list-openings (text start)
+  "The openings, in text order, of the lists of the form whose ( is at START
+in TEXT, as (POSITION . KIND): KIND :PAREN for a ( (but not the () of NIL),
+:QUOTE for ' and :FUNCTION for #', which the reader also turns into lists.  NIL when the text
+holds what cannot be matched with the form's lists this way (backquote,
+comma, #+ and #-), or when START is not a (."
+  (let ((openings '()) (depth 0) (i start) (n (length text)))
+    (unless (and (< start n) (char= (char text start) #\())
+      (return-from list-openings nil))
+    (loop while (< i n)
+          do (let ((c (char text i)))
+               (case c
+                 (#\; (setf i (or (position #\Newline text :start i) n)))
+                 (#\" (setf i (delimited-end text i #\")))
+                 (#\| (setf i (delimited-end text i #\|)))
+                 (#\\ (incf i))
+                 ((#\` #\,) (return-from list-openings nil))
+                 (#\' (push (cons i :quote) openings))
+                 (#\( (let ((close (position-if-not (lambda (c) (member c '(#\Space #\Tab #\Newline #\Return)))
+                                                     text :start (1+ i))))
+                        (if (and close (char= (char text close) #\)) (plusp depth))
+                            (setf i close)  ; () is NIL, not a list
+                            (progn (push (cons i :paren) openings) (incf depth)))))
+                 (#\) (when (zerop (decf depth)) (return)))
+                 (#\# (let ((next (and (< (1+ i) n) (char text (1+ i)))))
+                        (case next
+                          (#\| (setf i (block-comment-end text (+ i 2))))
+                          (#\\ (incf i 2))  ; #\( is a character, not a list
+                          (#\( (incf depth) (incf i))  ; a vector: its ) closes it
+                          (#\' (push (cons i :function) openings) (incf i))
+                          ((#\+ #\-) (return-from list-openings nil))))))
+               (incf i)))
+    (nreverse openings)))
+
+(defun form-lists (form)
+  "The lists of FORM in the order the reader met their openings: each list's
+first cons, then the lists among its elements (and in vectors), depth first.
+NIL when a list occurs twice (shared structure, #1#), which text cannot match."
+  (let ((seen (make-hash-table :test 'eq)) (lists '()))
+    (labels ((walk (x)
+               (cond ((consp x)
+                      (when (gethash x seen) (return-from form-lists nil))
+                      (setf (gethash x seen) t)
+                      (push x lists)
+                      (loop for tail = x then (cdr tail)
+                            while (consp tail)
+                            do (walk (car tail))))
+                     ((and (vectorp x) (not (stringp x)) (not (bit-vector-p x)))
+                      (map nil #'walk x)))))
+      (walk form))
+    (nreverse lists)))
+
+(defun sub-form-places (entries text file &optional (table (make-hash-table :test 'eq)))
+  "TABLE (a new EQ hash table by default) filled with every list inside the
+forms of ENTRIES ((FORM POSITION ...) ..., as READ-DATA-FILE returns them from
+FILE's TEXT) mapped to its (FILE . POSITION), for *SUB-FORM-PLACES*.  A form
+whose lists cannot be matched with its text one to one is left out: its
+errors keep naming the top-level form's line."
+  (loop for (form start) in entries
+        for openings = (and (consp form) (list-openings text start))
+        for lists = (and openings (form-lists form))
+        when (and lists (= (length lists) (length openings))
+                  (every (lambda (list opening)
+                           (case (cdr opening)
+                             (:quote (eq (car list) 'quote))
+                             (:function (eq (car list) 'function))
+                             (t t)))
+                         lists openings))
+          do (loop for list in lists
+                   for (position) in openings
+                   do (setf (gethash list table) (cons file position))))
+  table)

@@ -24,8 +24,10 @@ accepted, and nothing is evaluated.  Unless ALLOW-CODE, a spec holding :code or
 :c++ is refused.  Signals a SPEC-ERROR naming the file and line of the
 offending form; the specs defined before it stay defined."
   (multiple-value-bind (entries text) (read-data-file file :what "spec file" :fail (spec-file-fail file))
-    (let ((file (probe-file file))
-          (*defined-specs* '()))
+    (let* ((file (probe-file file))
+           (*defined-specs* '())
+           ;; An error about a sub-form (an expression, a directive) names its own line.
+           (*sub-form-places* (sub-form-places entries text file)))
       (loop for (form position package) in entries
             do (let ((*source-position* (cons file position)))
                  (unless (defspec-form-p form)

@@ -161,7 +161,10 @@ hanging from a joint; only bodies have joints.")
   ((objects :initform '() :accessor scene-objects
             :documentation "Every object, in the order they were added.")
    (index :initform (make-hash-table :test #'equalp) :reader scene-index
-          :documentation "The objects by name, so finding one does not grow with the scene."))
+          :documentation "The objects by name, so finding one does not grow with the scene.")
+   (caption :initform nil :accessor scene-caption
+            :documentation "A line of text drawn over the frame (an op's name while a
+placeholder plays it), or NIL."))
   (:documentation "A set of named scene objects forming a hierarchy."))
 
 (defun find-object (scene name &optional (errorp t))

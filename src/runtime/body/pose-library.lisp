@@ -134,7 +134,7 @@ POSE-ERROR for a malformed form.  (LOAD-POSE-LIBRARY reads them from a file.)"
 file.  With SKELETON, every pose is also resolved against it (see
 RESOLVE-POSE).  Signals POSE-ERROR, naming the file and line, for a missing or
 unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
-  (let* ((entries (read-data-file path :what "pose library" :allow-in-package nil
+  (multiple-value-bind (entries text) (read-data-file path :what "pose library" :allow-in-package nil
                                        :fail (lambda (position message kind)
                                                (let ((*source-position* (and position (cons (probe-file path) position))))
                                                  (case kind
@@ -142,17 +142,19 @@ unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
                                                                         (namestring path)))
                                                    (:read (pose-fail nil "the Lisp reader could not read ~A: ~A"
                                                                      (file-namestring path) message))
-                                                   (t (pose-fail nil "~A" message)))))))
-         (path (probe-file path))
-         (library (%make-pose-library (pathname-name path) path)))
-    (loop for (form start) in entries
-          do (let ((*source-position* (cons path start)))
-               (add-pose-form library form (cons path start))))
-    (when skeleton
-      (let ((*source-position* nil))
-        (dolist (definition (pose-library-order library))
-          (resolve-pose definition skeleton))))
-    library))
+                                                   (t (pose-fail nil "~A" message))))))
+    (let* ((path (probe-file path))
+           (library (%make-pose-library (pathname-name path) path))
+           ;; Errors about a clause name the clause's own line.
+           (*sub-form-places* (sub-form-places entries text path)))
+      (loop for (form start) in entries
+            do (let ((*source-position* (cons path start)))
+                 (add-pose-form library form (cons path start))))
+      (when skeleton
+        (let ((*source-position* nil))
+          (dolist (definition (pose-library-order library))
+            (resolve-pose definition skeleton))))
+      library)))
 
 ;;;# Resolving against a skeleton
 

@@ -54,6 +54,7 @@ kind."
                       :labels (make-array (spec-label-count spec) :element-type 'double-float
                                                                   :initial-element 0d0))))
     (install-assignments controller assignments)
+    (present-initial-state presenter controller)
     (start-initial-autoscripts controller (controller-clock controller))
     (when timed
       (setf (controller-timeline controller) (make-timeline controller)))

@@ -39,6 +39,11 @@ method here, so a presenter overrides only what it needs."))
 (defgeneric present-state (presenter controller)
   (:documentation "An event has finished; CONTROLLER holds the resulting state."))
 
+(defgeneric present-initial-state (presenter controller)
+  (:documentation "CONTROLLER, just made, holds its initial state; nothing has
+played yet (its initial autoscripts start next).  A body presenter puts its
+character in the starting pose that state calls for."))
+
 (defgeneric play-script (presenter script op start)
   (:documentation "Play SCRIPT (a symbol: OP's :script, or its name) for OP from
 START; return the duration.  The default returns OP's declared :duration."))
@@ -136,6 +141,9 @@ OP's declared :channels; a presenter with a script library infers the rest."))
   (declare (ignore event goal time)))
 
 (defmethod present-state ((presenter presenter) controller)
+  (declare (ignore controller)))
+
+(defmethod present-initial-state ((presenter presenter) controller)
   (declare (ignore controller)))
 
 ;;; The null presenter

@@ -15,7 +15,14 @@
    (autoscript-runs :initform (make-hash-table :test #'equal) :reader autoscript-runs
                     :documentation "(PROC VARIABLE VALUE) -> the looping run playing it.")
    (op-runs :initform (make-hash-table :test #'equal) :reader op-runs
-            :documentation "(OP . START) -> the script runs playing that op, so a cut can stop them."))
+            :documentation "(OP . START) -> the script runs playing that op, so a cut can stop them.")
+   (placeholder :initarg :placeholder :initform nil :reader presenter-placeholder-p
+                :documentation "True when the library is made up (placeholders.lisp): each
+op then shows its name as a caption while it plays.")
+   (starting-poses :initarg :starting-poses :initform '() :reader presenter-starting-poses
+                   :documentation "The library's (:pose-when ...) entries, checked (STARTING-POSEs).")
+   (captions :initform (make-hash-table :test #'equal) :reader op-captions
+             :documentation "(OP . START) -> the caption showing that op's name, so a cut can end it."))
   (:documentation "Plays a controller's ops as scripts of a library on a body.
 PRESENTER-PERFORMANCE gives the frames."))
 
@@ -44,9 +51,14 @@ PRESENTER-PERFORMANCE gives the frames."))
                  append (copy-list (autoscript-procs auto))))
    :test #'string-equal :from-end t))
 
+(defun spec-names-scripts-p (spec)
+  "Does SPEC give (:scripts FILE)?"
+  (and (getf (spec-options spec) :scripts) t))
+
 (defun spec-script-library (spec &key scripts)
   "The script library for SPEC: SCRIPTS (a SCRIPT-LIBRARY or a file), else SPEC's
-(:scripts FILE) option.  Signals a SPEC-ERROR when there is neither."
+(:scripts FILE) option.  Signals a SPEC-ERROR when there is neither (a body
+presenter then plays placeholders, see MAKE-PLACEHOLDER-LIBRARY)."
   (when (script-library-p scripts)
     (return-from spec-script-library scripts))
   (let ((path (or (and scripts (pathname scripts)) (spec-option-path spec :scripts))))
@@ -86,22 +98,38 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
                                       (blend-time *default-blend-time*))
   "A body presenter for SPEC: its character, named after SPEC, has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
-SCRIPTS (else SPEC's (:scripts FILE)).  Trace lines go to STREAM when given.
+SCRIPTS (else SPEC's (:scripts FILE), else placeholders: a gesture per op with
+its name as a caption, see MAKE-PLACEHOLDER-LIBRARY).  Trace lines go to STREAM when given.
 Before anything plays, signals a SCRIPT-ERROR listing every missing script,
+naming a (:pose-when ...) entry whose expression or pose is unknown,
 or naming the first item of a needed script that cannot play on this body
 (what CHECK reports as an error, at the item's file and line); an
 ARGUMENT-ERROR for an argument of the wrong kind."
   (check-body-presenter-arguments 'make-body-presenter spec scripts body seed stream blend-time)
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
-         (library (spec-script-library spec :scripts scripts))
+         (body (or body (spec-body-name spec) *default-body*))
+         (skeleton (if (skeleton-p body) body (load-skeleton body)))
+         (placeholder (not (or scripts (spec-names-scripts-p spec))))
+         (library (if placeholder
+                      (make-placeholder-library spec skeleton)
+                      (spec-script-library spec :scripts scripts)))
          (performance (progn
                         (check-spec-scripts spec library)
-                        (make-performance library
-                                          (list (list (spec-name spec)
-                                                      (or body (spec-body-name spec) *default-body*)))
+                        (make-performance library (list (list (spec-name spec) skeleton))
                                           :seed seed :blend-time blend-time))))
     (check-scripts-play spec performance)
-    (make-instance 'body-presenter :stream stream :performance performance)))
+    (make-instance 'body-presenter :stream stream :performance performance
+                                   :placeholder placeholder
+                                   :starting-poses (check-starting-poses library spec skeleton
+                                                                         (performance-poses performance)))))
+
+(defmethod present-initial-state ((presenter body-presenter) controller)
+  ;; The character starts in the first (:pose-when ...) pose whose expression holds.
+  (let ((start (choose-starting-pose (presenter-starting-poses presenter) (controller-bits controller)))
+        (performance (presenter-performance presenter)))
+    (unless (eq start (performance-starting-pose performance))
+      (setf (performance-starting-pose performance) start)
+      (rebuild-scene performance))))
 
 (defun check-scripts-play (spec performance)
   "Signal a SCRIPT-ERROR for the first item of a script SPEC needs that cannot
@@ -130,6 +158,10 @@ stops halfway on it."
 
 (defmethod run-director ((presenter body-presenter) director op start)
   (declare (ignore op))
+  ;; A placeholder library plays every director as a script of its name.
+  (when (presenter-placeholder-p presenter)
+    (return-from run-director
+      (script-duration (script-run-script (perform-script (presenter-performance presenter) director start)))))
   (or (perform-director (presenter-performance presenter) director start)
       (error 'script-error :form director
                            :message (format nil "director ~A never ends (a script it starts loops unstopped), so it cannot play an op"
@@ -183,10 +215,15 @@ stops halfway on it."
 (defmethod present-op :around ((presenter body-presenter) op start)
   (let* ((performance (presenter-performance presenter))
          (before (performance-runs performance)))
-    (multiple-value-prog1 (call-next-method)
+    (let ((duration (call-next-method)))
       (let ((runs (ldiff (performance-runs performance) before)))
         (when runs
-          (setf (gethash (cons op start) (op-runs presenter)) runs))))))
+          (setf (gethash (cons op start) (op-runs presenter)) runs)))
+      (when (presenter-placeholder-p presenter)
+        (setf (gethash (cons op start) (op-captions presenter))
+              (add-caption performance (string-downcase (string (op-name op)))
+                           start (+ start duration))))
+      duration)))
 
 (defmethod present-cut :after ((presenter body-presenter) op start time by)
   (declare (ignore by))
@@ -194,7 +231,9 @@ stops halfway on it."
     (let ((key (cons op start)))
       (dolist (run (gethash key (op-runs presenter)))
         (stop-script-run (presenter-performance presenter) run time))
-      (remhash key (op-runs presenter)))))
+      (remhash key (op-runs presenter))
+      (let ((caption (gethash key (op-captions presenter))))
+        (when caption (cut-caption caption time))))))
 
 ;;;# Checking declared durations
 
@@ -220,7 +259,8 @@ stops halfway on it."
   "CHECK's findings about SPEC's script library (SCRIPTS, a library or a file,
 else its (:scripts FILE)): errors for everything playing SPEC would fail on
 \(see DIAGNOSTIC-SEVERITY) -- a library or pose library that cannot be read,
-as one :SCRIPT-LIBRARY diagnostic; and, set up on a scratch body of SPEC's
+or a (:pose-when ...) entry naming what the spec or pose library lacks, as one
+:SCRIPT-LIBRARY diagnostic; and, set up on a scratch body of SPEC's
 skeleton as playing would, each item of a needed script that cannot play
 \(:MOTOR-CALL, :SCENE-NAME; see CHECK-LIBRARY-SCRIPTS) -- then warnings for
 missing scripts and durations that disagree.  NIL when SPEC names no library."
@@ -235,7 +275,9 @@ missing scripts and durations that disagree.  NIL when SPEC names no library."
                          (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton)
                            (spec-error (condition)
                              (return-from script-diagnostics (list (library-failure-diagnostic condition))))))))
-        (append (check-library-scripts library skeleton needed
+        (append (handler-case (progn (check-starting-poses library spec skeleton poses) '())
+                  (spec-error (condition) (list (library-failure-diagnostic condition))))
+                (check-library-scripts library skeleton needed
                                        :characters (list (spec-name spec)) :poses poses)
                 (and missing
                      (list (make-diagnostic :missing-scripts

@@ -59,6 +59,10 @@ NONE: *STAND-IN-SKELETON*), and whether its body is drawn."
           :documentation "The pose library the library's (poses FILE) names, loaded, or NIL.")
    (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
    (runs :initform '() :accessor performance-runs :documentation "Top-level runs, newest first.")
+   (starting-pose :initform nil :accessor performance-starting-pose
+                  :documentation "The STARTING-POSE the first character starts in (starting-pose.lisp), or NIL.")
+   (captions :initform '() :accessor performance-captions
+             :documentation "CAPTIONs shown over the frames, newest first (see captions.lisp).")
    ;; The replay: rebuilt from the runs whenever time goes back.
    (scene :initform nil :accessor performance-scene)
    (all-runs :initform '() :accessor replay-runs)
@@ -210,6 +214,8 @@ Returns its duration (NIL when it loops for ever)."
           (setf (property-value body 'visible) nil))
         (when (performance-poses performance)
           (setf (body-pose-library body) (performance-poses performance)))))
+    (setf (performance-scene performance) scene)
+    (start-performance-pose performance)
     (dolist (spec (script-library-objects library))
       (let ((object (make-instance 'scene-object :name (scene-object-spec-name spec)
                                                  :kind (scene-object-spec-kind spec)
@@ -381,4 +387,5 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
           (bring-to performance (cue-time cue))
           (play-cue performance cue))))
     (bring-to performance time)
+    (setf (scene-caption (performance-scene performance)) (caption-at performance time))
     (performance-scene performance)))

@@ -65,6 +65,15 @@ Every other kind (:unreachable-goal, :unused-op, :truncated,
   "The 1-based line of character POSITION in TEXT."
   (1+ (count #\Newline text :end (min position (length text)))))
 
+(defun form-line-place (library form cache)
+  "The (FILE . LINE) of FORM, a list inside LIBRARY's file (a :keyframe key),
+when the library reader recorded where it was read; else NIL."
+  (let ((place (and (consp form) (script-library-places library)
+                    (gethash form (script-library-places library)))))
+    (when place
+      (let ((text (source-text (car place) cache)))
+        (and text (cons (car place) (line-at text (cdr place))))))))
+
 (defun item-place (script index cache)
   "The (FILE . LINE) of the INDEX-th item of SCRIPT (0-based), else of SCRIPT's
 form, when the library reader recorded where SCRIPT was read; else NIL."
@@ -123,9 +132,9 @@ describes (OBJECT must be a body); else what is wrong, as a string."
         ((symbolp parent) (scene-name-problem names parent))
         (t (scene-joint-problem names (first parent) (second parent)))))
 
-(defun failing-key-time (call body)
-  "When CALL is a :keyframe call that BODY cannot perform, the time (as text) of
-its first key that fails set up alone; else NIL."
+(defun failing-key (call body)
+  "When CALL is a :keyframe call that BODY cannot perform, its first key (as
+written) that fails set up alone; else NIL."
   (let ((keys (and (eq (motor-call-function call) :keyframe) (motor-arg call :keys))))
     (when (alexandria:proper-list-p keys)
       (loop for key in keys
@@ -139,12 +148,13 @@ its first key that fails set up alone; else NIL."
                                               body 0)
                                  nil)
                         (error () t)))
-              return (format-number (first key))))))
+              return key))))
 
 (defun item-problems (item body names)
   "What playing ITEM on BODY in the scene NAMES describes would fail on: a list
-of (KIND . MESSAGE), KIND :MOTOR-CALL or :SCENE-NAME."
-  (flet ((scene (problem) (and problem (list (cons :scene-name problem)))))
+of (KIND MESSAGE [FORM]), KIND :MOTOR-CALL or :SCENE-NAME, FORM the part of
+the item at fault when it is narrower than the item (a :keyframe key)."
+  (flet ((scene (problem) (and problem (list (list :scene-name problem)))))
     (typecase item
       (motor-item
        (let ((call (motor-item-call item)))
@@ -152,14 +162,16 @@ of (KIND . MESSAGE), KIND :MOTOR-CALL or :SCENE-NAME."
           ;; Set up exactly as PLAY-CUE would: a driver of the call on the body.
           (handler-case (progn (make-driver call body 0) nil)
             (spec-error (condition)
-              (list (cons :motor-call (format nil "~@[the key at ~A s: ~]~A"
-                                              (failing-key-time call body)
-                                              (spec-error-message condition)))))
-            (error (condition) (list (cons :motor-call (condition-line condition)))))
+              (let ((key (failing-key call body)))
+                (list (list :motor-call (format nil "~@[the key at ~A s: ~]~A"
+                                                (and key (format-number (first key)))
+                                                (spec-error-message condition))
+                            key))))
+            (error (condition) (list (list :motor-call (condition-line condition)))))
           ;; Targets are found when the driver runs: look their names up now.
           (loop for (nil value) on (motor-call-args call) by #'cddr
                 for problem = (and (target-form-p value) (target-problem names value))
-                when problem collect (cons :scene-name problem)))))
+                when problem collect (list :scene-name problem)))))
       (animate-item (scene (scene-name-problem names (animate-item-object item))))
       (set-item (scene (scene-name-problem names (set-item-object item))))
       (attach-item (scene (or (scene-name-problem names (attach-item-object item))
@@ -209,8 +221,9 @@ DETAILS is a plist (:SCRIPT :ITEM :FILE :LINE)."
     (dolist (script (remove-if-not #'script-p (needed-definitions library names)))
       (loop for item in (script-items script)
             for index from 0
-            do (loop for (kind . problem) in (item-problems item body names-in-scene)
-                     for place = (item-place script index cache)
+            do (loop for (kind problem form) in (item-problems item body names-in-scene)
+                     for place = (or (form-line-place library form cache)
+                                     (item-place script index cache))
                      do (push (make-diagnostic
                                kind
                                (format nil "~@[~A:~]~@[~D: ~]script ~A: the item at ~A s, ~A, cannot play: ~A"

@@ -85,6 +85,7 @@ table, with float traps masked.  PARAMETERS are (argument cffi-type) lists."
   +gl-depth-buffer-bit+ #x0100  +gl-stencil-buffer-bit+ #x0400  +gl-color-buffer-bit+ #x4000
   ;; glEnable capabilities and their parameters
   +gl-cull-face+ #x0B44  +gl-depth-test+ #x0B71  +gl-blend+ #x0BE2  +gl-multisample+ #x809D
+  +gl-scissor-test+ #x0C11
   +gl-never+ #x0200  +gl-less+ #x0201  +gl-equal+ #x0202  +gl-lequal+ #x0203  +gl-always+ #x0207
   +gl-src-alpha+ #x0302  +gl-one-minus-src-alpha+ #x0303
   +gl-front+ #x0404  +gl-back+ #x0405  +gl-front-and-back+ #x0408  +gl-cw+ #x0900  +gl-ccw+ #x0901
@@ -119,6 +120,7 @@ table, with float traps masked.  PARAMETERS are (argument cffi-type) lists."
 
 ;; State
 (define-gl-function gl-viewport "glViewport" :void (x :int32) (y :int32) (width :int32) (height :int32))
+(define-gl-function gl-scissor "glScissor" :void (x :int32) (y :int32) (width :int32) (height :int32))
 (define-gl-function gl-clear-color "glClearColor" :void (red :float) (green :float) (blue :float) (alpha :float))
 (define-gl-function gl-clear "glClear" :void (mask :uint32))
 (define-gl-function gl-enable "glEnable" :void (capability :uint32))

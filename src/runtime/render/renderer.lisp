@@ -248,8 +248,8 @@ multisampled target, or smooth the edges of SCENE-MESHES seen through VIEW."
 
 (defun render-scene (renderer scene &key camera)
   "Draw SCENE as it is now -- every visible body and prop, the floor with their
-contact shadows, and the background -- seen through CAMERA (default: the
-scene's camera, else one framing the bodies) moved by the renderer's orbit,
+contact shadows, and the background, then its caption if it has one -- seen
+through CAMERA (default: the scene's camera, else one framing the bodies) moved by the renderer's orbit,
 into the current context's framebuffer, where RENDERER-PIXELS reads it.
 Returns the VIEW used."
   (let* ((view (scene-view scene (/ (renderer-width renderer) (renderer-height renderer))
@@ -271,6 +271,8 @@ Returns the VIEW used."
     (draw-sky renderer view)
     (gl-bind-vertex-array 0)
     (end-frame renderer view scene-meshes)
+    (when (scene-caption scene)
+      (draw-caption (scene-caption scene) (renderer-width renderer) (renderer-height renderer)))
     (forget-buffers renderer scene-meshes)
     (setf (renderer-view renderer) view)))
 

@@ -17,7 +17,9 @@ and the file it came from (or NIL)."
   (objects '() :type list)
   (poses nil)
   (source nil :read-only t)
-  (definitions '() :type list))         ; scripts and directors, in file order
+  (definitions '() :type list)          ; scripts and directors, in file order
+  (pose-whens '() :type list)           ; (:pose-when ...) entries, in file order (pose-when.lisp)
+  (places nil))                         ; the *SUB-FORM-PLACES* of its forms, or NIL
 
 (defmethod print-object ((library script-library) stream)
   (print-unreadable-object (library stream :type t)
@@ -81,7 +83,7 @@ a SCRIPT-LIBRARY.  Signals a SCRIPT-ERROR, naming the file and line, when the
 file is missing, not a regular file or unreadable, or any form is malformed or
 inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
   (check-argument 'load-script-library 'path path #'pathname-designator-p *path-phrase*)
-  (let ((entries (read-data-file path :what "script library"
+  (multiple-value-bind (entries text) (read-data-file path :what "script library"
                                       :fail (lambda (position message kind)
                                               (let ((*source-position* (and position (cons (probe-file path) position))))
                                                 (case kind
@@ -89,24 +91,31 @@ inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
                                                                          (namestring path)))
                                                   (:read (script-fail nil "unreadable script library ~A: ~A"
                                                                       (namestring path) message))
-                                                  (t (script-fail nil "~A" message))))))))
+                                                  (t (script-fail nil "~A" message))))))
     (build-script-library (mapcar (lambda (entry) (cons (first entry) (second entry))) entries)
-                          (probe-file path))))
+                          (probe-file path)
+                          ;; Errors about an item, step or clause name its own line.
+                          (sub-form-places entries text (probe-file path)))))
 
 (defun parse-script-library-forms (forms &key source)
   "A SCRIPT-LIBRARY from FORMS as if read from the file SOURCE (a pathname, for
 resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
   (build-script-library (mapcar (lambda (form) (cons form nil)) forms) source))
 
-(defun build-script-library (entries source)
-  "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file SOURCE."
+(defun build-script-library (entries source &optional places)
+  "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file
+SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
   (let ((library (%make-script-library source))
-        (*current-spec-name* nil))
+        (*current-spec-name* nil)
+        (*sub-form-places* places))
+    ;; Kept, so CHECK can name the line of a key that fails on a body.
+    (setf (script-library-places library) places)
     (loop for (form . position) in entries
           do (let ((*source-position* (and source position (cons source position))))
                (add-library-form library form)))
     (setf (script-library-definitions library) (reverse (script-library-definitions library))
-          (script-library-objects library) (reverse (script-library-objects library)))
+          (script-library-objects library) (reverse (script-library-objects library))
+          (script-library-pose-whens library) (reverse (script-library-pose-whens library)))
     (check-script-library library)
     library))
 
@@ -133,8 +142,9 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
                (script-fail form "object ~A is declared twice" (lisp-text (second form))))
              (push object (script-library-objects library))))
           ((equal head "poses") (set-pose-library library form))
-          (t (script-fail form "a script library may contain defscript, defdirector, defobject ~
-                                and poses forms, not ~:[this~;~:*a ~A form~]"
+          ((equal head "pose-when") (push (parse-pose-when form) (script-library-pose-whens library)))
+          (t (script-fail form "a script library may contain defscript, defdirector, defobject, ~
+                                poses and :pose-when forms, not ~:[this~;~:*a ~A form~]"
                           head)))))
 
 (defun add-definition (library definition name-of table-of what form)
