@@ -170,6 +170,16 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "render-simulation")
                      (:file "glfw")
                      (:file "viewer")))))
+     ;; Several characters in one scene: DEFSCENE, event addresses, one
+     ;; controller per member over a shared machine, a scene simulated and drawn.
+     (:module "cast"
+      :serial t
+      :components ((:file "conditions")
+                   (:file "defscene")
+                   (:file "addresses")
+                   (:file "scene-files")
+                   (:file "ensemble")
+                   (:file "scene-simulation")))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t
