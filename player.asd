@@ -195,6 +195,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "commands")
                    (:file "help")
                    (:file "main")
+                   (:file "cast")
                    (:file "run")
                    (:file "plans")
                    (:file "dot")

@@ -23,7 +23,7 @@ address without a member part or naming a member not among MEMBERS."
          (slash (position #\/ text))
          (names (lambda () (mapcar (lambda (m) (lisp-text (cast-member-name m))) members))))
     (unless (and slash (< 0 slash (1- (length text))))
-      (scene-fail 'unknown-member-error address
+      (scene-fail 'unknown-member-error (form-of address)
                   "event ~A names no member: in a scene, address it as MEMBER/EVENT, MEMBER+MEMBER/EVENT or all/EVENT (members: ~{~A~^, ~})"
                   text (funcall names)))
     (let ((member-part (subseq text 0 slash))
@@ -33,10 +33,15 @@ address without a member part or naming a member not among MEMBERS."
                   (loop for part in (split-sequence-simple #\+ member-part)
                         collect (or (find part members :key (lambda (m) (symbol-name (cast-member-name m)))
                                                        :test #'string-equal)
-                                    (scene-fail 'unknown-member-error address
+                                    (scene-fail 'unknown-member-error (form-of address)
                                                 "event address ~A names member ~A, which the scene does not have (members: ~{~A~^, ~})"
                                                 text part (funcall names)))))
               event))))
+
+(defun form-of (address)
+  "ADDRESS as the offending form of an error: a symbol as it is; a string,
+which the message quotes already, as NIL."
+  (and (symbolp address) address))
 
 (defun split-sequence-simple (char text)
   "TEXT split at each CHAR, as a list of strings."

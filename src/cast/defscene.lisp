@@ -75,8 +75,9 @@ malformed form, a MISSING-MEMBER-SPEC-ERROR when SPEC is not defined."
         (scene-fail 'scene-error form "member ~A: :initial takes ((VAR . VALUE) ...), not ~A"
                     (lisp-text as) (bounded-lisp-text initial 60)))
       (unless (find-spec spec-name nil)
-        (scene-fail 'missing-member-spec-error form "member ~A plays spec ~A, which is not defined~@[ (defined: ~{~A~^, ~})~]"
-                    (lisp-text as) (lisp-text spec-name) (mapcar #'lisp-text (list-specs))))
+        (scene-fail 'missing-member-spec-error form "member ~A plays spec ~A, which is not defined~:[~*~; and not in a file ~A.lisp beside the scene's~]~@[ (defined: ~{~A~^, ~})~]"
+                    (lisp-text as) (lisp-text spec-name) (car *source-position*) (lisp-text spec-name)
+                    (mapcar #'lisp-text (list-specs))))
       (%make-cast-member :name as :spec (spec-name (find-spec spec-name))
                          :position (and at (mapcar (lambda (x) (float x 1d0)) at))
                          :initial initial :form form))))
