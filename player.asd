@@ -268,5 +268,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "fuzz-minimize")
                  (:file "test-fuzz")
                  (:file "test-api-arguments")
-                 (:file "test-compose"))))
+                 (:file "test-compose")
+                 (:file "test-scenes"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

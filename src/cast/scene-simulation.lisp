@@ -57,8 +57,11 @@ UNKNOWN-MEMBER-ERROR for an address naming no member."
                                          (%make-simulation :controller controller
                                                            :presenter (controller-presenter controller)
                                                            :end (controller-clock controller) :fps fps)))))
-        (%make-scene-simulation :ensemble ensemble :members members :fps fps
-                                :end (reduce #'max members :key (lambda (m) (simulation-end (cdr m)))))))))
+        (let ((end (reduce #'max members :key (lambda (m) (simulation-end (cdr m))))))
+          ;; Every body's frames (and BVH) cover the whole scene.
+          (dolist (member members)
+            (setf (simulation-end (cdr member)) end))
+          (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end))))))
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
