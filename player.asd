@@ -179,7 +179,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "addresses")
                    (:file "scene-files")
                    (:file "ensemble")
-                   (:file "scene-simulation")))
+                   (:file "scene-simulation")
+                   (:file "scene-viewer")))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t

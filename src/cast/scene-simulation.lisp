@@ -51,17 +51,22 @@ UNKNOWN-MEMBER-ERROR for an address naming no member."
                                          :presenter (lambda (member)
                                                       (gethash (cast-member-name member) presenters)))))
       (play-scene-events ensemble events :until until :when-busy when-busy)
-      (let ((members (loop for performer in (ensemble-performers ensemble)
-                           for controller = (performer-controller performer)
-                           collect (cons (performer-name performer)
-                                         (%make-simulation :controller controller
-                                                           :presenter (controller-presenter controller)
-                                                           :end (controller-clock controller) :fps fps)))))
-        (let ((end (reduce #'max members :key (lambda (m) (simulation-end (cdr m))))))
-          ;; Every body's frames (and BVH) cover the whole scene.
-          (dolist (member members)
-            (setf (simulation-end (cdr member)) end))
-          (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end))))))
+      (ensemble-simulation ensemble fps))))
+
+(defun ensemble-simulation (ensemble fps)
+  "A SCENE-SIMULATION of ENSEMBLE, whose members' presenters are body
+presenters, sampled at FPS and ending when its last member's clock does;
+every member's frames (and BVH) cover that whole time."
+  (let* ((members (loop for performer in (ensemble-performers ensemble)
+                        for controller = (performer-controller performer)
+                        collect (cons (performer-name performer)
+                                      (%make-simulation :controller controller
+                                                        :presenter (controller-presenter controller)
+                                                        :end (controller-clock controller) :fps fps))))
+         (end (reduce #'max members :key (lambda (m) (simulation-end (cdr m))))))
+    (dolist (member members)
+      (setf (simulation-end (cdr member)) end))
+    (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end)))
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
