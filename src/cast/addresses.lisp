@@ -12,8 +12,8 @@
   (if (stringp address) address (string-downcase (symbol-name address))))
 
 (defun parse-event-address (address members)
-  "The members (CAST-MEMBERs of MEMBERS) and the event name (an upcased
-string) ADDRESS, a symbol or string MEMBER/EVENT, MEMBER+.../EVENT or
+  "The members (CAST-MEMBERs of MEMBERS) and the event name (a symbol of
+PLAYER-USER when there is one, else an upcased string) ADDRESS, a symbol or string MEMBER/EVENT, MEMBER+.../EVENT or
 all/EVENT, sends to: two values.  Signals an UNKNOWN-MEMBER-ERROR for an
 address without a member part or naming a member not among MEMBERS."
   (unless (name-designator-p address)
@@ -27,7 +27,9 @@ address without a member part or naming a member not among MEMBERS."
                   "event ~A names no member: in a scene, address it as MEMBER/EVENT, MEMBER+MEMBER/EVENT or all/EVENT (members: ~{~A~^, ~})"
                   text (funcall names)))
     (let ((member-part (subseq text 0 slash))
-          (event (string-upcase (subseq text (1+ slash)))))
+          (event (let ((name (string-upcase (subseq text (1+ slash)))))
+                   ;; An event's symbol, when there is one, is looked up without consing.
+                   (or (find-symbol name '#:player-user) name))))
       (values (if (string-equal member-part "all")
                   members
                   (loop for part in (split-sequence-simple #\+ member-part)
@@ -60,7 +62,7 @@ which the message quotes already, as NIL."
 (defun resolve-scene-entry (cast entry)
   "The scenario ENTRY (ADDRESS, or (ADDRESS . SECONDS), ADDRESS possibly a
 scene event) of CAST as a list of (MEMBER-NAME . MEMBER-ENTRY), MEMBER-ENTRY
-the bare event name (a string), timed as ENTRY is."
+the bare event name (see PARSE-EVENT-ADDRESS), timed as ENTRY is."
   (let* ((address (event-entry-name entry))
          (addresses (or (scene-event-addresses cast address) (list address))))
     (loop for each in addresses

@@ -9,10 +9,15 @@
   "One member of a scene at play: its NAME, its CAST-MEMBER and its CONTROLLER."
   name member controller)
 
-(defstruct (ensemble (:constructor %make-ensemble (cast performers machines)))
-  "A scene at play: its CAST, a PERFORMER per member, and MACHINES, an alist
-from each spec's name to the compiled machine its members share."
-  cast performers machines)
+(defstruct (ensemble (:constructor %make-ensemble
+                        (cast performers machines
+                         &aux (index (let ((table (make-hash-table :test 'equal)))
+                                       (dolist (p performers table)
+                                         (setf (gethash (symbol-name (performer-name p)) table) p)))))))
+  "A scene at play: its CAST, a PERFORMER per member, MACHINES, an alist
+from each spec's name to the compiled machine its members share, and INDEX,
+the performers by name, so sending to every member costs linear time."
+  cast performers machines index)
 
 (defun cast-designator-p (x)
   "Is X a cast or the name of a defined one?"
@@ -61,8 +66,9 @@ the CAST-MEMBER, makes each member's presenter (default: a trace presenter)."
 
 (defun ensemble-controller (ensemble member)
   "The controller of ENSEMBLE's MEMBER (a member's name); an UNKNOWN-MEMBER-ERROR when there is none."
-  (let ((performer (find (string member) (ensemble-performers ensemble)
-                         :key (lambda (p) (symbol-name (performer-name p))) :test #'string-equal)))
+  (let ((performer (or (and (symbolp member) (gethash (symbol-name member) (ensemble-index ensemble)))
+                       (find (string member) (ensemble-performers ensemble)
+                             :key (lambda (p) (symbol-name (performer-name p))) :test #'string-equal))))
     (unless performer
       (scene-fail 'unknown-member-error member "scene ~A has no member ~A (members: ~{~A~^, ~})"
                   (lisp-text (cast-name (ensemble-cast ensemble))) (lisp-text member)
