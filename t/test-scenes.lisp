@@ -286,3 +286,32 @@ events, and timed ones meeting (a preempting sit, a bow while searching).")
         (is (find-if (lambda (l) (eql 0 (search "right: (:event ev-hop :time" l))) lines) "~A" out)
         (is (notany (lambda (l) (eql 0 (search "left: (:event ev-hop" l))) lines))
         (is (find "; no event middle/ev-hop: type one of the names above" lines :test #'string=))))))
+
+;;;# The C++ backend: two instances in one program
+
+(test c++-example-runs-two-instances
+  ;; examples/embed-cpp-scene/main.cpp, compiled with Peedy's generated
+  ;; controller (cached by content, as `run --backend c++` caches), runs two
+  ;; independent Controllers; each address reaches only the members it names.
+  (let ((main (alexandria:read-file-into-string (checkout-file "examples/embed-cpp-scene/main.cpp"))))
+    (multiple-value-bind (header source) (player::c++-sources (compile-spec (load-peedy)) "peedy" "peedy")
+      (let* ((directory (merge-pathnames (format nil "scene-example-~A/"
+                                                 (player::content-key header source main player::*c++-flags*))
+                                         (player::c++-cache-root)))
+             (executable (merge-pathnames "peedy-scene" directory)))
+        (unless (probe-file executable)
+          (ensure-directories-exist directory)
+          (loop for (name text) in `(("peedy.hpp" ,header) ("peedy.cpp" ,source) ("main.cpp" ,main))
+                do (with-open-file (out (merge-pathnames name directory) :direction :output :if-exists :supersede)
+                     (write-string text out)))
+          (player::compile-c++ directory '("main.cpp" "peedy.cpp") "peedy-scene"))
+        (multiple-value-bind (code out) (player::run-program-capturing (namestring executable) '())
+          (is (eql 0 code))
+          (let ((lines (lines out)))
+            (is (find "left:   0.00  event ev-search" lines :test #'string=) "~A" out)
+            (is (find "right:   0.00  event ev-thanks" lines :test #'string=))
+            (is (notany (lambda (l) (search "right:   0.00  event ev-search" l)) lines)
+                "left/ev-search reaches only left")
+            (is (find "left:   3.00  event ev-hop" lines :test #'string=) "all/ev-hop reaches left ...")
+            (is (find "right:  11.75  event ev-hop" lines :test #'string=) "... and right, each on its own clock")
+            (is (search "right: (:state (holding-note . nil) (posture . stand) (alert . awake)" out))))))))
