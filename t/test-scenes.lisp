@@ -225,7 +225,34 @@ events, and timed ones meeting (a preempting sit, a bow while searching).")
   (multiple-value-bind (out err code) (player-command "run" "specs/peedy.lisp" "--cast" "peedy:0")
     (declare (ignore out))
     (is (= 2 code))
-    (is (search "--cast takes SPEC:N" err) "~A" err)))
+    (is (search "--cast takes SPEC:N" err) "~A" err))
+  ;; check takes a scene file: each spec once, under a line naming its members.
+  (multiple-value-bind (out err code) (player-command "check" "specs/two-peedys.lisp")
+    (is (= 0 code) "~A" err)
+    (is (eql 0 (search "; peedy (left, right)" out)) "~A" out))
+  ;; A command for one spec says what a scene file is.
+  (multiple-value-bind (out err code) (player-command "plans" "specs/two-peedys.lisp")
+    (declare (ignore out))
+    (is (= 1 code))
+    (is (search "two-peedys.lisp:10: a spec file holds only in-package and defspec forms" err) "~A" err)
+    (is (search "a file with a defscene is a scene file" err) "~A" err)))
+
+(test scenes-mix-specs
+  ;; Members of different specs each get their spec's machine; Newton's cradle
+  ;; swings beside a Peedy.
+  (load-peedy)
+  (load-spec (checkout-file "specs/newtons-cradle.lisp"))
+  (let* ((cast (define-cast 'mixed '((peedy :as bird) (newtons-cradle :as toy))))
+         (ensemble (make-ensemble cast)))
+    (is (= 2 (length (player::ensemble-machines ensemble))))
+    (is-true (send-scene-event ensemble "toy/ev-lift-two-left"))
+    (is-true (send-scene-event ensemble "bird/ev-search"))
+    (is (find-if (lambda (l) (search "(:event ev-lift-two-left" l)) (member-trace ensemble 'toy)))
+    (is (notany (lambda (l) (search "ev-lift" l)) (member-trace ensemble 'bird)))
+    (multiple-value-bind (text class) (scene-error-text (lambda () (send-scene-event ensemble "all/ev-search")))
+      (is (eq 'unknown-event class) "the cradle has no ev-search: ~A" text))
+    (is (= 1 (count-if (lambda (l) (search "(:event ev-search" l)) (member-trace ensemble 'bird)))
+        "a refused address sends nothing, even to the members that know the event")))
 
 (test cli-simulate-writes-one-bvh-per-body
   (let ((directory (temp-path "scene-bvh/")))
