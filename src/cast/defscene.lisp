@@ -162,12 +162,14 @@ of one name, an UNKNOWN-MEMBER-ERROR for a scene event addressed to no member."
             (%make-cast :name name :documentation documentation :members members
                         :events (nreverse events) :source-file source-file)))))
 
-(defmacro defscene (name &body members)
+(defmacro defscene (&rest name-and-body)
   "Define (or, re-evaluated, redefine) the scene NAME of several characters:
   (defscene NAME [DOCSTRING] (SPEC [:as MEMBER] [:at (X Y Z)] [:initial ALIST]) ...
                              (event NAME MEMBER/EVENT ...) ...)
-Each member plays a defined spec; see DEFINE-CAST and the README."
-  `(define-cast ',name ',members
+Each member plays a defined spec; see DEFINE-CAST and the README.  A malformed
+form is DEFINE-CAST's SCENE-ERROR, when it runs, not a macroexpansion error."
+  `(define-cast ',(if (consp name-and-body) (car name-and-body) nil)
+                ',(if (consp name-and-body) (cdr name-and-body) nil)
                 :source-file ,(or (car *source-position*) *compile-file-truename* *load-truename*)))
 
 (defun find-cast (name &optional (errorp t))

@@ -45,6 +45,9 @@ the CAST-MEMBER, makes each member's presenter (default: a trace presenter)."
     (check-argument 'make-ensemble :initial initial #'initial-state-p *initial-state-phrase*)
     (check-argument 'make-ensemble :presenter presenter (lambda (x) (or (null x) (functionp x)))
                     "NIL or a function of a cast member returning a presenter")
+    (check-argument 'make-ensemble :timed timed
+                    (lambda (x) (or (eq x t) (and (alexandria:proper-list-p x) (every #'symbolp x))))
+                    "T, NIL or a list of member names")
     (let ((machines (cast-machines cast)))
       (%make-ensemble
        cast
@@ -64,8 +67,22 @@ the CAST-MEMBER, makes each member's presenter (default: a trace presenter)."
   "INITIAL with OVERRIDE's variables replaced by OVERRIDE's values."
   (append override (remove-if (lambda (entry) (assoc (car entry) override :test #'string-equal)) initial)))
 
+(defun check-ensemble (function ensemble)
+  "ENSEMBLE when it is one; else an ARGUMENT-ERROR of FUNCTION."
+  (check-argument function 'ensemble ensemble #'ensemble-p "an ensemble (from make-ensemble)"))
+
+(defun check-scene-timing (function at when-busy)
+  "An ARGUMENT-ERROR of FUNCTION unless AT is NIL or seconds and WHEN-BUSY NIL or a policy,
+checked before any member is sent anything."
+  (when at (check-seconds function :at at))
+  (check-argument function :when-busy when-busy
+                  (lambda (x) (or (null x) (and (symbolp x) (when-busy-policy x))))
+                  (format nil "NIL or one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
+
 (defun ensemble-controller (ensemble member)
   "The controller of ENSEMBLE's MEMBER (a member's name); an UNKNOWN-MEMBER-ERROR when there is none."
+  (check-ensemble 'ensemble-controller ensemble)
+  (check-argument 'ensemble-controller 'member member #'string-designator-p "a member's name (a symbol or string)")
   (let ((performer (or (and (symbolp member) (gethash (symbol-name member) (ensemble-index ensemble)))
                        (find (string member) (ensemble-performers ensemble)
                              :key (lambda (p) (symbol-name (performer-name p))) :test #'string-equal))))
@@ -82,7 +99,8 @@ as SEND-EVENT would (AT and WHEN-BUSY for timed controllers).  Returns T when
 every member's event succeeded, else NIL.  Signals an UNKNOWN-MEMBER-ERROR
 for an address naming no member, and UNKNOWN-EVENT for an event a member's
 spec lacks (before any member is sent anything)."
-  (check-argument 'send-scene-event 'ensemble ensemble #'ensemble-p "an ensemble (from make-ensemble)")
+  (check-ensemble 'send-scene-event ensemble)
+  (check-scene-timing 'send-scene-event at when-busy)
   (let ((targets (resolve-scene-entry (ensemble-cast ensemble) address)))
     (loop for (member . event) in targets
           do (find-compiled-event (ensemble-controller ensemble member) event 'send-scene-event))
@@ -98,7 +116,12 @@ spec lacks (before any member is sent anything)."
 SEND-SCENE-EVENT) on ENSEMBLE: each member plays, with PLAY-EVENTS, the
 events addressed to it in order, exactly as a lone controller given that list
 would.  Checks every address and event before anything plays."
-  (check-argument 'play-scene-events 'ensemble ensemble #'ensemble-p "an ensemble (from make-ensemble)")
+  (check-ensemble 'play-scene-events ensemble)
+  (check-argument 'play-scene-events 'events events
+                  (lambda (x) (and (alexandria:proper-list-p x) (every #'event-entry-p x)))
+                  "a proper list of event addresses (symbols or strings) or (ADDRESS . SECONDS) pairs")
+  (when until (check-seconds 'play-scene-events :until until :minimum 0))
+  (check-scene-timing 'play-scene-events nil when-busy)
   (let ((split (split-scene-events (ensemble-cast ensemble) events)))
     (loop for (member . entries) in split
           do (dolist (entry entries)
@@ -120,6 +143,7 @@ with WHEN-BUSY -- what a lone run of each member's scenario would choose."
 
 (defun ensemble-trace-lines (ensemble)
   "Every member's trace lines, member by member in the scene's order, as (MEMBER . LINE)."
+  (check-ensemble 'ensemble-trace-lines ensemble)
   (loop for performer in (ensemble-performers ensemble)
         for presenter = (controller-presenter (performer-controller performer))
         when (trace-presenter-p presenter)

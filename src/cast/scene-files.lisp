@@ -28,6 +28,7 @@ Returns two values: the scenes (CASTs) and the specs it defines, in order.  A
 member's spec, when not defined, is loaded from SPEC.lisp beside FILE.
 Signals a SPEC-ERROR (or SCENE-ERROR) naming the file and line of the
 offending form; unless ALLOW-CODE, a spec holding :code or :c++ is refused."
+  (check-argument 'load-scene-file 'file file #'pathname-designator-p *path-phrase*)
   (multiple-value-bind (entries text) (read-data-file file :what "scene file" :fail (spec-file-fail file))
     (let ((file (probe-file file))
           (*defined-specs* '())

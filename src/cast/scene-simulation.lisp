@@ -70,6 +70,9 @@ every member's frames (and BVH) cover that whole time."
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
+  (check-argument 'scene-simulation-member 'simulation simulation #'scene-simulation-p
+                  "a scene simulation (from simulate-scene)")
+  (check-argument 'scene-simulation-member 'member member #'string-designator-p "a member's name (a symbol or string)")
   (cdr (assoc (string member) (scene-simulation-members simulation)
               :key #'symbol-name :test #'string-equal)))
 
@@ -96,13 +99,14 @@ is seen by one framing all the bodies)."
         append (loop for (time text) in (simulation-reports member)
                      collect (list time (format nil "~A: ~A" (lisp-text name) text)))))
 
-(defun member-file (path member)
-  "The file of PATH for MEMBER: PATH/MEMBER.TYPE when PATH is a directory
-\(ends in /), else PATH's name followed by -MEMBER."
+(defun member-file (path member type)
+  "The file of PATH for MEMBER: PATH/MEMBER.TYPE when PATH is a directory (ends
+in /), else PATH's name followed by -MEMBER, with PATH's type or else TYPE."
   (let ((path (pathname path)) (name (string-downcase (symbol-name member))))
     (if (pathname-name path)
-        (make-pathname :name (format nil "~A-~A" (pathname-name path) name) :defaults path)
-        (merge-pathnames name path))))
+        (make-pathname :name (format nil "~A-~A" (pathname-name path) name)
+                       :type (or (pathname-type path) type) :defaults path)
+        (make-pathname :name name :type type :defaults path))))
 
 (defun write-scene-simulation (simulation &key bvh frames)
   "Write one BVH file per body of SIMULATION, a SCENE-SIMULATION: with BVH a
@@ -111,16 +115,14 @@ likewise one frames file per member (see WRITE-SIMULATION).  Each body's root
 carries its member's place.  Returns the paths written."
   (check-argument 'write-scene-simulation 'simulation simulation #'scene-simulation-p
                   "a scene simulation (from simulate-scene)")
+  (check-argument 'write-scene-simulation :bvh bvh (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'write-scene-simulation :frames frames (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
   (loop for (name . member) in (scene-simulation-members simulation)
         append (write-simulation member
-                                 :bvh (and bvh (member-file (if (pathname-name bvh)
-                                                                bvh
-                                                                (make-pathname :type "bvh" :defaults bvh))
-                                                            name))
-                                 :frames (and frames (member-file (if (pathname-name frames)
-                                                                      frames
-                                                                      (make-pathname :type "frames" :defaults frames))
-                                                                  name)))))
+                                 :bvh (and bvh (member-file bvh name "bvh"))
+                                 :frames (and frames (member-file frames name "frames")))))
 
 (defun scene-simulation-trace (simulation &optional (stream *standard-output*))
   "Write SIMULATION's trace, each member's lines in turn, prefixed \"MEMBER: \"."

@@ -59,7 +59,10 @@ SIMULATION-FRAMES samples it."
 objects change with the next call).  A scene of several characters
 \(src/cast/) adds a method.")
   (:method ((simulation simulation) time)
-    (performance-frame (simulation-performance simulation) time)))
+    (performance-frame (simulation-performance simulation) time))
+  (:method (simulation time)
+    (declare (ignore time))
+    (check-argument 'simulation-scene-at 'simulation simulation #'simulation-p "a simulation (from simulate)")))
 
 (defun map-simulation-frames (function simulation)
   "Call FUNCTION with each frame's index, time and scene, in order."
