@@ -15,7 +15,8 @@ carries on."
                 "run the controller as Lisp closures, or as generated C++ (needs g++)"
                 :default "lisp"))
      :output "the trace on standard output, one s-expression per line; without
-        --events, the initial state; for a scene, each member's lines in turn, prefixed MEMBER:")
+        --events, the initial state; for a scene (a scene file, or --cast),
+        each member's lines in turn, prefixed MEMBER:")
   (when-let (scene (command-cast file spec cast (not no-code)))
     (unless (string= backend "lisp") (usage-fail "--backend c++ plays one controller, not a scene"))
     (run-scene scene :initial initial :events events :at at :when-busy (policy-keyword when-busy))
