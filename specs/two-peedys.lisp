@@ -11,5 +11,8 @@
   "Two Peedys side by side, the right one asleep."
   (peedy :as left :at (-0.35 0 0))
   (peedy :as right :at (0.35 0 0) :initial ((alert . snore) (posture . sit)))
-  ;; A scene event addresses several members at once.
-  (event duet-search left/ev-search right/ev-search))
+  ;; A scene event addresses several members at once ...
+  (event duet-search left/ev-search right/ev-search)
+  ;; ... and, like a director, may stagger them: sent at T (duet-hop@T),
+  ;; left hops at T and right half a second later.
+  (event duet-hop (left/ev-hop :after 0) (right/ev-hop :after 0.5)))

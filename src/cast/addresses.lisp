@@ -62,14 +62,24 @@ which the message quotes already, as NIL."
 (defun resolve-scene-entry (cast entry)
   "The scenario ENTRY (ADDRESS, or (ADDRESS . SECONDS), ADDRESS possibly a
 scene event) of CAST as a list of (MEMBER-NAME . MEMBER-ENTRY), MEMBER-ENTRY
-the bare event name (see PARSE-EVENT-ADDRESS), timed as ENTRY is."
+the bare event name (see PARSE-EVENT-ADDRESS), timed as ENTRY is; a scene
+event's (ADDRESS :after OFFSET) arrives OFFSET seconds after ENTRY's time,
+so such a scene event needs one (a SCENE-ERROR otherwise)."
   (let* ((address (event-entry-name entry))
          (addresses (or (scene-event-addresses cast address) (list address))))
     (loop for each in addresses
-          append (multiple-value-bind (members event) (parse-event-address each (cast-members cast))
+          for after = (and (consp each) (third each))
+          do (when (and after (not (consp entry)))
+               (scene-fail 'scene-error (form-of address)
+                           "scene event ~A sends its events :after a time: send it at one, ~A@SECONDS"
+                           (address-text address) (address-text address)))
+          append (multiple-value-bind (members event)
+                     (parse-event-address (if (consp each) (first each) each) (cast-members cast))
                    (loop for member in members
                          collect (cons (cast-member-name member)
-                                       (if (consp entry) (cons event (cdr entry)) event)))))))
+                                       (if (consp entry)
+                                           (cons event (+ (cdr entry) (or after 0)))
+                                           event)))))))
 
 (defun split-scene-events (cast events)
   "EVENTS, a scenario for CAST (see RESOLVE-SCENE-ENTRY), split per member: an

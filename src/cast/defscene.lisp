@@ -9,7 +9,8 @@
 ;;;;   (defscene duet "Two Peedys."
 ;;;;     (peedy :as left :at (-0.3 0 0))
 ;;;;     (peedy :as right :at (0.3 0 0))
-;;;;     (event ev-both-search left/ev-search right/ev-search))
+;;;;     (event ev-both-search left/ev-search right/ev-search)
+;;;;     (event ev-wave (left/ev-hello :after 0) (right/ev-hello :after 0.5)))
 
 (in-package #:player)
 
@@ -110,15 +111,24 @@ on the origin, *MEMBER-SPACING* apart (counting every member, placed or not)."
   "Where FORM was read, (FILE . POSITION), when a scene file is being read."
   (and *scene-form-places* (gethash form *scene-form-places*)))
 
+(defun timed-address-p (x)
+  "Is X a scene event's (ADDRESS :after SECONDS), SECONDS a finite number from 0?"
+  (and (alexandria:proper-list-p x) (= (length x) 3) (eq (second x) :after)
+       (finite-real-p (third x)) (<= 0 (third x) *max-seconds*)))
+
 (defun parse-scene-event (form members)
   "(NAME . ADDRESSES) for the scene event FORM, (event NAME ADDRESS...), each
-ADDRESS checked against MEMBERS (see PARSE-EVENT-ADDRESS)."
+ADDRESS, or (ADDRESS :after SECONDS), checked against MEMBERS (see
+PARSE-EVENT-ADDRESS)."
   (destructuring-bind (name &rest addresses) (rest form)
     (unless (and (symbolp name) name (not (find #\/ (symbol-name name))) addresses)
       (scene-fail 'scene-error form "a scene event is (event NAME MEMBER/EVENT ...), NAME without /, not ~A"
                   (bounded-lisp-text form 80)))
     (cons name (loop for address in addresses
-                     do (parse-event-address address members)
+                     do (when (and (consp address) (not (timed-address-p address)))
+                          (scene-fail 'scene-error form "scene event ~A: an address is MEMBER/EVENT or (MEMBER/EVENT :after SECONDS), not ~A"
+                                      (lisp-text name) (bounded-lisp-text address 60)))
+                        (parse-event-address (if (consp address) (first address) address) members)
                      collect address))))
 
 (defun define-cast (name body &key source-file form-positions)

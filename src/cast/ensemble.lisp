@@ -94,20 +94,23 @@ checked before any member is sent anything."
 
 (defun send-scene-event (ensemble address &key at when-busy)
   "Send the event ADDRESS names (MEMBER/EVENT, MEMBER+.../EVENT, all/EVENT or
-one of the scene's events) to each member it addresses, in the scene's order,
-as SEND-EVENT would (AT and WHEN-BUSY for timed controllers).  Returns T when
-every member's event succeeded, else NIL.  Signals an UNKNOWN-MEMBER-ERROR
-for an address naming no member, and UNKNOWN-EVENT for an event a member's
-spec lacks (before any member is sent anything)."
+one of the scene's events) to each member it addresses, in the order it names
+them, as SEND-EVENT would (AT and WHEN-BUSY for timed controllers; a scene
+event's (ADDRESS :after OFFSET) at AT plus OFFSET, so it needs AT).  Returns T
+when every member's event succeeded, else NIL.  Signals an
+UNKNOWN-MEMBER-ERROR for an address naming no member, and UNKNOWN-EVENT for
+an event a member's spec lacks (before any member is sent anything)."
   (check-ensemble 'send-scene-event ensemble)
   (check-scene-timing 'send-scene-event at when-busy)
-  (let ((targets (resolve-scene-entry (ensemble-cast ensemble) address)))
-    (loop for (member . event) in targets
-          do (find-compiled-event (ensemble-controller ensemble member) event 'send-scene-event))
+  (let ((targets (resolve-scene-entry (ensemble-cast ensemble) (if at (cons address at) address))))
+    (loop for (member . entry) in targets
+          do (find-compiled-event (ensemble-controller ensemble member) (event-entry-name entry)
+                                  'send-scene-event))
     (let ((ok t))
-      (loop for (member . event) in targets
-            do (unless (apply #'send-event (ensemble-controller ensemble member) event
-                              (append (and at (list :at at)) (and when-busy (list :when-busy when-busy))))
+      (loop for (member . entry) in targets
+            do (unless (apply #'send-event (ensemble-controller ensemble member) (event-entry-name entry)
+                              (append (and (consp entry) (list :at (cdr entry)))
+                                      (and when-busy (list :when-busy when-busy))))
                  (setf ok nil)))
       ok)))
 
