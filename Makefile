@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle test bench fuzz deps embed-example golden
+.PHONY: demo demo-policies demo-cradle test bench fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -58,6 +58,13 @@ embed-example: deps
 	g++ $(CXXFLAGS) -Ibuild/embed-cpp examples/embed-cpp/main.cpp build/embed-cpp/peedy.cpp \
 	  -o build/embed-cpp/peedy-demo
 	build/embed-cpp/peedy-demo
+
+# Two instances of Peedy's generated controller in one program: examples/embed-cpp-scene/.
+embed-scene-example: deps
+	bin/player emit-c++ specs/peedy.lisp --out build/embed-cpp-scene
+	g++ $(CXXFLAGS) -Ibuild/embed-cpp-scene examples/embed-cpp-scene/main.cpp build/embed-cpp-scene/peedy.cpp \
+	  -o build/embed-cpp-scene/peedy-scene
+	build/embed-cpp-scene/peedy-scene
 
 # Regenerate t/golden/*.png after an intended change of the look; look at them before committing.
 golden: deps

@@ -180,6 +180,17 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "render-simulation")
                      (:file "glfw")
                      (:file "viewer")))))
+     ;; Several characters in one scene: DEFSCENE, event addresses, one
+     ;; controller per member over a shared machine, a scene simulated and drawn.
+     (:module "cast"
+      :serial t
+      :components ((:file "conditions")
+                   (:file "defscene")
+                   (:file "addresses")
+                   (:file "scene-files")
+                   (:file "ensemble")
+                   (:file "scene-simulation")
+                   (:file "scene-viewer")))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t
@@ -195,6 +206,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "commands")
                    (:file "help")
                    (:file "main")
+                   (:file "cast")
                    (:file "run")
                    (:file "plans")
                    (:file "dot")
@@ -271,5 +283,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-api-arguments")
                  (:file "test-compose")
                  (:file "test-compose-specs")
-                 (:file "test-cradle-render"))))
+                 (:file "test-cradle-render")
+                 (:file "test-scenes"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle"))
+    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -403,6 +403,9 @@ closures and through run-time planning; add the rows; return the ratio."
         (rule)
         (format t "~&  pose evaluation...~%") (finish-output)
         (bench-pose-evaluation)
+        (rule)
+        (format t "~&  scenes of several Peedys...~%") (finish-output)
+        (bench-scenes spec)
         (rule)
         (format t "~&  rendering...~%") (finish-output)
         (bench-render)

@@ -94,6 +94,15 @@
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
    #:graph->spec #:graph->spec-forms #:spec->graph
    #:register-graph #:define-graph #:find-graph #:graph-expression #:graph-expression-error
+   ;; Several characters in one scene (src/cast/)
+   #:defscene #:define-cast #:find-cast #:list-casts #:remove-cast #:load-scene-file #:replicate-cast
+   #:cast #:cast-p #:cast-name #:cast-documentation #:cast-members #:cast-events
+   #:cast-member #:cast-member-name #:cast-member-spec #:cast-member-position #:cast-member-initial
+   #:scene-error #:missing-member-spec-error #:duplicate-member-error #:unknown-member-error
+   #:make-ensemble #:ensemble #:ensemble-p #:ensemble-cast #:ensemble-controller
+   #:send-scene-event #:play-scene-events #:ensemble-trace-lines #:write-ensemble-trace
+   #:simulate-scene #:scene-simulation #:scene-simulation-p #:scene-simulation-member
+   #:write-scene-simulation #:simulation-scene-at
    #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*))
 
 (defpackage #:player-user

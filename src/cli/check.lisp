@@ -18,17 +18,37 @@ it lacks and the ops whose :duration differs from their script's. Exit status
      :output "one error: or warning: line per problem on standard output (errors
         first); with an error, a last player: error: line on standard error and
         exit status 1")
+  ;; A scene file: each spec its members play, once, under a ; line naming them.
+  (when-let (scene (and (scene-file-p file) (command-cast file spec nil (not no-code))))
+    (let ((errors (loop for spec-name in (remove-duplicates (mapcar #'cast-member-spec (cast-members scene))
+                                                            :from-end t)
+                        do (format t "; ~A (~{~A~^, ~})~%" (lisp-text spec-name)
+                                   (loop for member in (cast-members scene)
+                                         when (eq (cast-member-spec member) spec-name)
+                                           collect (lisp-text (cast-member-name member))))
+                        sum (print-spec-diagnostics (find-spec spec-name) scripts))))
+      (when (plusp errors)
+        (error 'player-error-with-message
+               :message (format nil "check found ~D error~:P in scene ~A (see standard output)"
+                                errors (lisp-text (cast-name scene))))))
+    (return-from command-check))
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
-         (diagnostics (append (check-spec spec) (script-diagnostics spec scripts)))
+         (errors (print-spec-diagnostics spec scripts)))
+    (when (plusp errors)
+      (error 'player-error-with-message
+             :message (format nil "check found ~D error~:P in spec ~A (see standard output)"
+                              errors (lisp-text (spec-name spec)))))))
+
+(defun print-spec-diagnostics (spec scripts)
+  "Print SPEC's diagnostics (with the script library SCRIPTS, else its own),
+errors first, or that it has none; return how many errors there were."
+  (let* ((diagnostics (append (check-spec spec) (script-diagnostics spec scripts)))
          (errors (remove-if-not #'diagnostic-error-p diagnostics))
          (warnings (remove-if #'diagnostic-error-p diagnostics)))
     (dolist (d errors)
       (format t "error: ~A~%" (diagnostic-message d)))
     (dolist (d warnings)
       (format t "warning: ~A~%" (diagnostic-message d)))
-    (cond (errors
-           (error 'player-error-with-message
-                  :message (format nil "check found ~D error~:P in spec ~A (see standard output)"
-                                   (length errors) (lisp-text (spec-name spec)))))
-          ((null diagnostics)
-           (format t "~A: no problems found~%" (lisp-text (spec-name spec)))))))
+    (unless diagnostics
+      (format t "~A: no problems found~%" (lisp-text (spec-name spec))))
+    (length errors)))

@@ -2,14 +2,14 @@
 
 (in-package #:player)
 
-(define-command "render" (file &key spec no-code initial events at when-busy policies fps seed scripts body size out video)
+(define-command "render" (file &key spec no-code initial events at when-busy policies fps seed scripts body size out video cast)
     (:summary "play the events in simulated time and draw them offscreen"
      :description "Draws every frame with OSMesa (no display needed), writes a contact sheet
 of evenly spaced frames and, with --video, a video made by ffmpeg (Debian
 package ffmpeg).  A progress bar goes to standard error."
      :arguments ("SPEC-FILE")
      :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" ("--fps" :default 24) "--seed" "--scripts" "--body"
-               "--size"
+               "--size" "--cast"
                ("--out" :string "DIR" "the directory to write the frames into" :default "render/")
                ("--video" :string "FILE.mp4" "also encode the frames as a video")
                ("--policies" :policies "P1,P2,..."
@@ -19,6 +19,13 @@ package ffmpeg).  A progress bar goes to standard error."
         written on standard output")
   (when video (find-ffmpeg))
   (check-scenario-times events at)
+  (let ((scene (command-cast file spec cast (not no-code))))
+    (when scene
+      (refuse-scene-option "--policies" policies)
+      (render-scene-command scene :initial initial :events events :at at :when-busy when-busy
+                                  :fps fps :seed seed :scripts scripts :body body :size size
+                                  :out out :video video)
+      (return-from command-render)))
   (when policies
     (when video (usage-fail "--policies draws one contact sheet; it makes no --video"))
     (let ((path (render-policy-sheet (choose-spec file spec :allow-code (not no-code)) policies
@@ -32,6 +39,19 @@ package ffmpeg).  A progress bar goes to standard error."
          (paths (render-simulation simulation :out out :size size :fps fps :video video))
          (frames (butlast paths (if video 2 1))))
     (print-scenario-summary simulation (length frames) fps)
+    (format t "; wrote ~A .. ~A~%" (namestring (first frames)) (file-namestring (car (last frames))))
+    (dolist (path (last paths (if video 2 1)))
+      (format t "; wrote ~A~%" (namestring path)))))
+
+(defun render-scene-command (scene &key initial events at when-busy fps seed scripts body size out video)
+  "`player render` on a scene: every member drawn in each frame."
+  (let* ((simulation (simulate-scene scene :initial initial :events events :until at
+                                           :when-busy (policy-keyword when-busy) :fps fps :seed seed
+                                           :scripts scripts :body body))
+         (paths (progn (write-ensemble-trace (scene-simulation-ensemble simulation))
+                       (render-simulation simulation :out out :size size :fps fps :video video)))
+         (frames (butlast paths (if video 2 1))))
+    (print-scene-summary simulation (length frames) fps)
     (format t "; wrote ~A .. ~A~%" (namestring (first frames)) (file-namestring (car (last frames))))
     (dolist (path (last paths (if video 2 1)))
       (format t "; wrote ~A~%" (namestring path)))))

@@ -2,7 +2,7 @@
 
 (in-package #:player)
 
-(define-command "run" (file &key spec no-code initial events at when-busy backend)
+(define-command "run" (file &key spec no-code initial events at when-busy backend cast)
     (:summary "play events in simulated time and print the trace"
      :description "Each event starts when the previous one's last op has ended; an event
 given as EV@T arrives at T seconds instead, and if another is still running,
@@ -10,12 +10,17 @@ its :when-busy policy decides (queue, preempt, override or interleave).  A
 failed goal shows as (:fail EVENT :goal GOAL :time T) and the next event
 carries on."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy"
+     :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" "--cast"
                ("--backend" (:choice "lisp" "c++") "lisp|c++"
                 "run the controller as Lisp closures, or as generated C++ (needs g++)"
                 :default "lisp"))
      :output "the trace on standard output, one s-expression per line; without
-        --events, the initial state")
+        --events, the initial state; for a scene (a scene file, or --cast),
+        each member's lines in turn, prefixed MEMBER:")
+  (when-let (scene (command-cast file spec cast (not no-code)))
+    (unless (string= backend "lisp") (usage-fail "--backend c++ plays one controller, not a scene"))
+    (run-scene scene :initial initial :events events :at at :when-busy (policy-keyword when-busy))
+    (return-from command-run))
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (machine (compile-spec spec))
          (lisp (string= backend "lisp"))

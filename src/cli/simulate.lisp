@@ -2,16 +2,26 @@
 
 (in-package #:player)
 
-(define-command "simulate" (file &key spec no-code initial events at when-busy fps seed scripts body bvh frames)
+(define-command "simulate" (file &key spec no-code initial events at when-busy fps seed scripts body bvh frames cast)
     (:summary "play the events on the spec's body in simulated time"
      :description "Prints the trace, what the drivers reported (a reach that fell short)
 and the files written, as ; comment lines."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" "--fps" "--seed" "--scripts" "--body"
-               ("--bvh" :string "FILE" "write the character's motion as BVH to FILE")
-               ("--frames" :string "FILE" "write one s-expression per frame to FILE"))
+     :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" "--fps" "--seed" "--scripts" "--body" "--cast"
+               ("--bvh" :string "FILE" "write the character's motion as BVH to FILE; for a scene, one file per body: DIR/MEMBER.bvh when FILE ends in /, else NAME-MEMBER.bvh")
+               ("--frames" :string "FILE" "write one s-expression per frame to FILE; for a scene, one file per member, named as for --bvh"))
      :output "the trace on standard output; files only with --bvh and --frames")
   (check-scenario-times events at)
+  (when-let (scene (command-cast file spec cast (not no-code)))
+    (let* ((simulation (simulate-scene scene :initial initial :events events :until at
+                                             :when-busy (policy-keyword when-busy) :fps fps :seed seed
+                                             :scripts scripts :body body))
+           (written (progn (write-ensemble-trace (scene-simulation-ensemble simulation))
+                           (write-scene-simulation simulation :bvh bvh :frames frames))))
+      (print-scene-summary simulation (simulation-frame-count simulation) fps)
+      (dolist (path written)
+        (format t "; wrote ~A~%" (namestring path))))
+    (return-from command-simulate))
   (let* ((simulation (simulate (choose-spec file spec :allow-code (not no-code))
                                :initial initial :events events :until at :when-busy (policy-keyword when-busy) :fps fps :seed seed
                                :scripts scripts :body body :stream *standard-output*))

@@ -18,19 +18,26 @@
                                         (option-name option) name (mapcar #'car *view-control-keys*)))))))
           (split-list text)))
 
-(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot)
+(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot cast)
     (:summary "play the controller live in a window"
      :description "Keys from the printed map (or event names typed at the terminal) send
 events, space pauses, the arrows and the mouse orbit the camera, the scroll
 wheel zooms, Escape or closing the window quits.  Under xvfb-run -a it runs
 without a screen."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--body" "--scripts" "--size" "--seed"
+     :options ("--spec" "--no-code" "--initial" "--body" "--scripts" "--size" "--seed" "--cast"
                ("--frames" :positive-integer "N" "stop after N frames")
                ("--screenshot" :string "FILE.png" "save the last frame shown")
                ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5")
                ("--dot" :string "FILE" "keep the state graph (.dot, .svg or .png, as for `player dot`) in FILE, rewritten with the current state marked whenever it changes"))
      :output "a window; the key map and the trace on standard output")
+  (when-let (scene (command-cast file spec cast (not no-code)))
+    (refuse-scene-option "--dot" dot)
+    (let ((problem (scripted-keys-problem keys (scene-event-keys scene))))
+      (when problem (usage-fail "--keys: ~A" problem)))
+    (view-scene scene :initial initial :body body :scripts scripts :frames frames :screenshot screenshot
+                      :size size :seed seed :keys keys)
+    (return-from command-view))
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (problem (scripted-keys-problem keys (view-event-keys spec))))
     (when problem (usage-fail "--keys: ~A" problem))

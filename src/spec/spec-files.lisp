@@ -32,8 +32,10 @@ offending form; the specs defined before it stay defined."
             do (let ((*source-position* (cons file position)))
                  (unless (defspec-form-p form)
                    (spec-fail 'spec-syntax-error form
-                              "a spec file holds only in-package and defspec forms, not ~A"
-                              (bounded-lisp-text form 60)))
+                              "a spec file holds only in-package and defspec forms, not ~A~:[~;; a file with a defscene is a scene file, which run, simulate, render, view and check take~]"
+                              (bounded-lisp-text form 60)
+                              (and (consp form) (symbolp (first form))
+                                   (string= (symbol-name (first form)) "DEFSCENE"))))
                  (let ((rest (rest form)))
                    (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
                                 :source-file file :package package :allow-code allow-code

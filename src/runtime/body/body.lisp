@@ -268,7 +268,8 @@ is an ARGUMENT-ERROR: make a fresh body to go back."
 (defun resolve-target (target body &optional pose)
   "The world point TARGET (a :target form) names, seen from BODY.  A joint of
 BODY itself is placed by POSE when given (the pose being composed), else by
-BODY's last evaluation.  An :offset is in the frame of the joint or object."
+BODY's last evaluation.  An :offset is in the frame of the joint or object;
+a :point is in the frame BODY's parent gives (the world when it has none)."
   (check-argument 'resolve-target 'body body #'body-p "a body (from make-body)")
   (check-argument 'resolve-target 'target target #'target-form-p
                   "a target: (:point x y z), (:object name) or (:joint object joint), each with an optional :offset (x y z)")
@@ -280,7 +281,10 @@ BODY's last evaluation.  An :offset is in the frame of the joint or object."
            (offset (if offset-form (apply #'make-vec3 offset-form) (vec3)))
            (frame
              (ecase kind
-               (:point (make-transform :translation (apply #'make-vec3 (subseq arguments 0 3))))
+               ;; A point is in the space BODY stands in: the world, or the
+               ;; stage a cast member's scene hangs from (src/cast/).
+               (:point (transform-compose (parent-world-transform body)
+                                          (make-transform :translation (apply #'make-vec3 (subseq arguments 0 3)))))
                (:object (object-world-transform (target-object body (first arguments) target)))
                (:joint
                 (let ((object (target-object body (first arguments) target)))

@@ -95,17 +95,23 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
   (check-real function :blend-time blend-time :minimum 0 :maximum *max-seconds*))
 
 (defun make-body-presenter (spec &key scripts body (seed 0) stream
-                                      (blend-time *default-blend-time*))
-  "A body presenter for SPEC: its character, named after SPEC, has the skeleton
+                                      (blend-time *default-blend-time*)
+                                      name origin (check t))
+  "A body presenter for SPEC: its character, named NAME (default: after SPEC), has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE), else placeholders: a gesture per op with
 its name as a caption, see MAKE-PLACEHOLDER-LIBRARY).  Trace lines go to STREAM when given.
+With ORIGIN (a vec3) the whole scene, props and camera included, stands
+there (see MAKE-PERFORMANCE): how a cast places its members.
 Before anything plays, signals a SCRIPT-ERROR listing every missing script,
 naming a (:pose-when ...) entry whose expression or pose is unknown,
 or naming the first item of a needed script that cannot play on this body
-(what CHECK reports as an error, at the item's file and line); an
+(what CHECK reports as an error, at the item's file and line; skipped when
+CHECK is NIL, for a caller that checked the same spec already); an
 ARGUMENT-ERROR for an argument of the wrong kind."
   (check-body-presenter-arguments 'make-body-presenter spec scripts body seed stream blend-time)
+  (check-argument 'make-body-presenter :name name (lambda (x) (or (null x) (string-designator-p x)))
+                  "NIL or a character's name (a symbol or string)")
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (body (or body (spec-body-name spec) *default-body*))
          (skeleton (if (skeleton-p body) body (load-skeleton body)))
@@ -115,9 +121,9 @@ ARGUMENT-ERROR for an argument of the wrong kind."
                       (spec-script-library spec :scripts scripts)))
          (performance (progn
                         (check-spec-scripts spec library)
-                        (make-performance library (list (list (spec-name spec) skeleton))
-                                          :seed seed :blend-time blend-time))))
-    (check-scripts-play spec performance)
+                        (make-performance library (list (list (or name (spec-name spec)) skeleton))
+                                          :seed seed :blend-time blend-time :origin origin))))
+    (when check (check-scripts-play spec performance))
     (make-instance 'body-presenter :stream stream :performance performance
                                    :placeholder placeholder
                                    :starting-poses (check-starting-poses library spec skeleton
@@ -139,7 +145,7 @@ stops halfway on it."
                          (performance-library performance)
                          (character-spec-skeleton (first (performance-characters performance)))
                          (spec-script-names spec)
-                         :characters (list (spec-name spec))
+                         :characters (list (performance-character performance))
                          :poses (performance-poses performance)))))
     (when failure
       (error 'script-error :spec (spec-name spec) :message (diagnostic-message failure)))))

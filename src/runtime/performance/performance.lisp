@@ -58,6 +58,10 @@ NONE: *STAND-IN-SKELETON*), and whether its body is drawn."
    (poses :initform nil :accessor performance-poses
           :documentation "The pose library the library's (poses FILE) names, loaded, or NIL.")
    (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
+   (origin :initarg :origin :initform nil :reader performance-origin
+           :documentation "NIL, or a vec3: where the whole scene stands in the world.  A
+scene cast with others (src/cast/) is moved there by hanging everything that
+would hang from the world from a group object, its stage, at ORIGIN.")
    (runs :initform '() :accessor performance-runs :documentation "Top-level runs, newest first.")
    (starting-pose :initform nil :accessor performance-starting-pose
                   :documentation "The STARTING-POSE the first character starts in (starting-pose.lisp), or NIL.")
@@ -90,17 +94,21 @@ scripts started so far.  PERFORMANCE-FRAME gives the scene at any time."))
   "Is X a performance?"
   (typep x 'performance))
 
-(defun make-performance (library characters &key (seed 0) (blend-time *default-blend-time*))
+(defun make-performance (library characters &key (seed 0) (blend-time *default-blend-time*) origin)
   "A performance of LIBRARY on CHARACTERS, each (NAME SKELETON [POSITION [ROTATION]])
-with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
+with SKELETON a SKELETON or the name of one; SEED seeds the random drivers.
+With ORIGIN (a vec3) the characters, props and cameras hang from the group
+object STAGE standing there, so the whole scene plays moved by ORIGIN."
   (check-argument 'make-performance 'library library #'script-library-p "a script library (from load-script-library)")
   (check-argument 'make-performance 'characters characters #'characters-p
                   "a nonempty proper list of (name skeleton [position [rotation]]), names symbols or strings, skeletons a skeleton or its name, positions vec3s, rotations nonzero quats")
   (check-real 'make-performance :seed seed :integer t)
   (check-real 'make-performance :blend-time blend-time :minimum 0 :maximum *max-seconds*)
+  (check-argument 'make-performance :origin origin (lambda (x) (or (null x) (finite-vec3-p x)))
+                  "NIL or a vec3 of finite numbers")
   (let ((performance
           (make-instance 'performance
-                         :library library :seed seed :blend-time blend-time
+                         :library library :seed seed :blend-time blend-time :origin origin
                          :characters (mapcar (lambda (entry)
                                                (destructuring-bind (name skeleton &optional (position (vec3))
                                                                                     (rotation (quat)))
@@ -200,15 +208,27 @@ Returns its duration (NIL when it loops for ever)."
 
 ;;;# The replay
 
+(defparameter *stage-name* '%stage
+  "The name of the group object a performance with an origin hangs its scene from.")
+
+(defun performance-stage (performance)
+  "The group object PERFORMANCE's scene hangs from (see PERFORMANCE-ORIGIN), or NIL."
+  (and (performance-origin performance)
+       (find-object (performance-scene performance) *stage-name* nil)))
+
 (defun rebuild-scene (performance)
   "Start the replay over: a fresh scene at its initial state, every run unplayed."
-  (let ((scene (make-instance 'scene))
-        (library (performance-library performance)))
+  (let* ((scene (make-instance 'scene))
+         (library (performance-library performance))
+         (stage (and (performance-origin performance)
+                     (add-object scene (make-instance 'scene-object :name *stage-name* :kind :group
+                                                                    :position (performance-origin performance))))))
     (dolist (spec (performance-characters performance))
       (let ((body (make-body (character-spec-name spec) (character-spec-skeleton spec)
                              :scene scene :position (character-spec-position spec)
                              :rotation (character-spec-rotation spec)
                              :blend-time (performance-blend-time performance))))
+        (setf (object-parent body) stage)
         (setf (body-seed body) (performance-seed performance))
         (unless (character-spec-visible spec)
           (setf (property-value body 'visible) nil))
@@ -223,6 +243,7 @@ Returns its duration (NIL when it loops for ever)."
                                                  :rotation (scene-object-spec-rotation spec))))
         (loop for (name type value) in (scene-object-spec-properties spec)
               do (define-property object name type value))
+        (setf (object-parent object) stage)
         (add-object scene object)))
     (setf (performance-scene performance) scene)
     (dolist (spec (script-library-objects library))
@@ -250,7 +271,7 @@ Returns its duration (NIL when it loops for ever)."
   (let ((scene (performance-scene performance)))
     (flet ((object (name)
              (find-object scene (if (eq name :self) (or body-name (performance-character performance)) name))))
-      (cond ((null parent) nil)
+      (cond ((null parent) (performance-stage performance))
             ((symbolp parent) (object parent))
             (t (let ((object (object (first parent))))
                  (cons object (joint-name-for object (second parent) parent))))))))

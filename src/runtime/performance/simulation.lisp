@@ -54,16 +54,25 @@ SIMULATION-FRAMES samples it."
   "The time of frame INDEX of SIMULATION."
   (/ index (float (simulation-fps simulation) 1d0)))
 
+(defgeneric simulation-scene-at (simulation time)
+  (:documentation "The scene of SIMULATION at TIME seconds, to draw or sample (its
+objects change with the next call).  A scene of several characters
+\(src/cast/) adds a method.")
+  (:method ((simulation simulation) time)
+    (performance-frame (simulation-performance simulation) time))
+  (:method (simulation time)
+    (declare (ignore time))
+    (check-argument 'simulation-scene-at 'simulation simulation #'simulation-p "a simulation (from simulate)")))
+
 (defun map-simulation-frames (function simulation)
   "Call FUNCTION with each frame's index, time and scene, in order."
   (check-argument 'map-simulation-frames 'function function
                   (lambda (x) (or (functionp x) (and (symbolp x) x (fboundp x))))
                   "a function (or a symbol naming one) of the index, time and scene")
   (check-argument 'map-simulation-frames 'simulation simulation #'simulation-p "a simulation (from simulate)")
-  (let ((performance (simulation-performance simulation)))
-    (dotimes (index (simulation-frame-count simulation))
-      (let ((time (simulation-frame-time simulation index)))
-        (funcall function index time (performance-frame performance time))))))
+  (dotimes (index (simulation-frame-count simulation))
+    (let ((time (simulation-frame-time simulation index)))
+      (funcall function index time (simulation-scene-at simulation time)))))
 
 (defun simulation-body (simulation)
   "The character's body in SIMULATION's current scene."
@@ -82,10 +91,12 @@ other object's parent, position and rotation."
           :bodies
           (loop for object in (scene-objects scene)
                 when (typep object 'body)
-                  collect (let ((pose (body-pose object)))
+                  collect (let ((pose (body-pose object))
+                                ;; The world placement: a cast member's body hangs from its stage.
+                                (placement (object-world-transform object)))
                             (list (object-name object)
-                                  :position (apply #'numbers (vector-list (property-value object 'position)))
-                                  :rotation (apply #'numbers (quat-list (property-value object 'rotation)))
+                                  :position (apply #'numbers (vector-list (transform-translation placement)))
+                                  :rotation (apply #'numbers (quat-list (transform-rotation placement)))
                                   :joints
                                   (loop for joint across (skeleton-joints (body-skeleton object))
                                         collect (list (body-joint-name joint)
@@ -144,7 +155,8 @@ and, to the file FRAMES, one FRAME-FORM per line.  Returns the paths written."
                                            :placements (nreverse placements))))
             (and frames (list (truename frames))))))
 
-(defun simulation-reports (simulation)
-  "What the drivers reported (reaches that fell short), oldest first, as (TIME TEXT)."
-  (mapcar (lambda (entry) (list (first entry) (third entry)))
-          (reverse (body-reports (simulation-body simulation)))))
+(defgeneric simulation-reports (simulation)
+  (:documentation "What the drivers reported (reaches that fell short), oldest first, as (TIME TEXT).")
+  (:method ((simulation simulation))
+    (mapcar (lambda (entry) (list (first entry) (third entry)))
+            (reverse (body-reports (simulation-body simulation))))))

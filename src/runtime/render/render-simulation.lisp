@@ -206,7 +206,6 @@ arguments of the wrong kind."
            (log (merge-pathnames "ffmpeg.log" output))
            (chosen (sheet-frame-indices count))
            (factor (max 1 (ceiling width *thumbnail-width*)))
-           (performance (simulation-performance simulation))
            (frames '()) (thumbnails '()) (process nil) (drawn nil))
       (unwind-protect
            (with-offscreen-context ((context) width height)
@@ -214,7 +213,7 @@ arguments of the wrong kind."
                (when video (setf process (start-ffmpeg video width height fps log)))
                (dotimes (index count)
                  (let ((time (/ index (float fps 1d0))))
-                   (render-scene renderer (performance-frame performance time))
+                   (render-scene renderer (simulation-scene-at simulation time))
                    (let ((pixels (renderer-pixels renderer))
                          (path (merge-pathnames (format nil "frame-~4,'0D.png" (1+ index)) output)))
                      (push (write-png path width height pixels) frames)

@@ -54,12 +54,25 @@ does happens at that time."
 
 ;;;# Events and the trace
 
-(defun view-send-event (viewer event)
-  "Send EVENT at the current playback time.  The viewer's controller is timed:
+(defgeneric view-send-event (viewer event)
+  (:documentation "Send EVENT at the current playback time.  The viewer's controller is timed:
 if another event is playing, EVENT's :when-busy policy decides (by default it
-waits its turn), so a preempting event cuts the animation live."
-  (let ((controller (viewer-controller viewer)))
-    (send-event controller event :at (max (viewer-now viewer) (controller-time controller)))))
+waits its turn), so a preempting event cuts the animation live.  A viewer of
+several characters (src/cast/) sends to the members EVENT addresses.")
+  (:method ((viewer viewer) event)
+    (let ((controller (viewer-controller viewer)))
+      (send-event controller event :at (max (viewer-now viewer) (controller-time controller))))))
+
+(defgeneric advance-viewer (viewer)
+  (:documentation "Bring VIEWER's controllers to the current playback time, and its state graph up to date.")
+  (:method ((viewer viewer))
+    (advance (viewer-controller viewer) (max (viewer-now viewer) (controller-time (viewer-controller viewer))))
+    (write-current-state-graph viewer)))
+
+(defgeneric viewer-scene (viewer time)
+  (:documentation "The scene VIEWER draws at TIME.")
+  (:method ((viewer viewer) time)
+    (performance-frame (viewer-performance viewer) time)))
 
 (defun write-current-state-graph (viewer)
   "When VIEWER has a --dot file and its controller's state changed since it
@@ -76,8 +89,11 @@ was last written, write the state graph there with the current state marked."
     (let ((plist (cddr line)))
       (or (getf plist :time) (getf plist :start)))))
 
-(defun print-due-trace (viewer &optional (time (viewer-now viewer)))
-  "Print the trace lines not yet printed whose time is at most TIME (all when TIME is T)."
+(defgeneric print-due-trace (viewer &optional time)
+  (:documentation "Print the trace lines not yet printed whose time is at most TIME
+\(default: now; all when TIME is T)."))
+
+(defmethod print-due-trace ((viewer viewer) &optional (time (viewer-now viewer)))
   (let* ((presenter (controller-presenter (viewer-controller viewer)))
          (lines (trace-line-vector presenter))
          (dropped (trace-dropped presenter)))
@@ -166,9 +182,11 @@ event's key from the map works too.  Never blocks."
 
 ;;;# The window
 
-(defun view-title (viewer)
-  "The window title: the spec's name and the controller's state, e.g.
-\"peedy -- holding-note=false posture=stand ... last-heard=2.5\"."
+(defgeneric view-title (viewer)
+  (:documentation "The window title: the spec's name and the controller's state, e.g.
+\"peedy -- holding-note=false posture=stand ... last-heard=2.5\"."))
+
+(defmethod view-title ((viewer viewer))
   (let ((controller (viewer-controller viewer)))
     (format nil "~A -- ~{~A~^ ~}~:[~; [paused]~]" (viewer-name viewer)
             ;; CONTROLLER-STATE lists the values in declaration order.
@@ -193,7 +211,7 @@ event's key from the map works too.  Never blocks."
 (defun draw-view (viewer)
   "Render VIEWER's scene at the current animation time into the window's back buffer."
   (fit-renderer viewer)
-  (render-scene (viewer-renderer viewer) (performance-frame (viewer-performance viewer) (viewer-now viewer))))
+  (render-scene (viewer-renderer viewer) (viewer-scene viewer (viewer-now viewer))))
 
 (defun run-viewer (viewer frames)
   "Play VIEWER until its window closes or FRAMES frames (NIL: no limit) are
@@ -207,9 +225,7 @@ shown; return the number of frames shown."
                (dolist (input (glfw-poll-input)) (handle-input viewer input))
                (play-script-keys viewer)
                (read-terminal viewer)
-               (advance (viewer-controller viewer)
-                        (max (viewer-now viewer) (controller-time (viewer-controller viewer))))
-               (write-current-state-graph viewer)
+               (advance-viewer viewer)
                (draw-view viewer)
                (print-due-trace viewer)
                (let ((title (view-title viewer)))
@@ -274,25 +290,33 @@ opens, for an argument of the wrong kind."
          (event-keys (view-event-keys spec)))
     (let ((problem (scripted-keys-problem keys event-keys)))
       (when problem (error 'player-error-with-message :message problem)))
-    (multiple-value-bind (width height) (image-size size)
-      (with-glfw-window (window width height (lisp-text (spec-name spec)))
-        (let ((viewer (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
-                                    :dot dot
-                                    :performance (presenter-performance presenter) :keys event-keys
-                                    :script (sort (copy-list keys) #'< :key #'car))))
-          (multiple-value-bind (fb-width fb-height) (glfw-framebuffer-size window)
-            (setf (viewer-renderer viewer) (make-renderer fb-width fb-height :orbit (make-orbit))))
-          (unwind-protect
-               (progn
-                 (print-key-map event-keys)
-                 (let ((shown (run-viewer viewer frames)))
-                   (print-due-trace viewer t)
-                   (format t "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
-                 (when screenshot
-                   (let ((renderer (viewer-renderer viewer)))
-                     ;; The last frame shown has been swapped away: draw it again to read it.
-                     (draw-view viewer)
-                     (write-png screenshot (renderer-width renderer) (renderer-height renderer)
-                                (renderer-pixels renderer))
-                     (format t "; wrote ~A~%" screenshot))))
-            (delete-renderer (viewer-renderer viewer))))))))
+    (show-viewer (lambda (window)
+                   (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
+                                 :dot dot
+                                 :performance (presenter-performance presenter) :keys event-keys
+                                 :script (sort (copy-list keys) #'< :key #'car)))
+                 (lisp-text (spec-name spec)) event-keys :size size :frames frames :screenshot screenshot)))
+
+(defun show-viewer (make-viewer title event-keys &key size frames screenshot)
+  "Open a window called TITLE of SIZE, make the viewer by calling MAKE-VIEWER
+with it, print the key map EVENT-KEYS and play the viewer as VIEW-SPEC
+describes (FRAMES, SCREENSHOT)."
+  (multiple-value-bind (width height) (image-size size)
+    (with-glfw-window (window width height title)
+      (let ((viewer (funcall make-viewer window)))
+        (multiple-value-bind (fb-width fb-height) (glfw-framebuffer-size window)
+          (setf (viewer-renderer viewer) (make-renderer fb-width fb-height :orbit (make-orbit))))
+        (unwind-protect
+             (progn
+               (print-key-map event-keys)
+               (let ((shown (run-viewer viewer frames)))
+                 (print-due-trace viewer t)
+                 (format t "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
+               (when screenshot
+                 (let ((renderer (viewer-renderer viewer)))
+                   ;; The last frame shown has been swapped away: draw it again to read it.
+                   (draw-view viewer)
+                   (write-png screenshot (renderer-width renderer) (renderer-height renderer)
+                              (renderer-pixels renderer))
+                   (format t "; wrote ~A~%" screenshot))))
+          (delete-renderer (viewer-renderer viewer)))))))
