@@ -86,6 +86,18 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cpp-timeline-machine")
                    (:file "cpp-source")
                    (:file "cpp-build")))
+     ;; Speech: sound files, espeak-ng synthesis with its phoneme timeline as
+     ;; visemes, pocketsphinx recognition; libraries loaded on first use.
+     (:module "speech"
+      :serial t
+      :components ((:file "libraries")
+                   (:file "wav")
+                   (:file "espeak")
+                   (:file "synthesis")
+                   (:file "visemes")
+                   (:file "mix")
+                   (:file "pocketsphinx")
+                   (:file "recognition")))
      (:module "runtime"
       :serial t
       :components
