@@ -160,6 +160,7 @@ run the resulting state machine as Lisp closures or embedded C++."
        (:module "performance"
         :serial t
         :components ((:file "performance")
+                     (:file "speech")
                      (:file "body-presenter")
                      (:file "op-channels")
                      (:file "script-check")

@@ -87,7 +87,9 @@
   (:at 0 :motor (:keyframe :keys ((0 ((:jaw open 0))) (1.75 ((:jaw open 1))) (1.95 ((:jaw open 15)))
                                   (2.05 ((:jaw open 9))) (2.15 ((:jaw open 16))) (2.25 ((:jaw open 10)))
                                   (2.4 ((:jaw open 13))) (2.9 ((:jaw open 0))))
-                           :interpolation :linear :priority 5 :blend 0)))
+                           :interpolation :linear :priority 5 :blend 0))
+  ;; Persona's sound effects are "triggered by commands placed into animation scripts by hand".
+  (:at 1.6 :sound "snore.wav"))
 
 (defscript doze-breathe (:duration 2.5 :loop t
                          :documentation "Dozing: shallow breaths, the head sagging and catching itself, lids heavy.")
@@ -321,7 +323,7 @@
                            :priority 10)))
 
 (defscript huh (:duration 1
-                :documentation "Huh?: the head tilts, the crest shoots up, the beak says it, the wing stays at the ear.")
+                :documentation "Huh?: the head tilts, the crest shoots up, he says it, the wing stays at the ear.")
   (:at 0 :motor (:reach :arm :right :target (:joint :self head :offset (-0.05 0 0)) :duration 0.3 :hold t))
   (:at 0 :motor (:keyframe :keys ((0 :start) (0.25 ((head x -8 y 14 z -18) (neck x -6)
                                                      (:left-upper-lid close -8) (:right-upper-lid close -8)))
@@ -330,7 +332,7 @@
                                       (:left-upper-lid close 0) (:right-upper-lid close 0))))
                            :priority 10))
   (:at 0.1 :motor (:eyebrows :raise 0.9 :duration 0.15 :hold 0.55))
-  (:at 0.15 :motor (:lips :visemes ((0.15 :ih) (0.3 :aa) (0.45 :oh) (0.6 :rest))))
+  (:at 0.15 :say "Huh?")
   (:at 0.05 :motor (:gaze :target (:object user))))
 
 ;;; ---------------------------------------------------------------------------
@@ -516,7 +518,7 @@
 ;;; Gestures
 
 (defscript greet (:duration 1.5
-                  :documentation "Hello: the left wing goes up and waves, the crest rises, the beak says hi.")
+                  :documentation "Hello: the left wing goes up and waves, the crest rises, he says hello.")
   (:at 0 :motor (:keyframe :keys ((0 :start) (0.35 left-wing-wave-out) (0.55 left-wing-wave-in) (0.75 left-wing-wave-out)
                                   (0.95 left-wing-wave-in) (1.15 left-wing-wave-out) (1.5 :start))
                            :priority 10))
@@ -524,7 +526,7 @@
                              :priority 10))
   (:at 0 :motor (:gaze :target (:object camera)))
   (:at 0.2 :motor (:eyebrows :raise 0.8 :duration 0.15 :hold 0.8))
-  (:at 0.25 :motor (:lips :visemes ((0.1 :ih) (0.25 :aa) (0.4 :ee) (0.55 :rest)))))
+  (:at 0.25 :say "Hello!"))
 
 (defscript bow (:duration 1.25 :critical ((stroke . 0.6))
                 :documentation "A real bow: body, neck and head pitch forward to the lowest point (STROKE), wings spread a little, and back up.")
@@ -536,7 +538,9 @@
   ;; Pitching the root forward swings the hips back: the body moves forward to keep the toes planted.
   (:at 0 :animate (:self position) (:keys ((0 :vec3 0 0 0) (0.6 :vec3 0 -0.0023 0.0194) (0.75 :vec3 0 -0.0023 0.0194)
                                            (1.25 :vec3 0 0 0))
-                                          :interpolation :ease)))
+                                          :interpolation :ease))
+  ;; Spoken as he comes back up; the speech runs on past the bow's end.
+  (:at 0.7 :say "You're welcome!"))
 
 (defscript shrug (:duration 1
                   :documentation "Who knows?: wings lift a little from the body, head tilts, crest half up, beak ajar.")

@@ -82,10 +82,11 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
   (check-real function :blend-time blend-time :minimum 0 :maximum *max-seconds*))
 
 (defun make-body-presenter (spec &key scripts body (seed 0) stream
-                                      (blend-time *default-blend-time*))
+                                      (blend-time *default-blend-time*) silent)
   "A body presenter for SPEC: its character, named after SPEC, has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE)).  Trace lines go to STREAM when given.
+With SILENT, speech and sounds play nothing (see MAKE-PERFORMANCE).
 Before anything plays, signals a SCRIPT-ERROR listing every missing script,
 or naming the first item of a needed script that cannot play on this body
 (what CHECK reports as an error, at the item's file and line); an
@@ -98,7 +99,7 @@ ARGUMENT-ERROR for an argument of the wrong kind."
                         (make-performance library
                                           (list (list (spec-name spec)
                                                       (or body (spec-body-name spec) *default-body*)))
-                                          :seed seed :blend-time blend-time))))
+                                          :seed seed :blend-time blend-time :silent silent))))
     (check-scripts-play spec performance)
     (make-instance 'body-presenter :stream stream :performance performance)))
 

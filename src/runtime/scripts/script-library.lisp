@@ -101,7 +101,9 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
 (defun build-script-library (entries source)
   "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file SOURCE."
   (let ((library (%make-script-library source))
-        (*current-spec-name* nil))
+        (*current-spec-name* nil)
+        (*library-directory* (and source (directory-pathname (make-pathname :name nil :type nil :version nil
+                                                                            :defaults source)))))
     (loop for (form . position) in entries
           do (let ((*source-position* (and source position (cons source position))))
                (add-library-form library form)))
@@ -305,6 +307,7 @@ checks critical times and looping against it.  Nested cycles were ruled out."
   "Where ITEM ends for the purpose of inferring its script's duration."
   (let ((at (script-item-at item)))
     (cond ((script-item-end item))
+          ((sound-item-p item) (+ at (sound-duration (sound-item-sound item))))
           ((play-item-p item)
            (+ at (resolve-script-duration library (find-script library (play-item-script item)))))
           ((and (animate-item-p item) (keys-control-p (animate-item-control item))
