@@ -261,6 +261,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-reach")
                  (:file "test-render")
                  (:file "test-viewer")
+                 (:file "test-speech")
+                 (:file "test-speech-recognition")
                  (:file "test-readme")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")
