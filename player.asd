@@ -97,7 +97,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "visemes")
                    (:file "mix")
                    (:file "pocketsphinx")
-                   (:file "recognition")))
+                   (:file "recognition")
+                   (:file "playback")))
      (:module "runtime"
       :serial t
       :components

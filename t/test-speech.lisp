@@ -285,3 +285,58 @@ every STEP seconds up to END, as a vector."
                                         :events '("ev-bad-speech") :fps 10 :silent t)))
       (is (< 1 (player::simulation-end simulation)))
       (is (null (player::write-simulation simulation :audio (scratch-file "none.wav")))))))
+
+(test speech-api-rejects-bad-arguments
+  (flet ((rejects (function thunk)
+           (let ((condition (handler-case (progn (funcall thunk) nil) (player::argument-error (c) c))))
+             (is (and condition (eq function (player::argument-error-function condition)))
+                 "~A accepted a bad argument" function))))
+    (rejects 'synthesize-speech (lambda () (synthesize-speech 42)))
+    (rejects 'synthesize-speech (lambda () (synthesize-speech "")))
+    (rejects 'synthesize-speech (lambda () (synthesize-speech "hi" :rate 10000)))
+    (rejects 'synthesize-speech (lambda () (synthesize-speech "hi" :voice '(en))))
+    (rejects 'read-wav (lambda () (read-wav 42)))
+    (rejects 'write-wav (lambda () (write-wav (scratch-file "x.wav") "not a sound")))
+    (rejects 'recognize-wav (lambda () (recognize-wav nil :grammar "#JSGF V1.0;")))
+    (rejects 'recognize-wav (lambda () (recognize-wav (scratch-file "x.wav") :grammar 42)))
+    (rejects 'performance-say (lambda () (performance-say 42 "hello")))
+    (rejects 'performance-say (lambda () (performance-say (talking-performance :silent t) "hello" :at -1)))
+    (rejects 'performance-say (lambda () (performance-say (talking-performance :silent t) "hello" :body 'nobody)))))
+
+;;; ---------------------------------------------------------------------------
+;;; The command line: speech.wav, the video's sound, the viewer
+
+(test simulate-and-render-commands-write-speech
+  (with-espeak
+    (let ((out (scratch-directory "speech-commands")))
+      (multiple-value-bind (text err code)
+          (player-command "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-bad-speech"
+                          "--fps" "10" "--frames" (format nil "~Aframes.txt" out))
+        (is (= 0 code) "stderr: ~A" err)
+        (is (search (format nil "; wrote ~Aspeech.wav" out) text) "~A" text))
+      (if (not (player::find-executable "ffmpeg"))
+          (skip "ffmpeg is not installed: the video's sound track not tested")
+          (let ((video (format nil "~Ahuh.mp4" out)))
+            (multiple-value-bind (text err code)
+                (player-command "render" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-bad-speech"
+                                "--fps" "4" "--size" "32x24" "--out" out "--video" video)
+              (is (= 0 code) "stderr: ~A" err)
+              (is (search (format nil "; wrote ~Aspeech.wav" out) text) "~A" text)
+              (is (search (format nil "; wrote ~A" video) text)))
+            (let ((streams (with-output-to-string (s)
+                             (sb-ext:run-program "ffprobe" (list "-v" "error" "-show_entries" "stream=codec_type"
+                                                                 "-of" "csv=p=0" video)
+                                                 :search t :output s))))
+              (is (equal '("video" "audio") (lines streams)) "streams of the video: ~S" streams)))))))
+
+(test the-viewer-plays-sound-or-says-once-it-cannot
+  (with-espeak
+    (with-window-programs ()
+      (multiple-value-bind (out err code)
+          (view-command (list (namestring (checkout-file "specs/peedy.lisp")) "--size" "64x48"
+                              "--frames" "120" "--keys" "2@0"))
+        (is (= 0 code) "exit ~D, stderr: ~A" code err)
+        (let ((notes (count-if (lambda (line) (search "playing silently" line)) (lines out))))
+          (if (player::audio-playback-problem)
+              (is (= 1 notes) "~D notes in ~A" notes out)
+              (is (= 0 notes))))))))

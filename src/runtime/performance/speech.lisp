@@ -46,7 +46,7 @@ Signals what SYNTHESIZE-SPEECH signals."
   (check-argument 'performance-say 'performance performance #'performance-p "a performance (from make-performance)")
   (check-argument 'performance-say 'text text (lambda (x) (and (stringp x) (<= 1 (length x) 2000)))
                   "a string of 1 to 2000 characters")
-  (check-seconds 'performance-say :at at)
+  (check-seconds 'performance-say :at at :minimum 0)
   (when body (check-body-name 'performance-say performance body))
   (let* ((duration (if (performance-silent performance)
                        0d0
