@@ -87,9 +87,7 @@
   (:at 0 :motor (:keyframe :keys ((0 ((:jaw open 0))) (1.75 ((:jaw open 1))) (1.95 ((:jaw open 15)))
                                   (2.05 ((:jaw open 9))) (2.15 ((:jaw open 16))) (2.25 ((:jaw open 10)))
                                   (2.4 ((:jaw open 13))) (2.9 ((:jaw open 0))))
-                           :interpolation :linear :priority 5 :blend 0))
-  ;; Persona's sound effects are "triggered by commands placed into animation scripts by hand".
-  (:at 1.6 :sound "snore.wav"))
+                           :interpolation :linear :priority 5 :blend 0)))
 
 (defscript doze-breathe (:duration 2.5 :loop t
                          :documentation "Dozing: shallow breaths, the head sagging and catching itself, lids heavy.")
@@ -538,9 +536,7 @@
   ;; Pitching the root forward swings the hips back: the body moves forward to keep the toes planted.
   (:at 0 :animate (:self position) (:keys ((0 :vec3 0 0 0) (0.6 :vec3 0 -0.0023 0.0194) (0.75 :vec3 0 -0.0023 0.0194)
                                            (1.25 :vec3 0 0 0))
-                                          :interpolation :ease))
-  ;; Spoken as he comes back up; the speech runs on past the bow's end.
-  (:at 0.7 :say "You're welcome!"))
+                                          :interpolation :ease)))
 
 (defscript shrug (:duration 1
                   :documentation "Who knows?: wings lift a little from the body, head tilts, crest half up, beak ajar.")
@@ -642,9 +638,11 @@
   (:at 0 :animate (camera rotation) (:keys ((0 :quat 1 0 0 0) (1.5 :euler -0.04 0 0)) :interpolation :ease)))
 
 (defscript camgoodbye (:duration 1.5
-                       :documentation "Pull back from the home framing to the goodbye shot, high and wide, tilted down at him.")
+                       :documentation "Pull back from the home framing to the goodbye shot, high and wide, tilted down at him, as he answers the thanks.")
   (:at 0 :animate (camera position) (:keys ((0 :vec3 0 0.25 1.1) (1.5 :vec3 0 0.36 1.9)) :interpolation :ease))
-  (:at 0 :animate (camera rotation) (:keys ((0 :quat 1 0 0 0) (1.5 :euler -0.1 0 0)) :interpolation :ease)))
+  (:at 0 :animate (camera rotation) (:keys ((0 :quat 1 0 0 0) (1.5 :euler -0.1 0 0)) :interpolation :ease))
+  ;; Only ev-thanks plays this shot.
+  (:at 0.1 :say "You're welcome!"))
 
 (defscript camwide (:duration 2
                     :documentation "Crane up and out to his left to take in the whole room, jukebox and all.")

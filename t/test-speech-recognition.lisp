@@ -34,7 +34,7 @@ thanks, yes and no.")
                 (misheard '()))
            (loop for text in *jukebox-utterances*
                  for k from 1
-                 for wav = (scratch-file (format nil "utterance-~D.wav" k))
+                 for wav = (speech-file (format nil "utterance-~D.wav" k))
                  do (player::write-wav wav (player::utterance-sound (player::synthesize-speech text)))
                     (let ((heard (player::recognize-wav wav :grammar grammar)))
                       (unless (equal heard text) (push (list text heard) misheard))))
@@ -43,10 +43,10 @@ thanks, yes and no.")
 
 (test recognising-an-unreadable-wav-is-a-clear-error
   (let ((grammar (alexandria:read-file-into-string *jukebox-grammar*))
-        (text (scratch-file "request.wav")))
+        (text (speech-file "request.wav")))
     (write-octets text (map 'list #'char-code "not a sound"))
     (is (search (format nil "cannot read the WAV file ~A: it is not a RIFF WAVE file" text)
                 (or (speech-error-text (lambda () (player::recognize-wav text :grammar grammar))) "")))
     (is (search "there is no such file"
-                (or (speech-error-text (lambda () (player::recognize-wav (scratch-file "nothing.wav") :grammar grammar))) "")))
+                (or (speech-error-text (lambda () (player::recognize-wav (speech-file "nothing.wav") :grammar grammar))) "")))
     (signals player::argument-error (player::recognize-wav text :grammar "public <a> = yes;"))))

@@ -23,7 +23,7 @@
   (handler-case (progn (funcall function) nil)
     ((or player::speech-error player::script-error) (e) (princ-to-string e))))
 
-(defun scratch-file (name)
+(defun speech-file (name)
   "NAME in the speech tests' scratch directory of this test run, as a string."
   (namestring (ensure-directories-exist
                (format nil "/tmp/player-render-tests-~D/speech/~A" (sb-unix:unix-getpid) name))))
@@ -42,7 +42,7 @@
 ;;; WAV files
 
 (test wav-files-round-trip
-  (let* ((path (scratch-file "round.wav"))
+  (let* ((path (speech-file "round.wav"))
          (sound (player::make-sound (samples 0 1 -1 32767 -32768 1234 -4321) 8000)))
     (player::write-wav path sound)
     (let ((read (player::read-wav path)))
@@ -61,8 +61,8 @@
             (tag "data") (le (length data) 4) data)))
 
 (test wav-reading-mixes-channels-and-widens-8-bit
-  (let ((stereo (scratch-file "stereo.wav"))
-        (bytes (scratch-file "bytes.wav")))
+  (let ((stereo (speech-file "stereo.wav"))
+        (bytes (speech-file "bytes.wav")))
     ;; Two frames of (left right): (100 300) and (-200 -400).
     (write-octets stereo (wav-octets :channels 2 :data '(100 0 44 1 56 255 112 254)))
     (is (equalp (samples 200 -300) (player::sound-samples (player::read-wav stereo))))
@@ -70,16 +70,16 @@
     (is (equalp (samples 0 (* 127 256) -32768) (player::sound-samples (player::read-wav bytes))))))
 
 (test unreadable-wavs-get-a-clear-error
-  (let ((text (scratch-file "text.wav"))
-        (float (scratch-file "float.wav"))
-        (short (scratch-file "short.wav")))
+  (let ((text (speech-file "text.wav"))
+        (float (speech-file "float.wav"))
+        (short (speech-file "short.wav")))
     (write-octets text (map 'list #'char-code "just some text, not a sound"))
     (write-octets float (wav-octets :tag 3 :bits 32 :data '(0 0 0 0)))
     (write-octets short (subseq (wav-octets :data '(1 0)) 0 20))
     (loop for (path fragment) in (list (list text "it is not a RIFF WAVE file")
                                        (list float "it is not PCM (format tag 3)")
                                        (list short "it has no data chunk")
-                                       (list (scratch-file "missing.wav") "there is no such file"))
+                                       (list (speech-file "missing.wav") "there is no such file"))
           do (let ((message (speech-error-text (lambda () (player::read-wav path)))))
                (is (search (format nil "cannot read the WAV file ~A: ~A" path fragment) (or message ""))
                    "~A: ~S" path message)))))
@@ -126,7 +126,7 @@
 ;;; :say and :sound in script libraries
 
 (test say-and-sound-items-are-checked-when-read
-  (let ((snore (namestring (checkout-file "specs/snore.wav"))))
+  (let ((snore (namestring (checkout-file "t/fixtures/snore.wav"))))
     (let ((library (player::parse-script-library-forms
                     `((defscript talk (:duration 2) (:at 0.5 :say "Hello there" :rate 150 :voice "en-us"))
                       (defscript snore () (:at 0.25 :sound ,snore))))))
@@ -284,7 +284,7 @@ every STEP seconds up to END, as a vector."
     (let ((simulation (player::simulate (player::choose-spec (checkout-file "specs/peedy.lisp"))
                                         :events '("ev-bad-speech") :fps 10 :silent t)))
       (is (< 1 (player::simulation-end simulation)))
-      (is (null (player::write-simulation simulation :audio (scratch-file "none.wav")))))))
+      (is (null (player::write-simulation simulation :audio (speech-file "none.wav")))))))
 
 (test speech-api-rejects-bad-arguments
   (flet ((rejects (function thunk)
@@ -296,9 +296,9 @@ every STEP seconds up to END, as a vector."
     (rejects 'synthesize-speech (lambda () (synthesize-speech "hi" :rate 10000)))
     (rejects 'synthesize-speech (lambda () (synthesize-speech "hi" :voice '(en))))
     (rejects 'read-wav (lambda () (read-wav 42)))
-    (rejects 'write-wav (lambda () (write-wav (scratch-file "x.wav") "not a sound")))
+    (rejects 'write-wav (lambda () (write-wav (speech-file "x.wav") "not a sound")))
     (rejects 'recognize-wav (lambda () (recognize-wav nil :grammar "#JSGF V1.0;")))
-    (rejects 'recognize-wav (lambda () (recognize-wav (scratch-file "x.wav") :grammar 42)))
+    (rejects 'recognize-wav (lambda () (recognize-wav (speech-file "x.wav") :grammar 42)))
     (rejects 'performance-say (lambda () (performance-say 42 "hello")))
     (rejects 'performance-say (lambda () (performance-say (talking-performance :silent t) "hello" :at -1)))
     (rejects 'performance-say (lambda () (performance-say (talking-performance :silent t) "hello" :body 'nobody)))))
