@@ -47,8 +47,10 @@ SPEECH-UNAVAILABLE naming LABEL and the Debian PACKAGE when none is found."
         (unless library
           (error 'speech-unavailable
                  :package package
-                 :message (format nil "~A not found: install the Debian package ~A (tried ~{~A~^, ~})"
-                                  label package sonames)))
+                 :message (format nil "~A not found: install the Debian package ~A (tried ~{~A~^, ~})~@[; ~A~]"
+                                  label package sonames
+                                  (and (string= package "libespeak-ng1")
+                                       "or play without sound (--silent)"))))
         (push (cons sonames library) *loaded-speech-libraries*)
         library)))
 

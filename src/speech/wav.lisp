@@ -143,7 +143,8 @@ linear interpolation."
 (defun low-pass (samples cutoff &key (half-width 16))
   "SAMPLES filtered by a Hann-windowed sinc of 2*HALF-WIDTH+1 taps passing
 frequencies below CUTOFF (a fraction of the sample rate), as double-floats."
-  (declare (type samples samples) (optimize (speed 2) (safety 1)))
+  ;; The animation math's policy (*ANIM-OPTIMIZE*, defined later in the pipeline).
+  (declare (type samples samples) (optimize (speed 2) (safety 1) (debug 1)))
   (let* ((n (length samples))
          (taps (make-array (1+ (* 2 half-width)) :element-type 'double-float))
          (out (make-array n :element-type 'double-float :initial-element 0d0)))
