@@ -50,3 +50,14 @@ thanks, yes and no.")
     (is (search "there is no such file"
                 (or (speech-error-text (lambda () (player::recognize-wav (speech-file "nothing.wav") :grammar grammar))) "")))
     (signals player::argument-error (player::recognize-wav text :grammar "public <a> = yes;"))))
+
+(test a-grammar-pocketsphinx-cannot-use-is-a-clear-error
+  (if (not (pocketsphinx-available-p))
+      (skip "pocketsphinx or its model is not installed (Debian pocketsphinx, pocketsphinx-en-us): grammars not tested")
+      (let ((wav (speech-file "quiet.wav")))
+        (write-wav wav (make-sound (make-array 8000 :element-type '(signed-byte 16) :initial-element 0) 16000))
+        (dolist (grammar '("#JSGF V1.0; grammar g; public <a> = thank you | zorblax;"
+                           "#JSGF V1.0; grammar g; public <a> = thank you | (;"))
+          (is (search "pocketsphinx could not use the grammar"
+                      (or (speech-error-text (lambda () (recognize-wav wav :grammar grammar))) ""))
+              "~S" grammar)))))

@@ -18,7 +18,8 @@ tenths of a second).")
 (defun grammar-decoder (grammar)
   "The decoder for the JSGF GRAMMAR text, made once."
   (or (gethash grammar *sphinx-decoders*)
-      (let ((file (temporary-file (format nil "player-~(~{~2,'0X~}~).gram"
+      ;; Named by process and content: another process may be writing its own.
+      (let ((file (temporary-file (format nil "player-~D-~(~{~2,'0X~}~).gram" (sb-unix:unix-getpid)
                                           (coerce (sb-md5:md5sum-string grammar :external-format :utf-8) 'list)))))
         (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
           (write-string grammar out))
