@@ -97,6 +97,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "visemes")
                    (:file "mix")
                    (:file "pocketsphinx")
+                   (:file "pronunciation")
                    (:file "recognition")
                    (:file "playback")))
      (:module "runtime"

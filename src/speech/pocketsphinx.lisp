@@ -1,6 +1,7 @@
 ;;;; pocketsphinx.lisp -- pocketsphinx 0.8 (Debian's 5prealpha API) and
-;;;; sphinxbase bound in two layers: the raw %-named C functions, then a
-;;;; decoder made from a JSGF grammar that decodes a whole utterance at once.
+;;;; sphinxbase bound in two layers: the raw %-named C functions, then one
+;;;; decoder of the en-us model that takes JSGF grammars as searches, learns
+;;;; words its dictionary lacks, and decodes a whole utterance at once.
 ;;;; (pocketsphinx_continuous splits a file where the speaker pauses, and a
 ;;;; piece of a sentence does not match the grammar; one utterance does.)
 
@@ -20,6 +21,11 @@
 (cffi:defcfun ("ps_end_utt" %ps-end-utt) :int (decoder :pointer))
 (cffi:defcfun ("ps_get_hyp" %ps-get-hyp) :pointer (decoder :pointer) (score :pointer))
 (cffi:defcfun ("err_set_logfp" %err-set-logfp) :void (file :pointer))
+(cffi:defcfun ("ps_lookup_word" %ps-lookup-word) :pointer (decoder :pointer) (word :string))
+(cffi:defcfun ("ps_add_word" %ps-add-word) :int (decoder :pointer) (word :string) (phones :string) (update :int))
+(cffi:defcfun ("ps_set_jsgf_string" %ps-set-jsgf-string) :int (decoder :pointer) (name :string) (jsgf :string))
+(cffi:defcfun ("ps_set_search" %ps-set-search) :int (decoder :pointer) (name :string))
+(cffi:defcfun ("ckd_free" %ckd-free) :void (pointer :pointer))
 
 ;;;# Decoders
 
@@ -57,28 +63,49 @@ pocketsphinx's command line; a SPEECH-ERROR when they are refused."
       (cffi:foreign-free argv))))
 
 (defstruct (sphinx-decoder (:constructor %make-sphinx-decoder (handle config)))
-  "A pocketsphinx decoder (HANDLE) and its configuration (CONFIG), both foreign."
-  handle config)
+  "A pocketsphinx decoder (HANDLE) and its configuration (CONFIG), both foreign,
+with the JSGF grammars it has been given as searches (text -> name)."
+  handle config
+  (searches (make-hash-table :test #'equal)))
 
-(defun make-sphinx-decoder (grammar-file)
-  "A decoder of the en-us model searching the JSGF grammar in GRAMMAR-FILE.
-Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing, a
-SPEECH-ERROR when the grammar is refused."
+(defun make-sphinx-decoder ()
+  "A decoder of the en-us model and its dictionary, with no search yet.
+Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
   (load-pocketsphinx-library)
   (multiple-value-bind (hmm dict) (pocketsphinx-model-files)
     (%err-set-logfp (cffi:null-pointer))    ; its log is long and says nothing to a user
-    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict "-jsgf" (namestring grammar-file))))
+    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict)))
            (handle (with-speech-traps-masked (%ps-init config))))
       (when (cffi:null-pointer-p handle)
         (%cmd-ln-free-r config)
-        (speech-fail "pocketsphinx could not use the grammar (is it JSGF, and is every word in ~A?)"
-                     (file-namestring (nth-value 1 (pocketsphinx-model-files)))))
+        (speech-fail "pocketsphinx could not load its model from ~A" hmm))
       (%make-sphinx-decoder handle config))))
 
-(defun free-sphinx-decoder (decoder)
-  "Free DECODER's foreign memory."
-  (%ps-free (sphinx-decoder-handle decoder))
-  (%cmd-ln-free-r (sphinx-decoder-config decoder)))
+(defun sphinx-knows-word-p (decoder word)
+  "Is WORD in DECODER's dictionary?"
+  (let ((phones (%ps-lookup-word (sphinx-decoder-handle decoder) word)))
+    (unless (cffi:null-pointer-p phones)
+      (%ckd-free phones)
+      t)))
+
+(defun sphinx-add-word (decoder word phones)
+  "Teach DECODER WORD, pronounced PHONES (CMU phones separated by spaces, such
+as \"HH AH L OW\"); a SPEECH-ERROR when it refuses them."
+  (when (minusp (with-speech-traps-masked (%ps-add-word (sphinx-decoder-handle decoder) word phones 1)))
+    (speech-fail "pocketsphinx refused the word ~A pronounced ~A" word phones)))
+
+(defun sphinx-use-grammar (decoder grammar)
+  "Make the JSGF text GRAMMAR DECODER's search (parsed once, then kept).  A
+SPEECH-ERROR when pocketsphinx cannot use it."
+  (let* ((searches (sphinx-decoder-searches decoder))
+         (name (or (gethash grammar searches)
+                   (let ((name (format nil "grammar-~D" (hash-table-count searches))))
+                     (unless (zerop (with-speech-traps-masked
+                                      (%ps-set-jsgf-string (sphinx-decoder-handle decoder) name grammar)))
+                       (speech-fail "pocketsphinx could not use the grammar (is it JSGF, with a public rule?)"))
+                     (setf (gethash grammar searches) name)))))
+    (unless (zerop (%ps-set-search (sphinx-decoder-handle decoder) name))
+      (speech-fail "pocketsphinx could not switch to the grammar ~A" name))))
 
 (defun sphinx-decode (decoder samples)
   "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when

@@ -4,9 +4,9 @@
 
 (in-package #:player)
 
-(defvar *sphinx-decoders* (make-hash-table :test #'equal)
-  "Decoders already made, by grammar text: making one loads the model (a few
-tenths of a second).")
+(defvar *sphinx-decoder* nil
+  "The decoder, made on first use: making one loads the model (a few tenths of
+a second); grammars and learnt words are kept in it.")
 
 (defun temporary-file (name)
   "The pathname NAME in the temporary directory ($TMPDIR, else /tmp)."
@@ -16,15 +16,22 @@ tenths of a second).")
                               #p"/tmp/"))))
 
 (defun grammar-decoder (grammar)
-  "The decoder for the JSGF GRAMMAR text, made once."
-  (or (gethash grammar *sphinx-decoders*)
-      ;; Named by process and content: another process may be writing its own.
-      (let ((file (temporary-file (format nil "player-~D-~(~{~2,'0X~}~).gram" (sb-unix:unix-getpid)
-                                          (coerce (sb-md5:md5sum-string grammar :external-format :utf-8) 'list)))))
-        (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
-          (write-string grammar out))
-        (unwind-protect (setf (gethash grammar *sphinx-decoders*) (make-sphinx-decoder file))
-          (ignore-errors (delete-file file))))))
+  "The decoder, searching the JSGF text GRAMMAR, having learnt how espeak-ng
+says the grammar's words its dictionary lacks.  A SPEECH-ERROR names the
+words it could learn no pronunciation for."
+  (let ((decoder (or *sphinx-decoder* (setf *sphinx-decoder* (make-sphinx-decoder)))))
+    (unless (gethash grammar (sphinx-decoder-searches decoder))
+      (let ((unknown (remove-if (lambda (word) (sphinx-knows-word-p decoder word)) (grammar-words grammar))))
+        (dolist (word unknown)
+          (let ((phones (handler-case (word-pronunciation word)
+                          (speech-unavailable ()
+                            (speech-fail "pocketsphinx's dictionary lacks ~{~A~^, ~}, and without espeak-ng (Debian libespeak-ng1) it cannot learn them"
+                                         unknown)))))
+            (if phones
+                (sphinx-add-word decoder word phones)
+                (speech-fail "pocketsphinx's dictionary lacks ~A, and espeak-ng gives it no pronunciation" word))))))
+    (sphinx-use-grammar decoder grammar)
+    decoder))
 
 (defun jsgf-text-p (x)
   "Is X a string that starts like a JSGF grammar (#JSGF)?"
