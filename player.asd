@@ -90,6 +90,20 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cpp-timeline-machine")
                    (:file "cpp-source")
                    (:file "cpp-build")))
+     ;; Speech: sound files, espeak-ng synthesis with its phoneme timeline as
+     ;; visemes, pocketsphinx recognition; libraries loaded on first use.
+     (:module "speech"
+      :serial t
+      :components ((:file "libraries")
+                   (:file "wav")
+                   (:file "espeak")
+                   (:file "synthesis")
+                   (:file "visemes")
+                   (:file "mix")
+                   (:file "pocketsphinx")
+                   (:file "pronunciation")
+                   (:file "recognition")
+                   (:file "playback")))
      (:module "runtime"
       :serial t
       :components
@@ -156,6 +170,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "captions")
                      (:file "starting-pose")
                      (:file "placeholders")
+                     (:file "speech")
                      (:file "body-presenter")
                      (:file "op-channels")
                      (:file "script-check")
@@ -272,6 +287,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-viewer")
                  (:file "test-authoring")
                  (:file "test-sub-form-lines")
+                 (:file "test-speech")
+                 (:file "test-speech-recognition")
                  (:file "test-readme")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")

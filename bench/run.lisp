@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes"))
+    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -409,6 +409,9 @@ closures and through run-time planning; add the rows; return the ratio."
         (rule)
         (format t "~&  rendering...~%") (finish-output)
         (bench-render)
+        (rule)
+        (format t "~&  speech...~%") (finish-output)
+        (bench-speech)
         (rule)
         (format t "~&  command line...~%") (finish-output)
         (bench-command-line)

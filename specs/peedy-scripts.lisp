@@ -327,7 +327,7 @@
                            :priority 10)))
 
 (defscript huh (:duration 1
-                :documentation "Huh?: the head tilts, the crest shoots up, the beak says it, the wing stays at the ear.")
+                :documentation "Huh?: the head tilts, the crest shoots up, he says it, the wing stays at the ear.")
   (:at 0 :motor (:reach :arm :right :target (:joint :self head :offset (-0.05 0 0)) :duration 0.3 :hold t))
   (:at 0 :motor (:keyframe :keys ((0 :start) (0.25 ((head x -8 y 14 z -18) (neck x -6)
                                                      (:left-upper-lid close -8) (:right-upper-lid close -8)))
@@ -336,7 +336,7 @@
                                       (:left-upper-lid close 0) (:right-upper-lid close 0))))
                            :priority 10))
   (:at 0.1 :motor (:eyebrows :raise 0.9 :duration 0.15 :hold 0.55))
-  (:at 0.15 :motor (:lips :visemes ((0.15 :ih) (0.3 :aa) (0.45 :oh) (0.6 :rest))))
+  (:at 0.15 :say "Huh?")
   (:at 0.05 :motor (:gaze :target (:object user))))
 
 ;;; ---------------------------------------------------------------------------
@@ -522,7 +522,7 @@
 ;;; Gestures
 
 (defscript greet (:duration 1.5
-                  :documentation "Hello: the left wing goes up and waves, the crest rises, the beak says hi.")
+                  :documentation "Hello: the left wing goes up and waves, the crest rises, he says hello.")
   (:at 0 :motor (:keyframe :keys ((0 :start) (0.35 left-wing-wave-out) (0.55 left-wing-wave-in) (0.75 left-wing-wave-out)
                                   (0.95 left-wing-wave-in) (1.15 left-wing-wave-out) (1.5 :start))
                            :priority 10))
@@ -530,7 +530,7 @@
                              :priority 10))
   (:at 0 :motor (:gaze :target (:object camera)))
   (:at 0.2 :motor (:eyebrows :raise 0.8 :duration 0.15 :hold 0.8))
-  (:at 0.25 :motor (:lips :visemes ((0.1 :ih) (0.25 :aa) (0.4 :ee) (0.55 :rest)))))
+  (:at 0.25 :say "Hello!"))
 
 (defscript bow (:duration 1.25 :critical ((stroke . 0.6))
                 :documentation "A real bow: body, neck and head pitch forward to the lowest point (STROKE), wings spread a little, and back up.")
@@ -644,9 +644,11 @@
   (:at 0 :animate (camera rotation) (:keys ((0 :quat 1 0 0 0) (1.5 :euler -0.04 0 0)) :interpolation :ease)))
 
 (defscript camgoodbye (:duration 1.5
-                       :documentation "Pull back from the home framing to the goodbye shot, high and wide, tilted down at him.")
+                       :documentation "Pull back from the home framing to the goodbye shot, high and wide, tilted down at him, as he answers the thanks.")
   (:at 0 :animate (camera position) (:keys ((0 :vec3 0 0.25 1.1) (1.5 :vec3 0 0.36 1.9)) :interpolation :ease))
-  (:at 0 :animate (camera rotation) (:keys ((0 :quat 1 0 0 0) (1.5 :euler -0.1 0 0)) :interpolation :ease)))
+  (:at 0 :animate (camera rotation) (:keys ((0 :quat 1 0 0 0) (1.5 :euler -0.1 0 0)) :interpolation :ease))
+  ;; Only ev-thanks plays this shot.
+  (:at 0.1 :say "You're welcome!"))
 
 (defscript camwide (:duration 2
                     :documentation "Crane up and out to his left to take in the whole room, jukebox and all.")

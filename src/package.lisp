@@ -47,6 +47,12 @@
    #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
    #:simulate #:write-simulation #:map-simulation-frames #:simulation-frame-count
    #:write-bvh #:write-bvh-file
+   ;; Speech: synthesis, sounds, the audio track, recognition
+   #:synthesize-speech #:utterance #:utterance-text #:utterance-sound #:utterance-phonemes
+   #:utterance-duration #:utterance-visemes #:phoneme-viseme #:*default-voice* #:*default-speech-rate*
+   #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
+   #:performance-say #:performance-clips #:performance-audio #:mix-clips #:make-clip
+   #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
    #:compile-shader-program #:write-png #:png-octets

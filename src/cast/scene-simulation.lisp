@@ -128,3 +128,9 @@ carries its member's place.  Returns the paths written."
 (defun scene-simulation-trace (simulation &optional (stream *standard-output*))
   "Write SIMULATION's trace, each member's lines in turn, prefixed \"MEMBER: \"."
   (write-ensemble-trace (scene-simulation-ensemble simulation) stream))
+
+(defmethod simulation-clips ((simulation scene-simulation) end)
+  ;; Every member speaks into the one track of the scene.
+  (sort (loop for (nil . member) in (scene-simulation-members simulation)
+              append (simulation-clips member end))
+        #'< :key #'clip-start))

@@ -173,6 +173,8 @@ TEXT does not fit."))
   "the spec to use, when SPEC-FILE defines several")
 (define-option "--no-code" :flag ""
   "refuse a spec holding :code or :c++, so an untrusted spec file runs no code")
+(define-option "--silent" :flag ""
+  "play :say and :sound items silently: no sound, no beak (espeak-ng is then not needed)")
 (define-option "--initial" :assignments "VAR=VALUE,..."
   "start from these values instead of the declared initial ones")
 (define-option "--events" :timed-events "EV1,EV2@T,..."

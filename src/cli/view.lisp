@@ -18,14 +18,15 @@
                                         (option-name option) name (mapcar #'car *view-control-keys*)))))))
           (split-list text)))
 
-(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot cast)
+(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot cast silent)
     (:summary "play the controller live in a window"
      :description "Keys from the printed map (or event names typed at the terminal) send
 events, space pauses, the arrows and the mouse orbit the camera, the scroll
-wheel zooms, Escape or closing the window quits.  Under xvfb-run -a it runs
+wheel zooms, Escape or closing the window quits.  Speech and sounds play
+on the audio device when there is one.  Under xvfb-run -a it runs
 without a screen."
      :arguments ("SPEC-FILE")
-     :options ("--spec" "--no-code" "--initial" "--body" "--scripts" "--size" "--seed" "--cast"
+     :options ("--spec" "--no-code" "--initial" "--body" "--scripts" "--size" "--seed" "--cast" "--silent"
                ("--frames" :positive-integer "N" "stop after N frames")
                ("--screenshot" :string "FILE.png" "save the last frame shown")
                ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5")
@@ -43,4 +44,4 @@ without a screen."
     (when problem (usage-fail "--keys: ~A" problem))
     (view-spec spec :initial initial :body body :scripts scripts
                     :frames frames :screenshot screenshot :size size
-                    :seed seed :keys keys :dot dot)))
+                    :seed seed :keys keys :dot dot :silent silent)))

@@ -96,13 +96,14 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
 
 (defun make-body-presenter (spec &key scripts body (seed 0) stream
                                       (blend-time *default-blend-time*)
-                                      name origin (check t))
+                                      name origin (check t) silent)
   "A body presenter for SPEC: its character, named NAME (default: after SPEC), has the skeleton
 BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE), else placeholders: a gesture per op with
 its name as a caption, see MAKE-PLACEHOLDER-LIBRARY).  Trace lines go to STREAM when given.
 With ORIGIN (a vec3) the whole scene, props and camera included, stands
 there (see MAKE-PERFORMANCE): how a cast places its members.
+With SILENT, speech and sounds play nothing (see MAKE-PERFORMANCE).
 Before anything plays, signals a SCRIPT-ERROR listing every missing script,
 naming a (:pose-when ...) entry whose expression or pose is unknown,
 or naming the first item of a needed script that cannot play on this body
@@ -122,7 +123,7 @@ ARGUMENT-ERROR for an argument of the wrong kind."
          (performance (progn
                         (check-spec-scripts spec library)
                         (make-performance library (list (list (or name (spec-name spec)) skeleton))
-                                          :seed seed :blend-time blend-time :origin origin))))
+                                          :seed seed :blend-time blend-time :origin origin :silent silent))))
     (when check (check-scripts-play spec performance))
     (make-instance 'body-presenter :stream stream :performance performance
                                    :placeholder placeholder

@@ -67,6 +67,7 @@ and as a second value whether any of them places the character itself."
                    (dolist (item items)
                      (typecase item
                        (motor-item (push (motor-item-call item) calls))
+                       (say-item (push (say-item-motor-call '((0 :rest))) calls))
                        (play-item (walk (play-item-script item))))
                      (when (self-item-p item)
                        (setf self t)))

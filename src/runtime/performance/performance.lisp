@@ -17,7 +17,8 @@ The rest is what the current replay has made of it."
   (iterations 0 :type fixnum)
   (drivers '())
   (bindings '())
-  (children '()))
+  (children '())
+  (clips '()))
 
 (defstruct (binding (:constructor make-binding (object property control start end)))
   "CONTROL (or a constant value) drives OBJECT's PROPERTY from START until END (or NIL)."
@@ -55,6 +56,8 @@ NONE: *STAND-IN-SKELETON*), and whether its body is drawn."
    (characters :initarg :characters :reader performance-characters
                :documentation "CHARACTER-SPECs, the first one playing scripts by default.")
    (seed :initarg :seed :initform 0 :reader performance-seed)
+   (silent :initarg :silent :initform nil :reader performance-silent
+           :documentation "True when :say and :sound items play nothing (no sound, no beak).")
    (poses :initform nil :accessor performance-poses
           :documentation "The pose library the library's (poses FILE) names, loaded, or NIL.")
    (blend-time :initarg :blend-time :initform *default-blend-time* :reader performance-blend-time)
@@ -72,6 +75,7 @@ would hang from the world from a group object, its stage, at ORIGIN.")
    (all-runs :initform '() :accessor replay-runs)
    (cues :initform '() :accessor replay-cues)
    (bindings :initform '() :accessor replay-bindings)
+   (clips :initform '() :accessor replay-clips :documentation "The audio clips started so far, newest first.")
    (time :initform nil :accessor performance-time)
    (stale :initform t :accessor replay-stale))
   (:documentation "A script library, the characters it is played on, and the
@@ -94,11 +98,12 @@ scripts started so far.  PERFORMANCE-FRAME gives the scene at any time."))
   "Is X a performance?"
   (typep x 'performance))
 
-(defun make-performance (library characters &key (seed 0) (blend-time *default-blend-time*) origin)
+(defun make-performance (library characters &key (seed 0) (blend-time *default-blend-time*) origin silent)
   "A performance of LIBRARY on CHARACTERS, each (NAME SKELETON [POSITION [ROTATION]])
 with SKELETON a SKELETON or the name of one; SEED seeds the random drivers.
 With ORIGIN (a vec3) the characters, props and cameras hang from the group
 object STAGE standing there, so the whole scene plays moved by ORIGIN."
+With SILENT, speech and sounds play nothing (so no speech library is needed).
   (check-argument 'make-performance 'library library #'script-library-p "a script library (from load-script-library)")
   (check-argument 'make-performance 'characters characters #'characters-p
                   "a nonempty proper list of (name skeleton [position [rotation]]), names symbols or strings, skeletons a skeleton or its name, positions vec3s, rotations nonzero quats")
@@ -108,7 +113,7 @@ object STAGE standing there, so the whole scene plays moved by ORIGIN."
                   "NIL or a vec3 of finite numbers")
   (let ((performance
           (make-instance 'performance
-                         :library library :seed seed :blend-time blend-time :origin origin
+                         :library library :seed seed :blend-time blend-time :origin origin :silent (and silent t)
                          :characters (mapcar (lambda (entry)
                                                (destructuring-bind (name skeleton &optional (position (vec3))
                                                                                     (rotation (quat)))
@@ -148,17 +153,22 @@ Returns the SCRIPT-RUN; its duration is the script's."
   (check-seconds 'perform-script 'start start)
   (when stop (check-seconds 'perform-script :stop stop))
   (when body (check-body-name 'perform-script performance body))
-  (let* ((script (find-script (performance-library performance) name t))
-         (run (make-script-run script (float start 1d0) (and stop (float stop 1d0))
-                               (or body (performance-character performance))
-                               (or loop (script-loop script)))))
-    (push run (performance-runs performance))
-    (unless (replay-stale performance)
-      (if (and (performance-time performance) (< start (performance-time performance)))
-          (setf (replay-stale performance) t)
-          ;; Oldest first, as a replay has them: equal-time cues keep the order runs started in.
-          (setf (replay-runs performance) (append (replay-runs performance) (list run)))))
-    run))
+  (let ((script (find-script (performance-library performance) name t)))
+    (add-script-run performance
+                    (make-script-run script (float start 1d0) (and stop (float stop 1d0))
+                                     (or body (performance-character performance))
+                                     (or loop (script-loop script))))))
+
+(defun add-script-run (performance run)
+  "Add RUN to PERFORMANCE's runs (the replay goes stale if it starts before
+the time last shown); returns RUN."
+  (push run (performance-runs performance))
+  (unless (replay-stale performance)
+    (if (and (performance-time performance) (< (script-run-start run) (performance-time performance)))
+        (setf (replay-stale performance) t)
+        ;; Oldest first, as a replay has them: equal-time cues keep the order runs started in.
+        (setf (replay-runs performance) (append (replay-runs performance) (list run)))))
+  run)
 
 (defun check-body-name (function performance body)
   "BODY when it names one of PERFORMANCE's characters; else an ARGUMENT-ERROR of FUNCTION."
@@ -202,6 +212,8 @@ Returns its duration (NIL when it loops for ever)."
   (dolist (binding (script-run-bindings run))
     (when (or (null (binding-end binding)) (> (binding-end binding) time))
       (setf (binding-end binding) time)))
+  (dolist (clip (script-run-clips run))
+    (setf (clip-cut clip) (if (clip-cut clip) (min time (clip-cut clip)) time)))
   (dolist (child (script-run-children run))
     (setf (script-run-stop child) (if (script-run-stop child) (min time (script-run-stop child)) time))
     (stop-run-effects performance child time)))
@@ -255,6 +267,7 @@ Returns its duration (NIL when it loops for ever)."
     (setf (replay-runs performance) (reverse (performance-runs performance))
           (replay-cues performance) '()
           (replay-bindings performance) '()
+          (replay-clips performance) '()
           (performance-time performance) nil
           (replay-stale performance) nil)))
 
@@ -263,7 +276,8 @@ Returns its duration (NIL when it loops for ever)."
   (setf (script-run-iterations run) 0
         (script-run-drivers run) '()
         (script-run-bindings run) '()
-        (script-run-children run) '()))
+        (script-run-children run) '()
+        (script-run-clips run) '()))
 
 (defun resolve-parent (performance parent body-name)
   "The scene parent PARENT (NIL, an object's name or (OBJECT JOINT-OR-ROLE)) names,
@@ -316,14 +330,17 @@ chain's last joint)."
                           #'< :key #'cue-time)))))
 
 (defun item-end (cue)
-  "When CUE's item ends: its :for, its iteration's end, its run's stop, whichever is first."
+  "When CUE's item ends: its :for, its iteration's end, its run's stop, whichever
+is first.  Speech and sounds are not cut by the iteration's end: NIL when
+nothing else cuts them."
   (let* ((item (cue-item cue))
          (run (cue-run cue))
          (ends (remove nil (list (and (script-item-until item)
                                       (+ (cue-time cue) (script-item-until item)))
-                                 (cue-iteration-end cue)
+                                 (and (not (typep item '(or say-item sound-item)))
+                                      (cue-iteration-end cue))
                                  (script-run-stop run)))))
-    (reduce #'min ends)))
+    (and ends (reduce #'min ends))))
 
 (defun bring-to (performance time)
   "Set every bound property and evaluate every body for TIME."
@@ -370,6 +387,8 @@ chain's last joint)."
            (push child (script-run-children run))
            (setf (replay-runs performance) (append (replay-runs performance) (list child)))
            (expand-run performance child time)))
+        ((or say-item sound-item)
+         (play-audio-item performance item run time end body-name))
         (attach-item
          (reparent-object (object (attach-item-object item))
                           (resolve-parent performance (attach-item-parent item) body-name)

@@ -172,6 +172,10 @@ the item at fault when it is narrower than the item (a :keyframe key)."
           (loop for (nil value) on (motor-call-args call) by #'cddr
                 for problem = (and (target-form-p value) (target-problem names value))
                 when problem collect (list :scene-name problem)))))
+      (say-item
+       (handler-case (progn (make-driver (say-item-motor-call '((0 :rest))) body 0) nil)
+         (spec-error (condition)
+           (list (cons :motor-call (format nil ":say moves the jaw: ~A" (spec-error-message condition)))))))
       (animate-item (scene (scene-name-problem names (animate-item-object item))))
       (set-item (scene (scene-name-problem names (set-item-object item))))
       (attach-item (scene (or (scene-name-problem names (attach-item-object item))

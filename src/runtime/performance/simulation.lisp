@@ -16,13 +16,14 @@ op finished) and FPS.  Frames are sampled from the presenter's performance."
   "FPS when it is a frame rate above 0 and at most *MAX-FPS*; else an ARGUMENT-ERROR of FUNCTION."
   (check-real function :fps fps :above 0 :maximum *max-fps*))
 
-(defun simulate (spec &key initial events until when-busy (fps 30) (seed 0) scripts body stream)
+(defun simulate (spec &key initial events until when-busy (fps 30) (seed 0) scripts body stream silent)
   "Play EVENTS on a controller of SPEC from INITIAL (an alist, as for MAKE-CONTROLLER)
 with a body presenter (SCRIPTS, BODY and SEED as for MAKE-BODY-PRESENTER; trace
 lines to STREAM).  Each entry of EVENTS is a NAME, sent when the events before
 it have ended, or (NAME . SECONDS), arriving at that time whatever is running
 (a timed controller then resolves it by the event's :when-busy policy, or by
-WHEN-BUSY if given); with UNTIL (seconds) the clock stops there.  Returns a SIMULATION;
+WHEN-BUSY if given); with UNTIL (seconds) the clock stops there.  With
+SILENT, :say and :sound items play nothing.  Returns a SIMULATION;
 SIMULATION-FRAMES samples it."
   (check-body-presenter-arguments 'simulate spec scripts body seed stream *default-blend-time*)
   (check-argument 'simulate :initial initial #'initial-state-p *initial-state-phrase*)
@@ -31,7 +32,8 @@ SIMULATION-FRAMES samples it."
                   "a proper list of event names (symbols or strings) or (NAME . SECONDS) pairs")
   (when until (check-seconds 'simulate :until until :minimum 0))
   (check-fps 'simulate fps)
-  (let* ((presenter (make-body-presenter spec :scripts scripts :body body :seed seed :stream stream))
+  (let* ((presenter (make-body-presenter spec :scripts scripts :body body :seed seed :stream stream
+                                                    :silent silent))
          (controller (make-controller (compile-spec (if (spec-p spec) spec (find-spec spec)))
                                       :initial-state initial :presenter presenter
                                       :timed (timed-scenario-p events until))))
@@ -53,6 +55,22 @@ SIMULATION-FRAMES samples it."
 (defun simulation-frame-time (simulation index)
   "The time of frame INDEX of SIMULATION."
   (/ index (float (simulation-fps simulation) 1d0)))
+
+(defgeneric simulation-clips (simulation end)
+  (:documentation "The audio clips SIMULATION plays once played to END seconds,
+oldest first.  A scene of several characters (src/cast/) adds a method.")
+  (:method ((simulation simulation) end)
+    (performance-clips (simulation-performance simulation) end)))
+
+(defun write-simulation-audio (simulation end path)
+  "Write SIMULATION's audio track from 0 to END seconds, every clip that starts
+by then mixed, to the WAV file PATH and return its truename; when nothing
+sounds, delete an old PATH and return NIL."
+  (let ((clips (remove-if (lambda (clip) (>= (clip-start clip) end))
+                          (simulation-clips simulation end))))
+    (cond (clips (write-wav path (mix-clips clips :end end)))
+          (t (when (probe-file path) (ignore-errors (delete-file path)))
+             nil))))
 
 (defgeneric simulation-scene-at (simulation time)
   (:documentation "The scene of SIMULATION at TIME seconds, to draw or sample (its
@@ -117,13 +135,21 @@ other object's parent, position and rotation."
                                   :position (apply #'numbers (vector-list (object-world-position object)))
                                   :rotation (apply #'numbers (quat-list (transform-rotation (object-world-transform object))))))))))
 
-(defun write-simulation (simulation &key bvh frames)
+(defun simulation-duration (simulation)
+  "The seconds SIMULATION's frames span: its frame count over its frame rate."
+  (/ (simulation-frame-count simulation) (float (simulation-fps simulation) 1d0)))
+
+(defun write-simulation (simulation &key bvh frames audio)
   "Sample SIMULATION once and write the character's motion as BVH to the file BVH
-and, to the file FRAMES, one FRAME-FORM per line.  Returns the paths written."
+and, to the file FRAMES, one FRAME-FORM per line; with AUDIO, the audio track
+\(speech and sounds) to that WAV file when anything sounds.  Returns the paths
+written."
   (check-argument 'write-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
   (check-argument 'write-simulation :bvh bvh (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
   (check-argument 'write-simulation :frames frames (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'write-simulation :audio audio (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
   (let ((poses '()) (placements '()) (frame-stream nil))
     (unwind-protect
@@ -153,7 +179,9 @@ and, to the file FRAMES, one FRAME-FORM per line.  Returns the paths written."
                                            (nreverse poses)
                                            :frame-time (/ 1d0 (simulation-fps simulation))
                                            :placements (nreverse placements))))
-            (and frames (list (truename frames))))))
+            (and frames (list (truename frames)))
+            (and audio (remove nil (list (write-performance-audio (simulation-performance simulation)
+                                                                  (simulation-duration simulation) audio)))))))
 
 (defgeneric simulation-reports (simulation)
   (:documentation "What the drivers reported (reaches that fell short), oldest first, as (TIME TEXT).")

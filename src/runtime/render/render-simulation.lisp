@@ -153,14 +153,19 @@ with their times to the PNG file PATH.  Returns PATH."
 
 ;;;# Video
 
-(defun start-ffmpeg (path width height fps log)
+(defun start-ffmpeg (path width height fps log &optional audio)
   "An ffmpeg process encoding raw RGBA frames of WIDTH x HEIGHT at FPS from its
-input into the video file PATH, its messages going to the file LOG."
+input into the video file PATH, with the WAV file AUDIO as its sound track when
+given, its messages going to the file LOG."
   (sb-ext:run-program (namestring (find-ffmpeg))
-                      (list "-y" "-loglevel" "error" "-f" "rawvideo" "-pix_fmt" "rgba"
-                            "-s" (format nil "~Dx~D" width height) "-r" (format nil "~A" fps)
-                            "-i" "-" "-an" "-vf" "pad=ceil(iw/2)*2:ceil(ih/2)*2"
-                            "-pix_fmt" "yuv420p" (namestring path))
+                      (append (list "-y" "-loglevel" "error" "-f" "rawvideo" "-pix_fmt" "rgba"
+                                    "-s" (format nil "~Dx~D" width height) "-r" (format nil "~A" fps)
+                                    "-i" "-")
+                              (if audio
+                                  (list "-i" (namestring audio) "-map" "0:v" "-map" "1:a" "-c:a" "aac")
+                                  (list "-an"))
+                              (list "-vf" "pad=ceil(iw/2)*2:ceil(ih/2)*2"
+                                    "-pix_fmt" "yuv420p" (namestring path)))
                       :input :stream :output nil :error (namestring log)
                       :if-error-exists :supersede :wait nil))
 
@@ -181,10 +186,11 @@ input into the video file PATH, its messages going to the file LOG."
                                           (progress *error-output*) (antialias :fxaa))
   "Draw SIMULATION offscreen at FPS (default its own) from time 0 to its end into
 OUT: frame-0001.png, frame-0002.png ... and sheet.png, a contact sheet of frames
-evenly spaced over the scenario with their times; with VIDEO (a path) also a
-video encoded by ffmpeg.  SIZE is (WIDTH HEIGHT) or \"WxH\".  A progress bar
-goes to PROGRESS (a stream, or NIL).  Returns the paths written: the frames,
-the sheet, then the video.  Signals a RENDER-ERROR for an unwritable OUT, a
+evenly spaced over the scenario with their times; speech.wav, the audio track
+\(speech and sound effects), when anything sounds; with VIDEO (a path) also a
+video encoded by ffmpeg, the audio track muxed in.  SIZE is (WIDTH HEIGHT) or
+\"WxH\".  A progress bar goes to PROGRESS (a stream, or NIL).  Returns the paths
+written: the frames, the sheet, speech.wav when written, then the video.  Signals a RENDER-ERROR for an unwritable OUT, a
 missing ffmpeg or libOSMesa, or a bad SIZE; an ARGUMENT-ERROR for the other
 arguments of the wrong kind."
   (check-argument 'render-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
@@ -206,11 +212,14 @@ arguments of the wrong kind."
            (log (merge-pathnames "ffmpeg.log" output))
            (chosen (sheet-frame-indices count))
            (factor (max 1 (ceiling width *thumbnail-width*)))
+                      ;; The track first (playing the performance to its end), so ffmpeg can take it.
+           (audio (write-simulation-audio simulation (/ count (float fps 1d0))
+                                           (merge-pathnames *audio-file-name* output)))
            (frames '()) (thumbnails '()) (process nil) (drawn nil))
       (unwind-protect
            (with-offscreen-context ((context) width height)
              (let ((renderer (make-renderer width height :antialias antialias)))
-               (when video (setf process (start-ffmpeg video width height fps log)))
+               (when video (setf process (start-ffmpeg video width height fps log audio)))
                (dotimes (index count)
                  (let ((time (/ index (float fps 1d0))))
                    (render-scene renderer (simulation-scene-at simulation time))
@@ -231,16 +240,17 @@ arguments of the wrong kind."
       (append (nreverse frames)
               (list (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
                                          (floor width factor) (floor height factor)))
+              (and audio (list audio))
               (and video (list video))))))
 
 ;;;# Policies side by side
 
 (defun render-policy-sheet (spec policies &key initial events until (fps 24) (seed 0) scripts body
-                                               (size '(640 480)) (out "render/") (columns 6))
+                                               (size '(640 480)) (out "render/") (columns 6) silent)
   "Play the scenario EVENTS (as for SIMULATE) once per policy of POLICIES, every
 event that arrives while another plays following that policy, and draw one
 row per policy of COLUMNS frames evenly spaced over the longest run into
-OUT/policies.png.  Returns its path.  Signals what SIMULATE and
+OUT/policies.png (SILENT as for SIMULATE).  Returns its path.  Signals what SIMULATE and
 RENDER-SIMULATION signal."
   (check-argument 'render-policy-sheet 'policies policies
                   (lambda (x) (and (alexandria:proper-list-p x) x
@@ -250,7 +260,8 @@ RENDER-SIMULATION signal."
                   "an integer from 1 to 24")
   (let* ((simulations (mapcar (lambda (policy)
                                 (simulate spec :initial initial :events events :until until :when-busy policy
-                                               :fps fps :seed seed :scripts scripts :body body))
+                                               :fps fps :seed seed :scripts scripts :body body
+                                               :silent silent))
                               policies))
          (end (reduce #'max simulations :key #'simulation-end))
          (times (loop for k below columns

@@ -31,6 +31,9 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   ;; A file the state graph is written to, current state highlighted, and the
   ;; state last written (see WRITE-CURRENT-STATE-GRAPH).
   (dot nil) (dot-state nil)
+  ;; Audio clips already handed to the audio device, and whether the lack of
+  ;; one has been reported.
+  (clips-played (make-hash-table :test #'eq)) (silence-reported nil)
   (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
 
 (defun viewer-wall-time (viewer)
@@ -213,6 +216,19 @@ event's key from the map works too.  Never blocks."
   (fit-renderer viewer)
   (render-scene (viewer-renderer viewer) (viewer-scene viewer (viewer-now viewer))))
 
+(defun play-new-clips (viewer)
+  "Play the audio clips the performance has started since the last frame; when
+the machine cannot play sound, say so once (the first time something sounds)."
+  (dolist (clip (replay-clips (viewer-performance viewer)))
+    (unless (gethash clip (viewer-clips-played viewer))
+      (setf (gethash clip (viewer-clips-played viewer)) t)
+      (let ((problem (audio-playback-problem)))
+        (cond ((null problem) (play-sound-now (clip-sound clip)))
+              ((not (viewer-silence-reported viewer))
+               (setf (viewer-silence-reported viewer) t)
+               (format t "; ~A: playing silently~%" problem)
+               (finish-output)))))))
+
 (defun run-viewer (viewer frames)
   "Play VIEWER until its window closes or FRAMES frames (NIL: no limit) are
 shown; return the number of frames shown."
@@ -227,6 +243,7 @@ shown; return the number of frames shown."
                (read-terminal viewer)
                (advance-viewer viewer)
                (draw-view viewer)
+               (play-new-clips viewer)
                (print-due-trace viewer)
                (let ((title (view-title viewer)))
                  (unless (string= title (viewer-title viewer))
@@ -257,13 +274,15 @@ with EVENT-KEYS, as a message; NIL when they all can."
           return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
                          key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
 
-(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot)
+(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot silent)
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
 the end).  Returns after FRAMES frames (NIL: when the window closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
 if given, and rewriting the state graph into DOT (a .dot, .svg or .png file)
-each time the state changes, the current state marked.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+each time the state changes, the current state marked.  Speech and sounds
+play on the audio device (through aplay or sox's play); without one the viewer
+says once that it plays silently.  With SILENT nothing sounds.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -284,7 +303,7 @@ opens, for an argument of the wrong kind."
                                           x)))
                   "a proper list of (seconds . key) with seconds a finite number from 0")
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
-         (presenter (make-body-presenter spec :scripts scripts :body body :seed seed))
+         (presenter (make-body-presenter spec :scripts scripts :body body :seed seed :silent silent))
          (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter
                                                           :timed t))
          (event-keys (view-event-keys spec)))

@@ -107,7 +107,9 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
 SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
   (let ((library (%make-script-library source))
         (*current-spec-name* nil)
-        (*sub-form-places* places))
+        (*sub-form-places* places)
+        (*library-directory* (and source (directory-pathname (make-pathname :name nil :type nil :version nil
+                                                                            :defaults source)))))
     ;; Kept, so CHECK can name the line of a key that fails on a body.
     (setf (script-library-places library) places)
     (loop for (form . position) in entries
@@ -315,6 +317,7 @@ checks critical times and looping against it.  Nested cycles were ruled out."
   "Where ITEM ends for the purpose of inferring its script's duration."
   (let ((at (script-item-at item)))
     (cond ((script-item-end item))
+          ((sound-item-p item) (+ at (sound-duration (sound-item-sound item))))
           ((play-item-p item)
            (+ at (resolve-script-duration library (find-script library (play-item-script item)))))
           ((and (animate-item-p item) (keys-control-p (animate-item-control item))

@@ -49,6 +49,18 @@
 ;;;       for a joint of a body (a joint's name or a role such as :right-hand;
 ;;;       OBJECT may be :self), or NIL for the scene root.  With :keep-world T
 ;;;       (the default) OBJECT stays where it is in the world.
+;;;   (:at T :say "TEXT" [:voice "VOICE"] [:rate WPM] [:for D])
+;;;       Speak TEXT (espeak-ng; VOICE default "en-us", RATE words a minute,
+;;;       default 160): the jaw (a parrot's beak) moves through the visemes of
+;;;       its phonemes, timed by the synthesiser, and the sound goes on the
+;;;       performance's audio track.  Its length is known only once spoken, so
+;;;       for the script's inferred duration it counts its start: give the
+;;;       script a :duration that covers the speech.
+;;;   (:at T :sound "FILE.wav" [:for D])
+;;;       Play a sound effect (Persona's snore), a PCM WAV file named relative
+;;;       to the library file, read when the library is.
+;;;   Speech and sounds play to their end, cut only by :for or a stop of
+;;;   their script (an op cut short), not by the end of the script.
 ;;;
 ;;; No item may start after an explicit :duration, nor end after it with :for;
 ;;; every item ends at the latest with its script (with each iteration).
@@ -189,6 +201,17 @@ keeping its world placement when KEEP-WORLD."
   (parent nil :read-only t)
   (keep-world t :type boolean :read-only t))
 
+(defstruct (say-item (:include script-item))
+  "TEXT spoken by VOICE (or NIL for the default) at RATE words a minute (or NIL)."
+  (text "" :type string :read-only t)
+  (voice nil :read-only t)
+  (rate nil :read-only t))
+
+(defstruct (sound-item (:include script-item))
+  "The sound effect read from the WAV file PATH."
+  (path nil :read-only t)
+  (sound nil :read-only t))
+
 (defun script-item-end (item)
   "Where ITEM ends on its script's timeline when it has a :for, else NIL."
   (and (script-item-until item) (+ (script-item-at item) (script-item-until item))))
@@ -255,7 +278,7 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
           into parsed
         finally (return parsed)))
 
-(defparameter *script-item-kinds* '(:motor :animate :set :play :attach)
+(defparameter *script-item-kinds* '(:motor :animate :set :play :attach :say :sound)
   "The kinds of script item, each parsed by PARSE-<KIND>-ITEM.")
 
 (defun parse-script-item (item critical duration)
@@ -279,7 +302,8 @@ times and DURATION (NIL when inferred)."
       (let ((parsed (funcall (ecase kind
                                (:motor #'parse-motor-item) (:animate #'parse-animate-item)
                                (:set #'parse-set-item) (:play #'parse-play-item)
-                               (:attach #'parse-attach-item))
+                               (:attach #'parse-attach-item) (:say #'parse-say-item)
+                               (:sound #'parse-sound-item))
                              item at arguments)))
         (when (and duration (script-item-end parsed) (> (script-item-end parsed) duration))
           (script-fail item "the item ends at ~A, after the script's duration ~A"
@@ -375,6 +399,42 @@ name or a role of *SKELETON-ROLES*; else a SCRIPT-ERROR about FORM."
          (script-fail form "unknown role ~A (roles: ~{~A~^ ~})" (lisp-text (second parent))
                       (mapcar (lambda (entry) (lisp-text (car entry))) *skeleton-roles*)))
         (t parent)))
+
+;;; Speech and sounds: the text is checked now, spoken when it plays; a sound
+;;; file is read now, so a missing one is an error at its line.
+
+(defvar *library-directory* nil
+  "While a library is read: the directory its file names (poses, sounds) are relative to.")
+
+(defun parse-say-item (item at arguments)
+  "(:at T :say \"TEXT\" [:voice \"VOICE\"] [:rate WPM] [:for D])."
+  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:voice :rate :for))
+    (destructuring-bind (&key voice rate &allow-other-keys) options
+      (unless (and (stringp (first parts)) (<= 1 (length (first parts)) 2000))
+        (script-fail item ":say takes the text to speak, a string of 1 to 2000 characters, not ~A"
+                     (argument-value-text (first parts))))
+      (unless (or (null voice) (and (stringp voice) (< 0 (length voice) 40) (every #'graphic-char-p voice)))
+        (script-fail item ":voice must be the name of an espeak-ng voice, such as \"en-us\""))
+      (unless (or (null rate) (and (integerp rate) (<= 80 rate 450)))
+        (script-fail item ":rate must be an integer from 80 to 450 (words a minute), not ~A"
+                     (argument-value-text rate)))
+      (make-say-item :at at :until until :form item :text (first parts) :voice voice :rate rate))))
+
+(defun say-item-motor-call (visemes)
+  "The :lips call that moves the jaw through VISEMES, ((SECONDS VISEME) ...):
+what a :say item drives, so channel and playability checks treat it as one."
+  (parse-motor-frame (list :lips :visemes visemes)))
+
+(defun parse-sound-item (item at arguments)
+  "(:at T :sound \"FILE.wav\" [:for D]): the file is read now."
+  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:for))
+    (declare (ignore options))
+    (unless (and (stringp (first parts)) (plusp (length (first parts))))
+      (script-fail item ":sound takes a WAV file's name in a string, not ~A" (argument-value-text (first parts))))
+    (let ((path (merge-pathnames (first parts) (or *library-directory* *default-pathname-defaults*))))
+      (make-sound-item :at at :until until :form item :path path
+                       :sound (handler-case (read-wav path)
+                                (speech-error (error) (script-fail item "~A" error)))))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Property types

@@ -1,0 +1,124 @@
+;;;; pocketsphinx.lisp -- pocketsphinx 0.8 (Debian's 5prealpha API) and
+;;;; sphinxbase bound in two layers: the raw %-named C functions, then one
+;;;; decoder of the en-us model that takes JSGF grammars as searches, learns
+;;;; words its dictionary lacks, and decodes a whole utterance at once.
+;;;; (pocketsphinx_continuous splits a file where the speaker pauses, and a
+;;;; piece of a sentence does not match the grammar; one utterance does.)
+
+(in-package #:player)
+
+;;;# Raw bindings (pocketsphinx.h, cmd_ln.h, err.h)
+
+(cffi:defcfun ("ps_args" %ps-args) :pointer)
+(cffi:defcfun ("cmd_ln_parse_r" %cmd-ln-parse-r) :pointer
+  (config :pointer) (definitions :pointer) (argc :int32) (argv :pointer) (strict :int32))
+(cffi:defcfun ("cmd_ln_free_r" %cmd-ln-free-r) :int (config :pointer))
+(cffi:defcfun ("ps_init" %ps-init) :pointer (config :pointer))
+(cffi:defcfun ("ps_free" %ps-free) :int (decoder :pointer))
+(cffi:defcfun ("ps_start_utt" %ps-start-utt) :int (decoder :pointer))
+(cffi:defcfun ("ps_process_raw" %ps-process-raw) :int
+  (decoder :pointer) (data :pointer) (count :size) (no-search :int) (full-utterance :int))
+(cffi:defcfun ("ps_end_utt" %ps-end-utt) :int (decoder :pointer))
+(cffi:defcfun ("ps_get_hyp" %ps-get-hyp) :pointer (decoder :pointer) (score :pointer))
+(cffi:defcfun ("err_set_logfp" %err-set-logfp) :void (file :pointer))
+(cffi:defcfun ("ps_lookup_word" %ps-lookup-word) :pointer (decoder :pointer) (word :string))
+(cffi:defcfun ("ps_add_word" %ps-add-word) :int (decoder :pointer) (word :string) (phones :string) (update :int))
+(cffi:defcfun ("ps_set_jsgf_string" %ps-set-jsgf-string) :int (decoder :pointer) (name :string) (jsgf :string))
+(cffi:defcfun ("ps_set_search" %ps-set-search) :int (decoder :pointer) (name :string))
+(cffi:defcfun ("ckd_free" %ckd-free) :void (pointer :pointer))
+
+;;;# Decoders
+
+(defparameter *pocketsphinx-model* #p"/usr/share/pocketsphinx/model/en-us/"
+  "The directory of pocketsphinx-en-us's acoustic model (en-us/) and dictionary (cmudict-en-us.dict).")
+
+(defparameter *recognition-rate* 16000 "The sample rate the en-us acoustic model was trained at.")
+
+(defun pocketsphinx-model-files ()
+  "The acoustic model directory and the dictionary, as two namestrings;
+SPEECH-UNAVAILABLE naming pocketsphinx-en-us when they are missing."
+  (let ((hmm (merge-pathnames "en-us/" *pocketsphinx-model*))
+        (dict (merge-pathnames "cmudict-en-us.dict" *pocketsphinx-model*)))
+    (unless (and (probe-file hmm) (probe-file dict))
+      (error 'speech-unavailable :package "pocketsphinx-en-us"
+                                 :message (format nil "pocketsphinx's English model is not in ~A: install the Debian package pocketsphinx-en-us"
+                                                  (namestring *pocketsphinx-model*))))
+    (values (namestring hmm) (namestring dict))))
+
+(defun make-sphinx-config (arguments)
+  "A sphinxbase configuration parsed from ARGUMENTS, a list of strings as on
+pocketsphinx's command line; a SPEECH-ERROR when they are refused."
+  (let ((argv (cffi:foreign-alloc :pointer :count (1+ (length arguments))))
+        (strings (mapcar #'cffi:foreign-string-alloc arguments)))
+    (unwind-protect
+         (progn
+           (loop for s in strings for i from 0 do (setf (cffi:mem-aref argv :pointer i) s))
+           (setf (cffi:mem-aref argv :pointer (length arguments)) (cffi:null-pointer))
+           (let ((config (with-speech-traps-masked
+                           (%cmd-ln-parse-r (cffi:null-pointer) (%ps-args) (length arguments) argv 1))))
+             (when (cffi:null-pointer-p config)
+               (speech-fail "pocketsphinx refused its configuration ~{~A~^ ~}" arguments))
+             config))
+      (mapc #'cffi:foreign-string-free strings)
+      (cffi:foreign-free argv))))
+
+(defstruct (sphinx-decoder (:constructor %make-sphinx-decoder (handle config)))
+  "A pocketsphinx decoder (HANDLE) and its configuration (CONFIG), both foreign,
+with the JSGF grammars it has been given as searches (text -> name)."
+  handle config
+  (searches (make-hash-table :test #'equal)))
+
+(defun make-sphinx-decoder ()
+  "A decoder of the en-us model and its dictionary, with no search yet.
+Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
+  (load-pocketsphinx-library)
+  (multiple-value-bind (hmm dict) (pocketsphinx-model-files)
+    (%err-set-logfp (cffi:null-pointer))    ; its log is long and says nothing to a user
+    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict)))
+           (handle (with-speech-traps-masked (%ps-init config))))
+      (when (cffi:null-pointer-p handle)
+        (%cmd-ln-free-r config)
+        (speech-fail "pocketsphinx could not load its model from ~A" hmm))
+      (%make-sphinx-decoder handle config))))
+
+(defun sphinx-knows-word-p (decoder word)
+  "Is WORD in DECODER's dictionary?"
+  (let ((phones (%ps-lookup-word (sphinx-decoder-handle decoder) word)))
+    (unless (cffi:null-pointer-p phones)
+      (%ckd-free phones)
+      t)))
+
+(defun sphinx-add-word (decoder word phones)
+  "Teach DECODER WORD, pronounced PHONES (CMU phones separated by spaces, such
+as \"HH AH L OW\"); a SPEECH-ERROR when it refuses them."
+  (when (minusp (with-speech-traps-masked (%ps-add-word (sphinx-decoder-handle decoder) word phones 1)))
+    (speech-fail "pocketsphinx refused the word ~A pronounced ~A" word phones)))
+
+(defun sphinx-use-grammar (decoder grammar)
+  "Make the JSGF text GRAMMAR DECODER's search (parsed once, then kept).  A
+SPEECH-ERROR when pocketsphinx cannot use it."
+  (let* ((searches (sphinx-decoder-searches decoder))
+         (name (or (gethash grammar searches)
+                   (let ((name (format nil "grammar-~D" (hash-table-count searches))))
+                     (unless (zerop (with-speech-traps-masked
+                                      (%ps-set-jsgf-string (sphinx-decoder-handle decoder) name grammar)))
+                       (speech-fail "pocketsphinx could not use the grammar (is it JSGF, with a public rule?)"))
+                     (setf (gethash grammar searches) name)))))
+    (unless (zerop (%ps-set-search (sphinx-decoder-handle decoder) name))
+      (speech-fail "pocketsphinx could not switch to the grammar ~A" name))))
+
+(defun sphinx-decode (decoder samples)
+  "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when
+it matches nothing in the grammar."
+  (let ((handle (sphinx-decoder-handle decoder)))
+    (with-speech-traps-masked
+      (unless (>= (%ps-start-utt handle) 0) (speech-fail "pocketsphinx could not start an utterance"))
+      (cffi:with-pointer-to-vector-data (data samples)
+        (when (minusp (%ps-process-raw handle data (length samples) 0 1))
+          (speech-fail "pocketsphinx could not process the audio")))
+      (%ps-end-utt handle)
+      (cffi:with-foreign-object (score :int32)
+        (let ((hypothesis (%ps-get-hyp handle score)))
+          (and (not (cffi:null-pointer-p hypothesis))
+               (let ((text (cffi:foreign-string-to-lisp hypothesis)))
+                 (and (plusp (length text)) text))))))))
