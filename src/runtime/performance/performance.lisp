@@ -102,8 +102,8 @@ scripts started so far.  PERFORMANCE-FRAME gives the scene at any time."))
   "A performance of LIBRARY on CHARACTERS, each (NAME SKELETON [POSITION [ROTATION]])
 with SKELETON a SKELETON or the name of one; SEED seeds the random drivers.
 With ORIGIN (a vec3) the characters, props and cameras hang from the group
-object STAGE standing there, so the whole scene plays moved by ORIGIN."
-With SILENT, speech and sounds play nothing (so no speech library is needed).
+object STAGE standing there, so the whole scene plays moved by ORIGIN.
+With SILENT, speech and sounds play nothing (so no speech library is needed)."
   (check-argument 'make-performance 'library library #'script-library-p "a script library (from load-script-library)")
   (check-argument 'make-performance 'characters characters #'characters-p
                   "a nonempty proper list of (name skeleton [position [rotation]]), names symbols or strings, skeletons a skeleton or its name, positions vec3s, rotations nonzero quats")
