@@ -9,7 +9,7 @@ preconditions and effects, precompile plans from every state to every goal, and
 run the resulting state machine as Lisp closures or embedded C++."
   :version "0.1.0"
   :license "MIT"
-  :depends-on ("alexandria" "sb-md5" "cffi" "salza2")
+  :depends-on ("alexandria" "sb-md5" "cffi" "salza2" "bordeaux-threads")
   :serial t
   :components
   ((:module "src"
@@ -46,6 +46,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "regression")
                    (:file "uniform-cost")
                    (:file "goals")
+                   (:file "plan-memo")
                    (:file "machine")
                    (:file "diagnostics")))
      ;; Looking at a planned machine: its state graph as Graphviz, explanations.
@@ -92,7 +93,10 @@ run the resulting state machine as Lisp closures or embedded C++."
       ((:module "controller"
         :serial t
         :components ((:file "presenter")
-                     (:file "controller")))
+                     (:file "controller")
+                     ;; Live authoring: a running controller switched to its redefined spec.
+                     (:file "redefinition")
+                     (:file "following")))
        ;; The timed controller: events meeting while the character moves.
        (:module "timeline"
         :serial t
@@ -257,5 +261,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "fuzz-minimize")
                  (:file "test-fuzz")
                  (:file "test-api-arguments")
-                 (:file "test-compose"))))
+                 (:file "test-compose")
+                 (:file "test-live"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -55,6 +55,8 @@
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile
+   #:redefine-controller #:follow-spec #:unfollow-spec #:redefinition-warning
+   #:redefinition-warning-error #:*plan-rows-built* #:machine-rows-built
    #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
    #:*when-busy-policies*
    #:event-names #:*controller*
