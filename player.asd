@@ -155,7 +155,14 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "body-presenter")
                      (:file "op-channels")
                      (:file "script-check")
-                     (:file "simulation")))
+                     (:file "simulation")
+                     (:file "library-reload")))
+       ;; Live authoring's plumbing: work posted between threads, watched files.
+       (:module "live"
+        :serial t
+        :components ((:file "inbox")
+                     (:file "watch")
+                     (:file "reports")))
        (:module "render"
         :serial t
         :components ((:file "mesh")
@@ -173,7 +180,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "renderer")
                      (:file "render-simulation")
                      (:file "glfw")
-                     (:file "viewer")))))
+                     (:file "viewer")
+                     (:file "live-viewer")
+                     (:file "view-session")))))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t

@@ -31,6 +31,10 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   ;; A file the state graph is written to, current state highlighted, and the
   ;; state last written (see WRITE-CURRENT-STATE-GRAPH).
   (dot nil) (dot-state nil)
+  ;; Live authoring (live-viewer.lisp): work other threads post (an INBOX),
+  ;; a FILE-WATCHER and the function that reloads what it reports, the spec
+  ;; whose key map was last printed, and the last error, shown in the title.
+  (inbox nil) (watcher nil) (reload nil) (spec nil) (message nil)
   (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
 
 (defun viewer-wall-time (viewer)
@@ -170,7 +174,7 @@ event's key from the map works too.  Never blocks."
   "The window title: the spec's name and the controller's state, e.g.
 \"peedy -- holding-note=false posture=stand ... last-heard=2.5\"."
   (let ((controller (viewer-controller viewer)))
-    (format nil "~A -- ~{~A~^ ~}~:[~; [paused]~]" (viewer-name viewer)
+    (format nil "~A -- ~{~A~^ ~}~:[~; [paused]~]~@[ [~A]~]" (viewer-name viewer)
             ;; CONTROLLER-STATE lists the values in declaration order.
             (loop for var in (spec-variables (spec-of controller))
                   for (name . value) in (controller-state controller)
@@ -178,7 +182,8 @@ event's key from the map works too.  Never blocks."
                                   (cond ((eq (var-kind var) :boolean) (if value "true" "false"))
                                         ((null value) "-")
                                         (t (lisp-text value)))))
-            (viewer-paused-at viewer))))
+            (viewer-paused-at viewer)
+            (viewer-message viewer))))
 
 (defun fit-renderer (viewer)
   "Remake VIEWER's renderer, keeping its orbit, when the window's framebuffer changed size."
@@ -205,6 +210,7 @@ shown; return the number of frames shown."
                (when (zerop frame) (setf (viewer-start viewer) started))
                (viewer-tick viewer started)
                (dolist (input (glfw-poll-input)) (handle-input viewer input))
+               (serve-live-viewer viewer)
                (play-script-keys viewer)
                (read-terminal viewer)
                (advance (viewer-controller viewer)
@@ -241,13 +247,20 @@ with EVENT-KEYS, as a message; NIL when they all can."
           return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
                          key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
 
-(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot)
+(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot
+                             (terminal t) inbox watch (allow-code t))
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
 the end).  Returns after FRAMES frames (NIL: when the window closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
 if given, and rewriting the state graph into DOT (a .dot, .svg or .png file)
-each time the state changes, the current state marked.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+each time the state changes, the current state marked.  The controller
+follows its spec: a redefinition (DEFSPEC again, or with WATCH a change of
+the spec's file, read again with ALLOW-CODE as LOAD-SPEC does, or of its
+script library) switches it at its next safe point; errors are printed as
+\"player: error: ...\" lines and shown in the title, the window playing on.
+INBOX, an INBOX, takes functions of the viewer from other threads (see VIEW);
+unless TERMINAL, standard input is not read.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -259,6 +272,7 @@ opens, for an argument of the wrong kind."
                   "NIL or a positive integer")
   (check-argument 'view-spec :screenshot screenshot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :inbox inbox (lambda (x) (or (null x) (inbox-p x))) "NIL or an inbox")
   (check-argument 'view-spec :dot dot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
   (check-argument 'view-spec :keys keys
@@ -277,7 +291,7 @@ opens, for an argument of the wrong kind."
     (multiple-value-bind (width height) (image-size size)
       (with-glfw-window (window width height (lisp-text (spec-name spec)))
         (let ((viewer (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
-                                    :dot dot
+                                    :dot dot :terminal terminal :spec spec
                                     :performance (presenter-performance presenter) :keys event-keys
                                     :script (sort (copy-list keys) #'< :key #'car))))
           (multiple-value-bind (fb-width fb-height) (glfw-framebuffer-size window)
@@ -285,7 +299,8 @@ opens, for an argument of the wrong kind."
           (unwind-protect
                (progn
                  (print-key-map event-keys)
-                 (let ((shown (run-viewer viewer frames)))
+                 (start-live-viewer viewer :inbox inbox :watch watch :allow-code allow-code)
+                 (let ((shown (with-live-errors-reported (viewer) (run-viewer viewer frames))))
                    (print-due-trace viewer t)
                    (format t "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
                  (when screenshot
@@ -295,4 +310,5 @@ opens, for an argument of the wrong kind."
                      (write-png screenshot (renderer-width renderer) (renderer-height renderer)
                                 (renderer-pixels renderer))
                      (format t "; wrote ~A~%" screenshot))))
+            (stop-live-viewer viewer)
             (delete-renderer (viewer-renderer viewer))))))))
