@@ -162,7 +162,8 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "inbox")
                      (:file "watch")
-                     (:file "reports")))
+                     (:file "reports")
+                     (:file "swank")))
        (:module "render"
         :serial t
         :components ((:file "mesh")

@@ -58,6 +58,7 @@
    #:redefine-controller #:follow-spec #:unfollow-spec #:redefinition-warning
    #:redefinition-warning-error #:*plan-rows-built* #:machine-rows-built
    #:view #:stop-view #:call-in-view #:viewer-session #:view-running-p #:reload-script-library
+   #:start-swank #:stop-swank
    #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
    #:*when-busy-policies*
    #:event-names #:*controller*
