@@ -272,5 +272,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-fuzz")
                  (:file "test-api-arguments")
                  (:file "test-compose")
-                 (:file "test-live"))))
+                 (:file "test-live")
+                 (:file "test-live-viewer"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
