@@ -12,16 +12,6 @@
 
 (def-suite* live-viewer :in player-tests)
 
-(defun scratch-directory (name)
-  "A new empty directory under /tmp for test NAME, as a pathname."
-  (let ((path (pathname (format nil "/tmp/player-~A-~36R/" name (random (expt 36 8) (make-random-state t))))))
-    (ensure-directories-exist path)
-    path))
-
-(defun file-text (path)
-  "PATH's contents, or \"\" when it does not exist yet."
-  (or (ignore-errors (alexandria:read-file-into-string path)) ""))
-
 (defun wait-until (predicate &key (timeout 20))
   "Call PREDICATE every 50 ms until it returns true (return that) or TIMEOUT seconds pass (NIL)."
   (loop with deadline = (+ (get-internal-real-time) (* timeout internal-time-units-per-second))
@@ -42,10 +32,6 @@ output and error going to out.txt and err.txt there; returns the process."
   "Wait (at most TIMEOUT seconds) for PROCESS to end; its exit code, or NIL."
   (when (wait-until (lambda () (not (sb-ext:process-alive-p process))) :timeout timeout)
     (sb-ext:process-exit-code process)))
-
-(defun edit-file (path text)
-  "Replace PATH's contents with TEXT, as an editor saving it does."
-  (alexandria:write-string-into-file text path :if-exists :supersede))
 
 (test view-watch-follows-edits-and-survives-errors
   (with-window-programs ()

@@ -7,6 +7,20 @@
 
 (def-suite* live :in player-tests)
 
+(defun scratch-directory (name)
+  "A new empty directory under /tmp for test NAME, as a pathname."
+  (let ((path (pathname (format nil "/tmp/player-~A-~36R/" name (random (expt 36 8) (make-random-state t))))))
+    (ensure-directories-exist path)
+    path))
+
+(defun file-text (path)
+  "PATH's contents, or \"\" when it does not exist yet."
+  (or (ignore-errors (alexandria:read-file-into-string path)) ""))
+
+(defun edit-file (path text)
+  "Replace PATH's contents with TEXT, as an editor saving it does."
+  (alexandria:write-string-into-file text path :if-exists :supersede))
+
 (defparameter *live-forms*
   '((state-variable posture string sit (sit stand))
     (state-variable alert string snore (snore awake))
@@ -201,3 +215,56 @@ VARIANT-FORMS CHANGE)."
           (is (eq old (controller-machine c)))
           (is (null (player::controller-pending c)))
           (is (eq 'stand (state-value c 'posture))))))))
+
+(test live-functions-check-their-arguments
+  (with-live-spec (live-arguments *live-forms*)
+    (let* ((c (make-controller (compile-spec 'live-arguments)))
+           (machine (controller-machine c)))
+      (signals argument-error (follow-spec 42))
+      (signals argument-error (follow-spec c :deliver 3))
+      (signals argument-error (unfollow-spec "c"))
+      (signals argument-error (redefine-controller 'c 'live-arguments))
+      (signals argument-error (redefine-controller c 42))
+      (signals unknown-name-error (redefine-controller c 'no-such-spec-anywhere))
+      (is (eq machine (controller-machine c)) "a rejected call changed the machine")
+      (signals argument-error (view 42))
+      (signals argument-error (view 'live-arguments :initial 3))
+      (signals argument-error (view 'live-arguments :seed 0.5))
+      (signals argument-error (stop-view c))
+      (signals argument-error (call-in-view c #'identity))
+      (signals argument-error (player::start-swank 0))
+      (signals argument-error (player::start-swank "4005"))
+      (signals argument-error (player::reload-script-library (make-trace-presenter) 'live-arguments)))))
+
+(test view-without-a-display-is-an-error-in-the-caller
+  (if (player::display-available-p)
+      (progn (format t "~&; skipped: DISPLAY is set, so VIEW would open a window here~%") (pass))
+      (progn
+        (load-spec (fixture "anim.lisp"))
+        (signals render-error (view 'player-user::anim :size '(160 120)))
+        ;; The failed viewer is not left open: the next VIEW fails the same way, not as "already open".
+        (signals render-error (view 'player-user::anim :size '(160 120))))))
+
+(test script-library-reload-keeps-the-old-library-on-error
+  (let* ((directory (scratch-directory "library"))
+         (library (merge-pathnames "anim-scripts.lisp" directory))
+         (text (file-text (fixture "anim-scripts.lisp")))
+         (spec (first (load-spec (fixture "anim.lisp")))))
+    (edit-file library text)
+    (unwind-protect
+         (let* ((presenter (make-body-presenter spec :scripts library))
+                (old (player::presenter-library presenter)))
+           ;; A broken file, then one that lacks a script the spec needs: refused.
+           (edit-file library (format nil "~A~%(script~%" text))
+           (signals script-error (reload-script-library presenter spec))
+           (is (eq old (player::presenter-library presenter)))
+           (edit-file library (let ((at (search "(defscript wave " text)))
+                                  (concatenate 'string (subseq text 0 at) "(defscript waved " (subseq text (+ at 16)))))
+           (signals script-error (reload-script-library presenter spec))
+           (is (eq old (player::presenter-library presenter)))
+           ;; A good one replaces it.
+           (edit-file library (format nil "~A~%; edited~%" text))
+           (let ((new (reload-script-library presenter spec)))
+             (is (not (eq old new)))
+             (is (eq new (player::presenter-library presenter)))))
+      (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore))))

@@ -125,7 +125,11 @@ On a timed controller (MAKE-CONTROLLER :TIMED T) the event arrives at AT
 event is running, WHEN-BUSY (default: the event's :when-busy policy, else the
 spec's) decides: :QUEUE, :PREEMPT, :OVERRIDE or :INTERLEAVE. Returns T when
 the event was accepted, (VALUES NIL :DROPPED) when it was dropped, and (VALUES
-NIL GOAL) when it started at once and its plan failed."
+NIL GOAL) when it started at once and its plan failed.
+
+CONTROLLER may also be an EVENT-TARGET, such as the VIEWER-SESSION of VIEW:
+the event is then sent to the controller it stands for, at the viewer's
+playback time unless AT is given."
   (when (typep controller 'event-target)
     (return-from send-event (target-send-event controller event at when-busy)))
   (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")

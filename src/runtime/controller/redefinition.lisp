@@ -85,6 +85,7 @@ in the new spec (checked now; a pending switch is checked again when it
 happens, and refused with a REDEFINITION-WARNING)."
   (check-argument 'redefine-controller 'controller controller #'controller-p
                   "a controller (from make-controller)")
+  (check-argument 'redefine-controller 'machine machine #'machine-designator-p *machine-designator*)
   (let ((machine (ensure-compiled-machine machine)))
     (transferred-assignments controller machine)
     (cond ((safe-point-p controller)

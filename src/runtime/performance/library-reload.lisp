@@ -28,8 +28,15 @@ otherwise the SCRIPT-ERROR (or POSE-ERROR) MAKE-BODY-PRESENTER would signal."
 read from) and play it from now on, when it has every script SPEC needs and
 each can play on the character.  Returns the new library.  Signals a
 SCRIPT-ERROR (the old library playing on) when the file is broken or lacks a
-script, and an ARGUMENT-ERROR when there is no file to read."
-  (let* ((performance (presenter-performance presenter))
+script, and an ARGUMENT-ERROR for an argument of the wrong kind or when
+there is no file to read."
+  (check-argument 'reload-script-library 'presenter presenter (lambda (x) (typep x 'body-presenter))
+                  "a body presenter (from make-body-presenter)")
+  (check-argument 'reload-script-library 'spec spec #'spec-designator-p *spec-designator*)
+  (check-argument 'reload-script-library 'path path (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (let* ((spec (if (spec-p spec) spec (find-spec spec)))
+         (performance (presenter-performance presenter))
          (path (or path (script-library-source (performance-library performance))
                    (argument-fail 'reload-script-library 'path path
                                   "a file's path: the presenter's library was not read from a file")))

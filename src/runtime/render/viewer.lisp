@@ -226,9 +226,10 @@ shown; return the number of frames shown."
                  (when (plusp spare) (sleep spare))))
           finally (return frame))))
 
-(defun print-key-map (keys)
-  "Print KEYS, an alist from characters to event names, and the other controls."
-  (format t "; keys (in the window), or an event name typed here and Enter:~%")
+(defun print-key-map (keys &optional (terminal t))
+  "Print KEYS, an alist from characters to event names, and the other
+controls; TERMINAL says event names typed at the terminal are read too."
+  (format t "; keys (in the window)~:[~;, or an event name typed here and Enter~]:~%" terminal)
   (loop for (char . event) in keys do (format t "~C ~A~%" char (lisp-text event)))
   (write-line *view-help*)
   (finish-output))
@@ -298,7 +299,7 @@ opens, for an argument of the wrong kind."
             (setf (viewer-renderer viewer) (make-renderer fb-width fb-height :orbit (make-orbit))))
           (unwind-protect
                (progn
-                 (print-key-map event-keys)
+                 (print-key-map event-keys terminal)
                  (start-live-viewer viewer :inbox inbox :watch watch :allow-code allow-code)
                  (let ((shown (with-live-errors-reported (viewer) (run-viewer viewer frames))))
                    (print-due-trace viewer t)
