@@ -36,7 +36,7 @@ output and error going to out.txt and err.txt there; returns the process."
 (test view-watch-follows-edits-and-survives-errors
   (with-window-programs ()
     (ensure-player-core)
-    (let* ((directory (scratch-directory "watch"))
+    (let* ((directory (live-scratch-directory "watch"))
            (spec (merge-pathnames "anim.lisp" directory))
            (library (merge-pathnames "anim-scripts.lisp" directory))
            (spec-text (file-text (fixture "anim.lisp")))
@@ -103,7 +103,7 @@ output and error going to out.txt and err.txt there; returns the process."
 
 (test view-from-the-repl-returns-a-session
   (with-window-programs ()
-    (let* ((directory (scratch-directory "session"))
+    (let* ((directory (live-scratch-directory "session"))
            (script (merge-pathnames "session.lisp" directory)))
       (with-open-file (stream script :direction :output)
         (with-standard-io-syntax
@@ -142,7 +142,7 @@ output and error going to out.txt and err.txt there; returns the process."
 (test view-swank-listens-while-the-viewer-plays
   (with-window-programs ()
     (ensure-player-core)
-    (let* ((directory (scratch-directory "swank"))
+    (let* ((directory (live-scratch-directory "swank"))
            (port (loop for port = (+ 20000 (random 30000 (make-random-state t)))
                        unless (port-open-p port) return port)))
       (unwind-protect

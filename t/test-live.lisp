@@ -7,7 +7,7 @@
 
 (def-suite* live :in player-tests)
 
-(defun scratch-directory (name)
+(defun live-scratch-directory (name)
   "A new empty directory under /tmp for test NAME, as a pathname."
   (let ((path (pathname (format nil "/tmp/player-~A-~36R/" name (random (expt 36 8) (make-random-state t))))))
     (ensure-directories-exist path)
@@ -246,7 +246,7 @@ VARIANT-FORMS CHANGE)."
         (signals render-error (view 'player-user::anim :size '(160 120))))))
 
 (test script-library-reload-keeps-the-old-library-on-error
-  (let* ((directory (scratch-directory "library"))
+  (let* ((directory (live-scratch-directory "library"))
          (library (merge-pathnames "anim-scripts.lisp" directory))
          (text (file-text (fixture "anim-scripts.lisp")))
          (spec (first (load-spec (fixture "anim.lisp")))))
