@@ -232,6 +232,7 @@ VARIANT-FORMS CHANGE)."
       (signals argument-error (view 'live-arguments :seed 0.5))
       (signals argument-error (stop-view c))
       (signals argument-error (call-in-view c #'identity))
+      (signals argument-error (reload-view-scripts c))
       (signals argument-error (player::start-swank 0))
       (signals argument-error (player::start-swank "4005"))
       (signals argument-error (player::reload-script-library (make-trace-presenter) 'live-arguments)))))

@@ -92,6 +92,20 @@ frames, and return its values (a condition it signals is signalled here):
   (call-in-inbox (view-inbox session) (lambda (viewer) (funcall function (viewer-controller viewer)))
                  :what "reach the viewer's controller"))
 
+(defun reload-view-scripts (session &optional path)
+  "Read the script library of SESSION's viewer again, from PATH (default: the
+file it was read from), as RELOAD-SCRIPT-LIBRARY does on the viewer's thread:
+the next scripts play from it.  Returns T; signals here what
+RELOAD-SCRIPT-LIBRARY signals (the old library playing on)."
+  (check-argument 'reload-view-scripts 'session session #'viewer-session-p "a viewer session (from view)")
+  (call-in-inbox (view-inbox session)
+                 (lambda (viewer)
+                   (let ((controller (viewer-controller viewer)))
+                     (reload-script-library (controller-presenter controller) (spec-of controller) path)
+                     (format t "; read the script library again~%")
+                     t))
+                 :what "read the script library again"))
+
 (defmethod target-send-event ((session viewer-session) event at when-busy)
   ;; At the viewer's playback time unless AT says otherwise.
   (call-in-inbox (view-inbox session)
