@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies test bench fuzz deps embed-example golden
+.PHONY: demo demo-policies demo-cradle test bench fuzz deps embed-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -27,6 +27,13 @@ demo: deps
 demo-policies: deps
 	bin/player render specs/peedy.lisp --events ev-fly-to@0,ev-sit@2 \
 	  --policies queue,preempt,override,interleave --size 320x240 --out demo
+
+# Newton's cradle (Clark & Palmer's transition systems, specs/newtons-cradle.lisp):
+# two spheres lifted on the left and let go, planned and drawn into demo/cradle/,
+# with demo/cradle/cradle.mp4 when ffmpeg is installed.
+demo-cradle: deps
+	bin/player render specs/newtons-cradle.lisp --events ev-lift-two-left --out demo/cradle \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/cradle.mp4)
 
 test: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \

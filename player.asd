@@ -70,7 +70,11 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "traces")
                    (:file "cradle")
                    (:file "graph-spec")
-                   (:file "cradle-spec")))
+                   (:file "cradle-spec")
+                   (:file "cradle-scripts")
+                   (:file "spec-graph")
+                   (:file "graph-expressions")
+                   (:file "graph-option")))
      (:module "codegen"
       :serial t
       :components ((:file "ir")
@@ -272,6 +276,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-fuzz")
                  (:file "test-api-arguments")
                  (:file "test-compose")
+                 (:file "test-compose-specs")
+                 (:file "test-cradle-render")
                  (:file "test-live")
                  (:file "test-live-viewer"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -96,7 +96,8 @@
    #:seq-rev #:seq-restrict #:seq-count #:seq-suffixes #:seq-all #:seq-exists
    #:graph-merge #:graph-traces #:map-graph-traces #:random-trace
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
-   #:graph->spec #:graph->spec-forms
+   #:graph->spec #:graph->spec-forms #:spec->graph
+   #:register-graph #:define-graph #:find-graph #:graph-expression #:graph-expression-error
    #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*))
 
 (defpackage #:player-user

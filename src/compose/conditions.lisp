@@ -1,7 +1,9 @@
-;;;; conditions.lisp -- GRAPH-ERROR, the one condition of src/compose/.
-;;;; Every bad input to the transition-system algebra (a node a graph does not
-;;;; have, a pattern that can match no node, a merge of graphs whose nodes are
-;;;; not binary trees, trees of different shapes) signals it, naming the value.
+;;;; conditions.lisp -- the conditions of src/compose/.  Every bad input to
+;;;; the transition-system algebra (a node a graph does not have, a pattern that
+;;;; can match no node, a merge of graphs whose nodes are not binary trees,
+;;;; trees of different shapes) signals GRAPH-ERROR, naming the value; a bad
+;;;; (:graph EXPR) option of a defspec signals GRAPH-EXPRESSION-ERROR, a spec
+;;;; error at the option's file and line.
 
 (in-package #:player)
 
@@ -21,3 +23,9 @@ GRAPH-ERROR-VALUE returns."))
   (truncate-text (let ((*print-pretty* nil) (*print-circle* nil) (*print-length* 20) (*print-level* 8))
                    (prin1-to-string node))
                  120))
+
+(define-condition graph-expression-error (spec-error)
+  ()
+  (:documentation "A (:graph EXPR) option of a defspec is not a graph
+expression (graph-expressions.lisp), or its graph cannot be built; FORM is the
+offending part, the position the option's file and line."))

@@ -48,10 +48,13 @@ or is the name of another node."
                 (gethash node names) name))))))
 
 (defun graph->spec-forms (graph &key start op-namer (node-namer #'default-node-name)
-                                     (variable 'node) events documentation max-depth)
+                                     (variable 'node) events documentation max-depth options
+                                     (go-events t))
   "The DEFSPEC body (a list of forms, symbols in PLAYER-USER) GRAPH->SPEC
 defines; see there. Written to a file after (in-package :player-user) and
-(defspec NAME, it is a spec file."
+(defspec NAME, it is a spec file. OPTIONS, (:KEY VALUE) spec options such as
+(:scripts \"FILE\"), come after the :max-depth; without GO-EVENTS there are
+no GO-X events."
   (check-graph 'graph->spec graph)
   (check-argument 'graph->spec :variable variable (lambda (x) (and (symbolp x) x (not (keywordp x))))
                   "a variable name (a symbol)")
@@ -71,8 +74,9 @@ defines; see there. Written to a file after (in-package :player-user) and
          (depth (or max-depth (min 1000 (max 1 (1- (length nodes)))))))
     (append
      (and documentation (list documentation))
-     (list (list :max-depth depth)
-           (list (spec-symbol "state-variable") var 'string (funcall value start) (mapcar value nodes)))
+     (list (list :max-depth depth))
+     options
+     (list (list (spec-symbol "state-variable") var 'string (funcall value start) (mapcar value nodes)))
      (loop for (source . target) in (graph-edges graph)
            for op = (let ((name (funcall op-namer source target)))
                       (if (stringp name) (spec-symbol "~A" name) name))
@@ -84,10 +88,11 @@ defines; see there. Written to a file after (in-package :player-user) and
               (setf (gethash (symbol-name op) op-names) t)
            collect (list (spec-symbol "op") op :precond (funcall literal source) :add (funcall literal target)))
      (loop for node in nodes
-           collect (list (spec-symbol "event") (spec-symbol "go-~A" (gethash node names)) :state (funcall literal node)))
+           when go-events collect (list (spec-symbol "event") (spec-symbol "go-~A" (gethash node names)) :state (funcall literal node)))
      events)))
 
-(defun graph->spec (graph name &rest keys &key start op-namer node-namer variable events documentation max-depth)
+(defun graph->spec (graph name &rest keys &key start op-namer node-namer variable events documentation max-depth
+                                                options (go-events t))
   "Define (with DEFINE-SPEC) and return the spec NAME whose planner walks GRAPH:
 one enumerated state variable VARIABLE (default NODE) whose values are the
 nodes, named by NODE-NAMER (a function of a node returning a string; by
@@ -95,12 +100,14 @@ default DEFAULT-NODE-NAME: N0, M1, <N0_M1>, ...), initial value START (default
 the first node in NODE< order); for each edge from X to Y, an op named by
 OP-NAMER (a function of the source and target nodes returning a symbol or
 string; default FROM-X-TO-Y) with :precond VARIABLE.X and :add VARIABLE.Y;
-for each node X, an event GO-X with :state VARIABLE.X; then the event forms
-EVENTS. :max-depth is MAX-DEPTH, by default the number of nodes less one (at
-most 1000), so every shortest path is planned. A GRAPH-ERROR for an empty
+for each node X, an event GO-X with :state VARIABLE.X (unless GO-EVENTS is
+NIL); then the event forms EVENTS. OPTIONS are spec options, such as
+((:scripts \"FILE\")). :max-depth is MAX-DEPTH, by default the number of
+nodes less one (at most 1000), so every shortest path is planned. A GRAPH-ERROR for an empty
 graph, a START that is not a node, or names that clash or are not plain."
-  (declare (ignore start op-namer node-namer variable events documentation max-depth))
+  (declare (ignore start op-namer node-namer variable events documentation max-depth options go-events))
   (check-argument 'graph->spec 'name name (lambda (x) (and (symbolp x) x (not (keywordp x)))) "a spec name (a symbol)")
   (define-spec name (apply #'graph->spec-forms graph (loop for (key value) on keys by #'cddr
-                                                             when value append (list key value)))
+                                                             when (or value (eq key :go-events))
+                                                               append (list key value)))
                :package (find-package '#:player-user)))

@@ -10,6 +10,19 @@
 (defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body :when-busy)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
+(defparameter *expanding-option-keys* '(:graph)
+  "Options written (:KEY VALUE [:OPTION VALUE...]) that stand for spec forms
+(see EXPAND-SPEC-OPTION).")
+
+(defgeneric expand-spec-option (key option)
+  (:documentation "The spec forms the defspec option OPTION, (KEY ...), stands
+for, put before the forms written after it, and as a second value the
+:max-depth they need when the spec gives none (or NIL).  src/compose/ defines
+(:graph EXPR ...).")
+  (:method (key option)
+    (declare (ignore key))
+    (spec-fail 'spec-syntax-error option "the option ~A is not available" (lisp-text (first option)))))
+
 (defparameter *optimize-criteria* '(:steps :duration)
   "What (:optimize CRITERION) may ask the planner to minimise: the number of
 operators (the paper's, the default), or their total :duration.")
@@ -52,27 +65,41 @@ points at the line of the form it is about, and names that form."
     (format nil "~(~A~) ~A" (symbol-name (first form)) (lisp-text (unquote (second form))))))
 
 (defun parse-spec-header (body)
-  "Read the docstring and (:KEY VALUE) options at the head of BODY; return the rest."
-  (when (stringp (first body))
-    (setf (spec-documentation *spec*) (pop body)))
-  (loop while (and (consp (first body)) (keywordp (first (first body))))
-        do (let ((option (pop body)))
-             (unless (and (proper-list-p option) (= (length option) 2)
-                          (member (first option) *spec-option-keys*))
-               (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~})"
-                          (mapcar #'lisp-text *spec-option-keys*)))
-             (case (first option)
-               (:max-depth
-                (let ((depth (second option)))
-                  (unless (typep depth '(integer 0 1000))
-                    (spec-fail 'type-error-in-spec option ":max-depth must be an integer from 0 to 1000"))
-                  (setf (spec-max-depth *spec*) depth)))
-               (:optimize
-                (setf (getf (spec-options *spec*) :optimize) (parse-optimize-criterion option)))
-               (:when-busy
-                (setf (getf (spec-options *spec*) :when-busy) (parse-when-busy (second option) option)))
-               (t (setf (getf (spec-options *spec*) (first option)) (second option))))))
-  body)
+  "Read the docstring and (:KEY VALUE) options at the head of BODY; return the
+rest, after the forms options such as (:graph EXPR) stand for."
+  (let ((expanded '()) (depth-given nil) (needed-depth nil))
+    (when (stringp (first body))
+      (setf (spec-documentation *spec*) (pop body)))
+    (loop while (and (consp (first body)) (keywordp (first (first body))))
+          do (let ((option (pop body)))
+               (if (and (proper-list-p option) (>= (length option) 2)
+                        (member (first option) *expanding-option-keys*))
+                   (multiple-value-bind (forms depth) (expand-spec-option (first option) option)
+                     (setf expanded (append expanded forms)
+                           needed-depth (and depth (max depth (or needed-depth 0)))))
+                   (progn (when (eq (first option) :max-depth) (setf depth-given t))
+                          (parse-spec-option option)))))
+    (when (and needed-depth (not depth-given))
+      (setf (spec-max-depth *spec*) (min 1000 needed-depth)))
+    (append expanded body)))
+
+(defun parse-spec-option (option)
+  "Record the (:KEY VALUE) OPTION of a defspec's head in *SPEC*."
+  (unless (and (proper-list-p option) (= (length option) 2)
+               (member (first option) *spec-option-keys*))
+    (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~}, (:graph EXPR ...))"
+               (mapcar #'lisp-text *spec-option-keys*)))
+  (case (first option)
+    (:max-depth
+     (let ((depth (second option)))
+       (unless (typep depth '(integer 0 1000))
+         (spec-fail 'type-error-in-spec option ":max-depth must be an integer from 0 to 1000"))
+       (setf (spec-max-depth *spec*) depth)))
+    (:optimize
+     (setf (getf (spec-options *spec*) :optimize) (parse-optimize-criterion option)))
+    (:when-busy
+     (setf (getf (spec-options *spec*) :when-busy) (parse-when-busy (second option) option)))
+    (t (setf (getf (spec-options *spec*) (first option)) (second option)))))
 
 (defun parse-optimize-criterion (option)
   "The criterion keyword of OPTION, (:optimize CRITERION); CRITERION is a name

@@ -7,7 +7,8 @@
 (in-package #:player)
 
 (defparameter *default-body* 'humanoid
-  "The skeleton a spec's character gets when neither its (:body NAME) option nor the caller names one.")
+  "The skeleton a spec's character gets when neither its (:body NAME) option nor the caller names one.
+\(:body none) gives a scene of props alone: see CHARACTER-SKELETON.")
 
 (defclass body-presenter (trace-presenter)
   ((performance :initarg :performance :reader presenter-performance)
@@ -229,8 +230,7 @@ missing scripts and durations that disagree.  NIL when SPEC names no library."
                        (return-from script-diagnostics (list (library-failure-diagnostic condition)))))))
       (let* ((needed (spec-script-names spec))
              (missing (missing-scripts library needed))
-             (skeleton (let ((body (or (spec-body-name spec) *default-body*)))
-                         (if (skeleton-p body) body (load-skeleton body))))
+             (skeleton (values (character-skeleton (or (spec-body-name spec) *default-body*))))
              (poses (and (script-library-poses library)
                          (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton)
                            (spec-error (condition)

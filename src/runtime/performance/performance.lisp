@@ -27,9 +27,28 @@ The rest is what the current replay has made of it."
   "A script item due at TIME in RUN, whose iteration ends at ITERATION-END."
   (time 0d0 :type double-float) item run iteration-end)
 
-(defstruct (character-spec (:constructor make-character-spec (name skeleton position rotation)))
-  "A body the performance puts in its scene."
-  name skeleton position rotation)
+(defstruct (character-spec (:constructor make-character-spec (name skeleton position rotation
+                                                             &optional (visible t))))
+  "A body the performance puts in its scene; not drawn unless VISIBLE."
+  name skeleton position rotation visible)
+
+;;; A scene of props alone (Newton's cradle) still has a character: scripts
+;;; play on one (:self) and the presenters expect a body.  The skeleton NONE
+;;; gives it a stand-in body that is never drawn.
+
+(defparameter *stand-in-skeleton* 'humanoid
+  "The skeleton of the hidden character a performance gets for the skeleton NONE.")
+
+(defun no-body-p (designator)
+  "Does DESIGNATOR (a skeleton's name) ask for no visible character: NONE?"
+  (and (or (symbolp designator) (stringp designator)) (string-equal designator "NONE")))
+
+(defun character-skeleton (designator)
+  "The SKELETON DESIGNATOR names (a skeleton, a name or a path for LOAD-SKELETON;
+NONE: *STAND-IN-SKELETON*), and whether its body is drawn."
+  (cond ((skeleton-p designator) (values designator t))
+        ((no-body-p designator) (values (load-skeleton *stand-in-skeleton*) nil))
+        (t (values (load-skeleton designator) t))))
 
 (defclass performance ()
   ((library :initarg :library :reader performance-library)
@@ -82,10 +101,9 @@ with SKELETON a SKELETON or the name of one; SEED seeds the random drivers."
                                                (destructuring-bind (name skeleton &optional (position (vec3))
                                                                                     (rotation (quat)))
                                                    entry
-                                                 (make-character-spec name (if (skeleton-p skeleton)
-                                                                               skeleton
-                                                                               (load-skeleton skeleton))
-                                                                      position rotation)))
+                                                 (multiple-value-bind (skeleton visible)
+                                                     (character-skeleton skeleton)
+                                                   (make-character-spec name skeleton position rotation visible))))
                                              characters))))
     (when (script-library-poses library)
       (setf (performance-poses performance)
@@ -188,6 +206,8 @@ Returns its duration (NIL when it loops for ever)."
                              :rotation (character-spec-rotation spec)
                              :blend-time (performance-blend-time performance))))
         (setf (body-seed body) (performance-seed performance))
+        (unless (character-spec-visible spec)
+          (setf (property-value body 'visible) nil))
         (when (performance-poses performance)
           (setf (body-pose-library body) (performance-poses performance)))))
     (dolist (spec (script-library-objects library))

@@ -1,0 +1,57 @@
+;;;; cradle.lisp -- issue 16's figures: how long (newton-cradle n) takes to
+;;;; build for n = 3, 4, ... and the sizes of the graphs on the way (the merge
+;;;; G17 ⊗ ... ⊗ G17, then G^n after the collision restriction).
+
+(in-package #:player-bench)
+
+(defparameter *cradle-sizes* '(3 4 5 6 7 8)
+  "The cradles timed, smallest first.")
+
+(defparameter *cradle-budget* 30
+  "Seconds a cradle build may be expected to take: one predicted to take
+longer (the last build times the growth of the one before) is not started.")
+
+(defparameter *cradle-bytes-per-edge* 600
+  "About how many bytes of heap a build needs per edge of its merge at its
+peak (at n = 6 about 180 stay allocated afterwards; n = 7, 2.9 M edges,
+exhausts SBCL's default 1 GB heap). A build predicted to need more than half
+the heap is not started: running out of heap ends SBCL.")
+
+(defun build-cradle (n)
+  "Build the N-sphere cradle from nothing (the stage cache emptied first):
+seconds taken."
+  (clrhash player::*cradle-stages*)
+  (sb-ext:gc :full t)
+  (let ((start (now)))
+    (player:newton-cradle n)
+    (- (now) start)))
+
+(defun bench-cradle ()
+  "Rows: the build time and graph sizes of (newton-cradle n) for *CRADLE-SIZES*,
+stopping before a build predicted to take more than *CRADLE-BUDGET* seconds."
+  (let ((previous nil) (growth 10) (edges nil) (edge-growth 10))
+    (dolist (n *cradle-sizes*)
+      (let ((predicted (and previous (* previous growth)))
+            (bytes (and edges (* edges edge-growth *cradle-bytes-per-edge*))))
+        (when (or (and predicted (> predicted *cradle-budget*))
+                  (and bytes (> bytes (/ (sb-ext:dynamic-space-size) 2))))
+          (note "(newton-cradle ~D) not built: predicted ~D s (~,1Fx the last build; budget ~D s) and ~
+                 ~,1F GB of heap (~,1Fx the last merge's edges; heap ~,1F GB); graph expressions in ~
+                 spec files stop at n = ~D (player::*max-cradle-spheres*)"
+                n (round predicted) growth *cradle-budget* (/ bytes 1d9) edge-growth
+                (/ (sb-ext:dynamic-space-size) 1d9) player::*max-cradle-spheres*)
+          (return))
+        (format t "~&  newton-cradle ~D...~%" n) (finish-output)
+        (let* ((seconds (build-cradle n))
+               (merged (player:cradle-stage n :merged))
+               (cradle (player:newton-cradle n)))
+          (when previous (setf growth (max 1 (/ seconds (max previous 1d-3)))))
+          (when edges (setf edge-growth (max 1 (/ (player:graph-edge-count merged) edges))))
+          (setf previous seconds
+                edges (player:graph-edge-count merged))
+          (row (format nil "16. (newton-cradle ~D): merge ~D nodes, ~D edges; G^~D ~D nodes, ~D edges"
+                       n (player:graph-node-count merged) (player:graph-edge-count merged)
+                       n (player:graph-node-count cradle) (player:graph-edge-count cradle))
+               (format-seconds seconds) "< 30 s" (< seconds 30)))))
+    (clrhash player::*cradle-stages*)
+    (sb-ext:gc :full t)))
