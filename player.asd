@@ -9,7 +9,7 @@ preconditions and effects, precompile plans from every state to every goal, and
 run the resulting state machine as Lisp closures or embedded C++."
   :version "0.1.0"
   :license "MIT"
-  :depends-on ("alexandria" "sb-md5" "cffi" "salza2")
+  :depends-on ("alexandria" "sb-md5" "cffi" "salza2" "bordeaux-threads")
   :serial t
   :components
   ((:module "src"
@@ -46,6 +46,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "regression")
                    (:file "uniform-cost")
                    (:file "goals")
+                   (:file "plan-memo")
                    (:file "machine")
                    (:file "diagnostics")))
      ;; Looking at a planned machine: its state graph as Graphviz, explanations.
@@ -110,7 +111,10 @@ run the resulting state machine as Lisp closures or embedded C++."
       ((:module "controller"
         :serial t
         :components ((:file "presenter")
-                     (:file "controller")))
+                     (:file "controller")
+                     ;; Live authoring: a running controller switched to its redefined spec.
+                     (:file "redefinition")
+                     (:file "following")))
        ;; The timed controller: events meeting while the character moves.
        (:module "timeline"
         :serial t
@@ -174,7 +178,15 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "body-presenter")
                      (:file "op-channels")
                      (:file "script-check")
-                     (:file "simulation")))
+                     (:file "simulation")
+                     (:file "library-reload")))
+       ;; Live authoring's plumbing: work posted between threads, watched files.
+       (:module "live"
+        :serial t
+        :components ((:file "inbox")
+                     (:file "watch")
+                     (:file "reports")
+                     (:file "swank")))
        (:module "render"
         :serial t
         :components ((:file "mesh")
@@ -194,7 +206,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "renderer")
                      (:file "render-simulation")
                      (:file "glfw")
-                     (:file "viewer")))))
+                     (:file "viewer")
+                     (:file "live-viewer")
+                     (:file "view-session")))))
      ;; Several characters in one scene: DEFSCENE, event addresses, one
      ;; controller per member over a shared machine, a scene simulated and drawn.
      (:module "cast"
@@ -302,4 +316,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-compose-specs")
                  (:file "test-cradle-render")
                  (:file "test-scenes"))))
+                 (:file "test-live")
+                 (:file "test-live-viewer"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

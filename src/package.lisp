@@ -61,6 +61,10 @@
    ;; Controllers
    #:make-controller #:controller #:send-event #:state-value #:controller-state
    #:controller-clock #:controller-machine #:controller-presenter #:recompile
+   #:redefine-controller #:follow-spec #:unfollow-spec #:redefinition-warning
+   #:redefinition-warning-error #:*plan-rows-built* #:machine-rows-built
+   #:view #:stop-view #:call-in-view #:viewer-session #:view-running-p #:reload-script-library #:reload-view-scripts
+   #:start-swank #:stop-swank
    #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
    #:*when-busy-policies*
    #:event-names #:*controller*

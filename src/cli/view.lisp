@@ -18,7 +18,15 @@
                                         (option-name option) name (mapcar #'car *view-control-keys*)))))))
           (split-list text)))
 
-(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot cast silent)
+(defmethod read-option-value ((type (eql :port)) text option)
+  ;; A TCP port number.
+  (let ((port (read-cli-value text)))
+    (unless (typep port '(integer 1 65535))
+      (bad-option-value option text "a TCP port number from 1 to 65535"))
+    port))
+
+(define-command "view" (file &key spec no-code initial body scripts size seed frames screenshot keys dot
+                             cast silent watch swank)
     (:summary "play the controller live in a window"
      :description "Keys from the printed map (or event names typed at the terminal) send
 events, space pauses, the arrows and the mouse orbit the camera, the scroll
@@ -30,10 +38,14 @@ without a screen."
                ("--frames" :positive-integer "N" "stop after N frames")
                ("--screenshot" :string "FILE.png" "save the last frame shown")
                ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5")
-               ("--dot" :string "FILE" "keep the state graph (.dot, .svg or .png, as for `player dot`) in FILE, rewritten with the current state marked whenever it changes"))
+               ("--dot" :string "FILE" "keep the state graph (.dot, .svg or .png, as for `player dot`) in FILE, rewritten with the current state marked whenever it changes")
+               ("--watch" :flag "" "read SPEC-FILE and its script library again whenever they change: the character switches to the new definition, keeping its state and time; errors are printed and the window plays on")
+               ("--swank" :port "PORT" "start a Swank server on PORT (Debian's cl-swank) so Emacs/SLIME can connect (M-x slime-connect) and redefine the spec in the running viewer"))
      :output "a window; the key map and the trace on standard output")
   (when-let (scene (command-cast file spec cast (not no-code)))
     (refuse-scene-option "--dot" dot)
+    (refuse-scene-option "--watch" watch)
+    (refuse-scene-option "--swank" swank)
     (let ((problem (scripted-keys-problem keys (scene-event-keys scene))))
       (when problem (usage-fail "--keys: ~A" problem)))
     (view-scene scene :initial initial :body body :scripts scripts :frames frames :screenshot screenshot
@@ -42,6 +54,12 @@ without a screen."
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (problem (scripted-keys-problem keys (view-event-keys spec))))
     (when problem (usage-fail "--keys: ~A" problem))
-    (view-spec spec :initial initial :body body :scripts scripts
-                    :frames frames :screenshot screenshot :size size
-                    :seed seed :keys keys :dot dot :silent silent)))
+    (when swank
+      (start-swank swank)
+      (format t "; Swank listens on port ~D: M-x slime-connect RET 127.0.0.1 RET ~D~%" swank swank)
+      (finish-output))
+    (unwind-protect
+         (view-spec spec :initial initial :body body :scripts scripts
+                         :frames frames :screenshot screenshot :size size
+                         :seed seed :keys keys :dot dot :silent silent :watch watch :allow-code (not no-code))
+      (when swank (stop-swank swank)))))

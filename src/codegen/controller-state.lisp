@@ -34,7 +34,10 @@
   (recorder nil)
   ;; The top-level directive of the event running ahead, so an interrupted
   ;; event can be resumed from it.
-  (step 0 :type fixnum))
+  (step 0 :type fixnum)
+  ;; A compiled machine to switch to at the next safe point: a redefinition
+  ;; that came while an event ran (see REDEFINE-CONTROLLER).
+  (pending nil))
 
 (defgeneric record-change (recorder kind controller time a b op)
   (:documentation "While CONTROLLER plans an event ahead, note a state change

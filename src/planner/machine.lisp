@@ -20,6 +20,8 @@
   (watched-variables '() :type list)
   ;; The one-hot fields of those variables.
   (autoscript-mask 0 :type integer)
+  ;; How many goal rows planning built; the others were reused (plan-memo.lisp).
+  (rows-built 0 :type (integer 0))
   (compile-seconds 0d0 :type double-float))
 
 (defmethod print-object ((machine machine) stream)
@@ -47,7 +49,8 @@ argument errors; an UNKNOWN-NAME-ERROR for an undefined name."
 (defun plan-spec (spec &key (constructor #'%make-machine))
   "Plan every goal of SPEC (a spec or a spec's name) and return the MACHINE,
 made by CONSTRUCTOR (which takes MACHINE's slots as keywords: a code generator
-may extend the struct)."
+may extend the struct).  Goal rows whose planning inputs are those of the
+spec name's last planning are reused, not searched again (plan-memo.lisp)."
   (let* ((spec (designated-spec spec 'plan-spec))
          (layout (make-layout spec))
          (operators (planner-ops spec))
@@ -57,10 +60,9 @@ may extend the struct)."
           do (multiple-value-bind (goal all) (intern-goal ast form goals spec)
                (setf goals all
                      (gethash ast goal-of) goal)))
-    (let ((goals (coerce (reverse goals) 'simple-vector)))
-      (loop for goal across goals
-            do (solve-goal goal operators layout spec))
-      (funcall constructor :spec spec :layout layout :goal-table goals :goal-of goal-of
+    (let* ((goals (coerce (reverse goals) 'simple-vector))
+           (built (plan-goals goals operators layout spec)))
+      (funcall constructor :spec spec :rows-built built :layout layout :goal-table goals :goal-of goal-of
                      :operators operators :initial-state (initial-state spec)
                      :watched-variables (watched-plannable-variables spec)
                      :autoscript-mask (reduce #'logior (watched-plannable-variables spec)

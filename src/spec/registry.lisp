@@ -8,9 +8,14 @@
 (defvar *defined-specs* nil
   "While LOAD-SPEC runs: the specs defined so far, most recent first.")
 
+(defvar *spec-definition-hooks* '()
+  "Functions DEFINE-SPEC calls with each spec it registers, after registering
+it (following.lisp's keeps running controllers up to date).  A hook must not
+signal: the definition has already happened.")
+
 (defun define-spec (name body &key source-file (package *package*) (allow-code t) form-positions)
   "Parse BODY as spec NAME, register it (replacing any older definition) and
-return it. Signals a SPEC-ERROR, leaving the old definition in place, when NAME
+return it, then call each of *SPEC-DEFINITION-HOOKS* with it. Signals a SPEC-ERROR, leaving the old definition in place, when NAME
 is not a symbol, BODY is not a proper list, either is circular or nested too
 deeply, or BODY is malformed; unless ALLOW-CODE, also when the spec contains
 :code or :c++ (an UNTRUSTED-CODE-ERROR).  FORM-POSITIONS, the character positions of BODY's
@@ -27,6 +32,8 @@ forms in SOURCE-FILE, let errors name the line of the form at fault."
       (unless allow-code (refuse-code spec))
       (setf (gethash (name-key name) *specs*) spec)
       (push spec *defined-specs*)
+      (dolist (hook *spec-definition-hooks*)
+        (funcall hook spec))
       spec)))
 
 (defmacro defspec (&rest name-and-body)

@@ -1,5 +1,5 @@
 ;;;; controller.lisp -- the controller API: make agents, send them events,
-;;;; read their state, and recompile them in place after a spec changes.
+;;;; read their state.  Switching one to a new spec is redefinition.lisp's.
 
 (in-package #:player)
 
@@ -101,6 +101,17 @@ time)."
                  (remember-event-symbol machine name compiled))
                 (t compiled))))))
 
+;;; Something that is not a controller but takes events for one, a viewer
+;;; session on another thread say, subclasses EVENT-TARGET: SEND-EVENT hands
+;;; such a target the call.
+(defclass event-target () ()
+  (:documentation "Something SEND-EVENT may be given instead of a controller: it
+takes the event through TARGET-SEND-EVENT."))
+
+(defgeneric target-send-event (target event at when-busy)
+  (:documentation "SEND-EVENT's work for an EVENT-TARGET TARGET: send EVENT,
+with AT and WHEN-BUSY as SEND-EVENT's keywords, and return what SEND-EVENT returns."))
+
 (defun send-event (controller event &key at when-busy)
   "Process EVENT (a symbol or string) on CONTROLLER, starting at time AT
 (seconds; default: when the previous event's last op ended). Returns T when
@@ -115,10 +126,18 @@ On a timed controller (MAKE-CONTROLLER :TIMED T) the event arrives at AT
 event is running, WHEN-BUSY (default: the event's :when-busy policy, else the
 spec's) decides: :QUEUE, :PREEMPT, :OVERRIDE or :INTERLEAVE. Returns T when
 the event was accepted, (VALUES NIL :DROPPED) when it was dropped, and (VALUES
-NIL GOAL) when it started at once and its plan failed."
+NIL GOAL) when it started at once and its plan failed.
+
+CONTROLLER may also be an EVENT-TARGET, such as the VIEWER-SESSION of VIEW:
+the event is then sent to the controller it stands for, at the viewer's
+playback time unless AT is given."
+  (when (typep controller 'event-target)
+    (return-from send-event (target-send-event controller event at when-busy)))
   (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")
   (when (controller-timeline controller)
     (return-from send-event (send-timed-event controller event at when-busy)))
+  (when (controller-pending controller)
+    (install-pending-machine controller))
   (when when-busy
     (argument-fail 'send-event :when-busy when-busy
                    "NIL: only a timed controller (make-controller ... :timed t) resolves busy events"))
@@ -180,51 +199,3 @@ domain value for enumerated variables, a number (or NIL for a time never set)."
                       (svref (controller-values controller) (var-slot var))))
           append (mapcar (lambda (proc) (list proc (var-name var) (autoscript-value auto)))
                          (autoscript-procs auto))))
-
-(defun transferred-state (controller spec)
-  "CONTROLLER's current values, expressed in SPEC: an alist for INITIAL-ASSIGNMENTS.
-Variables SPEC does not have are dropped; new ones take their initial values."
-  (loop for (name . value) in (controller-state controller)
-        for var = (let ((*spec* spec)) (find-variable-named name))
-        when (and var (not (and (eq (var-kind var) :time) (null value))))
-          collect (cons (var-name var) value)))
-
-(defun recompile (controller &optional (spec nil spec-given))
-  "Compile SPEC (default: the current definition of the controller's spec,
-e.g. after re-evaluating its DEFSPEC) and switch CONTROLLER to it, keeping its
-current state, clock and presenter. Autoscripts that stop or start applying
-are told so; a timed controller must be idle, and its timers start over. Signals STATE-TRANSFER-ERROR, leaving CONTROLLER unchanged, when a
-current value does not exist in the new spec."
-  (check-argument 'recompile 'controller controller #'controller-p "a controller (from make-controller)")
-  (if spec-given
-      (check-argument 'recompile 'spec spec #'spec-designator-p *spec-designator*)
-      (setf spec (spec-name (spec-of controller))))
-  (when (and (controller-timeline controller) (timeline-busy-p (controller-timeline controller)))
-    (error 'state-transfer-error
-           :message "cannot recompile a timed controller while an event runs or waits: finish or advance past it first"))
-  (let* ((machine (compile-spec spec))
-         (new-spec (machine-spec machine))
-         (assignments (handler-case (initial-assignments new-spec (transferred-state controller new-spec))
-                        (spec-error (e)
-                          (error 'state-transfer-error
-                                 :message (format nil "cannot keep the controller's state in the new spec: ~A" e)))))
-         (before (active-autoscripts controller))
-         (time (controller-clock controller))
-         (presenter (controller-presenter controller)))
-    (setf (controller-machine controller) machine
-          (controller-labels controller) (make-array (spec-label-count new-spec)
-                                                     :element-type 'double-float :initial-element 0d0))
-    (install-assignments controller assignments)
-    (let ((after (active-autoscripts controller)))
-      (flet ((same-autoscript-p (a b)
-               (and (eq (first a) (first b))
-                    (string= (name-key (second a)) (name-key (second b)))
-                    (equalp (third a) (third b)))))
-        (loop for (proc var value) in (set-difference before after :test #'same-autoscript-p)
-              do (stop-autoscript presenter proc var value time))
-        (loop for (proc var value) in (set-difference after before :test #'same-autoscript-p)
-              do (start-autoscript presenter proc var value time))))
-    (when (controller-timeline controller)
-      ;; Its timers start over, from now, with the new spec's.
-      (setf (controller-timeline controller) (make-timeline controller)))
-    controller))

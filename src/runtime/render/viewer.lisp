@@ -34,6 +34,10 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   ;; Audio clips already handed to the audio device, and whether the lack of
   ;; one has been reported.
   (clips-played (make-hash-table :test #'eq)) (silence-reported nil)
+  ;; Live authoring (live-viewer.lisp): work other threads post (an INBOX),
+  ;; a FILE-WATCHER and the function that reloads what it reports, the spec
+  ;; whose key map was last printed, and the last error, shown in the title.
+  (inbox nil) (watcher nil) (reload nil) (spec nil) (message nil)
   (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
 
 (defun viewer-wall-time (viewer)
@@ -191,7 +195,7 @@ event's key from the map works too.  Never blocks."
 
 (defmethod view-title ((viewer viewer))
   (let ((controller (viewer-controller viewer)))
-    (format nil "~A -- ~{~A~^ ~}~:[~; [paused]~]" (viewer-name viewer)
+    (format nil "~A -- ~{~A~^ ~}~:[~; [paused]~]~@[ [~A]~]" (viewer-name viewer)
             ;; CONTROLLER-STATE lists the values in declaration order.
             (loop for var in (spec-variables (spec-of controller))
                   for (name . value) in (controller-state controller)
@@ -199,7 +203,8 @@ event's key from the map works too.  Never blocks."
                                   (cond ((eq (var-kind var) :boolean) (if value "true" "false"))
                                         ((null value) "-")
                                         (t (lisp-text value)))))
-            (viewer-paused-at viewer))))
+            (viewer-paused-at viewer)
+            (viewer-message viewer))))
 
 (defun fit-renderer (viewer)
   "Remake VIEWER's renderer, keeping its orbit, when the window's framebuffer changed size."
@@ -239,6 +244,7 @@ shown; return the number of frames shown."
                (when (zerop frame) (setf (viewer-start viewer) started))
                (viewer-tick viewer started)
                (dolist (input (glfw-poll-input)) (handle-input viewer input))
+               (serve-live-viewer viewer)
                (play-script-keys viewer)
                (read-terminal viewer)
                (advance-viewer viewer)
@@ -253,9 +259,10 @@ shown; return the number of frames shown."
                  (when (plusp spare) (sleep spare))))
           finally (return frame))))
 
-(defun print-key-map (keys)
-  "Print KEYS, an alist from characters to event names, and the other controls."
-  (format t "; keys (in the window), or an event name typed here and Enter:~%")
+(defun print-key-map (keys &optional (terminal t))
+  "Print KEYS, an alist from characters to event names, and the other
+controls; TERMINAL says event names typed at the terminal are read too."
+  (format t "; keys (in the window)~:[~;, or an event name typed here and Enter~]:~%" terminal)
   (loop for (char . event) in keys do (format t "~C ~A~%" char (lisp-text event)))
   (write-line *view-help*)
   (finish-output))
@@ -274,7 +281,8 @@ with EVENT-KEYS, as a message; NIL when they all can."
           return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
                          key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
 
-(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot silent)
+(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot silent
+                             (terminal t) inbox watch (allow-code t))
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
@@ -282,7 +290,13 @@ the end).  Returns after FRAMES frames (NIL: when the window closes or Escape is
 if given, and rewriting the state graph into DOT (a .dot, .svg or .png file)
 each time the state changes, the current state marked.  Speech and sounds
 play on the audio device (through aplay or sox's play); without one the viewer
-says once that it plays silently.  With SILENT nothing sounds.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+says once that it plays silently.  With SILENT nothing sounds.  The controller
+follows its spec: a redefinition (DEFSPEC again, or with WATCH a change of
+the spec's file, read again with ALLOW-CODE as LOAD-SPEC does, or of its
+script library) switches it at its next safe point; errors are printed as
+\"player: error: ...\" lines and shown in the title, the window playing on.
+INBOX, an INBOX, takes functions of the viewer from other threads (see VIEW);
+unless TERMINAL, standard input is not read.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -294,6 +308,7 @@ opens, for an argument of the wrong kind."
                   "NIL or a positive integer")
   (check-argument 'view-spec :screenshot screenshot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :inbox inbox (lambda (x) (or (null x) (inbox-p x))) "NIL or an inbox")
   (check-argument 'view-spec :dot dot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
   (check-argument 'view-spec :keys keys
@@ -311,15 +326,18 @@ opens, for an argument of the wrong kind."
       (when problem (error 'player-error-with-message :message problem)))
     (show-viewer (lambda (window)
                    (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
-                                 :dot dot
+                                 :dot dot :terminal terminal :spec spec
                                  :performance (presenter-performance presenter) :keys event-keys
                                  :script (sort (copy-list keys) #'< :key #'car)))
-                 (lisp-text (spec-name spec)) event-keys :size size :frames frames :screenshot screenshot)))
+                 (lisp-text (spec-name spec)) event-keys :size size :frames frames :screenshot screenshot
+                 :terminal terminal :live t :inbox inbox :watch watch :allow-code allow-code)))
 
-(defun show-viewer (make-viewer title event-keys &key size frames screenshot)
+(defun show-viewer (make-viewer title event-keys &key size frames screenshot (terminal t)
+                                                      live inbox watch (allow-code t))
   "Open a window called TITLE of SIZE, make the viewer by calling MAKE-VIEWER
 with it, print the key map EVENT-KEYS and play the viewer as VIEW-SPEC
-describes (FRAMES, SCREENSHOT)."
+describes (FRAMES, SCREENSHOT, TERMINAL).  With LIVE its controller follows
+its spec (START-LIVE-VIEWER: INBOX, WATCH, ALLOW-CODE)."
   (multiple-value-bind (width height) (image-size size)
     (with-glfw-window (window width height title)
       (let ((viewer (funcall make-viewer window)))
@@ -327,8 +345,9 @@ describes (FRAMES, SCREENSHOT)."
           (setf (viewer-renderer viewer) (make-renderer fb-width fb-height :orbit (make-orbit))))
         (unwind-protect
              (progn
-               (print-key-map event-keys)
-               (let ((shown (run-viewer viewer frames)))
+               (print-key-map event-keys terminal)
+               (when live (start-live-viewer viewer :inbox inbox :watch watch :allow-code allow-code))
+               (let ((shown (with-live-errors-reported (viewer) (run-viewer viewer frames))))
                  (print-due-trace viewer t)
                  (format t "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
                (when screenshot
@@ -338,4 +357,5 @@ describes (FRAMES, SCREENSHOT)."
                    (write-png screenshot (renderer-width renderer) (renderer-height renderer)
                               (renderer-pixels renderer))
                    (format t "; wrote ~A~%" screenshot))))
+          (when live (stop-live-viewer viewer))
           (delete-renderer (viewer-renderer viewer)))))))

@@ -18,17 +18,28 @@
                              (format-number (timeline-now timeline)))))
     seconds))
 
+(defun timed-event-policy (controller compiled when-busy)
+  "The :when-busy policy of compiled event COMPILED on CONTROLLER: WHEN-BUSY
+if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the spec's."
+  (if when-busy
+      (or (and (symbolp when-busy) (when-busy-policy when-busy))
+          (argument-fail 'send-event :when-busy when-busy
+                         (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
+      (event-policy (compiled-event-event compiled) (spec-of controller))))
+
 (defun send-timed-event (controller event at when-busy)
   "SEND-EVENT on a timed controller (see there)."
   (let* ((timeline (controller-timeline controller))
          (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
          (compiled (find-compiled-event controller event))
-         (policy (if when-busy
-                     (or (and (symbolp when-busy) (when-busy-policy when-busy))
-                         (argument-fail 'send-event :when-busy when-busy
-                                        (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
-                     (event-policy (compiled-event-event compiled) (spec-of controller)))))
+         (policy (timed-event-policy controller compiled when-busy)))
     (advance-timeline timeline time)
+    ;; A redefinition waiting for the controller to be idle happens now, and
+    ;; the event is the new machine's (the switch made a new timeline).
+    (when (and (controller-pending controller) (install-pending-machine controller))
+      (setf timeline (controller-timeline controller)
+            compiled (find-compiled-event controller event)
+            policy (timed-event-policy controller compiled when-busy)))
     (multiple-value-bind (disposition result)
         (dispatch-event timeline compiled (event-name (compiled-event-event compiled)) time policy :user)
       (cond ((eq disposition :dropped) (values nil :dropped))
@@ -38,22 +49,29 @@
 (defun advance (controller time)
   "Move timed CONTROLLER's clock to TIME (seconds, not before now), presenting
 in time order what falls due: op starts, state changes with their autoscripts,
-event ends (a :state line), waiting events starting, timers and triggers.
+event ends (a :state line), waiting events starting, timers and triggers; then
+a redefinition waiting for the controller to be idle (REDEFINE-CONTROLLER)
+happens, if it is.
 Returns TIME. Signals an ARGUMENT-ERROR for an untimed controller or a time
 in the past."
   (let* ((timeline (check-timed-controller 'advance controller))
          (time (check-time-from-now 'advance 'time time timeline)))
     (advance-timeline timeline time)
+    (when (controller-pending controller)
+      (install-pending-machine controller))
     time))
 
 (defun finish-events (controller)
   "Advance timed CONTROLLER until no event runs or waits (timers that are
-still armed stay pending). Returns the time it stopped at. Signals a
+still armed stay pending), then make a pending redefinition happen. Returns
+the time it stopped at. Signals a
 TIMELINE-ERROR, at the time reached, when events never stop coming (a timer
 that repeats faster than its event plays, say): ADVANCE to a time instead."
   (let ((timeline (check-timed-controller 'finish-events controller)))
     (advance-timeline timeline most-positive-double-float :until-idle t)
-    (timeline-now timeline)))
+    (when (controller-pending controller)
+      (install-pending-machine controller))
+    (controller-time controller)))
 
 (defun controller-busy-p (controller)
   "Is an event running on timed CONTROLLER now (or waiting to)?"
