@@ -170,6 +170,25 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "render-simulation")
                      (:file "glfw")
                      (:file "viewer")))))
+     ;; Persona's dialogue manager: a sentence -> an input event -> a transition
+     ;; -> Player events and spoken templates, with context and episodic memory.
+     (:module "dialogue"
+      :serial t
+      :components ((:file "names")
+                   (:file "conditions")
+                   (:file "model")
+                   (:file "catalogue")
+                   (:file "memory")
+                   (:file "conversation")
+                   (:file "expressions")
+                   (:file "templates")
+                   (:file "actions")
+                   (:file "catalogue-actions")
+                   (:file "matcher")
+                   (:file "jsgf")
+                   (:file "parse")
+                   (:file "files")
+                   (:file "turns")))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t

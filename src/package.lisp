@@ -93,7 +93,20 @@
    #:graph-merge #:graph-traces #:map-graph-traces #:random-trace
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
    #:graph->spec #:graph->spec-forms
-   #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*))
+   #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*
+   ;; The dialogue manager (src/dialogue/)
+   #:defdialogue #:define-dialogue #:load-dialogue #:find-dialogue #:dialogue #:dialogue-p #:dialogue-name
+   #:dialogue-state-names #:dialogue-initial-state #:dialogue-player-spec #:dialogue-player-initial
+   #:dialogue-error #:dialogue-jsgf #:match-utterance #:text-words
+   #:make-conversation #:conversation #:conversation-state #:conversation-hear #:conversation-input
+   #:conversation-memory #:conversation-player-events #:conversation-controller #:conversation-dialogue
+   #:context-value
+   #:turn-text #:turn-understood #:turn-event #:turn-slots #:turn-from #:turn-to #:turn-events #:turn-utterances
+   #:dialogue-presenter #:present-input #:present-transition #:present-utterance #:*say-function*
+   #:text-presenter #:make-text-presenter
+   #:define-dialogue-action #:choose-template #:expand-template
+   #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
+   #:memory-user #:memory-mood #:memory-conversations #:memory-log))
 
 (defpackage #:player-user
   (:use #:cl #:player)

@@ -1,0 +1,49 @@
+;;;; names.lisp -- how a dialogue names things, and how it reads words.
+;;;; The paper's names are mixed case (stGotCD, evOK, haveCD), so dialogue
+;;;; files are read with the readtable case :INVERT: `stGotCD` stays stGotCD,
+;;;; `say` is SAY as ever.  Names are compared by their upper-cased text, so a
+;;;; dialogue typed at the REPL (where stGotCD reads as STGOTCD) means the same.
+
+(in-package #:player)
+
+(defvar *dialogue-readtable*
+  (let ((readtable (copy-readtable *data-readtable*)))
+    (setf (readtable-case readtable) :invert)
+    readtable)
+  "The data readtable with case :INVERT, dialogue files are read with.")
+
+(defun dialogue-key (name)
+  "The string NAME (a symbol or string) is looked up by: its text, upper-cased."
+  (string-upcase (if (symbolp name) (symbol-name name) name)))
+
+(defun display-name (name)
+  "NAME as a dialogue prints it: a symbol as :INVERT would write it (stGotCD
+stays mixed, EV-SEARCH becomes ev-search), a string as it is."
+  (cond ((stringp name) name)
+        ((not (symbolp name)) (lisp-text name))
+        (t (let ((text (symbol-name name)))
+             (cond ((notany #'lower-case-p text) (string-downcase text))
+                   ((notany #'upper-case-p text) (string-upcase text))
+                   (t text))))))
+
+(defun same-name-p (a b)
+  "Do A and B (symbols or strings) name the same thing?"
+  (string= (dialogue-key a) (dialogue-key b)))
+
+(defun text-words (text)
+  "TEXT as a list of lower-case words: letters and digits only, apostrophes
+dropped (\"I've\" is \"ive\"), everything else a separator.  Both what the
+user says and the dialogue's utterance patterns go through it, so they meet."
+  (let ((words '()) (word (make-string-output-stream)) (any nil))
+    (flet ((end-word ()
+             (when any
+               (push (get-output-stream-string word) words)
+               (setf any nil))))
+      (loop for char across text
+            do (cond ((alphanumericp char)
+                      (write-char (char-downcase char) word)
+                      (setf any t))
+                     ((member char '(#\' #\’)))
+                     (t (end-word))))
+      (end-word))
+    (nreverse words)))
