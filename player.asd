@@ -214,7 +214,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "render")
                    (:file "view")
                    (:file "record")
-                   (:file "verify"))))))
+                   (:file "verify")
+                   (:file "chat"))))))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"

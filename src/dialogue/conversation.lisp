@@ -96,7 +96,7 @@ it, tell the presenter and *SAY-FUNCTION*; return the text."
   (let* ((template (choose-template conversation category))
          (text (expand-template template conversation)))
     (remember (conversation-memory conversation) :said
-              :category (dialogue-key category) :template (template-index template) :text text)
+              :category (display-name (template-category template)) :template (template-index template) :text text)
     (when (conversation-turn conversation)
       (alexandria:appendf (turn-utterances (conversation-turn conversation)) (list text)))
     (present-utterance (conversation-presenter conversation) conversation text category)

@@ -58,11 +58,11 @@ or :said (with :category, :template, its index, and :text)."
 
 (defun memory-template-used-p (memory template span)
   "Has TEMPLATE been said within SPAN (:conversation, or :user: ever)?"
-  (let ((category (dialogue-key (template-category template))))
+  (let ((category (template-category template)))
     (loop for entry in (memory-log memory)
           while (or (eq span :user) (eql (getf entry :conversation) (memory-conversations memory)))
           thereis (and (eq (getf entry :kind) :said)
-                       (string= (getf entry :category) category)
+                       (same-name-p (getf entry :category) category)
                        (eql (getf entry :template) (template-index template))))))
 
 ;;;# Files
@@ -95,7 +95,9 @@ and line of anything that is not a well-formed user form."
     (unless (and (keywordp mood) (typep conversations '(integer 0)) (alexandria:proper-list-p log)
                  (every (lambda (entry) (and (alexandria:proper-list-p entry) (evenp (length entry))
                                              (keywordp (getf entry :kind))
-                                             (typep (getf entry :conversation) '(integer 0))))
+                                             (typep (getf entry :conversation) '(integer 0))
+                                             (alexandria:proper-list-p (getf entry :slots))
+                                             (every #'consp (getf entry :slots))))
                         log))
       (dialogue-fail form "malformed memory of user ~S: :mood must be a keyword, :conversations a count, :log a list of entries"
                      (second form)))

@@ -13,8 +13,12 @@
   "The data readtable with case :INVERT, dialogue files are read with.")
 
 (defun dialogue-key (name)
-  "The string NAME (a symbol or string) is looked up by: its text, upper-cased."
-  (string-upcase (if (symbolp name) (symbol-name name) name)))
+  "The string NAME (a symbol or string; anything else by its printed text) is
+looked up by: its text, upper-cased."
+  (string-upcase (typecase name
+                   (symbol (symbol-name name))
+                   (string name)
+                   (t (princ-to-string name)))))
 
 (defun display-name (name)
   "NAME as a dialogue prints it: a symbol as :INVERT would write it (stGotCD
