@@ -13,7 +13,7 @@
 (cd night-and-traffic :title "Night And Traffic" :artist "Joe Jackson" :year 1982
     :tracks ("Rain In The City" "Walking Home" "Steel Bridges"))
 (cd images-of-the-sea :title "Images Of The Sea" :artist "Claude Debussy" :year 1905
-    :tracks ("The Sunken Cathedral" "Afternoon Of A Faun" "Gardens In The Rain"))
+    :tracks ("The Sunken Cathedral" "Clouds Over The Water" "Gardens In The Rain"))
 (cd stage-lights :title "Stage Lights" :artist "Andrew Lloyd Webber" :year 1986
     :tracks ("Think Of Me Tonight" "Masks And Mirrors"))
 (cd sunny-days :title "Sunny Days" :artist "Synchro System" :year 1983

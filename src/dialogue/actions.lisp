@@ -77,11 +77,14 @@ called with arguments it takes."
                            #'string-lessp)))
     (unless (and (>= count (dialogue-action-minimum registered))
                  (or (null (dialogue-action-maximum registered)) (<= count (dialogue-action-maximum registered))))
-      (dialogue-fail form "action ~A takes ~D~@[ to ~D~] argument~:P, not ~D, in ~A"
-                     (display-name (first action)) (dialogue-action-minimum registered)
-                     (let ((max (dialogue-action-maximum registered)))
-                       (and (not (eql max (dialogue-action-minimum registered))) (or max "any")))
-                     count (bounded-lisp-text action 80)))
+      (let ((minimum (dialogue-action-minimum registered))
+            (maximum (dialogue-action-maximum registered)))
+        (dialogue-fail form "action ~A takes ~A argument~:P, not ~D, in ~A"
+                       (display-name (first action))
+                       (cond ((eql minimum maximum) minimum)
+                             ((null maximum) (format nil "~D or more" minimum))
+                             (t (format nil "~D to ~D" minimum maximum)))
+                       count (bounded-lisp-text action 80))))
     (check-action-arguments (intern (dialogue-key (first action)) :keyword) dialogue (rest action) form)))
 
 ;;;# The language's actions

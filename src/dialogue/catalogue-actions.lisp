@@ -52,8 +52,9 @@ is a choice): it becomes `track` and the last referenced object (Figure 7)."
         (refer-to conversation track)))))
 
 (define-dialogue-action whoWrote (conversation)
-  "Who wrote the track named in `title`, else the last referenced object
-(\"Who wrote that?\"): `composer`, and `cnt0` (1, or 0 when unknown)."
+  "Who wrote the track named in `title` (which becomes the last referenced
+object), else the last referenced object (\"Who wrote that?\"): `composer`,
+and `cnt0` (1, or 0 when unknown)."
   (let* ((catalogue (dialogue-catalogue (conversation-dialogue conversation)))
          (title (context-value conversation "title"))
          (object (or (and (stringp title) (find-track catalogue title))
@@ -62,4 +63,7 @@ is a choice): it becomes `track` and the last referenced object (Figure 7)."
                      (track (track-composer object))
                      (cd (cd-artist object)))))
     (setf (context-value conversation "composer") composer
-          (context-value conversation "cnt0") (if composer 1 0))))
+          (context-value conversation "cnt0") (if composer 1 0))
+    ;; A track named is now what "that" refers to.
+    (when (and composer (not (eq object (context-value conversation "lastRef"))))
+      (refer-to conversation object))))

@@ -30,9 +30,19 @@ stays mixed, EV-SEARCH becomes ev-search), a string as it is."
                    ((notany #'upper-case-p text) (string-upcase text))
                    (t text))))))
 
+(defun name-text (thing)
+  "THING as messages show it: a name in the dialogue's spelling, anything else as Lisp text."
+  (if (and (symbolp thing) thing) (display-name thing) (bounded-lisp-text thing 60)))
+
 (defun same-name-p (a b)
   "Do A and B (symbols or strings) name the same thing?"
   (string= (dialogue-key a) (dialogue-key b)))
+
+(defun dialogue-form-label (form)
+  "How errors name FORM: its kind and first argument, e.g. \"on stGotCD\"."
+  (when (and (alexandria:proper-list-p form) (symbolp (first form)) (rest form)
+             (or (symbolp (second form)) (stringp (second form))))
+    (format nil "~(~A~) ~A" (symbol-name (first form)) (display-name (second form)))))
 
 (defun text-words (text)
   "TEXT as a list of lower-case words: letters and digits only, apostrophes

@@ -69,12 +69,6 @@ Signals a DIALOGUE-ERROR naming the offending form, with file and line."
       (check-dialogue dialogue forms)
       (setf (gethash (dialogue-key name) *dialogues*) dialogue))))
 
-(defun dialogue-form-label (form)
-  "How errors name FORM: its kind and first argument, e.g. \"on stGotCD\"."
-  (when (and (alexandria:proper-list-p form) (symbolp (first form)) (rest form)
-             (or (symbolp (second form)) (stringp (second form))))
-    (format nil "~(~A~) ~A" (symbol-name (first form)) (display-name (second form)))))
-
 ;;;# The header
 
 (defun parse-dialogue-header (dialogue body)
@@ -174,8 +168,8 @@ templates, CDs) in DIALOGUE."
       (dialogue-fail form "an animation needs the dialogue's Player spec: give (:player SPEC)"))
     (dolist (event (cddr form))
       (unless (player-event-p dialogue event)
-        (dialogue-fail form "animation ~A: ~A is not an event of Player spec ~A" (display-name name)
-                       (bounded-lisp-text event 60) (display-name (spec-name (dialogue-player-spec dialogue))))))
+        (dialogue-fail form "~A is not an event of Player spec ~A"
+                       (name-text event) (display-name (spec-name (dialogue-player-spec dialogue))))))
     (setf (gethash (dialogue-key name) (dialogue-animations dialogue))
           (make-animation :name name :events (cddr form) :form form))))
 
@@ -211,13 +205,13 @@ templates, CDs) in DIALOGUE."
 (defun check-state (dialogue name form)
   "NAME, a conversational state of DIALOGUE; else a DIALOGUE-ERROR naming FORM."
   (or (and (symbolp name) (gethash (dialogue-key name) (dialogue-states dialogue)))
-      (dialogue-fail form "unknown conversational state ~A (known: ~{~A~^, ~})" (bounded-lisp-text name 60)
+      (dialogue-fail form "unknown conversational state ~A (known: ~{~A~^, ~})" (name-text name)
                      (mapcar #'display-name (dialogue-state-names dialogue)))))
 
 (defun check-input (dialogue name form)
   "NAME's input event of DIALOGUE; else a DIALOGUE-ERROR naming FORM."
   (or (and (symbolp name) (gethash (dialogue-key name) (dialogue-inputs dialogue)))
-      (dialogue-fail form "unknown input event ~A (known: ~{~A~^, ~})" (bounded-lisp-text name 60)
+      (dialogue-fail form "unknown input event ~A (known: ~{~A~^, ~})" (name-text name)
                      (sort (mapcar #'display-name (dialogue-input-names dialogue)) #'string-lessp))))
 
 ;;;# Definitions

@@ -1,0 +1,67 @@
+;;;; test-dialogue-cli.lisp -- `bin/player chat` as a user runs it: a piped
+;;;; conversation, its memory file, and its errors.
+
+(in-package #:player-tests)
+
+(def-suite* dialogue-cli :in player-tests)
+
+(defun player-command-with-input (input &rest arguments)
+  "Run bin/player with ARGUMENTS and INPUT (a string) on its standard input;
+return (VALUES STDOUT STDERR EXIT-CODE)."
+  (ensure-player-core)
+  (with-input-from-string (in input)
+    (let* ((out (make-string-output-stream))
+           (err (make-string-output-stream))
+           (process (sb-ext:run-program (namestring (checkout-file "bin/player")) arguments
+                                        :input in :output out :error err :search nil
+                                        :directory (namestring *root*))))
+      (values (get-output-stream-string out) (get-output-stream-string err)
+              (sb-ext:process-exit-code process)))))
+
+(defun lines-starting (prefix text)
+  "The lines of TEXT that start with PREFIX."
+  (remove-if-not (lambda (line) (alexandria:starts-with-subseq prefix line)) (lines text)))
+
+(test chat-plays-a-piped-conversation
+  (multiple-value-bind (out err code)
+      (player-command-with-input (format nil "hello~%have you got anything by bonnie raitt~%sure~%who wrote that~%~%yes~%blah~%quit~%thanks~%")
+                                 "chat" "specs/peedy-dialogue.lisp" "--seed" "2")
+    (is (= 0 code))
+    (is (string= "" err))
+    (is (equal '("transition: stIdle --evHello--> stAttending"
+                 "transition: stAttending --evHaveYouGot--> stGotCD"
+                 "transition: stGotCD --evOK--> stSuggested"
+                 "transition: stSuggested --evWhoWroteTrack--> stSuggested"
+                 "transition: stSuggested --evOK--> stPlaying"
+                 "transition: stPlaying --evBadSpeech--> stPlaying")
+               (lines-starting "transition: " out)))
+    (is (equal '("input: evHello" "input: evHaveYouGot artist=\"Bonnie Raitt\"" "input: evOK"
+                 "input: evWhoWroteTrack" "input: evOK" "input: evBadSpeech (not understood)")
+               (lines-starting "input: " out)))
+    (is (equal "you: have you got anything by bonnie raitt" (second (lines-starting "you: " out))))
+    (is (equal "peedy: \"Bonnie Raitt\"" (fourth (lines-starting "peedy: " out))))
+    ;; Player's trace of the events the transitions sent.
+    (is (member "(:event ev-search :time 5.5)" (lines out) :test #'string=))
+    (is (member "(:op search :script stream :start 7 :end 10)" (lines out) :test #'string=))
+    (is (equal "; 6 turns; state stPlaying, mood happy" (car (last (lines out)))))))
+
+(test chat-keeps-episodic-memory-in-a-file
+  (uiop:with-temporary-file (:pathname memory :type "lisp" :keep nil)
+    (delete-file memory)
+    (flet ((chat () (player-command-with-input (format nil "what do you have by madonna~%")
+                                               "chat" "specs/peedy-dialogue.lisp" "--memory" (namestring memory)
+                                               "--user" "carol")))
+      (multiple-value-bind (out err code) (chat)
+        (is (= 0 code) "~A" err)
+        (is (not (search "again?" out))))
+      (multiple-value-bind (out err code) (chat)
+        (is (= 0 code) "~A" err)
+        (is (equal '("peedy: \"Madonna again? i still have Summer Radio, would you like to hear something from that?\"")
+                   (lines-starting "peedy: " out))))
+      (is (= 2 (memory-conversations (load-memory memory "carol")))))))
+
+(test chat-errors-are-one-line
+  (check-cli-error 1 "bad-dialogue.lisp:8: on stA: (do ev-nope): ev-nope is neither an animation of the dialogue nor an event of Player spec mini"
+                   "chat" (fixture "bad-dialogue.lisp"))
+  (check-cli-error 1 "cannot open dialogue file nowhere.lisp: no such file" "chat" "nowhere.lisp")
+  (check-cli-error 2 "chat needs a DIALOGUE-FILE" "chat"))
