@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies test bench fuzz deps embed-example golden
+.PHONY: demo demo-policies demo-dialogue test bench fuzz deps embed-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -27,6 +27,12 @@ demo: deps
 demo-policies: deps
 	bin/player render specs/peedy.lisp --events ev-fly-to@0,ev-sit@2 \
 	  --policies queue,preempt,override,interleave --size 320x240 --out demo
+
+# Persona's loop on typed text: a scripted conversation with Peedy's CD jukebox
+# (examples/jukebox-conversation.txt) piped into chat, the animation drawn into demo/dialogue/.
+demo-dialogue: deps
+	bin/player chat specs/peedy-dialogue.lisp --seed 1 --fps 12 --render demo/dialogue \
+	  < examples/jukebox-conversation.txt
 
 test: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \

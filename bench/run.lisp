@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline"))
+    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "dialogue"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -406,6 +406,9 @@ closures and through run-time planning; add the rows; return the ratio."
         (rule)
         (format t "~&  rendering...~%") (finish-output)
         (bench-render)
+        (rule)
+        (format t "~&  dialogue...~%") (finish-output)
+        (bench-dialogue)
         (rule)
         (format t "~&  command line...~%") (finish-output)
         (bench-command-line)))
