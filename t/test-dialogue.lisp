@@ -301,3 +301,28 @@ it.  Returns the turn."
                      "transition: stGotCD --evBadSpeech--> stGotCD"
                      "peedy: \"huh?\"")
                (lines (get-output-stream-string out))))))
+
+(defun pattern-sentences (elements)
+  "Every sentence (a list of words) the pattern ELEMENTS generate."
+  (if (null elements)
+      (list '())
+      (let* ((element (first elements))
+             (rests (pattern-sentences (rest elements)))
+             (heads (append (if (player::pattern-words-p element)
+                                (list (player::pattern-words-words element))
+                                (mapcar #'car (player::pattern-slot-alternatives element)))
+                            (and (player::pattern-optional-p element) (list '())))))
+        (loop for head in heads append (loop for rest in rests collect (append head rest))))))
+
+(test every-sentence-of-the-grammar-is-matched
+  ;; The JSGF grammar and the matcher come from the same patterns: whatever
+  ;; the recogniser can return, the matcher understands, as the same event.
+  (let ((d (jukebox)) (sentences 0))
+    (dolist (utterance (player::dialogue-utterances d))
+      (dolist (words (pattern-sentences (player::utterance-elements utterance)))
+        (incf sentences)
+        (multiple-value-bind (event slots understood) (match-utterance d (format nil "~{~A~^ ~}" words))
+          (declare (ignore slots))
+          (is-true understood "~{~A~^ ~} is not understood" words)
+          (is (eq (player::utterance-event utterance) event) "~{~A~^ ~}: ~A" words event))))
+    (is (< 100 sentences))))
