@@ -45,8 +45,7 @@ events the transition sends, as `run` prints them, and `peedy: \"TEXT\"` for
 each thing said.  From a pipe, each request is echoed first as `you: TEXT`."
      :arguments ("DIALOGUE-FILE")
      :options ("--initial"
-               ;; Seeds the templates' and selections' random source, and the render's drivers.
-               "--seed"
+               ("--seed" :help "the seed of the random source templates and track choices draw from (and of --render's drivers)")
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
                ("--render" :string "DIR" "at the end, draw the conversation's Player events offscreen into DIR, as render does")

@@ -55,26 +55,33 @@ a phrases set of the dialogue, or the catalogue's artists, titles or albums."
 
 (defun match-elements (elements words slots)
   "Match ELEMENTS against WORDS exactly; the slot alist (SLOTS, extended), or :FAIL."
-  (if (null elements)
-      (if words :fail slots)
-      (let ((element (first elements)) (rest (rest elements)))
-        (flet ((without () (if (pattern-optional-p element) (match-elements rest words slots) :fail)))
-          (etypecase element
-            (pattern-words
-             (let ((n (length (pattern-words-words element))))
-               (let ((with (if (and (>= (length words) n)
-                                    (every #'string= (pattern-words-words element) words))
-                               (match-elements rest (nthcdr n words) slots)
-                               :fail)))
-                 (if (eq with :fail) (without) with))))
-            (pattern-slot
-             (or (loop for (alternative . value) in (pattern-slot-alternatives element)
-                       for n = (length alternative)
-                       for result = (and (>= (length words) n) (every #'string= alternative words)
-                                         (match-elements rest (nthcdr n words)
-                                                         (acons (dialogue-key (pattern-slot-name element)) value slots)))
-                       when (and result (not (eq result :fail))) return result)
-                 (without))))))))
+  (cond ((null elements) (if words :fail slots))
+        (t (let ((result (match-element (first elements) (rest elements) words slots)))
+             ;; An optional element may also be left out.
+             (if (and (eq result :fail) (pattern-optional-p (first elements)))
+                 (match-elements (rest elements) words slots)
+                 result)))))
+
+(defgeneric match-element (element rest words slots)
+  (:documentation "Match ELEMENT at the start of WORDS, then the elements
+REST against what follows; the slot alist (SLOTS, extended), or :FAIL."))
+
+(defmethod match-element ((element pattern-words) rest words slots)
+  (let ((n (length (pattern-words-words element))))
+    (if (and (>= (length words) n) (every #'string= (pattern-words-words element) words))
+        (match-elements rest (nthcdr n words) slots)
+        :fail)))
+
+(defmethod match-element ((element pattern-slot) rest words slots)
+  ;; Alternatives are tried longest first; the first that lets the rest match wins.
+  (loop for (alternative . value) in (pattern-slot-alternatives element)
+        for n = (length alternative)
+        for result = (if (and (>= (length words) n) (every #'string= alternative words))
+                         (match-elements rest (nthcdr n words)
+                                         (acons (dialogue-key (pattern-slot-name element)) value slots))
+                         :fail)
+        unless (eq result :fail) return result
+        finally (return :fail)))
 
 (defun pattern-optional-p (element)
   "May ELEMENT be left out?"
