@@ -96,7 +96,7 @@
    #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*
    ;; The dialogue manager (src/dialogue/)
    #:defdialogue #:define-dialogue #:load-dialogue #:find-dialogue #:dialogue #:dialogue-p #:dialogue-name
-   #:dialogue-state-names #:dialogue-initial-state #:dialogue-player-spec #:dialogue-player-initial
+   #:dialogue-state-names #:dialogue-initial-state #:dialogue-not-understood #:dialogue-player-spec #:dialogue-player-initial
    #:dialogue-error #:dialogue-jsgf #:match-utterance #:text-words
    #:make-conversation #:conversation #:conversation-state #:conversation-hear #:conversation-input
    #:conversation-memory #:conversation-player-events #:conversation-controller #:conversation-dialogue

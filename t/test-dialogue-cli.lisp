@@ -18,7 +18,7 @@ return (VALUES STDOUT STDERR EXIT-CODE)."
       (values (get-output-stream-string out) (get-output-stream-string err)
               (sb-ext:process-exit-code process)))))
 
-(defun lines-starting (prefix text)
+(defun chat-lines-starting (prefix text)
   "The lines of TEXT that start with PREFIX."
   (remove-if-not (lambda (line) (alexandria:starts-with-subseq prefix line)) (lines text)))
 
@@ -34,12 +34,12 @@ return (VALUES STDOUT STDERR EXIT-CODE)."
                  "transition: stSuggested --evWhoWroteTrack--> stSuggested"
                  "transition: stSuggested --evOK--> stPlaying"
                  "transition: stPlaying --evBadSpeech--> stPlaying")
-               (lines-starting "transition: " out)))
+               (chat-lines-starting "transition: " out)))
     (is (equal '("input: evHello" "input: evHaveYouGot artist=\"Bonnie Raitt\"" "input: evOK"
                  "input: evWhoWroteTrack" "input: evOK" "input: evBadSpeech (not understood)")
-               (lines-starting "input: " out)))
-    (is (equal "you: have you got anything by bonnie raitt" (second (lines-starting "you: " out))))
-    (is (equal "peedy: \"Bonnie Raitt\"" (fourth (lines-starting "peedy: " out))))
+               (chat-lines-starting "input: " out)))
+    (is (equal "you: have you got anything by bonnie raitt" (second (chat-lines-starting "you: " out))))
+    (is (equal "peedy: \"Bonnie Raitt\"" (fourth (chat-lines-starting "peedy: " out))))
     ;; Player's trace of the events the transitions sent.
     (is (member "(:event ev-search :time 5.5)" (lines out) :test #'string=))
     (is (member "(:op search :script stream :start 7 :end 10)" (lines out) :test #'string=))
@@ -57,7 +57,7 @@ return (VALUES STDOUT STDERR EXIT-CODE)."
       (multiple-value-bind (out err code) (chat)
         (is (= 0 code) "~A" err)
         (is (equal '("peedy: \"Madonna again? i still have Summer Radio, would you like to hear something from that?\"")
-                   (lines-starting "peedy: " out))))
+                   (chat-lines-starting "peedy: " out))))
       (is (= 2 (memory-conversations (load-memory memory "carol")))))))
 
 (test chat-errors-are-one-line

@@ -205,6 +205,11 @@ it.  Returns the turn."
     (conversation-hear c "play bonnie raitt")
     (is (eq :happy (memory-mood (conversation-memory c))))
     (is (equal '("huh?") (turn-utterances (conversation-hear c "blah"))))
+    ;; A recogniser that heard nothing it knows gives NIL: bad speech too.
+    (let ((turn (conversation-hear c nil)))
+      (is (string= "evBadSpeech" (symbol-name (turn-event turn))))
+      (is-false (turn-understood turn))
+      (is (equal '("sorry, could you repeat that?") (turn-utterances turn))))
     ;; His mood picks the template: happy, "any time!" is possible.
     (is (no-failures-p c))))
 

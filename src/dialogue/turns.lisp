@@ -63,9 +63,11 @@ EVENT is a DIALOGUE-ERROR."
 
 (defun conversation-hear (conversation text)
   "Play one turn of CONVERSATION on the sentence TEXT: match it to an input
-event and slots (MATCH-UTTERANCE), then CONVERSATION-INPUT.  Return the TURN."
-  (check-argument 'conversation-hear :text text #'stringp "a string")
-  (multiple-value-bind (event slots understood) (match-utterance (conversation-dialogue conversation) text)
+event and slots (MATCH-UTTERANCE), then CONVERSATION-INPUT.  TEXT NIL (a
+recogniser that heard nothing it knows) is the dialogue's not-understood
+event.  Return the TURN."
+  (check-argument 'conversation-hear :text text (lambda (x) (or (null x) (stringp x))) "a string or NIL")
+  (multiple-value-bind (event slots understood) (match-utterance (conversation-dialogue conversation) (or text ""))
     (unless event
       (dialogue-fail nil "~S matches no utterance, and the dialogue names no :not-understood event" text))
     (conversation-input conversation event :slots slots :text text :understood understood)))
