@@ -65,3 +65,26 @@ return (VALUES STDOUT STDERR EXIT-CODE)."
                    "chat" (fixture "bad-dialogue.lisp"))
   (check-cli-error 1 "cannot open dialogue file nowhere.lisp: no such file" "chat" "nowhere.lisp")
   (check-cli-error 2 "chat needs a DIALOGUE-FILE" "chat"))
+
+(test chat-views-the-conversation-live
+  ;; Under Xvfb: typed lines are turns, played in the window as they come.
+  (with-window-programs ()
+    (ensure-player-core)
+    (let* ((out (make-string-output-stream))
+           (err (make-string-output-stream))
+           (process (sb-ext:run-program "xvfb-run" (list "-a" (namestring (checkout-file "bin/player"))
+                                                         "chat" "specs/peedy-dialogue.lisp" "--view"
+                                                         "--frames" "12" "--size" "160x120")
+                                        :search t :output out :error err
+                                        :input (make-string-input-stream (format nil "hello~%have you got anything by madonna~%"))
+                                        :directory (namestring *root*)))
+           (text (get-output-stream-string out)))
+      (is (= 0 (sb-ext:process-exit-code process)) "~A" (get-output-stream-string err))
+      (is (equal '("transition: stIdle --evHello--> stAttending" "transition: stAttending --evHaveYouGot--> stGotCD")
+                 (chat-lines-starting "transition: " text)))
+      (is (member "(:event ev-hello :time 0)" (lines text) :test #'string=))
+      ;; Peedy answers at once; his search waits its turn on the timeline, past these 12 frames.
+      (is (search "Summer Radio" (second (chat-lines-starting "peedy: " text)))))))
+
+(test chat-frames-need-view
+  (check-cli-error 2 "--frames counts the frames of --view" "chat" "specs/peedy-dialogue.lisp" "--frames" "3"))

@@ -35,7 +35,7 @@ a line `quit`.  From a pipe, each line is echoed as `you: TEXT`."
                        (conversation-hear conversation text)
                        (finish-output))))))))
 
-(define-command "chat" (file &key initial seed memory user render fps size)
+(define-command "chat" (file &key initial seed memory user render view frames fps size)
     (:summary "talk to the character: typed requests in; input events, transitions, Player's trace and spoken text out"
      :description "Reads one request a line from standard input (a terminal or a pipe) until
 its end or `quit`.  For each, prints `input: EVENT slot=\"value\"...` (with
@@ -49,9 +49,12 @@ each thing said.  From a pipe, each request is echoed first as `you: TEXT`."
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
                ("--render" :string "DIR" "at the end, draw the conversation's Player events offscreen into DIR, as render does")
+               ("--view" :flag "" "play the conversation live in a window, as view does: each typed line is a request (Escape quits)")
+               ("--frames" :positive-integer "N" "with --view, stop after N frames")
                ("--fps" :default 24) "--size")
      :output "the turns on standard output; with --render, DIR/frame-0001.png ... and
-        DIR/sheet.png; with --memory, FILE")
+        DIR/sheet.png; with --memory, FILE; with --view, a window")
+  (when (and frames (not view)) (usage-fail "--frames counts the frames of --view"))
   (let* ((dialogue (choose-dialogue file))
          (spec (or (dialogue-player-spec dialogue)
                    (error 'player-error-with-message
@@ -66,7 +69,9 @@ each thing said.  From a pipe, each request is echoed first as `you: TEXT`."
     (format t "; ~A: ~A talks to ~A (~A); state ~A~%" (file-namestring file) user
             (display-name (dialogue-name dialogue)) (display-name (spec-name spec))
             (display-name (conversation-state conversation)))
-    (chat-lines conversation)
+    (if view
+        (view-conversation conversation spec initial :seed seed :size size :frames frames)
+        (chat-lines conversation))
     (format t "; ~D turn~:P; state ~A, mood ~(~A~)~%" (conversation-turns conversation)
             (display-name (conversation-state conversation)) (memory-mood remembered))
     (when memory
@@ -75,6 +80,17 @@ each thing said.  From a pipe, each request is echoed first as `you: TEXT`."
     (when render
       (render-conversation spec initial (reverse (conversation-player-events conversation))
                            :seed seed :fps fps :size size :out render))))
+
+(defun view-conversation (conversation spec initial &key seed size frames)
+  "Play CONVERSATION live in a window on SPEC's body from INITIAL: each line
+typed at the terminal is a turn, its Player events sent to the viewer's
+(timed) controller at the current playback time."
+  (view-spec spec :initial initial :seed seed :size size :frames frames
+                  :line-handler (lambda (viewer text)
+                                  (setf (conversation-controller conversation) (viewer-controller viewer))
+                                  (format t "you: ~A~%" text)
+                                  (conversation-hear conversation text)
+                                  (finish-output))))
 
 (defun render-conversation (spec initial events &key seed fps size out)
   "Draw EVENTS played on SPEC from INITIAL offscreen into OUT, as `render` does."

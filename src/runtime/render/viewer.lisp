@@ -31,7 +31,11 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   ;; A file the state graph is written to, current state highlighted, and the
   ;; state last written (see WRITE-CURRENT-STATE-GRAPH).
   (dot nil) (dot-state nil)
-  (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
+  (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t)
+  ;; NIL, or a function of the viewer and each line typed at the terminal
+  ;; (trimmed, not empty), which then is not read as an event's name: how
+  ;; `chat --view` hears sentences.
+  (line-handler nil))
 
 (defun viewer-wall-time (viewer)
   "Seconds since VIEWER's first frame."
@@ -104,6 +108,7 @@ event's key from the map works too.  Never blocks."
             (t (let* ((text (string-trim '(#\Space #\Tab) line))
                       (key (and (= (length text) 1) (assoc (char-downcase (char text 0)) (viewer-keys viewer)))))
                  (cond ((string= text ""))
+                       ((viewer-line-handler viewer) (funcall (viewer-line-handler viewer) viewer text))
                        (key (view-send-event viewer (cdr key)))
                        (t (handler-case (view-send-event viewer text)
                             (unknown-event ()
@@ -241,13 +246,16 @@ with EVENT-KEYS, as a message; NIL when they all can."
           return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
                          key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
 
-(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot)
+(defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot
+                             line-handler)
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
 the end).  Returns after FRAMES frames (NIL: when the window closes or Escape is pressed), writing the last frame to the PNG file SCREENSHOT
 if given, and rewriting the state graph into DOT (a .dot, .svg or .png file)
-each time the state changes, the current state marked.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+each time the state changes, the current state marked.  LINE-HANDLER, a
+function of the viewer and a line, takes the lines typed at the terminal
+instead of reading them as event names.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -261,6 +269,8 @@ opens, for an argument of the wrong kind."
                   (format nil "NIL or ~A" *path-phrase*))
   (check-argument 'view-spec :dot dot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :line-handler line-handler (lambda (x) (or (null x) (functionp x)))
+                  "NIL or a function of the viewer and a line")
   (check-argument 'view-spec :keys keys
                   (lambda (x) (and (alexandria:proper-list-p x)
                                    (every (lambda (entry) (and (consp entry) (seconds-p (car entry))
@@ -277,7 +287,7 @@ opens, for an argument of the wrong kind."
     (multiple-value-bind (width height) (image-size size)
       (with-glfw-window (window width height (lisp-text (spec-name spec)))
         (let ((viewer (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
-                                    :dot dot
+                                    :dot dot :line-handler line-handler
                                     :performance (presenter-performance presenter) :keys event-keys
                                     :script (sort (copy-list keys) #'< :key #'car))))
           (multiple-value-bind (fb-width fb-height) (glfw-framebuffer-size window)
