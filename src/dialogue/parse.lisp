@@ -66,7 +66,7 @@ Signals a DIALOGUE-ERROR naming the offending form, with file and line."
       (dolist (form forms) (with-form-label (form) (define-dialogue-form dialogue form)))
       (setf (dialogue-utterances dialogue) (reverse (dialogue-utterances dialogue))
             (dialogue-transitions dialogue) (reverse (dialogue-transitions dialogue)))
-      (check-dialogue dialogue forms)
+      (check-input-queries dialogue)
       (setf (gethash (dialogue-key name) *dialogues*) dialogue))))
 
 ;;;# The header
@@ -246,9 +246,8 @@ templates, CDs) in DIALOGUE."
                      :to (and (getf properties :to) (check-state dialogue (getf properties :to) form))
                      :actions actions :form form)))
 
-(defun check-dialogue (dialogue forms)
-  "Last checks: every input's query is made of known actions."
-  (declare (ignore forms))
+(defun check-input-queries (dialogue)
+  "Last check: every input's query is made of known actions, called as they take."
   (loop for input being the hash-values of (dialogue-inputs dialogue)
         do (with-form-label ((input-form input))
              (unless (alexandria:proper-list-p (input-query input))
