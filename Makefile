@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle test bench fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-dialogue test bench fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -34,6 +34,12 @@ demo-policies: deps
 demo-cradle: deps
 	bin/player render specs/newtons-cradle.lisp --events ev-lift-two-left --out demo/cradle \
 	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/cradle.mp4)
+
+# Persona's loop on typed text: a scripted conversation with Peedy's CD jukebox
+# (examples/jukebox-conversation.txt) piped into chat, the animation drawn into demo/dialogue/.
+demo-dialogue: deps
+	bin/player chat specs/peedy-dialogue.lisp --seed 1 --fps 12 --render demo/dialogue \
+	  < examples/jukebox-conversation.txt
 
 test: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \

@@ -220,6 +220,25 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "ensemble")
                    (:file "scene-simulation")
                    (:file "scene-viewer")))
+     ;; Persona's dialogue manager: a sentence -> an input event -> a transition
+     ;; -> Player events and spoken templates, with context and episodic memory.
+     (:module "dialogue"
+      :serial t
+      :components ((:file "names")
+                   (:file "conditions")
+                   (:file "model")
+                   (:file "catalogue")
+                   (:file "memory")
+                   (:file "conversation")
+                   (:file "expressions")
+                   (:file "templates")
+                   (:file "actions")
+                   (:file "catalogue-actions")
+                   (:file "matcher")
+                   (:file "jsgf")
+                   (:file "parse")
+                   (:file "files")
+                   (:file "turns")))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t
@@ -246,7 +265,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "render")
                    (:file "view")
                    (:file "record")
-                   (:file "verify"))))))
+                   (:file "verify")
+                   (:file "chat"))))))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -315,7 +335,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-compose")
                  (:file "test-compose-specs")
                  (:file "test-cradle-render")
-                 (:file "test-scenes"))))
+                 (:file "test-scenes")
                  (:file "test-live")
-                 (:file "test-live-viewer"))))
+                 (:file "test-live-viewer")
+                 (:file "test-dialogue")
+                 (:file "test-dialogue-errors")
+                 (:file "test-dialogue-cli"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

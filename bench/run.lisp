@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech"))
+    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "dialogue"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -413,6 +413,8 @@ closures and through run-time planning; add the rows; return the ratio."
         (rule)
         (format t "~&  speech...~%") (finish-output)
         (bench-speech)
+        (format t "~&  dialogue...~%") (finish-output)
+        (bench-dialogue)
         (rule)
         (format t "~&  command line...~%") (finish-output)
         (bench-command-line)

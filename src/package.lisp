@@ -113,7 +113,20 @@
    #:send-scene-event #:play-scene-events #:ensemble-trace-lines #:write-ensemble-trace
    #:simulate-scene #:scene-simulation #:scene-simulation-p #:scene-simulation-member
    #:write-scene-simulation #:simulation-scene-at
-   #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*))
+   #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*
+   ;; The dialogue manager (src/dialogue/)
+   #:defdialogue #:define-dialogue #:load-dialogue #:find-dialogue #:dialogue #:dialogue-p #:dialogue-name
+   #:dialogue-state-names #:dialogue-initial-state #:dialogue-not-understood #:dialogue-player-spec #:dialogue-player-initial
+   #:dialogue-error #:dialogue-jsgf #:match-utterance #:text-words
+   #:make-conversation #:conversation #:conversation-state #:conversation-hear #:conversation-input
+   #:conversation-memory #:conversation-player-events #:conversation-controller #:conversation-dialogue
+   #:context-value
+   #:turn-text #:turn-understood #:turn-event #:turn-slots #:turn-from #:turn-to #:turn-events #:turn-utterances
+   #:dialogue-presenter #:present-input #:present-transition #:present-utterance #:*say-function*
+   #:text-presenter #:make-text-presenter
+   #:define-dialogue-action #:choose-template #:expand-template
+   #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
+   #:memory-user #:memory-mood #:memory-conversations #:memory-log))
 
 (defpackage #:player-user
   (:use #:cl #:player)

@@ -46,16 +46,18 @@ with DEFAULT-TEXT, how help shows it."
 
 (defun resolve-option (designator)
   "The OPTION DESIGNATOR gives: a shared option's name, a shared option's name
-with overrides (\"--fps\" :default 24), or a full (NAME TYPE METAVAR HELP &key ...)."
+with overrides (\"--fps\" :default 24, :help \"...\"), or a full (NAME TYPE METAVAR HELP &key ...)."
   (destructuring-bind (name &rest rest) (ensure-list designator)
     (let ((shared (gethash name *options*)))
       (cond ((and shared (or (null rest) (keywordp (first rest))))
              (let ((option (copy-option shared)))
                (when rest
-                 (destructuring-bind (&key (default nil default-p) default-text) rest
+                 (destructuring-bind (&key (default nil default-p) default-text help) rest
                    (when default-p
                      (setf (option-default option) default
-                           (option-default-text option) (or default-text (princ-to-string default))))))
+                           (option-default-text option) (or default-text (princ-to-string default))))
+                   (when help
+                     (setf (option-help option) help))))
                option))
             (rest (apply #'make-option name rest))
             (t (error "internal: no shared option ~A" name))))))

@@ -152,7 +152,7 @@ use PLAYER, so that spec words mean what Player means by them."
                :read))
     (setf *package* package)))
 
-(defun read-data-file (file &key (what "file") fail (allow-in-package t))
+(defun read-data-file (file &key (what "file") fail (allow-in-package t) (readtable *data-readtable*))
   "Every top-level form of FILE, read as data, as a list of (FORM POSITION
 PACKAGE): the form's character position and the package it was read in; with
 ALLOW-IN-PACKAGE, IN-PACKAGE forms are obeyed and left out.  The second
@@ -160,14 +160,16 @@ value is FILE's text.  FAIL, a function
 of a position (or NIL), a message and a kind (:missing, :not-regular, :read
 or :structure), is called for every problem and must not return: the file
 missing or not regular, not UTF-8, nested more than *MAX-FORM-DEPTH* deep,
-unreadable, or holding a circular form.  WHAT names the file in messages."
+unreadable, or holding a circular form.  WHAT names the file in messages.
+READTABLE (by default *DATA-READTABLE*) must be a copy of it, differing at
+most in its case (dialogue files keep the paper's mixed-case names)."
   (let* ((file (find-data-file file what fail))
          (text (file-text file fail))
          (deep (deepest-nesting text *max-form-depth*)))
     (when deep
       (funcall fail deep (format nil "the text nests more than ~D levels deep" *max-form-depth*) :structure))
     (with-standard-io-syntax
-      (let ((*readtable* *data-readtable*)
+      (let ((*readtable* readtable)
             (*read-eval* nil)
             (*read-default-float-format* 'double-float)
             (*package* (find-package '#:player-user)))

@@ -38,7 +38,11 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   ;; a FILE-WATCHER and the function that reloads what it reports, the spec
   ;; whose key map was last printed, and the last error, shown in the title.
   (inbox nil) (watcher nil) (reload nil) (spec nil) (message nil)
-  (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t))
+  (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t)
+  ;; NIL, or a function of the viewer and each line typed at the terminal
+  ;; (trimmed, not empty), which then is not read as an event's name: how
+  ;; `chat --view` hears sentences.
+  (line-handler nil))
 
 (defun viewer-wall-time (viewer)
   "Seconds since VIEWER's first frame."
@@ -127,6 +131,7 @@ event's key from the map works too.  Never blocks."
             (t (let* ((text (string-trim '(#\Space #\Tab) line))
                       (key (and (= (length text) 1) (assoc (char-downcase (char text 0)) (viewer-keys viewer)))))
                  (cond ((string= text ""))
+                       ((viewer-line-handler viewer) (funcall (viewer-line-handler viewer) viewer text))
                        (key (view-send-event viewer (cdr key)))
                        (t (handler-case (view-send-event viewer text)
                             (unknown-event ()
@@ -282,7 +287,7 @@ with EVENT-KEYS, as a message; NIL when they all can."
                          key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
 
 (defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot silent
-                             (terminal t) inbox watch (allow-code t))
+                             (terminal t) inbox watch (allow-code t) line-handler)
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
@@ -296,7 +301,9 @@ the spec's file, read again with ALLOW-CODE as LOAD-SPEC does, or of its
 script library) switches it at its next safe point; errors are printed as
 \"player: error: ...\" lines and shown in the title, the window playing on.
 INBOX, an INBOX, takes functions of the viewer from other threads (see VIEW);
-unless TERMINAL, standard input is not read.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+unless TERMINAL, standard input is not read.  LINE-HANDLER, a
+function of the viewer and a line, takes the lines typed at the terminal
+instead of reading them as event names.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -311,6 +318,8 @@ opens, for an argument of the wrong kind."
   (check-argument 'view-spec :inbox inbox (lambda (x) (or (null x) (inbox-p x))) "NIL or an inbox")
   (check-argument 'view-spec :dot dot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :line-handler line-handler (lambda (x) (or (null x) (functionp x)))
+                  "NIL or a function of the viewer and a line")
   (check-argument 'view-spec :keys keys
                   (lambda (x) (and (alexandria:proper-list-p x)
                                    (every (lambda (entry) (and (consp entry) (seconds-p (car entry))
@@ -326,7 +335,7 @@ opens, for an argument of the wrong kind."
       (when problem (error 'player-error-with-message :message problem)))
     (show-viewer (lambda (window)
                    (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
-                                 :dot dot :terminal terminal :spec spec
+                                 :dot dot :terminal terminal :spec spec :line-handler line-handler
                                  :performance (presenter-performance presenter) :keys event-keys
                                  :script (sort (copy-list keys) #'< :key #'car)))
                  (lisp-text (spec-name spec)) event-keys :size size :frames frames :screenshot screenshot

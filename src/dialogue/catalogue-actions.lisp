@@ -1,0 +1,69 @@
+;;;; catalogue-actions.lisp -- the jukebox's application actions: queries on
+;;;; the dialogue's music catalogue (Persona's getLastCD, genTracks, doSelect),
+;;;; storing their results in context variables as the paper describes.
+;;;; `lastRef` is the last referenced object (a CD or a track), which "Who
+;;;; wrote that?" resolves; `cnt0` the number of results, which Figure 8's
+;;;; rules test.
+
+(in-package #:player)
+
+(defun refer-to (conversation object)
+  "Make OBJECT the last referenced object of CONVERSATION."
+  (setf (context-value conversation "lastRef") object))
+
+(define-dialogue-action findCDs (conversation)
+  "The CDs by the context variable `artist`: `cds` (all), `cnt0` (how many),
+`cd` (the first, also the last referenced object)."
+  (let* ((artist (context-value conversation "artist"))
+         (cds (and (stringp artist)
+                   (cds-by-artist (dialogue-catalogue (conversation-dialogue conversation)) artist))))
+    (setf (context-value conversation "cds") cds
+          (context-value conversation "cnt0") (length cds)
+          (context-value conversation "cd") (first cds))
+    (when cds (refer-to conversation (first cds)))))
+
+(define-dialogue-action getLastCD (conversation)
+  "Load the attributes of the last CD referred to into context: `Title`,
+`Artist`, `Year` (Figure 9's getLastCD)."
+  (let ((cd (let ((last (context-value conversation "lastRef")))
+              (cond ((cd-p last) last)
+                    ((track-p last) (track-cd last))
+                    (t (context-value conversation "cd"))))))
+    (when cd
+      (setf (context-value conversation "cd") cd
+            (context-value conversation "Title") (cd-title cd)
+            (context-value conversation "Artist") (cd-artist cd)
+            (context-value conversation "Year") (cd-year cd)))))
+
+(define-dialogue-action genTracks (conversation)
+  "Expand the current CD (`cd`) into the list of its tracks, `tracks` (Figure 7)."
+  (let ((cd (context-value conversation "cd")))
+    (setf (context-value conversation "tracks") (and (cd-p cd) (cd-tracks cd)))))
+
+(define-dialogue-action doSelect (conversation)
+  "Pick one of `tracks` at random (another than the current `track` when there
+is a choice): it becomes `track` and the last referenced object (Figure 7)."
+  (let* ((tracks (context-value conversation "tracks"))
+         (current (context-value conversation "track"))
+         (choices (or (remove current tracks) tracks)))
+    (when choices
+      (let ((track (nth (conversation-random conversation (length choices)) choices)))
+        (setf (context-value conversation "track") track)
+        (refer-to conversation track)))))
+
+(define-dialogue-action whoWrote (conversation)
+  "Who wrote the track named in `title` (which becomes the last referenced
+object), else the last referenced object (\"Who wrote that?\"): `composer`,
+and `cnt0` (1, or 0 when unknown)."
+  (let* ((catalogue (dialogue-catalogue (conversation-dialogue conversation)))
+         (title (context-value conversation "title"))
+         (object (or (and (stringp title) (find-track catalogue title))
+                     (context-value conversation "lastRef")))
+         (composer (typecase object
+                     (track (track-composer object))
+                     (cd (cd-artist object)))))
+    (setf (context-value conversation "composer") composer
+          (context-value conversation "cnt0") (if composer 1 0))
+    ;; A track named is now what "that" refers to.
+    (when (and composer (not (eq object (context-value conversation "lastRef"))))
+      (refer-to conversation object))))

@@ -1,0 +1,104 @@
+;;;; catalogue.lisp -- the music the jukebox knows: CDs with artist, year and
+;;;; tracks.  A catalogue is data, written as (cd ID :title T :artist A :year Y
+;;;; :tracks (TRACK...)) forms, a TRACK being a title or (TITLE :composer C)
+;;;; when someone other than the CD's artist wrote it.  The forms may stand in
+;;;; a defdialogue or in a catalogue file; queries over them are dialogue
+;;;; actions (catalogue-actions.lisp).
+
+(in-package #:player)
+
+(defstruct (cd (:constructor %make-cd))
+  "A CD: its ID (a name), TITLE, ARTIST (strings), YEAR (an integer or NIL) and TRACKS."
+  id title artist year (tracks '()))
+
+(defstruct (track (:constructor %make-track))
+  "A track: its TITLE, its COMPOSER (a string) and the CD it is on."
+  title composer cd)
+
+(defmethod print-object ((cd cd) stream)
+  (print-unreadable-object (cd stream :type t) (write-string (cd-title cd) stream)))
+
+(defmethod print-object ((track track) stream)
+  (print-unreadable-object (track stream :type t) (write-string (track-title track) stream)))
+
+(defun catalogue-form-p (form)
+  "Is FORM a (cd ...) catalogue entry?"
+  (and (consp form) (symbolp (first form)) (same-name-p (first form) "cd")))
+
+(defun parse-cd (form)
+  "The CD FORM, (cd ID :title T :artist A [:year Y] :tracks (TRACK...)), describes;
+a DIALOGUE-ERROR naming FORM when it is malformed."
+  (unless (and (alexandria:proper-list-p form) (symbolp (second form)) (second form)
+               (evenp (length (cddr form))))
+    (dialogue-fail form "expected (cd ID :title \"T\" :artist \"A\" [:year Y] :tracks (TRACK...))"))
+  (destructuring-bind (&key title artist year tracks &allow-other-keys) (cddr form)
+    (loop for (key) on (cddr form) by #'cddr
+          unless (member key '(:title :artist :year :tracks))
+            do (dialogue-fail form "unknown cd property ~A (known: :title :artist :year :tracks)" (lisp-text key)))
+    (unless (and (stringp title) (stringp artist) (text-words title) (text-words artist))
+      (dialogue-fail form "a cd needs a :title and an :artist, strings with words in them"))
+    (unless (or (null year) (typep year '(integer 0 9999)))
+      (dialogue-fail form ":year must be an integer, not ~A" (lisp-text year)))
+    (unless (and (alexandria:proper-list-p tracks) tracks)
+      (dialogue-fail form ":tracks must be a non-empty list of titles"))
+    (let ((cd (%make-cd :id (second form) :title title :artist artist :year year)))
+      (setf (cd-tracks cd) (mapcar (lambda (entry) (parse-track entry cd form)) tracks))
+      cd)))
+
+(defun parse-track (entry cd form)
+  "The track ENTRY of CD describes: a title string, or (TITLE :composer C)."
+  (destructuring-bind (title &key (composer (cd-artist cd)))
+      (if (and (alexandria:proper-list-p entry) (stringp (first entry))
+               (member (length entry) '(1 3)) (or (null (cdr entry)) (eq (second entry) :composer)))
+          entry
+          (list entry))
+    (unless (and (stringp title) (text-words title) (stringp composer) (text-words composer))
+      (dialogue-fail form "a track is a title string or (\"TITLE\" :composer \"NAME\"), not ~A"
+                     (bounded-lisp-text entry 80)))
+    (%make-track :title title :composer composer :cd cd)))
+
+(defun read-catalogue-file (file)
+  "The CDs of the catalogue FILE, read as data: it may hold only in-package and
+cd forms.  A DIALOGUE-ERROR names the file and line of a bad form."
+  (let* ((entries (read-data-file file :what "catalogue file" :readtable *dialogue-readtable*
+                                       :fail (lambda (position message &optional kind)
+                                               (declare (ignore kind))
+                                               (error 'dialogue-error :position (and position (cons file position))
+                                                                      :spec nil :form nil :message message))))
+         (*form-places* (make-hash-table :test 'eq))
+         (truename (probe-file file)))
+    (loop for (form position) in entries
+          do (when (consp form) (setf (gethash form *form-places*) (cons truename position)))
+             (unless (catalogue-form-p form)
+               (dialogue-fail form "a catalogue file holds only cd forms, not ~A" (bounded-lisp-text form 60)))
+          collect (parse-cd form))))
+
+;;;# Looking things up
+
+(defun catalogue-artists (catalogue)
+  "Every artist and composer CATALOGUE (a list of CDs) names, without repeats."
+  (remove-duplicates (loop for cd in catalogue
+                           collect (cd-artist cd)
+                           append (mapcar #'track-composer (cd-tracks cd)))
+                     :test #'string-equal :from-end t))
+
+(defun catalogue-titles (catalogue)
+  "Every track title in CATALOGUE, without repeats."
+  (remove-duplicates (loop for cd in catalogue append (mapcar #'track-title (cd-tracks cd)))
+                     :test #'string-equal :from-end t))
+
+(defun catalogue-albums (catalogue)
+  "Every CD title in CATALOGUE."
+  (mapcar #'cd-title catalogue))
+
+(defun cds-by-artist (catalogue artist)
+  "The CDs of CATALOGUE by ARTIST (a string), or holding a track ARTIST wrote."
+  (remove-if-not (lambda (cd)
+                   (or (string-equal (cd-artist cd) artist)
+                       (find artist (cd-tracks cd) :key #'track-composer :test #'string-equal)))
+                 catalogue))
+
+(defun find-track (catalogue title)
+  "The first track of CATALOGUE called TITLE, or NIL."
+  (loop for cd in catalogue
+        thereis (find title (cd-tracks cd) :key #'track-title :test #'string-equal)))

@@ -1,0 +1,67 @@
+;;;; templates.lisp -- verbal responses by template expansion (Persona,
+;;;; Figure 9).  A category's templates are tried in order, each taken with its
+;;;; probability: for four equally likely ones, 0.25, then 0.333, 0.5, 1.
+;;;; A template whose condition fails, or whose limit (once per conversation
+;;;; or per user) is used up, is passed over.  The chosen text's <=Var> holes
+;;;; are filled from the context variables.
+
+(in-package #:player)
+
+(defun template-allowed-p (template conversation)
+  "May TEMPLATE be said now: does its condition hold and its limit allow it?"
+  (and (or (null (template-condition template))
+           (evaluate-expression (template-condition template) conversation))
+       (not (and (template-limit template)
+                 (memory-template-used-p (conversation-memory conversation) template
+                                         (template-limit template))))))
+
+(defun choose-template (conversation category)
+  "A template of CATEGORY chosen by the cascade from CONVERSATION's random
+source: the first allowed template with its probability, else the next...
+When the draws pass them all, the last allowed one; when none is allowed, the
+last whose condition holds.  A DIALOGUE-ERROR when no template fits."
+  (let* ((templates (dialogue-category-templates (conversation-dialogue conversation) category))
+         (allowed (remove-if-not (lambda (template) (template-allowed-p template conversation)) templates)))
+    (or (find-if (lambda (template)
+                   (< (random 1d0 (conversation-random-state conversation)) (template-probability template)))
+                 allowed)
+        (car (last allowed))
+        (find-if (lambda (template) (or (null (template-condition template))
+                                        (evaluate-expression (template-condition template) conversation)))
+                 templates :from-end t)
+        (dialogue-fail (and templates (template-form (first templates)))
+                       "no template of category ~A fits now (each one's condition fails)"
+                       (display-name category)))))
+
+(defun template-value-text (value)
+  "VALUE as a template says it: a string as it is, a track or CD by its title,
+a list as \"A, B and C\", a number plainly, a name in lower case."
+  (typecase value
+    (string value)
+    (track (track-title value))
+    (cd (cd-title value))
+    (cons (let ((texts (mapcar #'template-value-text value)))
+            (format nil "~{~A~#[~; and ~:;, ~]~}" texts)))
+    (real (format-number value))
+    (symbol (string-downcase (symbol-name value)))
+    (t (princ-to-string value))))
+
+(defun expand-template (template conversation)
+  "TEMPLATE's text with each <=Var> replaced by the context variable Var's
+value; a DIALOGUE-ERROR naming the template when Var is unset."
+  (let ((text (template-text template)))
+    (with-output-to-string (out)
+      (loop with start = 0
+            for open = (search "<=" text :start2 start)
+            for close = (and open (position #\> text :start (+ open 2)))
+            while close
+            do (write-string text out :start start :end open)
+               (let* ((name (subseq text (+ open 2) close))
+                      (value (context-value conversation name)))
+                 (when (null value)
+                   (dialogue-fail (template-form template)
+                                  "template ~D of ~A: the context variable ~A is not set"
+                                  (template-index template) (display-name (template-category template)) name))
+                 (write-string (template-value-text value) out))
+               (setf start (1+ close))
+            finally (write-string text out :start start)))))
