@@ -324,10 +324,10 @@ it.  Returns the turn."
   ;; the recogniser can return, the matcher understands, as the same event.
   (let ((d (jukebox)) (sentences 0))
     (dolist (utterance (player::dialogue-utterances d))
-      (dolist (words (pattern-sentences (player::utterance-elements utterance)))
+      (dolist (words (pattern-sentences (player::utterance-pattern-elements utterance)))
         (incf sentences)
         (multiple-value-bind (event slots understood) (match-utterance d (format nil "~{~A~^ ~}" words))
           (declare (ignore slots))
           (is-true understood "~{~A~^ ~} is not understood" words)
-          (is (eq (player::utterance-event utterance) event) "~{~A~^ ~}: ~A" words event))))
+          (is (eq (player::utterance-pattern-event utterance) event) "~{~A~^ ~}: ~A" words event))))
     (is (< 100 sentences))))

@@ -23,10 +23,10 @@ as a string: a public <request> rule, a rule per input event with a pattern,
 a rule per slot listing its alternatives.  Every sentence the grammar
 generates is matched by MATCH-UTTERANCE."
   (let* ((dialogue (find-dialogue dialogue))
-         (events (remove-duplicates (mapcar #'utterance-event (dialogue-utterances dialogue))
+         (events (remove-duplicates (mapcar #'utterance-pattern-event (dialogue-utterances dialogue))
                                     :test #'same-name-p :from-end t))
          (slots (remove-duplicates (loop for utterance in (dialogue-utterances dialogue)
-                                         append (remove-if-not #'pattern-slot-p (utterance-elements utterance)))
+                                         append (remove-if-not #'pattern-slot-p (utterance-pattern-elements utterance)))
                                    :key (lambda (slot) (dialogue-key (pattern-slot-name slot)))
                                    :test #'string= :from-end t)))
     (with-output-to-string (out)
@@ -35,8 +35,8 @@ generates is matched by MATCH-UTTERANCE."
       (dolist (event events)
         (format out "<~A> = ~{~A~^~%    | ~};~%" (jsgf-rule-name event)
                 (loop for utterance in (dialogue-utterances dialogue)
-                      when (same-name-p (utterance-event utterance) event)
-                        collect (format nil "~{~A~^ ~}" (mapcar #'jsgf-element (utterance-elements utterance))))))
+                      when (same-name-p (utterance-pattern-event utterance) event)
+                        collect (format nil "~{~A~^ ~}" (mapcar #'jsgf-element (utterance-pattern-elements utterance))))))
       (terpri out)
       (dolist (slot slots)
         (format out "<~A> = ~{~A~^~%    | ~};~%" (jsgf-rule-name (pattern-slot-name slot))

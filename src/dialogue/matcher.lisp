@@ -8,7 +8,7 @@
 
 (in-package #:player)
 
-(defstruct utterance
+(defstruct utterance-pattern
   "A pattern: the input EVENT it means, its ELEMENTS (PATTERN-WORDS and
 PATTERN-SLOT structs) and the FORM as written."
   event elements form)
@@ -96,6 +96,6 @@ not-understood event, no slots and MATCHED NIL."
   (let ((words (remove-if (lambda (word) (member word (dialogue-ignore-words dialogue) :test #'string=))
                           (text-words text))))
     (dolist (utterance (dialogue-utterances dialogue) (values (dialogue-not-understood dialogue) '() nil))
-      (let ((slots (match-elements (utterance-elements utterance) words '())))
+      (let ((slots (match-elements (utterance-pattern-elements utterance) words '())))
         (unless (eq slots :fail)
-          (return (values (utterance-event utterance) (reverse slots) t)))))))
+          (return (values (utterance-pattern-event utterance) (reverse slots) t)))))))

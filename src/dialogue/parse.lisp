@@ -222,7 +222,7 @@ templates, CDs) in DIALOGUE."
          (unless (and (cddr form) (alexandria:proper-list-p form))
            (dialogue-fail form "expected (utterance EVENT ELEMENT...)"))
          (let ((event (input-name (check-input dialogue (second form) form))))
-           (push (make-utterance :event event :form form
+           (push (make-utterance-pattern :event event :form form
                                  :elements (mapcar (lambda (e) (parse-pattern-element dialogue e form)) (cddr form)))
                  (dialogue-utterances dialogue))))
         ((form-head-p form "on") (push (parse-transition dialogue form) (dialogue-transitions dialogue)))))

@@ -10,7 +10,7 @@
 (defun dialogue-slot-names (dialogue)
   "The keys of every slot DIALOGUE's utterance patterns fill."
   (remove-duplicates (loop for utterance in (dialogue-utterances dialogue)
-                           append (loop for element in (utterance-elements utterance)
+                           append (loop for element in (utterance-pattern-elements utterance)
                                         when (pattern-slot-p element)
                                           collect (dialogue-key (pattern-slot-name element))))
                      :test #'string=))
