@@ -87,3 +87,10 @@ VIEW-SPEC signals."
                                          :keys event-keys :script (sort (copy-list keys) #'< :key #'car)))
                    (lisp-text (cast-name cast)) event-keys
                    :size size :frames frames :screenshot screenshot))))
+
+(defmethod viewer-performances ((viewer scene-viewer))
+  ;; Every member speaks through the one audio device.
+  (loop for performer in (ensemble-performers (scene-viewer-ensemble viewer))
+        for presenter = (controller-presenter (performer-controller performer))
+        when (typep presenter 'body-presenter)
+          collect (presenter-performance presenter)))
