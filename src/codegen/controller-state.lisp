@@ -36,11 +36,19 @@
   ;; event can be resumed from it.
   (step 0 :type fixnum))
 
-(defgeneric record-change (recorder kind controller time a b op)
-  (:documentation "While CONTROLLER plans an event ahead, note a state change
-due at TIME: KIND :DELTA sets the plannable fields of mask A to the bits B,
-KIND :VALUE sets runtime variable A to B.  OP is the op whose end this is, or
-NIL."))
+;;; While a timed controller plans an event ahead, the compiled closures hand
+;;; what they do to its recorder, by plain calls (they run for every op) of
+;;; functions the timeline defines (src/runtime/timeline/recorder.lisp):
+;;;   (RECORD-CHANGE RECORDER KIND CONTROLLER TIME A B OP) a state change due
+;;;     at TIME: KIND :DELTA sets the plannable fields of mask A to the bits B,
+;;;     KIND :VALUE sets runtime variable A to B; OP is the op whose end this
+;;;     is, or NIL.
+;;;   (RECORD-OP RECORDER OP START) OP plays from START; returns its duration.
+;;;   (RECORD-MACRO-START RECORDER OP START), (RECORD-MACRO-END RECORDER OP START END)
+(declaim (ftype (function (t keyword t t t t t) t) record-change)
+         (ftype (function (t t double-float) double-float) record-op)
+         (ftype (function (t t t) t) record-macro-start)
+         (ftype (function (t t t t) t) record-macro-end))
 
 (defun spec-of (controller)
   "CONTROLLER's spec."

@@ -39,7 +39,10 @@ from them the first time."
   (event nil :type event-def)
   (run nil :type function)
   (steps '() :type list)
-  (suffixes nil :type (or null simple-vector)))
+  (suffixes nil :type (or null simple-vector))
+  ;; Does the event run :code of its own: T, NIL, or :UNKNOWN until a timed
+  ;; controller asks (EVENT-RUNS-CODE-P, src/runtime/timeline/footprints.lisp).
+  (runs-code :unknown :type (member t nil :unknown)))
 
 (defun compile-event-suffixes (steps machine)
   "For each top-level step K of STEPS, a closure running the event from K on
@@ -147,7 +150,12 @@ effects. Its precondition is the caller's business."
           (lambda (controller)
             (when code (funcall (the function code)))
             (let* ((start (controller-schedule controller))
-                   (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
+                   ;; A timed controller planning ahead records the op
+                   ;; (a plain call, not the presenter protocol's dispatch).
+                   (recorder (controller-recorder controller))
+                   (end (+ start (if recorder
+                                     (record-op recorder op start)
+                                     (to-double (present-op (controller-presenter controller) op start))))))
               (note-op-end controller end)
               (unless (zerop mask)
                 (change-state controller mask bits end op))
@@ -169,7 +177,9 @@ made along the way are internal to the macro)."
                   (outer-start (controller-span-start controller))
                   (outer-end (controller-span-end controller))
                   (before (controller-bits controller)))
-              (present-macro-start presenter op start)
+              (if (controller-recorder controller)
+                  (record-macro-start (controller-recorder controller) op start)
+                  (present-macro-start presenter op start))
               (setf (controller-span-start controller) start
                     (controller-span-end controller) start
                     (controller-active-macros controller)
@@ -181,7 +191,9 @@ made along the way are internal to the macro)."
                       (controller-span-start controller) outer-start
                       (controller-span-end controller) (max outer-end end)
                       (controller-schedule controller) end)
-                (present-macro-end presenter op start end)
+                (if (controller-recorder controller)
+                    (record-macro-end (controller-recorder controller) op start end)
+                    (present-macro-end presenter op start end))
                 (when (eq result t)
                   (change-state-to controller (logior (logandc2 before mask) bits) end op))
                 result)))))))

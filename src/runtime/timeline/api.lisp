@@ -24,7 +24,8 @@
          (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
          (compiled (find-compiled-event controller event))
          (policy (if when-busy
-                     (or (and (symbolp when-busy) (when-busy-policy when-busy))
+                     (or (and (member when-busy *when-busy-policies*) when-busy)
+                         (and (symbolp when-busy) (when-busy-policy when-busy))
                          (argument-fail 'send-event :when-busy when-busy
                                         (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
                      (event-policy (compiled-event-event compiled) (spec-of controller)))))

@@ -29,6 +29,8 @@ waiting (QUEUE), and its timers and triggers."
   ;; Op -> its interruption points in seconds, sorted.
   (cut-points (make-hash-table :test 'eq) :type hash-table)
   (recorder nil)
+  ;; The presenter forwarding to RECORDER, the controller's while it plans.
+  (recording-presenter nil)
   (timers '() :type list)
   (triggers '() :type list)
   ;; Sends of timers and triggers that went off at NOW, newest first: they are
@@ -64,7 +66,11 @@ triggers or zero-length ops loop, and signals a TIMELINE-ERROR.")
 triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
-          (timeline-recorder timeline) (make-instance 'recorder :timeline timeline)
+          (timeline-recorder timeline) (make-recorder timeline controller)
+          (recorder-declared-durations (timeline-recorder timeline))
+          (declared-durations-p (timeline-presenter timeline))
+          (timeline-recording-presenter timeline)
+          (make-instance 'recording-presenter :recorder (timeline-recorder timeline))
           (timeline-scratch-values timeline) (copy-seq (controller-values controller)))
     (resolve-cut-points timeline)
     (start-timers timeline)
@@ -134,7 +140,7 @@ trims them)."
   "Plan RUN ahead from TIME to learn its footprint, unless its event runs code
 or a running event meets everything anyway.  Returns the planning result, or
 :UNTRIED; RUN keeps its items and footprint."
-  (if (or (event-runs-code-p (run-event run))
+  (if (or (compiled-event-runs-code-p (run-compiled run))
           (some (lambda (other) (meets-everything-p (run-footprint* timeline other))) (timeline-runs timeline)))
       :untried
       (prog1 (plan-run-ahead timeline run time)
@@ -175,11 +181,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                    (replace (timeline-scratch-values timeline) values)))
            (when (> time (timeline-now timeline))
              (project-state timeline time))
-           (setf (recorder-run recorder) run
-                 (recorder-last-op recorder) nil
-                 (recorder-last-macro-end recorder) nil
-                 (recorder-open-macros recorder) '()
-                 (controller-presenter controller) recorder
+           (start-recording recorder run)
+           (setf (controller-presenter controller) (timeline-recording-presenter timeline)
                  (controller-recorder controller) recorder
                  (controller-step controller) (run-first-step run)
                  (controller-schedule controller) time
@@ -192,8 +195,7 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                                                       (run-first-step run)))
                                  controller))
            (unless (eq result t)
-             (setf (agenda-item-goal (record-item recorder :fail (controller-schedule controller)))
-                   (failure-goal-form result)))
+             (record-failure recorder (failure-goal-form result) (controller-schedule controller)))
            (record-item recorder :finish (controller-span-end controller)))
       (setf (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
@@ -295,8 +297,9 @@ UNTIL-IDLE, stop instead at the first instant after which no event runs or
 waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 *FINISH-EVENTS-LIMIT* items if that never comes."
   (let ((agenda (timeline-agenda timeline))
+        (time (to-double time))
         (steps 0))
-    (declare (fixnum steps))
+    (declare (fixnum steps) (double-float time))
     (loop
       (let ((item (agenda-next agenda)))
         (cond ((and until-idle (null (timeline-deferred timeline))
@@ -320,14 +323,16 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                (let ((sends (reverse (timeline-deferred timeline))))
                  (setf (timeline-deferred timeline) '())
                  (mapc #'funcall sends)))
-              (t (return))))))
-  (setf (timeline-now timeline) time
-        (timeline-live-ops timeline) (delete-if (lambda (item) (<= (agenda-item-end item) time))
-                                                (timeline-live-ops timeline)))
-  (setf (controller-clock (timeline-controller timeline)) time))
+              (t (return)))))
+    (setf (timeline-now timeline) time)
+    (when (timeline-live-ops timeline)
+      (setf (timeline-live-ops timeline) (delete-if (lambda (item) (<= (agenda-item-end item) time))
+                                                    (timeline-live-ops timeline))))
+    (setf (controller-clock (timeline-controller timeline)) time)))
 
 (defun note-instant (timeline time)
   "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
+  (declare (double-float time))
   (if (= time (timeline-now timeline))
       (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
         (setf (timeline-instant-count timeline) 0)
