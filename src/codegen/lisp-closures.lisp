@@ -153,9 +153,10 @@ effects. Its precondition is the caller's business."
                    ;; A timed controller planning ahead records the op
                    ;; (a plain call, not the presenter protocol's dispatch).
                    (recorder (controller-recorder controller))
-                   (end (+ start (if recorder
-                                     (record-op recorder op start)
-                                     (to-double (present-op (controller-presenter controller) op start))))))
+                   (end (+ start (the double-float
+                                      (if recorder
+                                          (record-op recorder op start)
+                                          (to-double (present-op (controller-presenter controller) op start)))))))
               (note-op-end controller end)
               (unless (zerop mask)
                 (change-state controller mask bits end op))

@@ -80,6 +80,7 @@ until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
               (setf (svref items i) least-item i least)))
       (setf (svref items i) last))))
 
+(declaim (inline agenda-next))
 (defun agenda-next (agenda)
   "AGENDA's first pending item, or NIL; cancelled items on top are discarded."
   (declare (agenda agenda))

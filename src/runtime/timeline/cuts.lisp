@@ -110,15 +110,17 @@ of it was left to do)."
                                                    (eq (agenda-item-status (agenda-item-owner item)) :cancelled)))
                                             (run-items run))
                              #'> :key #'agenda-item-seq)))
-      (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time))
-    (if shown
-        (dolist (item (reverse shown))
-          (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by))
-        (present-cut presenter (and finishing (agenda-item-op finishing))
-                     (if finishing (agenda-item-start finishing) time) cut-time by))
+      (unless (timeline-quiet timeline)
+        (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time)))
+    (cond ((timeline-quiet timeline))
+          (shown
+           (dolist (item (reverse shown))
+             (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by)))
+          (t (present-cut presenter (and finishing (agenda-item-op finishing))
+                          (if finishing (agenda-item-start finishing) time) cut-time by)))
     (setf (run-finished run) t
           (run-items run) keep
-          (timeline-runs timeline) (remove run (timeline-runs timeline)))
+          (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
     (values cut-time resume)))
 
 (defun keep-finished-macros (run keep cut-time cut-ops)

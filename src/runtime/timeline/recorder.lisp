@@ -40,15 +40,17 @@
 (defun record-item (recorder kind time)
   "A new pending item of KIND at TIME for the run RECORDER is planning."
   (let* ((run (recorder-run recorder))
-         (item (make-agenda-item kind (to-double time) (next-seq (recorder-timeline recorder)) run)))
+         (item (make-agenda-item kind (if (typep time 'double-float) time (to-double time))
+                                 (next-seq (recorder-timeline recorder)) run)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
     (push item (run-items run))
     item))
 
+(declaim (inline planned-duration))
 (defun planned-duration (recorder op start)
   "How long OP played from START will take, as the real presenter says."
   (if (recorder-declared-durations recorder)
-      (to-double (op-duration op))
+      (op-duration op)
       (to-double (planned-op-duration (controller-presenter* (recorder-timeline recorder)) op start))))
 
 (defun record-op (recorder op start)

@@ -14,6 +14,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; The controller's own presenter (the controller's slot holds the recorder
   ;; while an event is planned ahead).
   presenter
+  ;; Does that presenter do nothing with op starts, macro spans, event starts
+  ;; and ends, failures and cuts (QUIET-PRESENTER-P)?  Then it is not told.
+  (quiet nil :type boolean)
   (now 0d0 :type double-float)
   (agenda (make-agenda) :type agenda)
   (seq 0 :type fixnum)
@@ -66,6 +69,7 @@ triggers or zero-length ops loop, and signals a TIMELINE-ERROR.")
 triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
+          (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
           (timeline-recorder timeline) (make-recorder timeline controller)
           (recorder-declared-durations (timeline-recorder timeline))
           (declared-durations-p (timeline-presenter timeline))
@@ -90,14 +94,17 @@ triggers noting whether their conditions hold now."
 (defun project-state (timeline time)
   "Put into the controller the state it will have at TIME (after NOW): the
 pending state changes due by then, applied without telling anyone."
+  (declare (double-float time))
   (let ((controller (timeline-controller timeline))
+        (agenda (timeline-agenda timeline))
         (due '()))
-    (map-agenda (lambda (item)
-                  (when (and (member (agenda-item-kind item) '(:delta :value))
-                             (<= (agenda-item-time item) time))
-                    (push item due)))
-                (timeline-agenda timeline))
-    (dolist (item (sort due #'item-before-p))
+    (dotimes (i (agenda-count agenda))
+      (let ((item (svref (agenda-items agenda) i)))
+        (when (and (eq (agenda-item-status item) :pending)
+                   (member (agenda-item-kind item) '(:delta :value))
+                   (<= (agenda-item-time item) time))
+          (push item due))))
+    (dolist (item (if (rest due) (sort due #'item-before-p) due))
       (apply-change controller item))))
 
 (defun apply-change (controller item)
@@ -117,12 +124,15 @@ on the agenda.  Returns T, or the FAILURE its plan ran into."
 (defun install-run (timeline run time)
   "RUN, planned ahead from TIME, starts: show it, note its footprint, put its
 items on the agenda."
-  (let ((presenter (timeline-presenter timeline)))
-    (if (run-resumed run)
-        (present-resume presenter (run-name run) time)
-        (present-event presenter (run-name run) time)))
+  (unless (timeline-quiet timeline)
+    (let ((presenter (timeline-presenter timeline)))
+      (if (run-resumed run)
+          (present-resume presenter (run-name run) time)
+          (present-event presenter (run-name run) time))))
   (setf (run-start run) time)
-  (setf (timeline-runs timeline) (append (timeline-runs timeline) (list run)))
+  (setf (timeline-runs timeline) (if (timeline-runs timeline)
+                                     (append (timeline-runs timeline) (list run))
+                                     (list run)))
   (dolist (item (run-items run))
     (agenda-push (timeline-agenda timeline) item)))
 
@@ -251,8 +261,7 @@ result (T or a FAILURE)."
   "RUN arrives at TIME while events it meets play: do what POLICY says."
   (let* ((name (run-name run))
          (met (if (run-footprint run)
-                  (remove-if-not (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))
-                                 (timeline-runs timeline))
+                  (met-runs timeline run)
                   (timeline-runs timeline)))
          (footprint (or (run-footprint run) (make-footprint :all 0 '()))))
     (forget-plan run)
@@ -278,6 +287,21 @@ result (T or a FAILURE)."
            (push-run-first timeline again))
          (values (if (eq policy :preempt) :preempted :interleaved)
                  (start-run timeline run cut-time)))))))
+
+(defun met-runs (timeline run)
+  "The running events whose footprints meet planned RUN's, oldest first."
+  (flet ((meets-p (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other))))
+    (let ((runs (timeline-runs timeline)))
+      ;; One event running (the usual case): no new list unless it is left out.
+      (if (null (rest runs))
+          (and runs (meets-p (first runs)) runs)
+          (remove-if-not #'meets-p runs)))))
+
+(defun remove-run (run runs)
+  "RUNS without RUN (a fresh list unless RUN is absent or alone in it)."
+  (if (and (eq (first runs) run) (null (rest runs)))
+      '()
+      (remove run runs)))
 
 (defun resumption (run step)
   "A run that finishes interrupted RUN from its top-level directive STEP."
@@ -326,9 +350,19 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
               (t (return)))))
     (setf (timeline-now timeline) time)
     (when (timeline-live-ops timeline)
-      (setf (timeline-live-ops timeline) (delete-if (lambda (item) (<= (agenda-item-end item) time))
-                                                    (timeline-live-ops timeline))))
+      (setf (timeline-live-ops timeline) (forget-ended-ops (timeline-live-ops timeline) time)))
     (setf (controller-clock (timeline-controller timeline)) time)))
+
+(defun forget-ended-ops (live-ops time)
+  "LIVE-OPS (destructively) without the :OP items that end by TIME."
+  (declare (double-float time))
+  (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+    (loop while (and live-ops (ended-p (first live-ops)))
+          do (pop live-ops))
+    (loop for cell on live-ops
+          do (loop while (and (rest cell) (ended-p (second cell)))
+                   do (setf (rest cell) (cddr cell))))
+    live-ops))
 
 (defun note-instant (timeline time)
   "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
@@ -349,7 +383,8 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
     (ecase (agenda-item-kind item)
       (:op
        (push item (timeline-live-ops timeline))
-       (present-op presenter (agenda-item-op item) (agenda-item-start item)))
+       (unless (timeline-quiet timeline)
+         (present-op presenter (agenda-item-op item) (agenda-item-start item))))
       (:delta
        (transition-state controller (logior (logandc2 (controller-bits controller) (agenda-item-a item))
                                             (agenda-item-b item))
@@ -358,9 +393,15 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
       (:value
        (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time)
        (check-triggers timeline time))
-      (:macro-start (present-macro-start presenter (agenda-item-op item) (agenda-item-start item)))
-      (:macro-end (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time))
-      (:fail (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time))
+      (:macro-start
+       (unless (timeline-quiet timeline)
+         (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
+      (:macro-end
+       (unless (timeline-quiet timeline)
+         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time)))
+      (:fail
+       (unless (timeline-quiet timeline)
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time)))
       (:finish (finish-run timeline (agenda-item-run item) time))
       (:timer (fire-timer timeline (agenda-item-a item) item time)))))
 
@@ -368,8 +409,9 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
   "RUN is over at TIME: show the state, and start the waiting events that no
 running event meets any more, first first."
   (setf (run-finished run) t)
-  (present-state (timeline-presenter timeline) (timeline-controller timeline))
-  (setf (timeline-runs timeline) (remove run (timeline-runs timeline)))
+  (unless (timeline-quiet timeline)
+    (present-state (timeline-presenter timeline) (timeline-controller timeline)))
+  (setf (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
   (start-waiting-runs timeline time))
 
 (defun start-waiting-runs (timeline time)
