@@ -15,6 +15,10 @@ fields, as a mask; RUNTIME: the runtime variables."
   (fields 0 :type integer)
   (runtime '() :type list))
 
+(defvar *everything-footprint* (make-footprint :all 0 '())
+  "The footprint of an event that meets every other (some op of it on no known
+channel): its variables never matter, so one footprint serves them all.")
+
 (defun footprints-meet-p (a b)
   "Do footprints A and B share a channel or a variable?  An event with no op
 on a known channel (its channels :ALL, or none) meets every other: only two
@@ -47,6 +51,10 @@ items play, and the variables its changes set."
     (dolist (item (run-items run))
       (case (agenda-item-kind item)
         (:op (let ((footprint (op-footprint timeline (agenda-item-op item))))
+               ;; One op on every channel: the run meets everything, whatever
+               ;; its variables (FOOTPRINTS-MEET-P never looks at them).
+               (when (eq (car footprint) :all)
+                 (return-from run-footprint-from-items *everything-footprint*))
                (setf channels (channel-union channels (car footprint))
                      fields (logior fields (cdr footprint)))))
         (:macro-start (setf fields (logior fields (cdr (op-footprint timeline (agenda-item-op item))))))

@@ -37,6 +37,7 @@
         (recorder-last-macro-end recorder) nil
         (recorder-open-macros recorder) '()))
 
+(declaim (inline record-item))
 (defun record-item (recorder kind time)
   "A new pending item of KIND at TIME for the run RECORDER is planning."
   (let* ((run (recorder-run recorder))

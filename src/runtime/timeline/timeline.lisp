@@ -81,6 +81,7 @@ triggers noting whether their conditions hold now."
     (start-triggers timeline)
     timeline))
 
+(declaim (inline timeline-busy-p))
 (defun timeline-busy-p (timeline)
   "Is an event running (or waiting) on TIMELINE?"
   (or (timeline-runs timeline) (timeline-queue timeline)))
@@ -263,7 +264,7 @@ result (T or a FAILURE)."
          (met (if (run-footprint run)
                   (met-runs timeline run)
                   (timeline-runs timeline)))
-         (footprint (or (run-footprint run) (make-footprint :all 0 '()))))
+         (footprint (or (run-footprint run) *everything-footprint*)))
     (forget-plan run)
     (ecase policy
       (:queue
@@ -321,7 +322,7 @@ UNTIL-IDLE, stop instead at the first instant after which no event runs or
 waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 *FINISH-EVENTS-LIMIT* items if that never comes."
   (let ((agenda (timeline-agenda timeline))
-        (time (to-double time))
+        (time (if (typep time 'double-float) time (to-double time)))
         (steps 0))
     (declare (fixnum steps) (double-float time))
     (loop
