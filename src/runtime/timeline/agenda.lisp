@@ -5,6 +5,9 @@
 
 (in-package #:player)
 
+;; Inline: the recorder makes several items for every event a timed
+;; controller plans.
+(declaim (inline make-agenda-item))
 (defstruct (agenda-item (:constructor make-agenda-item (kind time seq run)))
   "One thing due on a timeline.  KIND says what:
   :OP          play OP from START (to END, which a cut may bring forward)

@@ -179,6 +179,7 @@ or a running event meets everything anyway.  Returns the planning result, or
   "Run RUN's compiled event on the controller with the recorder as presenter,
 from the state due at TIME, then put the controller's state back.  The
 recorded items end with a :FAIL (if the plan failed) and the :FINISH."
+  (declare (double-float time))
   (let* ((controller (timeline-controller timeline))
          (recorder (timeline-recorder timeline))
          (bits (controller-bits controller))
