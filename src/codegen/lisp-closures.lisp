@@ -20,7 +20,17 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   ;; controllers on several threads may read it while one adds to it.
   (event-symbols (make-hash-table :test 'eq))
   ;; The goal and op procedure boxes, for closures compiled later (EVENT-SUFFIXES).
-  (procedures nil))
+  (procedures nil)
+  ;; The WATCHes of its watched variables (see TRANSITION-STATE), made once.
+  (watches nil :type list)
+  (watches-made nil :type boolean))
+
+(defun machine-watches (machine)
+  "MACHINE's WATCHes (see TRANSITION-STATE): made once for a compiled machine."
+  (cond ((not (compiled-machine-p machine)) (make-watches machine))
+        ((compiled-machine-watches-made machine) (compiled-machine-watches machine))
+        (t (prog1 (setf (compiled-machine-watches machine) (make-watches machine))
+             (setf (compiled-machine-watches-made machine) t)))))
 
 (defmethod print-object ((machine compiled-machine) stream)
   (print-unreadable-object (machine stream :type t)
