@@ -43,10 +43,12 @@
 ;;;     at TIME: KIND :DELTA sets the plannable fields of mask A to the bits B,
 ;;;     KIND :VALUE sets runtime variable A to B; OP is the op whose end this
 ;;;     is, or NIL.
-;;;   (RECORD-OP RECORDER OP START) OP plays from START; returns its duration.
+;;;   (RECORD-OP-PLAYED RECORDER CONTROLLER OP MASK BITS) OP plays from the
+;;;     scheduling clock, which moves to its end, where the plannable fields
+;;;     of MASK become BITS: what an op's procedure does, recorded.
 ;;;   (RECORD-MACRO-START RECORDER OP START), (RECORD-MACRO-END RECORDER OP START END)
 (declaim (ftype (function (t keyword t t t t t) t) record-change)
-         (ftype (function (t t double-float) double-float) record-op)
+         (ftype (function (t t t t t) t) record-op-played)
          (ftype (function (t t t) t) record-macro-start)
          (ftype (function (t t t t) t) record-macro-end))
 
@@ -190,6 +192,8 @@ as CHANGE-STATE does."
           (start-autoscript (controller-presenter controller) proc (var-name var)
                             (autoscript-value auto) time))))))
 
+;; Inline: every op of every event runs it, and a call would box END.
+(declaim (inline note-op-end))
 (defun note-op-end (controller end)
   "Advance the scheduling clock to END and extend the running span."
   (setf (controller-schedule controller) end)

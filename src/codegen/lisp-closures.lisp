@@ -159,18 +159,17 @@ effects. Its precondition is the caller's business."
         (let ((code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
           (lambda (controller)
             (when code (funcall (the function code)))
-            (let* ((start (controller-schedule controller))
-                   ;; A timed controller planning ahead records the op
-                   ;; (a plain call, not the presenter protocol's dispatch).
-                   (recorder (controller-recorder controller))
-                   (end (+ start (the double-float
-                                      (if recorder
-                                          (record-op recorder op start)
-                                          (to-double (present-op (controller-presenter controller) op start)))))))
-              (note-op-end controller end)
-              (unless (zerop mask)
-                (change-state controller mask bits end op))
-              t))))))
+            (let ((recorder (controller-recorder controller)))
+              (if recorder
+                  ;; A timed controller planning ahead records the op and
+                  ;; its end's change (one plain call, no protocol dispatch).
+                  (record-op-played recorder controller op mask bits)
+                  (let* ((start (controller-schedule controller))
+                         (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
+                    (note-op-end controller end)
+                    (unless (zerop mask)
+                      (change-state controller mask bits end op)))))
+            t)))))
 
 (defun compile-macro-executor (op machine)
   "A macro-op's procedure: run its :SEQ on its own span; then the state is the

@@ -54,6 +54,7 @@
       (op-duration op)
       (to-double (planned-op-duration (controller-presenter* (recorder-timeline recorder)) op start))))
 
+(declaim (inline record-op))
 (defun record-op (recorder op start)
   "Record OP playing from START; return its duration (what PRESENT-OP would)."
   (declare (double-float start))
@@ -88,6 +89,7 @@
   "Record that the event could not achieve GOAL at TIME."
   (setf (agenda-item-goal (record-item recorder :fail time)) goal))
 
+(declaim (inline record-change))
 (defun record-change (recorder kind controller time a b op)
   "Note a state change due at TIME: KIND :DELTA sets the plannable fields of
 mask A to the bits B, KIND :VALUE sets runtime variable A to B.  OP is the op
@@ -113,6 +115,19 @@ timeline is made: a method defined later is not seen by timelines made before.)"
        #'planned-op-duration (list (class-of presenter) (find-class t) (find-class t)))
     (and known methods (null (rest methods))
          (eq (first (sb-mop:method-specializers (first methods))) (find-class 'presenter)))))
+
+(defun record-op-played (recorder controller op mask bits)
+  "What an op's procedure does (COMPILE-EXECUTOR), recorded: OP plays from
+CONTROLLER's scheduling clock, the clock moves to its end, and there the
+plannable fields of MASK (unless 0) become BITS.  In one function, so no time
+is boxed between the steps."
+  (let* ((start (controller-schedule controller))
+         (end (+ start (record-op recorder op start))))
+    (note-op-end controller end)
+    (unless (zerop mask)
+      (record-change recorder :delta controller end mask bits op)
+      (setf (controller-bits controller)
+            (logior (logandc2 (controller-bits controller) mask) bits)))))
 
 ;;;# The presenter while an event is planned
 
