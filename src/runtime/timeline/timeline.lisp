@@ -314,6 +314,18 @@ result (T or a FAILURE)."
 
 ;;;# Advancing the clock
 
+(declaim (inline note-instant))
+(defun note-instant (timeline time)
+  "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
+  (declare (double-float time))
+  (if (= time (timeline-now timeline))
+      (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
+        (setf (timeline-instant-count timeline) 0)
+        (error 'timeline-error
+               :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
+                                (format-number time) *max-items-per-instant*)))
+      (setf (timeline-instant-count timeline) 0)))
+
 (defun advance-timeline (timeline time &key (dispatch t) until-idle)
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
 then NOW is TIME.  Events that timers and triggers send at an instant are
@@ -366,17 +378,6 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                    do (setf (rest cell) (cddr cell))))
     live-ops))
 
-(defun note-instant (timeline time)
-  "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
-  (declare (double-float time))
-  (if (= time (timeline-now timeline))
-      (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
-        (setf (timeline-instant-count timeline) 0)
-        (error 'timeline-error
-               :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
-                                (format-number time) *max-items-per-instant*)))
-      (setf (timeline-instant-count timeline) 0)))
-
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."
   (let ((controller (timeline-controller timeline))
@@ -391,10 +392,12 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
        (transition-state controller (logior (logandc2 (controller-bits controller) (agenda-item-a item))
                                             (agenda-item-b item))
                          time)
-       (check-triggers timeline time))
+       (when (timeline-triggers timeline)
+         (check-triggers timeline time)))
       (:value
        (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time)
-       (check-triggers timeline time))
+       (when (timeline-triggers timeline)
+         (check-triggers timeline time)))
       (:macro-start
        (unless (timeline-quiet timeline)
          (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
