@@ -4,9 +4,9 @@
 ;;;; change becomes an agenda item due at its time, and nothing reaches the
 ;;;; real presenter or the autoscripts until the timeline gets there.
 ;;;;
-;;;; The compiled closures call RECORD-OP, RECORD-MACRO-START, RECORD-MACRO-END
-;;;; and RECORD-CHANGE directly (one plain call per op, no generic dispatch:
-;;;; they run for every op of every event a timed controller plans).  While an
+;;;; The compiled closures call RECORD-OP-PLAYED, RECORD-MACRO-START,
+;;;; RECORD-MACRO-END and RECORD-CHANGE directly (plain calls, no generic
+;;;; dispatch: they run for every op of every event a timed controller plans).  While an
 ;;;; event is planned, the controller's presenter is a RECORDING-PRESENTER
 ;;;; that forwards to the recorder, so nothing else that presents then can
 ;;;; reach the real presenter either.
@@ -106,16 +106,6 @@ whose end this is, or NIL (see CONTROLLER-STATE.LISP)."
              (setf (agenda-item-owner item) last-macro-end))))
     item))
 
-(defun declared-durations-p (presenter)
-  "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration:
-is the default method the only one that applies to it?  (Asked when a
-timeline is made: a method defined later is not seen by timelines made before.)"
-  (multiple-value-bind (methods known)
-      (sb-mop:compute-applicable-methods-using-classes
-       #'planned-op-duration (list (class-of presenter) (find-class t) (find-class t)))
-    (and known methods (null (rest methods))
-         (eq (first (sb-mop:method-specializers (first methods))) (find-class 'presenter)))))
-
 (defun record-op-played (recorder controller op mask bits)
   "What an op's procedure does (COMPILE-EXECUTOR), recorded: OP plays from
 CONTROLLER's scheduling clock, the clock moves to its end, and there the
@@ -128,6 +118,16 @@ is boxed between the steps."
       (record-change recorder :delta controller end mask bits op)
       (setf (controller-bits controller)
             (logior (logandc2 (controller-bits controller) mask) bits)))))
+
+(defun declared-durations-p (presenter)
+  "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration:
+is the default method the only one that applies to it?  (Asked when a
+timeline is made: a method defined later is not seen by timelines made before.)"
+  (multiple-value-bind (methods known)
+      (sb-mop:compute-applicable-methods-using-classes
+       #'planned-op-duration (list (class-of presenter) (find-class t) (find-class t)))
+    (and known methods (null (rest methods))
+         (eq (first (sb-mop:method-specializers (first methods))) (find-class 'presenter)))))
 
 ;;;# The presenter while an event is planned
 
