@@ -49,8 +49,11 @@ only the stream's events play)."
          (rate (/ (length stream) seconds)))
     (row "12. events/s, timed controller, null presenter, half the events preempt"
          (format-count rate) ">= 1 M/s" (>= rate 1d6))
-    (note "timed stream: ~D events made ~D agenda items (~,1F per event)"
-          (length stream) items (/ items (length stream)))
+    (note "timed stream: ~D events made ~D agenda items (~,1F per event), consing ~D bytes per event"
+          (length stream) items (/ items (length stream))
+          (let ((before (sb-ext:get-bytes-consed)))
+            (play-timed-stream (fresh-timed-controller machine) stream)
+            (round (- (sb-ext:get-bytes-consed) before) (length stream))))
     ;; ADVANCE alone: one long event planned ahead, then presented.
     (let* ((spec (define-long-event-spec 200))
            (machine (player:compile-spec spec))

@@ -238,3 +238,97 @@ changes are internal), as without the cut."
                    "(:op pause :script pause :start 1 :end 2)"
                    "(:state (a . t) (b . nil))")
                  (trace-of c))))))
+
+;;;# The fast paths give what the general paths give
+
+;;; A timed controller skips two things when it knows they change nothing: it
+;;; does not ask a presenter that keeps the default PLANNED-OP-DURATION for
+;;; each op's duration (DECLARED-DURATIONS-P), and does not tell a quiet
+;;; presenter (QUIET-PRESENTER-P: a null presenter) of op starts, macro spans,
+;;; event starts and ends, failures and cuts.  A presenter with a method of
+;;; its own for one of those takes the general path.
+
+(defclass tm-asked-durations-presenter (trace-presenter) ()
+  (:documentation "A trace presenter with a PLANNED-OP-DURATION of its own (the
+declared duration): a timed controller asks it for every op it plans."))
+
+(defmethod player::planned-op-duration ((presenter tm-asked-durations-presenter) op start)
+  (declare (ignore start))
+  (op-duration op))
+
+(defclass tm-quiet-log-presenter (null-presenter)
+  ((lines :initform '() :accessor tm-log-lines))
+  (:documentation "A null presenter (quiet) logging what a quiet presenter is
+still told: autoscripts starting and stopping, timers and triggers going off."))
+
+(defmethod start-autoscript ((presenter tm-quiet-log-presenter) proc variable value time)
+  (push (list :autoscript-start proc variable value time) (tm-log-lines presenter)))
+
+(defmethod stop-autoscript ((presenter tm-quiet-log-presenter) proc variable value time)
+  (push (list :autoscript-stop proc variable value time) (tm-log-lines presenter)))
+
+(defmethod player::present-timer ((presenter tm-quiet-log-presenter) timer time)
+  (push (list :timer timer time) (tm-log-lines presenter)))
+
+(defmethod player::present-trigger ((presenter tm-quiet-log-presenter) trigger time)
+  (push (list :trigger trigger time) (tm-log-lines presenter)))
+
+(defclass tm-told-log-presenter (tm-quiet-log-presenter) ()
+  (:documentation "The same log, with a PRESENT-STATE of its own (doing
+nothing): not quiet, so a timed controller tells it everything."))
+
+(defmethod present-state ((presenter tm-told-log-presenter) controller)
+  (declare (ignore controller)))
+
+(defun tm-play-summary (play)
+  "What two plays of one stream must agree on: lines, answers, checkpoints, end
+(busy as a boolean: CONTROLLER-BUSY-P answers with the controller's own runs)."
+  (list (tmp-lines play) (tmp-results play)
+        (mapcar (lambda (check) (list (first check) (and (second check) t))) (tmp-checks play))
+        (tmp-settle-times play) (tmp-final-state play) (and (tmp-final-busy play) t) (tmp-abandoned play)))
+
+(defun tm-fast-path-problem (seed stream)
+  "How the fast and general paths differ on stream STREAM of spec SEED, or NIL.
+Returns a second value: the number of lines the quiet log holds."
+  (let* ((spec (tm-random-spec seed))
+         (name (model-name (tms-model spec)))
+         (*package* (find-package '#:player-user)))
+    (unwind-protect
+         (let ((machine (tm-compile-spec spec)))
+           (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
+             (flet ((play (presenter) (tm-play-stream machine spec actions initial :presenter presenter)))
+               (let ((quiet (make-instance 'tm-quiet-log-presenter))
+                     (told (make-instance 'tm-told-log-presenter)))
+                 (values
+                  (cond ((not (equal (tm-play-summary (play (make-trace-presenter)))
+                                     (tm-play-summary (play (make-instance 'tm-asked-durations-presenter)))))
+                         "declared durations: the trace differs from the one asking the presenter")
+                        ((not (equal (cdr (tm-play-summary (play quiet))) (cdr (tm-play-summary (play told)))))
+                         "quiet presenter: answers, checkpoints or end state differ from a presenter told everything")
+                        ((not (equal (tm-log-lines quiet) (tm-log-lines told)))
+                         "quiet presenter: autoscripts, timers or triggers differ from a presenter told everything"))
+                  (length (tm-log-lines quiet)))))))
+      (remove-spec name))))
+
+(test timeline-fast-paths-match-general-paths
+  "On random specs and streams, a timed controller gives the same trace, answers,
+checkpoint states and autoscript, timer and trigger calls whether or not it
+takes its fast paths (durations not asked, a quiet presenter not told)."
+  (is (player::declared-durations-p (make-trace-presenter)))
+  (is (not (player::declared-durations-p (make-instance 'tm-asked-durations-presenter))))
+  (is (player::quiet-presenter-p (make-null-presenter)))
+  (is (player::quiet-presenter-p (make-instance 'tm-quiet-log-presenter)))
+  (is (not (player::quiet-presenter-p (make-instance 'tm-told-log-presenter))))
+  (is (not (player::quiet-presenter-p (make-trace-presenter))))
+  (let ((problems '()) (logged 0))
+    (dolist (seed (subseq *tm-spec-seeds* 0 80))
+      (loop for stream from 1 to 2
+            do (multiple-value-bind (problem lines)
+                   (handler-case (tm-fast-path-problem seed stream)
+                     (error (e) (format nil "error: ~A" e)))
+                 (incf logged (or lines 0))
+                 (when problem
+                   (push (format nil "spec seed ~D, stream ~D: ~A" seed stream problem) problems)))))
+    ;; The quiet log must see timers and triggers, or it compares nothing.
+    (is (> logged 50) "the quiet presenter logged only ~D lines" logged)
+    (is (null problems) "~D streams differ; the first: ~A" (length problems) (first (last problems)))))

@@ -313,11 +313,11 @@ stays busy (a repeating timer or triggers may keep it busy for ever).")
   ;; :LIVELOCK (still busy after settling) or :ZERO-TIME-LOOP (a TIMELINE-ERROR).
   abandoned)
 
-(defun tm-play-stream (machine spec actions initial)
+(defun tm-play-stream (machine spec actions initial &key (presenter (make-trace-presenter)))
   "Play ACTIONS on a fresh timed controller of MACHINE from INITIAL, then FINISH-EVENTS.
-A (:settle T) advances by 50 s steps from T while the controller is busy."
+A (:settle T) advances by 50 s steps from T while the controller is busy.  The
+play's lines are PRESENTER's trace lines (none unless it is a trace presenter)."
   (let* ((model (tms-model spec))
-         (presenter (make-trace-presenter))
          (controller (make-controller machine :timed t :presenter presenter
                                               :initial-state (model-state-alist model initial)))
          (results '()) (checks '()) (settle-times '()) (abandoned nil))
@@ -345,7 +345,7 @@ A (:settle T) advances by 50 s steps from T while the controller is busy."
             (unless abandoned
               (finish-events controller)))
         (player::timeline-error () (setf abandoned :zero-time-loop))))
-    (make-tm-play :lines (trace-lines presenter) :results (nreverse results) :checks (nreverse checks)
+    (make-tm-play :lines (and (player::trace-presenter-p presenter) (trace-lines presenter)) :results (nreverse results) :checks (nreverse checks)
                   :settle-times (nreverse settle-times)
                   :final-state (controller-state controller)
                   :final-busy (controller-busy-p controller)

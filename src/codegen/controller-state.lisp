@@ -39,11 +39,21 @@
   ;; that came while an event ran (see REDEFINE-CONTROLLER).
   (pending nil))
 
-(defgeneric record-change (recorder kind controller time a b op)
-  (:documentation "While CONTROLLER plans an event ahead, note a state change
-due at TIME: KIND :DELTA sets the plannable fields of mask A to the bits B,
-KIND :VALUE sets runtime variable A to B.  OP is the op whose end this is, or
-NIL."))
+;;; While a timed controller plans an event ahead, the compiled closures hand
+;;; what they do to its recorder, by plain calls (they run for every op) of
+;;; functions the timeline defines (src/runtime/timeline/recorder.lisp):
+;;;   (RECORD-CHANGE RECORDER KIND CONTROLLER TIME A B OP) a state change due
+;;;     at TIME: KIND :DELTA sets the plannable fields of mask A to the bits B,
+;;;     KIND :VALUE sets runtime variable A to B; OP is the op whose end this
+;;;     is, or NIL.
+;;;   (RECORD-OP-PLAYED RECORDER CONTROLLER OP MASK BITS) OP plays from the
+;;;     scheduling clock, which moves to its end, where the plannable fields
+;;;     of MASK become BITS: what an op's procedure does, recorded.
+;;;   (RECORD-MACRO-START RECORDER OP START), (RECORD-MACRO-END RECORDER OP START END)
+(declaim (ftype (function (t keyword t t t t t) t) record-change)
+         (ftype (function (t t t t t) t) record-op-played)
+         (ftype (function (t t t) t) record-macro-start)
+         (ftype (function (t t t t) t) record-macro-end))
 
 (defun spec-of (controller)
   "CONTROLLER's spec."
@@ -75,21 +85,58 @@ OLD and NEW are value indices (plannable) or numbers."
         (dolist (proc (autoscript-procs auto))
           (start-autoscript presenter proc (var-name var) (autoscript-value auto) time))))))
 
+(defstruct (watch (:constructor %make-watch (variable mask offset size by-value)))
+  "A plannable VARIABLE some autoscript watches, as TRANSITION-STATE needs it:
+its one-hot field (MASK, from bit OFFSET, SIZE bits) and, for each value
+index, the autoscripts of that value in spec order (BY-VALUE)."
+  (variable nil)
+  (mask 0 :type integer)
+  (offset 0 :type fixnum)
+  (size 0 :type fixnum)
+  (by-value #() :type simple-vector))
+
+(defun make-watches (machine)
+  "The WATCHes of MACHINE's watched plannable variables, in its order."
+  (let ((autoscripts (spec-autoscripts (machine-spec machine))))
+    (loop for var in (machine-watched-variables machine)
+          collect (let ((by-value (make-array (var-domain-size var) :initial-element '())))
+                    (dolist (auto (reverse autoscripts))
+                      (when (eq (autoscript-variable auto) var)
+                        (push auto (svref by-value (autoscript-value-index auto)))))
+                    (%make-watch var (var-field-mask var) (var-bit-offset var) (var-domain-size var)
+                                 by-value)))))
+
+(defun watch-value-index (watch bits)
+  "The value index WATCH's variable has in state BITS (-1 if its field is empty)."
+  (1- (integer-length (ldb (byte (watch-size watch) (watch-offset watch)) bits))))
+
+(defun notify-watch (controller watch old-bits new-bits time)
+  "WATCH's variable went from its value in OLD-BITS to that in NEW-BITS at
+TIME: stop the old value's autoscripts, then start the new one's (as
+NOTIFY-AUTOSCRIPTS does, from the table)."
+  (let ((presenter (controller-presenter controller))
+        (var (watch-variable watch))
+        (old (watch-value-index watch old-bits))
+        (new (watch-value-index watch new-bits)))
+    (when (>= old 0)
+      (dolist (auto (svref (watch-by-value watch) old))
+        (dolist (proc (autoscript-procs auto))
+          (stop-autoscript presenter proc (var-name var) (autoscript-value auto) time))))
+    (when (>= new 0)
+      (dolist (auto (svref (watch-by-value watch) new))
+        (dolist (proc (autoscript-procs auto))
+          (start-autoscript presenter proc (var-name var) (autoscript-value auto) time))))))
+
 (defun transition-state (controller new-bits time)
   "Make NEW-BITS CONTROLLER's plannable state at TIME, telling autoscripts."
   (let* ((machine (controller-machine controller))
          (old-bits (controller-bits controller))
          (watched (logand (logxor old-bits new-bits) (machine-autoscript-mask machine))))
-    (if (zerop watched)
-        (setf (controller-bits controller) new-bits)
-        (progn
-          (setf (controller-bits controller) new-bits)
-          (dolist (var (machine-watched-variables machine))
-            (unless (zerop (logand watched (var-field-mask var)))
-              (notify-autoscripts controller var
-                                  (1- (integer-length (ldb (byte (var-domain-size var) (var-bit-offset var))
-                                                           old-bits)))
-                                  (value-index-of controller var) time)))))
+    (setf (controller-bits controller) new-bits)
+    (unless (zerop watched)
+      (dolist (watch (machine-watches machine))
+        (when (logtest watched (watch-mask watch))
+          (notify-watch controller watch old-bits new-bits time))))
     new-bits))
 
 (declaim (inline change-state))
@@ -148,6 +195,8 @@ as CHANGE-STATE does."
           (start-autoscript (controller-presenter controller) proc (var-name var)
                             (autoscript-value auto) time))))))
 
+;; Inline: every op of every event runs it, and a call would box END.
+(declaim (inline note-op-end))
 (defun note-op-end (controller end)
   "Advance the scheduling clock to END and extend the running span."
   (setf (controller-schedule controller) end)

@@ -20,7 +20,17 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   ;; controllers on several threads may read it while one adds to it.
   (event-symbols (make-hash-table :test 'eq))
   ;; The goal and op procedure boxes, for closures compiled later (EVENT-SUFFIXES).
-  (procedures nil))
+  (procedures nil)
+  ;; The WATCHes of its watched variables (see TRANSITION-STATE), made once.
+  (watches nil :type list)
+  (watches-made nil :type boolean))
+
+(defun machine-watches (machine)
+  "MACHINE's WATCHes (see TRANSITION-STATE): made once for a compiled machine."
+  (cond ((not (compiled-machine-p machine)) (make-watches machine))
+        ((compiled-machine-watches-made machine) (compiled-machine-watches machine))
+        (t (prog1 (setf (compiled-machine-watches machine) (make-watches machine))
+             (setf (compiled-machine-watches-made machine) t)))))
 
 (defmethod print-object ((machine compiled-machine) stream)
   (print-unreadable-object (machine stream :type t)
@@ -39,7 +49,10 @@ from them the first time."
   (event nil :type event-def)
   (run nil :type function)
   (steps '() :type list)
-  (suffixes nil :type (or null simple-vector)))
+  (suffixes nil :type (or null simple-vector))
+  ;; Does the event run :code of its own: T, NIL, or :UNKNOWN until a timed
+  ;; controller asks (EVENT-RUNS-CODE-P, src/runtime/timeline/footprints.lisp).
+  (runs-code :unknown :type (member t nil :unknown)))
 
 (defun compile-event-suffixes (steps machine)
   "For each top-level step K of STEPS, a closure running the event from K on
@@ -146,12 +159,17 @@ effects. Its precondition is the caller's business."
         (let ((code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
           (lambda (controller)
             (when code (funcall (the function code)))
-            (let* ((start (controller-schedule controller))
-                   (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
-              (note-op-end controller end)
-              (unless (zerop mask)
-                (change-state controller mask bits end op))
-              t))))))
+            (let ((recorder (controller-recorder controller)))
+              (if recorder
+                  ;; A timed controller planning ahead records the op and
+                  ;; its end's change (one plain call, no protocol dispatch).
+                  (record-op-played recorder controller op mask bits)
+                  (let* ((start (controller-schedule controller))
+                         (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
+                    (note-op-end controller end)
+                    (unless (zerop mask)
+                      (change-state controller mask bits end op)))))
+            t)))))
 
 (defun compile-macro-executor (op machine)
   "A macro-op's procedure: run its :SEQ on its own span; then the state is the
@@ -169,7 +187,9 @@ made along the way are internal to the macro)."
                   (outer-start (controller-span-start controller))
                   (outer-end (controller-span-end controller))
                   (before (controller-bits controller)))
-              (present-macro-start presenter op start)
+              (if (controller-recorder controller)
+                  (record-macro-start (controller-recorder controller) op start)
+                  (present-macro-start presenter op start))
               (setf (controller-span-start controller) start
                     (controller-span-end controller) start
                     (controller-active-macros controller)
@@ -181,7 +201,9 @@ made along the way are internal to the macro)."
                       (controller-span-start controller) outer-start
                       (controller-span-end controller) (max outer-end end)
                       (controller-schedule controller) end)
-                (present-macro-end presenter op start end)
+                (if (controller-recorder controller)
+                    (record-macro-end (controller-recorder controller) op start end)
+                    (present-macro-end presenter op start end))
                 (when (eq result t)
                   (change-state-to controller (logior (logandc2 before mask) bits) end op))
                 result)))))))

@@ -161,6 +161,34 @@ OP's declared :channels; a presenter with a script library infers the rest."))
   "A presenter that does nothing, for benchmarks and headless embedding."
   (make-instance 'null-presenter))
 
+(defparameter *quiet-methods*
+  '((present-op null-presenter) (present-macro-start presenter) (present-macro-end presenter)
+    (present-event presenter) (present-resume presenter) (present-failure presenter)
+    (present-state presenter) (present-cut presenter))
+  "(FUNCTION CLASS): the protocol's reports of what a timed controller plays,
+and the class whose method of it, in this file, does nothing (a null
+presenter's PRESENT-OP only answers the declared duration).")
+
+(defun quiet-method-p (function class presenter)
+  "Is the method of FUNCTION specialized on CLASS, in this file, the only one
+that applies to PRESENTER (bar less specific primaries it never calls)?"
+  (let* ((generic (fdefinition function))
+         (arity (length (sb-mop:generic-function-lambda-list generic))))
+    (multiple-value-bind (methods known)
+        (sb-mop:compute-applicable-methods-using-classes
+         generic (cons (class-of presenter) (make-list (1- arity) :initial-element (find-class t))))
+      (and known methods
+           (every (lambda (method) (null (method-qualifiers method))) methods)
+           (eq (first (sb-mop:method-specializers (first methods))) (find-class class))))))
+
+(defun quiet-presenter-p (presenter)
+  "Does PRESENTER do nothing when told that an op starts, a macro begins or
+ends, an event starts, resumes, fails or ends, or an op is cut: do only the
+methods of *QUIET-METHODS* apply to it (a null presenter)?  A timed controller
+then skips telling it (asked once, when the controller is made)."
+  (every (lambda (entry) (quiet-method-p (first entry) (second entry) presenter))
+         *quiet-methods*))
+
 ;;; The trace presenter
 
 (defclass trace-presenter (presenter)

@@ -5,6 +5,9 @@
 
 (in-package #:player)
 
+;; Inline: the recorder makes several items for every event a timed
+;; controller plans.
+(declaim (inline make-agenda-item))
 (defstruct (agenda-item (:constructor make-agenda-item (kind time seq run)))
   "One thing due on a timeline.  KIND says what:
   :OP          play OP from START (to END, which a cut may bring forward)
@@ -34,6 +37,7 @@
 (declaim (inline item-before-p))
 (defun item-before-p (a b)
   "Is item A due before item B: an earlier time, or the same time and made earlier?"
+  (declare (agenda-item a b))
   (let ((ta (agenda-item-time a)) (tb (agenda-item-time b)))
     (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
 
@@ -45,6 +49,7 @@ until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
 
 (defun agenda-push (agenda item)
   "Add ITEM to AGENDA."
+  (declare (agenda agenda) (agenda-item item))
   (let ((items (agenda-items agenda))
         (i (agenda-count agenda)))
     (when (= i (length items))
@@ -61,10 +66,12 @@ until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
 
 (defun agenda-remove-top (agenda)
   "Remove AGENDA's first item."
+  (declare (agenda agenda))
   (let* ((items (agenda-items agenda))
          (count (decf (agenda-count agenda)))
          (last (svref items count))
          (i 0))
+    (declare (fixnum count i))
     (setf (svref items count) nil)
     (when (plusp count)
       (loop (let* ((left (1+ (* 2 i))) (right (1+ left)) (least i) (least-item last))
@@ -76,8 +83,10 @@ until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
               (setf (svref items i) least-item i least)))
       (setf (svref items i) last))))
 
+(declaim (inline agenda-next))
 (defun agenda-next (agenda)
   "AGENDA's first pending item, or NIL; cancelled items on top are discarded."
+  (declare (agenda agenda))
   (loop while (plusp (agenda-count agenda))
         do (let ((top (svref (agenda-items agenda) 0)))
              (if (eq (agenda-item-status top) :cancelled)

@@ -22,7 +22,8 @@
   "The :when-busy policy of compiled event COMPILED on CONTROLLER: WHEN-BUSY
 if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the spec's."
   (if when-busy
-      (or (and (symbolp when-busy) (when-busy-policy when-busy))
+      (or (and (member when-busy *when-busy-policies*) when-busy) ; the keyword itself, without a string compare
+          (and (symbolp when-busy) (when-busy-policy when-busy))
           (argument-fail 'send-event :when-busy when-busy
                          (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
       (event-policy (compiled-event-event compiled) (spec-of controller))))

@@ -44,14 +44,14 @@ point at or after TIME, else its end."
   "The earliest moment from TIME when the ops of earlier, already cut runs that
 meet FOOTPRINT (the interrupting event's) are all over.  RUN's own are cut
 below; runs playing beside it on other channels do not matter."
-  (reduce #'max (timeline-live-ops timeline)
-          :initial-value time
-          :key (lambda (item)
-                 (let ((other (agenda-item-run item)))
-                   (if (and (not (eq other run)) (run-finished other)
-                            (footprints-meet-p footprint (run-footprint* timeline other)))
-                       (agenda-item-end item)
-                       time)))))
+  (let ((settled time))
+    (declare (double-float settled))
+    (dolist (item (timeline-live-ops timeline) settled)
+      (let ((other (agenda-item-run item)))
+        (when (and (> (agenda-item-end item) settled)
+                   (not (eq other run)) (run-finished other)
+                   (footprints-meet-p footprint (run-footprint* timeline other)))
+          (setf settled (agenda-item-end item)))))))
 
 (defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
@@ -65,11 +65,15 @@ of it was left to do)."
         (resume nil)
         (keep '())
         (shown nil)
-        (finishing nil))
+        (finishing nil)
+        (macros nil))
+    (declare (double-float time cut-time))
     (flet ((resume-at (item)
              (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
       ;; Running ops: cut short, or let finish.
       (dolist (item (run-items run))
+        (when (eq (agenda-item-kind item) :macro-end)
+          (setf macros t))
         (when (and (eq (agenda-item-kind item) :op) (eq (agenda-item-status item) :done)
                    (> (agenda-item-end item) time))
           (let ((at (op-cut-time timeline item time)))
@@ -89,7 +93,7 @@ of it was left to do)."
                        (dolist (other (run-items run))
                          (when (eq (agenda-item-owner other) item) (push other keep))))))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
-      (when (find :macro-end (run-items run) :key #'agenda-item-kind)
+      (when macros
         (setf keep (keep-finished-macros run keep cut-time shown)))
       ;; Everything else still pending is cancelled.
       (dolist (item (run-items run))
@@ -98,22 +102,25 @@ of it was left to do)."
             (resume-at item))
           (setf (agenda-item-status item) :cancelled))))
     ;; Close the macros the cut falls in, innermost first.
-    (dolist (item (sort (remove-if-not (lambda (item)
-                                         (and (eq (agenda-item-kind item) :macro-start)
-                                              (eq (agenda-item-status item) :done)
-                                              (agenda-item-owner item)
-                                              (eq (agenda-item-status (agenda-item-owner item)) :cancelled)))
-                                       (run-items run))
-                        #'> :key #'agenda-item-seq))
-      (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time))
-    (if shown
-        (dolist (item (reverse shown))
-          (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by))
-        (present-cut presenter (and finishing (agenda-item-op finishing))
-                     (if finishing (agenda-item-start finishing) time) cut-time by))
+    (dolist (item (and macros
+                       (sort (remove-if-not (lambda (item)
+                                              (and (eq (agenda-item-kind item) :macro-start)
+                                                   (eq (agenda-item-status item) :done)
+                                                   (agenda-item-owner item)
+                                                   (eq (agenda-item-status (agenda-item-owner item)) :cancelled)))
+                                            (run-items run))
+                             #'> :key #'agenda-item-seq)))
+      (unless (timeline-quiet timeline)
+        (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time)))
+    (cond ((timeline-quiet timeline))
+          (shown
+           (dolist (item (reverse shown))
+             (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by)))
+          (t (present-cut presenter (and finishing (agenda-item-op finishing))
+                          (if finishing (agenda-item-start finishing) time) cut-time by)))
     (setf (run-finished run) t
           (run-items run) keep
-          (timeline-runs timeline) (remove run (timeline-runs timeline)))
+          (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
     (values cut-time resume)))
 
 (defun keep-finished-macros (run keep cut-time cut-ops)
@@ -121,7 +128,9 @@ of it was left to do)."
 CUT-TIME with every pending item inside it kept and none of its sub-ops in
 CUT-OPS (the :OP items cut short): its last sub-op runs to its end through the
 cut, so the macro ends then, declared effects and all."
-  (let ((items (sort (copy-list (run-items run)) #'< :key #'agenda-item-seq)))
+  ;; A running run's items are newest first (RECORD-ITEM pushes them as
+  ;; their sequence numbers grow): reversed, they are in SEQ order.
+  (let ((items (reverse (run-items run))))
     (dolist (item items keep)
       (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)
                  (<= (agenda-item-time item) cut-time))

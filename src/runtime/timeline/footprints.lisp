@@ -15,6 +15,10 @@ fields, as a mask; RUNTIME: the runtime variables."
   (fields 0 :type integer)
   (runtime '() :type list))
 
+(defvar *everything-footprint* (make-footprint :all 0 '())
+  "The footprint of an event that meets every other (some op of it on no known
+channel): its variables never matter, so one footprint serves them all.")
+
 (defun footprints-meet-p (a b)
   "Do footprints A and B share a channel or a variable?  An event with no op
 on a known channel (its channels :ALL, or none) meets every other: only two
@@ -33,15 +37,26 @@ them and the fields its precondition and effects mention (worked out once)."
               (cons (op-channel-set (timeline-presenter timeline) op)
                     (op-variable-fields op (spec-of (timeline-controller timeline))))))))
 
+(defun channel-union (a b)
+  "Channel sets A and B together (:ALL when either is)."
+  (cond ((or (eq a :all) (eq b :all)) :all)
+        ((null a) b)
+        ((null b) a)
+        (t (union a b :test #'string=))))
+
 (defun run-footprint-from-items (timeline run)
   "The footprint of RUN as planned: the channels and variables of the ops its
 items play, and the variables its changes set."
   (let ((channels '()) (fields 0) (runtime '()))
     (dolist (item (run-items run))
       (case (agenda-item-kind item)
-        (:op (destructuring-bind (set . op-fields) (op-footprint timeline (agenda-item-op item))
-               (setf channels (if (or (eq set :all) (eq channels :all)) :all (union channels set :test #'string=))
-                     fields (logior fields op-fields))))
+        (:op (let ((footprint (op-footprint timeline (agenda-item-op item))))
+               ;; One op on every channel: the run meets everything, whatever
+               ;; its variables (FOOTPRINTS-MEET-P never looks at them).
+               (when (eq (car footprint) :all)
+                 (return-from run-footprint-from-items *everything-footprint*))
+               (setf channels (channel-union channels (car footprint))
+                     fields (logior fields (cdr footprint)))))
         (:macro-start (setf fields (logior fields (cdr (op-footprint timeline (agenda-item-op item))))))
         (:delta (setf fields (logior fields (agenda-item-a item))))
         (:value (pushnew (agenda-item-a item) runtime))))
@@ -63,3 +78,11 @@ items play, and the variables its changes set."
   "Does EVENT run Lisp of its own (a :code directive)?  Such an event is never
 planned on trial, since planning it runs the code."
   (directives-run-code-p (event-directives event)))
+
+(defun compiled-event-runs-code-p (compiled)
+  "EVENT-RUNS-CODE-P of the event COMPILED, worked out once per compiled event."
+  (let ((known (compiled-event-runs-code compiled)))
+    (if (eq known :unknown)
+        (setf (compiled-event-runs-code compiled)
+              (and (event-runs-code-p (compiled-event-event compiled)) t))
+        known)))

@@ -1,62 +1,99 @@
 ;;;; recorder.lisp -- planning an event ahead.  A timed controller runs an
 ;;;; event's compiled closures at once, as the whole-event API does, but with
-;;;; a RECORDER as presenter: every op, macro span, failure and state change
-;;;; becomes an agenda item due at its time, and nothing reaches the real
-;;;; presenter or the autoscripts until the timeline gets there.
+;;;; a RECORDER in the controller: every op, macro span, failure and state
+;;;; change becomes an agenda item due at its time, and nothing reaches the
+;;;; real presenter or the autoscripts until the timeline gets there.
+;;;;
+;;;; The compiled closures call RECORD-OP-PLAYED, RECORD-MACRO-START,
+;;;; RECORD-MACRO-END and RECORD-CHANGE directly (plain calls, no generic
+;;;; dispatch: they run for every op of every event a timed controller plans).  While an
+;;;; event is planned, the controller's presenter is a RECORDING-PRESENTER
+;;;; that forwards to the recorder, so nothing else that presents then can
+;;;; reach the real presenter either.
 
 (in-package #:player)
 
-(defclass recorder (presenter)
-  ((timeline :initarg :timeline :reader recorder-timeline)
-   (run :initform nil :accessor recorder-run
-        :documentation "The EVENT-RUN being planned.")
-   (last-op :initform nil :accessor recorder-last-op
-            :documentation "The :OP item recorded last, whose end delta comes next.")
-   (last-macro-end :initform nil :accessor recorder-last-macro-end
-                   :documentation "The :MACRO-END item recorded last, whose end delta comes next.")
-   (open-macros :initform '() :accessor recorder-open-macros
-                :documentation "The :MACRO-START items of the macros still running, innermost first."))
-  (:documentation "The presenter of a controller while it plans an event ahead
-(see RECORDER.LISP).  Durations come from the real presenter's PLANNED-OP-DURATION."))
+(defstruct (recorder (:constructor make-recorder (timeline controller)))
+  "What a timeline's planning ahead keeps between the closures' calls."
+  ;; The TIMELINE (defined after this file) and its controller.
+  (timeline nil)
+  (controller nil :type controller)
+  ;; The EVENT-RUN being planned.
+  (run nil)
+  ;; The :OP item recorded last, whose end delta comes next.
+  (last-op nil)
+  ;; The :MACRO-END item recorded last, whose end delta comes next.
+  (last-macro-end nil)
+  ;; The :MACRO-START items of the macros still running, innermost first.
+  (open-macros '() :type list)
+  ;; Does the real presenter answer PLANNED-OP-DURATION with the declared
+  ;; :duration (the default method)?  Then it is not asked for every op.
+  (declared-durations nil :type boolean))
 
+(defun start-recording (recorder run)
+  "Make RECORDER record RUN's items from scratch."
+  (setf (recorder-run recorder) run
+        (recorder-last-op recorder) nil
+        (recorder-last-macro-end recorder) nil
+        (recorder-open-macros recorder) '()))
+
+(declaim (inline record-item))
 (defun record-item (recorder kind time)
   "A new pending item of KIND at TIME for the run RECORDER is planning."
-  (let* ((timeline (recorder-timeline recorder))
-         (run (recorder-run recorder))
-         (item (make-agenda-item kind (to-double time) (incf (timeline-seq timeline)) run)))
-    (setf (agenda-item-step item) (controller-step (timeline-controller timeline)))
+  (let* ((run (recorder-run recorder))
+         (item (make-agenda-item kind (if (typep time 'double-float) time (to-double time))
+                                 (next-seq (recorder-timeline recorder)) run)))
+    (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
     (push item (run-items run))
     item))
 
-(defmethod present-op ((recorder recorder) op start)
-  (let* ((real (controller-presenter* (recorder-timeline recorder)))
-         (duration (to-double (planned-op-duration real op start)))
-         (item (record-item recorder :op start)))
+(declaim (inline planned-duration))
+(defun planned-duration (recorder op start)
+  "How long OP played from START will take, as the real presenter says."
+  (if (recorder-declared-durations recorder)
+      (op-duration op)
+      (to-double (planned-op-duration (controller-presenter* (recorder-timeline recorder)) op start))))
+
+(declaim (inline record-op))
+(defun record-op (recorder op start)
+  "Record OP playing from START; return its duration (what PRESENT-OP would)."
+  (declare (double-float start))
+  (let ((duration (planned-duration recorder op start))
+        (item (record-item recorder :op start)))
+    (declare (double-float duration))
     (setf (agenda-item-op item) op
-          (agenda-item-start item) (to-double start)
-          (agenda-item-end item) (+ (to-double start) duration)
+          (agenda-item-start item) start
+          (agenda-item-end item) (+ start duration)
           (recorder-last-op recorder) item)
     duration))
 
-(defmethod present-macro-start ((recorder recorder) op start)
+(defun record-macro-start (recorder op start)
+  "Record macro-op OP beginning at START."
   (let ((item (record-item recorder :macro-start start)))
     (setf (agenda-item-op item) op (agenda-item-start item) (to-double start))
-    (push item (recorder-open-macros recorder))))
+    (push item (recorder-open-macros recorder))
+    item))
 
-(defmethod present-macro-end ((recorder recorder) op start end)
+(defun record-macro-end (recorder op start end)
+  "Record macro-op OP, begun at START, ending at END."
   (let ((opening (pop (recorder-open-macros recorder)))
         (item (record-item recorder :macro-end end)))
     (setf (agenda-item-op item) op (agenda-item-start item) (to-double start)
           (agenda-item-end item) (to-double end)
           (agenda-item-end opening) (to-double end)
           (agenda-item-owner opening) item
-          (recorder-last-macro-end recorder) item)))
+          (recorder-last-macro-end recorder) item)
+    item))
 
-(defmethod present-failure ((recorder recorder) event goal time)
-  (declare (ignore event))
+(defun record-failure (recorder goal time)
+  "Record that the event could not achieve GOAL at TIME."
   (setf (agenda-item-goal (record-item recorder :fail time)) goal))
 
-(defmethod record-change ((recorder recorder) kind controller time a b op)
+(declaim (inline record-change))
+(defun record-change (recorder kind controller time a b op)
+  "Note a state change due at TIME: KIND :DELTA sets the plannable fields of
+mask A to the bits B, KIND :VALUE sets runtime variable A to B.  OP is the op
+whose end this is, or NIL (see CONTROLLER-STATE.LISP)."
   (declare (ignore controller))
   (let ((item (record-item recorder kind time)))
     (setf (agenda-item-a item) a (agenda-item-b item) b)
@@ -68,3 +105,46 @@
             ((and last-macro-end (eq op (agenda-item-op last-macro-end)))
              (setf (agenda-item-owner item) last-macro-end))))
     item))
+
+(defun record-op-played (recorder controller op mask bits)
+  "What an op's procedure does (COMPILE-EXECUTOR), recorded: OP plays from
+CONTROLLER's scheduling clock, the clock moves to its end, and there the
+plannable fields of MASK (unless 0) become BITS.  In one function, so no time
+is boxed between the steps."
+  (let* ((start (controller-schedule controller))
+         (end (+ start (record-op recorder op start))))
+    (note-op-end controller end)
+    (unless (zerop mask)
+      (record-change recorder :delta controller end mask bits op)
+      (setf (controller-bits controller)
+            (logior (logandc2 (controller-bits controller) mask) bits)))))
+
+(defun declared-durations-p (presenter)
+  "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration:
+is the default method the only one that applies to it?  (Asked when a
+timeline is made: a method defined later is not seen by timelines made before.)"
+  (multiple-value-bind (methods known)
+      (sb-mop:compute-applicable-methods-using-classes
+       #'planned-op-duration (list (class-of presenter) (find-class t) (find-class t)))
+    (and known methods (null (rest methods))
+         (eq (first (sb-mop:method-specializers (first methods))) (find-class 'presenter)))))
+
+;;;# The presenter while an event is planned
+
+(defclass recording-presenter (presenter)
+  ((recorder :initarg :recorder :reader presenter-recorder))
+  (:documentation "The presenter of a controller while it plans an event ahead:
+it forwards to its RECORDER, so what is presented then becomes agenda items."))
+
+(defmethod present-op ((presenter recording-presenter) op start)
+  (record-op (presenter-recorder presenter) op (to-double start)))
+
+(defmethod present-macro-start ((presenter recording-presenter) op start)
+  (record-macro-start (presenter-recorder presenter) op start))
+
+(defmethod present-macro-end ((presenter recording-presenter) op start end)
+  (record-macro-end (presenter-recorder presenter) op start end))
+
+(defmethod present-failure ((presenter recording-presenter) event goal time)
+  (declare (ignore event))
+  (record-failure (presenter-recorder presenter) goal time))

@@ -14,6 +14,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; The controller's own presenter (the controller's slot holds the recorder
   ;; while an event is planned ahead).
   presenter
+  ;; Does that presenter do nothing with op starts, macro spans, event starts
+  ;; and ends, failures and cuts (QUIET-PRESENTER-P)?  Then it is not told.
+  (quiet nil :type boolean)
   (now 0d0 :type double-float)
   (agenda (make-agenda) :type agenda)
   (seq 0 :type fixnum)
@@ -29,6 +32,8 @@ waiting (QUEUE), and its timers and triggers."
   ;; Op -> its interruption points in seconds, sorted.
   (cut-points (make-hash-table :test 'eq) :type hash-table)
   (recorder nil)
+  ;; The presenter forwarding to RECORDER, the controller's while it plans.
+  (recording-presenter nil)
   (timers '() :type list)
   (triggers '() :type list)
   ;; Sends of timers and triggers that went off at NOW, newest first: they are
@@ -64,13 +69,19 @@ triggers or zero-length ops loop, and signals a TIMELINE-ERROR.")
 triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
-          (timeline-recorder timeline) (make-instance 'recorder :timeline timeline)
+          (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
+          (timeline-recorder timeline) (make-recorder timeline controller)
+          (recorder-declared-durations (timeline-recorder timeline))
+          (declared-durations-p (timeline-presenter timeline))
+          (timeline-recording-presenter timeline)
+          (make-instance 'recording-presenter :recorder (timeline-recorder timeline))
           (timeline-scratch-values timeline) (copy-seq (controller-values controller)))
     (resolve-cut-points timeline)
     (start-timers timeline)
     (start-triggers timeline)
     timeline))
 
+(declaim (inline timeline-busy-p))
 (defun timeline-busy-p (timeline)
   "Is an event running (or waiting) on TIMELINE?"
   (or (timeline-runs timeline) (timeline-queue timeline)))
@@ -84,14 +95,17 @@ triggers noting whether their conditions hold now."
 (defun project-state (timeline time)
   "Put into the controller the state it will have at TIME (after NOW): the
 pending state changes due by then, applied without telling anyone."
+  (declare (double-float time))
   (let ((controller (timeline-controller timeline))
+        (agenda (timeline-agenda timeline))
         (due '()))
-    (map-agenda (lambda (item)
-                  (when (and (member (agenda-item-kind item) '(:delta :value))
-                             (<= (agenda-item-time item) time))
-                    (push item due)))
-                (timeline-agenda timeline))
-    (dolist (item (sort due #'item-before-p))
+    (dotimes (i (agenda-count agenda))
+      (let ((item (svref (agenda-items agenda) i)))
+        (when (and (eq (agenda-item-status item) :pending)
+                   (member (agenda-item-kind item) '(:delta :value))
+                   (<= (agenda-item-time item) time))
+          (push item due))))
+    (dolist (item (if (rest due) (sort due #'item-before-p) due))
       (apply-change controller item))))
 
 (defun apply-change (controller item)
@@ -111,12 +125,15 @@ on the agenda.  Returns T, or the FAILURE its plan ran into."
 (defun install-run (timeline run time)
   "RUN, planned ahead from TIME, starts: show it, note its footprint, put its
 items on the agenda."
-  (let ((presenter (timeline-presenter timeline)))
-    (if (run-resumed run)
-        (present-resume presenter (run-name run) time)
-        (present-event presenter (run-name run) time)))
+  (unless (timeline-quiet timeline)
+    (let ((presenter (timeline-presenter timeline)))
+      (if (run-resumed run)
+          (present-resume presenter (run-name run) time)
+          (present-event presenter (run-name run) time))))
   (setf (run-start run) time)
-  (setf (timeline-runs timeline) (append (timeline-runs timeline) (list run)))
+  (setf (timeline-runs timeline) (if (timeline-runs timeline)
+                                     (append (timeline-runs timeline) (list run))
+                                     (list run)))
   (dolist (item (run-items run))
     (agenda-push (timeline-agenda timeline) item)))
 
@@ -134,7 +151,7 @@ trims them)."
   "Plan RUN ahead from TIME to learn its footprint, unless its event runs code
 or a running event meets everything anyway.  Returns the planning result, or
 :UNTRIED; RUN keeps its items and footprint."
-  (if (or (event-runs-code-p (run-event run))
+  (if (or (compiled-event-runs-code-p (run-compiled run))
           (some (lambda (other) (meets-everything-p (run-footprint* timeline other))) (timeline-runs timeline)))
       :untried
       (prog1 (plan-run-ahead timeline run time)
@@ -162,6 +179,7 @@ or a running event meets everything anyway.  Returns the planning result, or
   "Run RUN's compiled event on the controller with the recorder as presenter,
 from the state due at TIME, then put the controller's state back.  The
 recorded items end with a :FAIL (if the plan failed) and the :FINISH."
+  (declare (double-float time))
   (let* ((controller (timeline-controller timeline))
          (recorder (timeline-recorder timeline))
          (bits (controller-bits controller))
@@ -175,11 +193,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                    (replace (timeline-scratch-values timeline) values)))
            (when (> time (timeline-now timeline))
              (project-state timeline time))
-           (setf (recorder-run recorder) run
-                 (recorder-last-op recorder) nil
-                 (recorder-last-macro-end recorder) nil
-                 (recorder-open-macros recorder) '()
-                 (controller-presenter controller) recorder
+           (start-recording recorder run)
+           (setf (controller-presenter controller) (timeline-recording-presenter timeline)
                  (controller-recorder controller) recorder
                  (controller-step controller) (run-first-step run)
                  (controller-schedule controller) time
@@ -192,8 +207,7 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                                                       (run-first-step run)))
                                  controller))
            (unless (eq result t)
-             (setf (agenda-item-goal (record-item recorder :fail (controller-schedule controller)))
-                   (failure-goal-form result)))
+             (record-failure recorder (failure-goal-form result) (controller-schedule controller)))
            (record-item recorder :finish (controller-span-end controller)))
       (setf (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
@@ -249,10 +263,9 @@ result (T or a FAILURE)."
   "RUN arrives at TIME while events it meets play: do what POLICY says."
   (let* ((name (run-name run))
          (met (if (run-footprint run)
-                  (remove-if-not (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))
-                                 (timeline-runs timeline))
+                  (met-runs timeline run)
                   (timeline-runs timeline)))
-         (footprint (or (run-footprint run) (make-footprint :all 0 '()))))
+         (footprint (or (run-footprint run) *everything-footprint*)))
     (forget-plan run)
     (ecase policy
       (:queue
@@ -277,6 +290,21 @@ result (T or a FAILURE)."
          (values (if (eq policy :preempt) :preempted :interleaved)
                  (start-run timeline run cut-time)))))))
 
+(defun met-runs (timeline run)
+  "The running events whose footprints meet planned RUN's, oldest first."
+  (flet ((meets-p (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other))))
+    (let ((runs (timeline-runs timeline)))
+      ;; One event running (the usual case): no new list unless it is left out.
+      (if (null (rest runs))
+          (and runs (meets-p (first runs)) runs)
+          (remove-if-not #'meets-p runs)))))
+
+(defun remove-run (run runs)
+  "RUNS without RUN (a fresh list unless RUN is absent or alone in it)."
+  (if (and (eq (first runs) run) (null (rest runs)))
+      '()
+      (remove run runs)))
+
 (defun resumption (run step)
   "A run that finishes interrupted RUN from its top-level directive STEP."
   (let ((again (make-event-run (run-compiled run) (run-name run) (run-policy run) (run-source run))))
@@ -285,6 +313,18 @@ result (T or a FAILURE)."
     again))
 
 ;;;# Advancing the clock
+
+(declaim (inline note-instant))
+(defun note-instant (timeline time)
+  "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
+  (declare (double-float time))
+  (if (= time (timeline-now timeline))
+      (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
+        (setf (timeline-instant-count timeline) 0)
+        (error 'timeline-error
+               :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
+                                (format-number time) *max-items-per-instant*)))
+      (setf (timeline-instant-count timeline) 0)))
 
 (defun advance-timeline (timeline time &key (dispatch t) until-idle)
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
@@ -295,8 +335,9 @@ UNTIL-IDLE, stop instead at the first instant after which no event runs or
 waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 *FINISH-EVENTS-LIMIT* items if that never comes."
   (let ((agenda (timeline-agenda timeline))
+        (time (if (typep time 'double-float) time (to-double time)))
         (steps 0))
-    (declare (fixnum steps))
+    (declare (fixnum steps) (double-float time))
     (loop
       (let ((item (agenda-next agenda)))
         (cond ((and until-idle (null (timeline-deferred timeline))
@@ -320,21 +361,22 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                (let ((sends (reverse (timeline-deferred timeline))))
                  (setf (timeline-deferred timeline) '())
                  (mapc #'funcall sends)))
-              (t (return))))))
-  (setf (timeline-now timeline) time
-        (timeline-live-ops timeline) (delete-if (lambda (item) (<= (agenda-item-end item) time))
-                                                (timeline-live-ops timeline)))
-  (setf (controller-clock (timeline-controller timeline)) time))
+              (t (return)))))
+    (setf (timeline-now timeline) time)
+    (when (timeline-live-ops timeline)
+      (setf (timeline-live-ops timeline) (forget-ended-ops (timeline-live-ops timeline) time)))
+    (setf (controller-clock (timeline-controller timeline)) time)))
 
-(defun note-instant (timeline time)
-  "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
-  (if (= time (timeline-now timeline))
-      (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
-        (setf (timeline-instant-count timeline) 0)
-        (error 'timeline-error
-               :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
-                                (format-number time) *max-items-per-instant*)))
-      (setf (timeline-instant-count timeline) 0)))
+(defun forget-ended-ops (live-ops time)
+  "LIVE-OPS (destructively) without the :OP items that end by TIME."
+  (declare (double-float time))
+  (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+    (loop while (and live-ops (ended-p (first live-ops)))
+          do (pop live-ops))
+    (loop for cell on live-ops
+          do (loop while (and (rest cell) (ended-p (second cell)))
+                   do (setf (rest cell) (cddr cell))))
+    live-ops))
 
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."
@@ -344,18 +386,27 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
     (ecase (agenda-item-kind item)
       (:op
        (push item (timeline-live-ops timeline))
-       (present-op presenter (agenda-item-op item) (agenda-item-start item)))
+       (unless (timeline-quiet timeline)
+         (present-op presenter (agenda-item-op item) (agenda-item-start item))))
       (:delta
        (transition-state controller (logior (logandc2 (controller-bits controller) (agenda-item-a item))
                                             (agenda-item-b item))
                          time)
-       (check-triggers timeline time))
+       (when (timeline-triggers timeline)
+         (check-triggers timeline time)))
       (:value
        (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time)
-       (check-triggers timeline time))
-      (:macro-start (present-macro-start presenter (agenda-item-op item) (agenda-item-start item)))
-      (:macro-end (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time))
-      (:fail (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time))
+       (when (timeline-triggers timeline)
+         (check-triggers timeline time)))
+      (:macro-start
+       (unless (timeline-quiet timeline)
+         (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
+      (:macro-end
+       (unless (timeline-quiet timeline)
+         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time)))
+      (:fail
+       (unless (timeline-quiet timeline)
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time)))
       (:finish (finish-run timeline (agenda-item-run item) time))
       (:timer (fire-timer timeline (agenda-item-a item) item time)))))
 
@@ -363,8 +414,9 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
   "RUN is over at TIME: show the state, and start the waiting events that no
 running event meets any more, first first."
   (setf (run-finished run) t)
-  (present-state (timeline-presenter timeline) (timeline-controller timeline))
-  (setf (timeline-runs timeline) (remove run (timeline-runs timeline)))
+  (unless (timeline-quiet timeline)
+    (present-state (timeline-presenter timeline) (timeline-controller timeline)))
+  (setf (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
   (start-waiting-runs timeline time))
 
 (defun start-waiting-runs (timeline time)
