@@ -126,16 +126,12 @@ than LIMIT are reachable."
   "Does PLANNER-OP's precondition hold in the one-hot STATE?"
   (some (lambda (cube) (state-in-cube-p state cube)) (planner-op-precondition planner-op)))
 
-(defun bounded-reachable-states (machine limit)
-  "The one-hot states reachable from MACHINE's initial state by ops and by
-events' :add/:sub (as REACHABLE-STATES finds them), ascending by dense number;
-NIL as soon as there are more than LIMIT."
-  (let* ((spec (machine-spec machine))
-         (layout (machine-layout machine))
-         (transitions (append (transition-ops spec) (event-assignment-ops spec)))
-         (initial (machine-initial-state machine))
-         (seen (make-hash-table))
-         (queue (list initial)))
+(defun states-reached (initial transitions limit)
+  "The one-hot states reached from INITIAL by TRANSITIONS (planner ops applied
+where their preconditions hold), INITIAL included, as a hash table whose keys
+they are; NIL as soon as there are more than LIMIT."
+  (let ((seen (make-hash-table))
+        (queue (list initial)))
     (setf (gethash initial seen) t)
     (loop while queue
           do (let ((state (pop queue)))
@@ -144,11 +140,23 @@ NIL as soon as there are more than LIMIT."
                    (let ((next (apply-effects state op)))
                      (unless (gethash next seen)
                        (when (>= (hash-table-count seen) limit)
-                         (return-from bounded-reachable-states nil))
+                         (return-from states-reached nil))
                        (setf (gethash next seen) t)
                        (push next queue)))))))
-    (sort (coerce (hash-table-keys seen) 'simple-vector) #'<
-          :key (lambda (state) (state-to-dense state layout)))))
+    seen))
+
+(defun bounded-reachable-states (machine limit)
+  "The one-hot states reachable from MACHINE's initial state by ops and by
+events' :add/:sub (as REACHABLE-STATES finds them), ascending by dense number;
+NIL as soon as there are more than LIMIT."
+  (let* ((spec (machine-spec machine))
+         (layout (machine-layout machine))
+         (seen (states-reached (machine-initial-state machine)
+                               (append (transition-ops spec) (event-assignment-ops spec))
+                               limit)))
+    (and seen
+         (sort (coerce (hash-table-keys seen) 'simple-vector) #'<
+               :key (lambda (state) (state-to-dense state layout))))))
 
 (defun value-index-in-state (state var)
   "The index of the value plannable VAR has in the one-hot STATE."
