@@ -29,7 +29,8 @@ between one speech and the next."
 (defun speaker-add-line (speaker start duration text who)
   "Remember that WHO said TEXT from START for DURATION seconds; the track is free a pause after."
   (push (list start (+ start duration) text who) (speaker-lines speaker))
-  (setf (speaker-free-at speaker) (+ start duration (speaker-pause speaker)))
+  ;; Rounded up to a hundredth of a second, so the trace's times stay readable.
+  (setf (speaker-free-at speaker) (/ (fceiling (* 100 (+ start duration (speaker-pause speaker)))) 100))
   (+ start duration))
 
 (defun speaker-say (speaker text controller)
