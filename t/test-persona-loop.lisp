@@ -181,3 +181,30 @@ speaker: (VALUES CONVERSATION SPEAKER PERFORMANCE)."
               (is (< 500 (loudness sound (- middle-1 0.2) (+ middle-1 0.2))) "the greeting sounds on the track")
               (is (< 500 (loudness sound start-2 end-2)) "so does the answer")
               (is (< (loudness sound (+ end-1 0.05) (+ end-1 0.35)) 50) "a pause between them")))))))
+
+(test chat-render-speaks-the-replies-into-speech-wav
+  (if (not (espeak-available-p))
+      (skip "libespeak-ng is not installed (Debian libespeak-ng1): chat --render's speech not tested")
+      (let ((out (speech-file "chat-render/")))
+        (multiple-value-bind (text err code)
+            (player-command-with-input (format nil "hi~%") "chat" "specs/peedy-dialogue.lisp"
+                                       "--render" out "--fps" "4" "--size" "64x48")
+          (is (= 0 code) "~A" err)
+          (is (equal '("peedy: \"hi! what would you like to hear?\"") (chat-lines-starting "peedy: " text)))
+          (is (member (format nil "; wrote ~Aspeech.wav" out) (lines text) :test #'string=))
+          (let ((sound (read-wav (format nil "~Aspeech.wav" out))))
+            ;; ev-hello's ops end at 5.5 s; the greeting lasts about 2 s.
+            (is (< 500 (loudness sound 5.7 7.3)) "the greeting is on the track")
+            (is (< 7.6 (sound-duration sound)) "the frames cover the whole greeting"))))))
+
+(test without-espeak-rendering-is-silent-after-one-note
+  (let ((player::*espeak-library-names* '("libespeak-ng-missing-for-a-test.so.1"))
+        (player::*espeak-rate* nil)
+        (player::*loaded-speech-libraries* '()))
+    (let* ((available t)
+           (note (with-output-to-string (*standard-output*)
+                   (setf available (player::speech-available-or-note)))))
+      (is-false available)
+      (is (= 1 (length (lines note))) "~S" note)
+      (is (search "; drawing silently: " note))
+      (is (search "install the Debian package libespeak-ng1" note)))))
