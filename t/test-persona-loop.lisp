@@ -115,7 +115,7 @@ order, each pattern's choice numbered apart so artists and titles vary."
     (check-cli-error 1 "there is no such file"
                      "chat" "specs/peedy-dialogue.lisp" "--wav" (speech-file "no-such-request.wav")))
   (check-cli-error 2 "--video needs --render DIR" "chat" "specs/peedy-dialogue.lisp" "--video" "x.mp4")
-  (check-cli-error 2 "--silent silences --render" "chat" "specs/peedy-dialogue.lisp" "--silent")
+  (check-cli-error 2 "--silent silences --render or --view" "chat" "specs/peedy-dialogue.lisp" "--silent")
   (check-cli-error 2 "it takes neither --wav nor --render" "chat" "specs/peedy-dialogue.lisp" "--view" "--wav" "x.wav")
   (check-cli-error 2 "speak needs a TEXT" "speak" " ")
   (check-cli-error 2 "--rate takes words a minute from 80 to 450" "speak" "hi" "--rate" "20"))
@@ -206,5 +206,5 @@ speaker: (VALUES CONVERSATION SPEAKER PERFORMANCE)."
                    (setf available (player::speech-available-or-note)))))
       (is-false available)
       (is (= 1 (length (lines note))) "~S" note)
-      (is (search "; drawing silently: " note))
+      (is (search "; no speech: " note))
       (is (search "install the Debian package libespeak-ng1" note)))))

@@ -75,10 +75,10 @@ SPEAKER, the request goes on the audio track before Peedy answers."
 
 (defun speech-available-or-note ()
   "Can Peedy speak (libespeak-ng installed)?  When not, print one note saying
-so: the conversation is then drawn silently."
+so: the conversation is then drawn or viewed silently."
   (handler-case (progn (ensure-espeak) t)
     (speech-unavailable (condition)
-      (format t "; drawing silently: ~A~%" (one-line condition))
+      (format t "; no speech: ~A~%" (one-line condition))
       nil)))
 
 (define-command "chat" (file &key initial seed memory user wav render video silent view frames fps size)
@@ -95,7 +95,8 @@ said.  From a pipe, each request is echoed first as `you: TEXT`.  With
 --render, the conversation is played on Peedy's body as it goes: each reply
 is spoken by espeak-ng at the time he says it, his beak in sync, the next
 turn starting once he has finished; the requests heard from --wav are on the
-track too.  Without libespeak-ng it is drawn silently, with a note."
+track too.  With --view he says his replies at once, as they come.  Without
+libespeak-ng it is drawn or viewed silently, after a note."
      :arguments ("DIALOGUE-FILE")
      :options ("--initial"
                ("--seed" :help "the seed of the random source templates and track choices draw from (and of --render's drivers)")
@@ -104,7 +105,7 @@ track too.  Without libespeak-ng it is drawn silently, with a note."
                ("--wav" :names "FILE.wav,..." "instead of standard input, hear these WAV files, a turn each, in order (pocketsphinx, Debian pocketsphinx and pocketsphinx-en-us)")
                ("--render" :string "DIR" "draw the conversation offscreen into DIR at the end, as render does, Peedy's replies in DIR/speech.wav")
                ("--video" :string "FILE.mp4" "with --render, also encode the frames as a video with the sound (ffmpeg)")
-               ("--silent" :help "with --render, Peedy says nothing aloud and his beak stays still (espeak-ng is then not needed)")
+               ("--silent" :help "with --render or --view, Peedy says nothing aloud and his beak stays still (espeak-ng is then not needed)")
                ("--view" :flag "" "play the conversation live in a window, as view does: each typed line is a request (Escape quits)")
                ("--frames" :positive-integer "N" "with --view, stop after N frames")
                ("--fps" :default 24) "--size")
@@ -113,7 +114,8 @@ track too.  Without libespeak-ng it is drawn silently, with a note."
         FILE; with --view, a window")
   (when (and frames (not view)) (usage-fail "--frames counts the frames of --view"))
   (when (and video (not render)) (usage-fail "--video needs --render DIR, where its frames go"))
-  (when (and silent (not render)) (usage-fail "--silent silences --render; without it nothing is spoken aloud"))
+  (when (and silent (not (or render view)))
+    (usage-fail "--silent silences --render or --view; without them nothing is spoken aloud"))
   (when (and view (or wav render))
     (usage-fail "--view plays typed lines live; it takes neither --wav nor --render"))
   (when video (find-ffmpeg))
@@ -126,7 +128,7 @@ track too.  Without libespeak-ng it is drawn silently, with a note."
          ;; Every WAV read and the recogniser found before the first turn: a bad file stops nothing half-done.
          (requests (mapcar (lambda (path) (cons path (read-request-wav path))) wav))
          (grammar (and wav (check-recogniser) (dialogue-jsgf dialogue)))
-         (silent (and render (or silent (not (speech-available-or-note)))))
+         (silent (and (or render view) (or silent (not (speech-available-or-note)))))
          ;; Rendering plays the conversation on a body as it goes, so speech is timed by its clock.
          (presenter (if render
                         (make-body-presenter spec :seed seed :stream *standard-output* :silent silent)
@@ -140,7 +142,7 @@ track too.  Without libespeak-ng it is drawn silently, with a note."
             (display-name (dialogue-name dialogue)) (display-name (spec-name spec))
             (display-name (conversation-state conversation)))
     (with-speaker (speaker)
-      (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames))
+      (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames :silent silent))
             (wav (chat-wavs conversation requests grammar :speaker speaker))
             (t (chat-lines conversation :speaker speaker))))
     (format t "; ~D turn~:P; state ~A, mood ~(~A~)~%" (conversation-turns conversation)
@@ -151,16 +153,21 @@ track too.  Without libespeak-ng it is drawn silently, with a note."
     (when render
       (render-conversation controller speaker :fps fps :size size :out render :video video))))
 
-(defun view-conversation (conversation spec initial &key seed size frames)
+(defun view-conversation (conversation spec initial &key seed size frames silent)
   "Play CONVERSATION live in a window on SPEC's body from INITIAL: each line
 typed at the terminal is a turn, its Player events sent to the viewer's
-(timed) controller at the current playback time."
-  (view-spec spec :initial initial :seed seed :size size :frames frames
-                  :line-handler (lambda (viewer text)
-                                  (setf (conversation-controller conversation) (viewer-controller viewer))
-                                  (format t "you: ~A~%" text)
-                                  (conversation-hear conversation text)
-                                  (finish-output))))
+(timed) controller at the current playback time.  Unless SILENT, Peedy says
+his replies at once, the beak moving, through the viewer's sound."
+  (let ((speaker nil))
+    (view-spec spec :initial initial :seed seed :size size :frames frames :silent silent
+                    :line-handler (lambda (viewer text)
+                                    (setf (conversation-controller conversation) (viewer-controller viewer))
+                                    (unless (or silent speaker)
+                                      (setf speaker (make-speaker (viewer-performance viewer))))
+                                    (format t "you: ~A~%" text)
+                                    (with-speaker (speaker)
+                                      (conversation-hear conversation text))
+                                    (finish-output)))))
 
 (defun render-conversation (controller speaker &key fps size out video)
   "Draw what CONTROLLER's body presenter played in the conversation offscreen

@@ -23,8 +23,10 @@ between one speech and the next."
   (%make-speaker :performance performance :voice voice :rate rate :pause (float pause 1d0)))
 
 (defun speaker-start-time (speaker controller)
-  "When SPEAKER can next speak: CONTROLLER's clock, or later when the track is still busy."
-  (max (float (controller-clock controller) 1d0) (speaker-free-at speaker)))
+  "When SPEAKER can next speak: CONTROLLER's time (an untimed controller's
+clock, which has run to the end of the events sent; a timed one's now), or
+later when the track is still busy."
+  (max (float (controller-time controller) 1d0) (speaker-free-at speaker)))
 
 (defun speaker-add-line (speaker start duration text who)
   "Remember that WHO said TEXT from START for DURATION seconds; the track is free a pause after."
@@ -56,7 +58,7 @@ until it has been heard.  Returns the time it ends."
 turn's animation begins once Peedy has finished talking (a timed controller
 advances there; an untimed one starts its next event there)."
   (let ((free (speaker-free-at speaker)))
-    (when (> free (controller-clock controller))
+    (when (> free (controller-time controller))
       (if (controller-timeline controller)
           (advance controller free)
           (setf (controller-clock controller) free)))
