@@ -28,6 +28,11 @@ member have been PRINTED-LINES (a hash table from member names)."
   (dolist (controller (ensemble-controllers (scene-viewer-ensemble viewer)))
     (advance controller (max (viewer-now viewer) (controller-time controller)))))
 
+(defmethod viewer-clips ((viewer scene-viewer))
+  ;; A scene viewer has no performance of its own: each member has one.
+  (loop for (nil . member) in (scene-simulation-members (scene-viewer-simulation viewer))
+        append (replay-clips (simulation-performance member))))
+
 (defmethod viewer-scene ((viewer scene-viewer) time)
   (simulation-scene-at (scene-viewer-simulation viewer) time))
 
