@@ -35,11 +35,19 @@ demo-cradle: deps
 	bin/player render specs/newtons-cradle.lisp --events ev-lift-two-left --out demo/cradle \
 	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/cradle.mp4)
 
-# Persona's loop on typed text: a scripted conversation with Peedy's CD jukebox
-# (examples/jukebox-conversation.txt) piped into chat, the animation drawn into demo/dialogue/.
+# Persona's loop end to end (examples/jukebox-conversation.txt): espeak-ng says each
+# request into demo/dialogue/request-NN.wav, chat --wav hears them with pocketsphinx,
+# the dialogue manager answers, Peedy's body plays it and he speaks his replies with
+# the beak in sync; drawn into demo/dialogue/ with speech.wav (both voices) and,
+# when ffmpeg is installed, demo/dialogue/conversation.mp4.
 demo-dialogue: deps
+	rm -f demo/dialogue/request-*.wav
+	n=0; while IFS= read -r line; do n=$$((n+1)); \
+	  bin/player speak "$$line" --out "$$(printf 'demo/dialogue/request-%02d.wav' $$n)" || exit 1; \
+	done < examples/jukebox-conversation.txt
 	bin/player chat specs/peedy-dialogue.lisp --seed 1 --fps 12 --render demo/dialogue \
-	  < examples/jukebox-conversation.txt
+	  --wav "$$(ls demo/dialogue/request-*.wav | paste -sd, -)" \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/dialogue/conversation.mp4)
 
 test: deps
 	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \

@@ -238,7 +238,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "jsgf")
                    (:file "parse")
                    (:file "files")
-                   (:file "turns")))
+                   (:file "turns")
+                   ;; The loop closed: replies spoken on the performance, beak in sync.
+                   (:file "speaking")))
      ;; Recorded traces as regression tests: record a scenario, verify a replay.
      (:module "regression"
       :serial t
@@ -266,7 +268,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "view")
                    (:file "record")
                    (:file "verify")
-                   (:file "chat"))))))
+                   (:file "chat")
+                   (:file "speak"))))))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -340,5 +343,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-live-viewer")
                  (:file "test-dialogue")
                  (:file "test-dialogue-errors")
-                 (:file "test-dialogue-cli"))))
+                 (:file "test-dialogue-cli")
+                 (:file "test-persona-loop"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -45,13 +45,13 @@
    #:make-performance #:perform-script #:perform-director #:stop-script-run
    #:performance-frame #:performance-body #:performance-scene
    #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
-   #:simulate #:write-simulation #:map-simulation-frames #:simulation-frame-count
+   #:simulate #:controller-simulation #:write-simulation #:map-simulation-frames #:simulation-frame-count
    #:write-bvh #:write-bvh-file
    ;; Speech: synthesis, sounds, the audio track, recognition
    #:synthesize-speech #:utterance #:utterance-text #:utterance-sound #:utterance-phonemes
    #:utterance-duration #:utterance-visemes #:phoneme-viseme #:*default-voice* #:*default-speech-rate*
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
-   #:performance-say #:performance-clips #:performance-audio #:mix-clips #:make-clip
+   #:performance-say #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
@@ -124,6 +124,8 @@
    #:turn-text #:turn-understood #:turn-event #:turn-slots #:turn-from #:turn-to #:turn-events #:turn-utterances
    #:dialogue-presenter #:present-input #:present-transition #:present-utterance #:*say-function*
    #:text-presenter #:make-text-presenter
+   #:speaker #:make-speaker #:speaker-say #:speaker-listen #:speaker-wait #:speaker-end #:speaker-lines
+   #:speaker-say-function #:with-speaker #:call-with-speaker
    #:define-dialogue-action #:choose-template #:expand-template
    #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
    #:memory-user #:memory-mood #:memory-conversations #:memory-log))

@@ -28,6 +28,11 @@ member have been PRINTED-LINES (a hash table from member names)."
   (dolist (controller (ensemble-controllers (scene-viewer-ensemble viewer)))
     (advance controller (max (viewer-now viewer) (controller-time controller)))))
 
+(defmethod viewer-clips ((viewer scene-viewer))
+  ;; A scene viewer has no performance of its own: each member has one.
+  (loop for (nil . member) in (scene-simulation-members (scene-viewer-simulation viewer))
+        append (replay-clips (simulation-performance member))))
+
 (defmethod viewer-scene ((viewer scene-viewer) time)
   (simulation-scene-at (scene-viewer-simulation viewer) time))
 
@@ -87,10 +92,3 @@ VIEW-SPEC signals."
                                          :keys event-keys :script (sort (copy-list keys) #'< :key #'car)))
                    (lisp-text (cast-name cast)) event-keys
                    :size size :frames frames :screenshot screenshot))))
-
-(defmethod viewer-performances ((viewer scene-viewer))
-  ;; Every member speaks through the one audio device.
-  (loop for performer in (ensemble-performers (scene-viewer-ensemble viewer))
-        for presenter = (controller-presenter (performer-controller performer))
-        when (typep presenter 'body-presenter)
-          collect (presenter-performance presenter)))

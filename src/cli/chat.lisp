@@ -1,7 +1,9 @@
-;;;; chat.lisp -- `player chat`: Persona's loop on typed text.  Each line the
-;;;; user types is matched to an input event, the dialogue takes a transition,
-;;;; Player plays the events it sends and Peedy's words are printed; with
-;;;; --render the whole conversation's animation is drawn at the end.
+;;;; chat.lisp -- `player chat`: Persona's loop.  Each line the user types (or
+;;;; each WAV file pocketsphinx hears, with --wav) is matched to an input event,
+;;;; the dialogue takes a transition, Player plays the events it sends and
+;;;; Peedy's words are printed; with --render the conversation is played on
+;;;; his body as it goes, his replies spoken with the beak in sync, and drawn
+;;;; at the end.
 
 (in-package #:player)
 
@@ -21,9 +23,12 @@
     ;; SBCL answers 1 or 0 (or T or NIL, in some versions).
     (and answer (not (eql answer 0)))))
 
-(defun chat-lines (conversation)
+;;;; Turns from typed lines
+
+(defun chat-lines (conversation &key speaker)
   "Play a turn of CONVERSATION for each line of standard input, until its end or
-a line `quit`.  From a pipe, each line is echoed as `you: TEXT`."
+a line `quit`.  From a pipe, each line is echoed as `you: TEXT`.  With
+SPEAKER, each turn waits until the speech before it has ended."
   (let ((terminal (terminal-input-p)))
     (loop (when terminal (format t "> ") (finish-output))
           (let ((line (read-line *standard-input* nil nil)))
@@ -32,73 +37,149 @@ a line `quit`.  From a pipe, each line is echoed as `you: TEXT`."
               (cond ((string= text ""))
                     ((member text '("quit" "exit" "bye-bye") :test #'string-equal) (return))
                     (t (unless terminal (format t "you: ~A~%" text))
+                       (when speaker (speaker-wait speaker (conversation-controller conversation)))
                        (conversation-hear conversation text)
                        (finish-output))))))))
 
-(define-command "chat" (file &key initial seed memory user render view frames fps size)
-    (:summary "talk to the character: typed requests in; input events, transitions, Player's trace and spoken text out"
+;;;; Turns from spoken requests
+
+(defun read-request-wav (path)
+  "The sound of the WAV file PATH, a spoken request; a SPEECH-ERROR naming it
+when it is unreadable or empty."
+  (let ((sound (read-wav path)))
+    (when (zerop (length (sound-samples sound)))
+      (wav-fail path "it holds no samples"))
+    sound))
+
+(defun check-recogniser ()
+  "Signal SPEECH-UNAVAILABLE, naming the Debian package, unless pocketsphinx and its English model are installed."
+  (load-pocketsphinx-library)
+  (pocketsphinx-model-files)
+  t)
+
+(defun chat-wavs (conversation requests grammar &key speaker)
+  "Play a turn of CONVERSATION for each of REQUESTS, a list of (PATH . SOUND):
+pocketsphinx hears the SOUND against GRAMMAR (JSGF text), `heard: \"...\"` (or
+`heard: nothing`) is printed and the sentence heard is the turn's text.  With
+SPEAKER, the request goes on the audio track before Peedy answers."
+  (loop for (path . sound) in requests
+        for heard = (recognize-sound sound :grammar grammar)
+        do (if heard (format t "heard: ~S~%" heard) (format t "heard: nothing~%"))
+           (when speaker
+             (speaker-wait speaker (conversation-controller conversation))
+             (speaker-listen speaker sound (file-namestring path) (conversation-controller conversation)))
+           (conversation-hear conversation heard)
+           (finish-output)))
+
+;;;; Speech when rendering
+
+(defun speech-available-or-note ()
+  "Can Peedy speak (libespeak-ng installed)?  When not, print one note saying
+so: the conversation is then drawn or viewed silently."
+  (handler-case (progn (ensure-espeak) t)
+    (speech-unavailable (condition)
+      (format t "; no speech: ~A~%" (one-line condition))
+      nil)))
+
+(define-command "chat" (file &key initial seed memory user wav render video silent view frames fps size)
+    (:summary "talk to the character: typed or spoken requests in; input events, transitions, Player's trace and spoken text out"
      :description "Reads one request a line from standard input (a terminal or a pipe) until
-its end or `quit`.  For each, prints `input: EVENT slot=\"value\"...` (with
-`(not understood)` when no utterance pattern matched), `transition: FROM
---EVENT--> TO` (`(no rule)` when none applied), the trace lines of the Player
-events the transition sends, as `run` prints them, and `peedy: \"TEXT\"` for
-each thing said.  From a pipe, each request is echoed first as `you: TEXT`."
+its end or `quit`, or with --wav hears each WAV file with pocketsphinx
+against the JSGF grammar made from the dialogue's utterances, printing
+`heard: \"SENTENCE\"` (or `heard: nothing`, which is not understood).  For
+each request, prints `input: EVENT slot=\"value\"...` (with `(not
+understood)` when no utterance pattern matched), `transition: FROM --EVENT-->
+TO` (`(no rule)` when none applied), the trace lines of the Player events the
+transition sends, as `run` prints them, and `peedy: \"TEXT\"` for each thing
+said.  From a pipe, each request is echoed first as `you: TEXT`.  With
+--render, the conversation is played on Peedy's body as it goes: each reply
+is spoken by espeak-ng at the time he says it, his beak in sync, the next
+turn starting once he has finished; the requests heard from --wav are on the
+track too.  With --view he says his replies at once, as they come.  Without
+libespeak-ng it is drawn or viewed silently, after a note."
      :arguments ("DIALOGUE-FILE")
      :options ("--initial"
                ("--seed" :help "the seed of the random source templates and track choices draw from (and of --render's drivers)")
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
-               ("--render" :string "DIR" "at the end, draw the conversation's Player events offscreen into DIR, as render does")
+               ("--wav" :names "FILE.wav,..." "instead of standard input, hear these WAV files, a turn each, in order (pocketsphinx, Debian pocketsphinx and pocketsphinx-en-us)")
+               ("--render" :string "DIR" "draw the conversation offscreen into DIR at the end, as render does, Peedy's replies in DIR/speech.wav")
+               ("--video" :string "FILE.mp4" "with --render, also encode the frames as a video with the sound (ffmpeg)")
+               ("--silent" :help "with --render or --view, Peedy says nothing aloud and his beak stays still (espeak-ng is then not needed)")
                ("--view" :flag "" "play the conversation live in a window, as view does: each typed line is a request (Escape quits)")
                ("--frames" :positive-integer "N" "with --view, stop after N frames")
                ("--fps" :default 24) "--size")
-     :output "the turns on standard output; with --render, DIR/frame-0001.png ... and
-        DIR/sheet.png; with --memory, FILE; with --view, a window")
+     :output "the turns on standard output; with --render, DIR/frame-0001.png ...,
+        DIR/sheet.png and DIR/speech.wav (and the --video file); with --memory,
+        FILE; with --view, a window")
   (when (and frames (not view)) (usage-fail "--frames counts the frames of --view"))
+  (when (and video (not render)) (usage-fail "--video needs --render DIR, where its frames go"))
+  (when (and silent (not (or render view)))
+    (usage-fail "--silent silences --render or --view; without them nothing is spoken aloud"))
+  (when (and view (or wav render))
+    (usage-fail "--view plays typed lines live; it takes neither --wav nor --render"))
+  (when video (find-ffmpeg))
   (let* ((dialogue (choose-dialogue file))
          (spec (or (dialogue-player-spec dialogue)
                    (error 'player-error-with-message
                           :message (format nil "dialogue ~A names no Player spec: give it (:player SPEC)"
                                            (display-name (dialogue-name dialogue))))))
          (initial (or initial (dialogue-player-initial dialogue)))
-         (controller (make-controller (compile-spec spec) :initial-state initial
-                                                          :presenter (make-trace-presenter :stream *standard-output*)))
+         ;; Every WAV read and the recogniser found before the first turn: a bad file stops nothing half-done.
+         (requests (mapcar (lambda (path) (cons path (read-request-wav path))) wav))
+         (grammar (and wav (check-recogniser) (dialogue-jsgf dialogue)))
+         (silent (and (or render view) (or silent (not (speech-available-or-note)))))
+         ;; Rendering plays the conversation on a body as it goes, so speech is timed by its clock.
+         (presenter (if render
+                        (make-body-presenter spec :seed seed :stream *standard-output* :silent silent)
+                        (make-trace-presenter :stream *standard-output*)))
+         (controller (make-controller (compile-spec spec) :initial-state initial :presenter presenter))
+         (speaker (and render (not silent) (make-speaker (presenter-performance presenter))))
          (remembered (if memory (load-memory memory user) (make-memory :user user)))
          (conversation (make-conversation dialogue :seed seed :memory remembered :controller controller
                                                    :presenter (make-text-presenter))))
     (format t "; ~A: ~A talks to ~A (~A); state ~A~%" (file-namestring file) user
             (display-name (dialogue-name dialogue)) (display-name (spec-name spec))
             (display-name (conversation-state conversation)))
-    (if view
-        (view-conversation conversation spec initial :seed seed :size size :frames frames)
-        (chat-lines conversation))
+    (with-speaker (speaker)
+      (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames :silent silent))
+            (wav (chat-wavs conversation requests grammar :speaker speaker))
+            (t (chat-lines conversation :speaker speaker))))
     (format t "; ~D turn~:P; state ~A, mood ~(~A~)~%" (conversation-turns conversation)
             (display-name (conversation-state conversation)) (memory-mood remembered))
     (when memory
       (save-memory remembered memory)
       (format t "; wrote ~A~%" memory))
     (when render
-      (render-conversation spec initial (reverse (conversation-player-events conversation))
-                           :seed seed :fps fps :size size :out render))))
+      (render-conversation controller speaker :fps fps :size size :out render :video video))))
 
-(defun view-conversation (conversation spec initial &key seed size frames)
+(defun view-conversation (conversation spec initial &key seed size frames silent)
   "Play CONVERSATION live in a window on SPEC's body from INITIAL: each line
 typed at the terminal is a turn, its Player events sent to the viewer's
-(timed) controller at the current playback time."
-  (view-spec spec :initial initial :seed seed :size size :frames frames
-                  :line-handler (lambda (viewer text)
-                                  (setf (conversation-controller conversation) (viewer-controller viewer))
-                                  (format t "you: ~A~%" text)
-                                  (conversation-hear conversation text)
-                                  (finish-output))))
+(timed) controller at the current playback time.  Unless SILENT, Peedy says
+his replies at once, the beak moving, through the viewer's sound."
+  (let ((speaker nil))
+    (view-spec spec :initial initial :seed seed :size size :frames frames :silent silent
+                    :line-handler (lambda (viewer text)
+                                    (setf (conversation-controller conversation) (viewer-controller viewer))
+                                    (unless (or silent speaker)
+                                      (setf speaker (make-speaker (viewer-performance viewer))))
+                                    (format t "you: ~A~%" text)
+                                    (with-speaker (speaker)
+                                      (conversation-hear conversation text))
+                                    (finish-output)))))
 
-(defun render-conversation (spec initial events &key seed fps size out)
-  "Draw EVENTS played on SPEC from INITIAL offscreen into OUT, as `render` does."
-  (if (null events)
-      (format t "; nothing to render: no Player event was sent~%")
-      (let* ((simulation (simulate spec :initial initial :events events :fps fps :seed seed))
-             (paths (render-simulation simulation :out out :size size :fps fps))
-             (frames (butlast paths)))
-        (print-scenario-summary simulation (length frames) fps)
-        (format t "; wrote ~A .. ~A~%; wrote ~A~%" (namestring (first frames))
-                (file-namestring (car (last frames))) (namestring (car (last paths)))))))
+(defun render-conversation (controller speaker &key fps size out video)
+  "Draw what CONTROLLER's body presenter played in the conversation offscreen
+into OUT, as `render` does, to the end of the last Player event or of what
+SPEAKER (or NIL) said, whichever is later; VIDEO as for RENDER-SIMULATION."
+  (let ((end (max (controller-clock controller) (if speaker (speaker-end speaker) 0d0))))
+    (if (zerop end)
+        (format t "; nothing to render: no Player event was sent and nothing was said~%")
+        (let* ((simulation (controller-simulation controller :fps fps :end end))
+               (paths (render-simulation simulation :out out :size size :fps fps :video video))
+               (frames (remove-if-not #'frame-file-p paths)))
+          (print-scenario-summary simulation (length frames) fps)
+          (format t "; wrote ~A .. ~A~%" (namestring (first frames)) (file-namestring (car (last frames))))
+          (dolist (path (remove-if #'frame-file-p paths))
+            (format t "; wrote ~A~%" (namestring path)))))))

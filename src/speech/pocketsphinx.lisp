@@ -74,7 +74,10 @@ Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
   (load-pocketsphinx-library)
   (multiple-value-bind (hmm dict) (pocketsphinx-model-files)
     (%err-set-logfp (cffi:null-pointer))    ; its log is long and says nothing to a user
-    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict)))
+    ;; Dither: synthesised speech and the padding around it hold runs of exact
+    ;; zeros, whose log energy breaks the features ("hello" was heard as "no",
+    ;; "stop" as "hello"); a fixed seed keeps recognition deterministic.
+    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict "-dither" "yes" "-seed" "1")))
            (handle (with-speech-traps-masked (%ps-init config))))
       (when (cffi:null-pointer-p handle)
         (%cmd-ln-free-r config)

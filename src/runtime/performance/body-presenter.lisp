@@ -115,14 +115,16 @@ ARGUMENT-ERROR for an argument of the wrong kind."
                   "NIL or a character's name (a symbol or string)")
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
          (body (or body (spec-body-name spec) *default-body*))
-         (skeleton (character-skeleton body))
+         ;; (:body none): a stand-in skeleton, not drawn (CHARACTER-SKELETON).
+         (skeleton (values (character-skeleton body)))
          (placeholder (not (or scripts (spec-names-scripts-p spec))))
          (library (if placeholder
                       (make-placeholder-library spec skeleton)
                       (spec-script-library spec :scripts scripts)))
          (performance (progn
                         (check-spec-scripts spec library)
-                        (make-performance library (list (list (or name (spec-name spec)) body))
+                        (make-performance library (list (list (or name (spec-name spec))
+                                                              (if (no-body-p body) body skeleton)))
                                           :seed seed :blend-time blend-time :origin origin :silent silent))))
     (when check (check-scripts-play spec performance))
     (make-instance 'body-presenter :stream stream :performance performance

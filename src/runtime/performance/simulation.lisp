@@ -43,6 +43,18 @@ SIMULATION-FRAMES samples it."
     (%make-simulation :controller controller :presenter presenter
                       :end (controller-clock controller) :fps fps)))
 
+(defun controller-simulation (controller &key (fps 30) end)
+  "A SIMULATION of what CONTROLLER (made with a body presenter) has played so
+far, from 0 to END seconds (default: its clock), sampled at FPS: for a caller
+that sent the events itself, as a conversation does, rather than through SIMULATE."
+  (check-argument 'controller-simulation 'controller controller
+                  (lambda (x) (and (controller-p x) (typep (controller-presenter x) 'body-presenter)))
+                  "a controller whose presenter is a body presenter (from make-body-presenter)")
+  (check-fps 'controller-simulation fps)
+  (when end (check-seconds 'controller-simulation :end end :minimum 0))
+  (%make-simulation :controller controller :presenter (controller-presenter controller)
+                    :end (float (or end (controller-clock controller)) 1d0) :fps fps))
+
 (defun simulation-performance (simulation)
   "The performance SIMULATION's presenter played."
   (presenter-performance (simulation-presenter simulation)))

@@ -60,6 +60,28 @@ Signals what SYNTHESIZE-SPEECH signals."
                             (make-script-run script (float at 1d0) nil
                                              (or body (performance-character performance)) nil)))))
 
+;;;# Playing a sound on a running performance
+
+(defun performance-play-sound (performance sound &key (at 0) label body)
+  "Put SOUND (a SOUND, as READ-WAV gives) on PERFORMANCE's audio track at AT
+seconds, as a :sound item does; LABEL (a string or pathname, default
+\"sound\") says what it is.  BODY as for PERFORMANCE-SAY.  Returns the seconds
+SOUND lasts (0 when PERFORMANCE is silent).  What a dialogue puts on the
+track for the user's spoken request."
+  (check-argument 'performance-play-sound 'performance performance #'performance-p "a performance (from make-performance)")
+  (check-argument 'performance-play-sound 'sound sound #'sound-p "a sound (from read-wav or synthesize-speech)")
+  (check-seconds 'performance-play-sound :at at :minimum 0)
+  (when body (check-body-name 'performance-play-sound performance body))
+  (let* ((duration (if (performance-silent performance) 0d0 (sound-duration sound)))
+         (item (make-sound-item :at 0d0 :form (list :at 0 :sound (princ-to-string (or label "sound")))
+                                :path (pathname (or label "sound")) :sound sound))
+         ;; A script as long as the sound, so the replay keeps the run until it is heard.
+         (script (%make-script :name (make-symbol "SOUND") :duration duration :items (list item)
+                               :form (list :sound (princ-to-string (or label "sound"))))))
+    (add-script-run performance (make-script-run script (float at 1d0) nil
+                                                 (or body (performance-character performance)) nil))
+    duration))
+
 ;;;# The audio track
 
 (defun performance-clips (performance &optional end)

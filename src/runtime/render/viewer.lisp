@@ -226,15 +226,16 @@ event's key from the map works too.  Never blocks."
   (fit-renderer viewer)
   (render-scene (viewer-renderer viewer) (viewer-scene viewer (viewer-now viewer))))
 
-(defgeneric viewer-performances (viewer)
-  (:documentation "The performances VIEWER shows (a scene's viewer shows several).")
-  (:method (viewer) (list (viewer-performance viewer))))
+(defgeneric viewer-clips (viewer)
+  (:documentation "The audio clips VIEWER's performance has started so far.  A
+viewer of several characters (src/cast/) gathers every member's.")
+  (:method ((viewer viewer))
+    (replay-clips (viewer-performance viewer))))
 
 (defun play-new-clips (viewer)
   "Play the audio clips the performance has started since the last frame; when
 the machine cannot play sound, say so once (the first time something sounds)."
-  (dolist (clip (loop for performance in (viewer-performances viewer)
-                      append (replay-clips performance)))
+  (dolist (clip (viewer-clips viewer))
     (unless (gethash clip (viewer-clips-played viewer))
       (setf (gethash clip (viewer-clips-played viewer)) t)
       (let ((problem (audio-playback-problem)))
