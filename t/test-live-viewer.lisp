@@ -77,7 +77,11 @@ output and error going to out.txt and err.txt there; returns the process."
 
 (defparameter *view-session-script*
   '((in-package :player)
-    (defun check (name value) (format t "~&CHECK ~A ~S~%" name value) (finish-output))
+    ;; Its own file, not standard output: the viewer's thread writes there too,
+    ;; and SBCL's fd-streams are not safe to share between threads.
+    (defun check (name value)
+      (with-open-file (stream :checks-file :direction :output :if-exists :append :if-does-not-exist :create)
+        (format stream "CHECK ~A ~S~%" name value)))
     (load-spec (second sb-ext:*posix-argv*))
     (defparameter *v* (view 'player-user::anim :size '(160 120)))
     (check "returned-running" (view-running-p *v*))
@@ -111,7 +115,9 @@ output and error going to out.txt and err.txt there; returns the process."
       (with-open-file (stream script :direction :output)
         (with-standard-io-syntax
           (let ((*package* (find-package :player-tests)))
-            (dolist (form *view-session-script*) (print form stream)))))
+            (dolist (form (subst (namestring (merge-pathnames "checks.txt" directory)) :checks-file
+                                 *view-session-script*))
+              (print form stream)))))
       (unwind-protect
            (let* ((process (start-windowed
                             "sbcl" (list "--noinform" "--non-interactive" "--no-userinit"
@@ -122,7 +128,7 @@ output and error going to out.txt and err.txt there; returns the process."
                                          (fixture "anim.lisp"))
                             directory))
                   (code (finish-windowed process :timeout 120))
-                  (checks (loop for line in (lines (file-text (merge-pathnames "out.txt" directory)))
+                  (checks (loop for line in (lines (file-text (merge-pathnames "checks.txt" directory)))
                                 when (eql 0 (search "CHECK " line))
                                   collect (let ((space (position #\Space line :start 6)))
                                             (cons (subseq line 6 space) (subseq line (1+ space)))))))
