@@ -99,12 +99,11 @@ pending state changes due by then, applied without telling anyone."
   (let ((controller (timeline-controller timeline))
         (agenda (timeline-agenda timeline))
         (due '()))
-    (dotimes (i (agenda-count agenda))
-      (let ((item (svref (agenda-items agenda) i)))
-        (when (and (eq (agenda-item-status item) :pending)
-                   (member (agenda-item-kind item) '(:delta :value))
-                   (<= (agenda-item-time item) time))
-          (push item due))))
+    (map-agenda (lambda (item)
+                  (when (and (member (agenda-item-kind item) '(:delta :value))
+                             (<= (agenda-item-time item) time))
+                    (push item due)))
+                agenda)
     (dolist (item (if (rest due) (sort due #'item-before-p) due))
       (apply-change controller item))))
 
@@ -134,8 +133,9 @@ items on the agenda."
   (setf (timeline-runs timeline) (if (timeline-runs timeline)
                                      (append (timeline-runs timeline) (list run))
                                      (list run)))
-  (dolist (item (run-items run))
-    (agenda-push (timeline-agenda timeline) item)))
+  (let ((first (order-run-items run)))
+    (when first
+      (agenda-push (timeline-agenda timeline) first))))
 
 (defun planned-footprint (timeline run)
   "The footprint of RUN, planned ahead."
@@ -352,7 +352,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                  (error 'timeline-error
                         :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
                                          (format-number (timeline-now timeline)) *finish-events-limit*)))
-               (agenda-remove-top agenda)
+               (agenda-pop agenda item)
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)
                      (agenda-item-status item) :done)
