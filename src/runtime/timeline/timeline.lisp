@@ -190,7 +190,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
          (progn
            (when (plusp (length values))
              (setf (controller-values controller)
-                   (replace (timeline-scratch-values timeline) values)))
+                   (replace (the simple-vector (timeline-scratch-values timeline))
+                            (the simple-vector values))))
            (when (> time (timeline-now timeline))
              (project-state timeline time))
            (start-recording recorder run)
@@ -243,7 +244,8 @@ on trial; if its footprint meets no running event's it starts now, beside any
 others; else POLICY decides against those it meets.  Returns the disposition
 (:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the planning
 result (T or a FAILURE)."
-  (note-event-for-timers timeline compiled source time)
+  (when (timeline-timers timeline)
+    (note-event-for-timers timeline compiled source time))
   (let ((run (make-event-run compiled name policy source)))
     (if (null (timeline-runs timeline))
         (values :started (start-run timeline run time))
