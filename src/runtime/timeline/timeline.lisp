@@ -17,6 +17,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; Does that presenter do nothing with op starts, macro spans, event starts
   ;; and ends, failures and cuts (QUIET-PRESENTER-P)?  Then it is not told.
   (quiet nil :type boolean)
+  ;; Does it do nothing when autoscripts start and stop (QUIET-AUTOSCRIPTS-P)?
+  ;; Then a state change due is applied without looking for autoscripts.
+  (quiet-autoscripts nil :type boolean)
   (now 0d0 :type double-float)
   (agenda (make-agenda) :type agenda)
   (seq 0 :type fixnum)
@@ -70,6 +73,7 @@ triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
           (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
+          (timeline-quiet-autoscripts timeline) (quiet-autoscripts-p (timeline-presenter timeline))
           (timeline-recorder timeline) (make-recorder timeline controller)
           (recorder-declared-durations (timeline-recorder timeline))
           (declared-durations-p (timeline-presenter timeline))
@@ -391,13 +395,17 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
        (unless (timeline-quiet timeline)
          (present-op presenter (agenda-item-op item) (agenda-item-start item))))
       (:delta
-       (transition-state controller (logior (logandc2 (controller-bits controller) (agenda-item-a item))
-                                            (agenda-item-b item))
-                         time)
+       (let ((bits (logior (logandc2 (controller-bits controller) (agenda-item-a item))
+                           (agenda-item-b item))))
+         (if (timeline-quiet-autoscripts timeline)
+             (setf (controller-bits controller) bits)
+             (transition-state controller bits time)))
        (when (timeline-triggers timeline)
          (check-triggers timeline time)))
       (:value
-       (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time)
+       (if (timeline-quiet-autoscripts timeline)
+           (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
+           (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time))
        (when (timeline-triggers timeline)
          (check-triggers timeline time)))
       (:macro-start
