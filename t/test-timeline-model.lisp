@@ -245,8 +245,10 @@ changes are internal), as without the cut."
 ;;; does not ask a presenter that keeps the default PLANNED-OP-DURATION for
 ;;; each op's duration (DECLARED-DURATIONS-P), and does not tell a quiet
 ;;; presenter (QUIET-PRESENTER-P: a null presenter) of op starts, macro spans,
-;;; event starts and ends, failures and cuts.  A presenter with a method of
-;;; its own for one of those takes the general path.
+;;; event starts and ends, failures and cuts; nor does it look for the
+;;; autoscripts of a state change when the presenter ignores them
+;;; (QUIET-AUTOSCRIPTS-P).  A presenter with a method of its own for one of
+;;; those takes the general path.
 
 (defclass tm-asked-durations-presenter (trace-presenter) ()
   (:documentation "A trace presenter with a PLANNED-OP-DURATION of its own (the
@@ -306,7 +308,10 @@ Returns a second value: the number of lines the quiet log holds."
                         ((not (equal (cdr (tm-play-summary (play quiet))) (cdr (tm-play-summary (play told)))))
                          "quiet presenter: answers, checkpoints or end state differ from a presenter told everything")
                         ((not (equal (tm-log-lines quiet) (tm-log-lines told)))
-                         "quiet presenter: autoscripts, timers or triggers differ from a presenter told everything"))
+                         "quiet presenter: autoscripts, timers or triggers differ from a presenter told everything")
+                        ((not (equal (cdr (tm-play-summary (play (make-null-presenter))))
+                                     (cdr (tm-play-summary (play told)))))
+                         "null presenter (autoscripts not looked for): answers, checkpoints or end state differ from a presenter told everything"))
                   (length (tm-log-lines quiet)))))))
       (remove-spec name))))
 
@@ -320,6 +325,9 @@ takes its fast paths (durations not asked, a quiet presenter not told)."
   (is (player::quiet-presenter-p (make-instance 'tm-quiet-log-presenter)))
   (is (not (player::quiet-presenter-p (make-instance 'tm-told-log-presenter))))
   (is (not (player::quiet-presenter-p (make-trace-presenter))))
+  (is (player::quiet-autoscripts-p (make-null-presenter)))
+  (is (not (player::quiet-autoscripts-p (make-instance 'tm-quiet-log-presenter))))
+  (is (not (player::quiet-autoscripts-p (make-trace-presenter))))
   (let ((problems '()) (logged 0))
     (dolist (seed (subseq *tm-spec-seeds* 0 80))
       (loop for stream from 1 to 2

@@ -119,6 +119,7 @@ planned machine's spec, of a spec, or of a spec's name."
   (reduce (lambda (step next) (compile-step step next machine))
           steps :from-end t :initial-value final))
 
+(declaim (inline call-box))
 (defun call-box (box controller)
   "Run the procedure in BOX on CONTROLLER."
   (funcall (the function (car box)) controller))

@@ -131,7 +131,9 @@ NIL GOAL) when it started at once and its plan failed.
 CONTROLLER may also be an EVENT-TARGET, such as the VIEWER-SESSION of VIEW:
 the event is then sent to the controller it stands for, at the viewer's
 playback time unless AT is given."
-  (when (typep controller 'event-target)
+  ;; A controller is asked about first: the class test for a target costs
+  ;; more than the structure test, and controllers are the usual case.
+  (when (and (not (controller-p controller)) (typep controller 'event-target))
     (return-from send-event (target-send-event controller event at when-busy)))
   (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")
   (when (controller-timeline controller)

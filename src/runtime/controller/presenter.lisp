@@ -189,6 +189,14 @@ then skips telling it (asked once, when the controller is made)."
   (every (lambda (entry) (quiet-method-p (first entry) (second entry) presenter))
          *quiet-methods*))
 
+(defun quiet-autoscripts-p (presenter)
+  "Does PRESENTER do nothing when autoscripts start and stop: do only the base
+class's empty methods of START-AUTOSCRIPT and STOP-AUTOSCRIPT apply to it?  A
+timed controller then applies state changes without looking for autoscripts
+(asked once, when the controller is made)."
+  (and (quiet-method-p 'start-autoscript 'presenter presenter)
+       (quiet-method-p 'stop-autoscript 'presenter presenter)))
+
 ;;; The trace presenter
 
 (defclass trace-presenter (presenter)

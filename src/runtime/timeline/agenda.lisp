@@ -42,8 +42,10 @@
     (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
 
 (defstruct (agenda (:constructor make-agenda ()))
-  "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  Cancelled items stay
-until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
+  "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  An event's items are
+not all on it: each run feeds it its next item only (RUNS.LISP).  Cancelled
+items stay until they reach the top, where AGENDA-NEXT skips them (cancelling
+is O(1))."
   (items (make-array 64) :type simple-vector)
   (count 0 :type fixnum))
 
@@ -64,40 +66,36 @@ until they reach the top, where AGENDA-POP skips them (cancelling is O(1))."
     (incf (agenda-count agenda))
     item))
 
+(declaim (inline sift-down))
+(defun sift-down (items count i item)
+  "Put ITEM at hole I of heap ITEMS (COUNT long), moving earlier children up."
+  (declare (simple-vector items) (fixnum count i) (agenda-item item))
+  (loop (let* ((left (1+ (* 2 i))) (right (1+ left)) (least i) (least-item item))
+          (declare (fixnum left right least))
+          (when (and (< left count) (item-before-p (svref items left) least-item))
+            (setf least left least-item (svref items left)))
+          (when (and (< right count) (item-before-p (svref items right) least-item))
+            (setf least right least-item (svref items right)))
+          (when (= least i) (return))
+          (setf (svref items i) least-item i least)))
+  (setf (svref items i) item))
+
 (defun agenda-remove-top (agenda)
   "Remove AGENDA's first item."
   (declare (agenda agenda))
   (let* ((items (agenda-items agenda))
          (count (decf (agenda-count agenda)))
-         (last (svref items count))
-         (i 0))
-    (declare (fixnum count i))
+         (last (svref items count)))
+    (declare (fixnum count))
     (setf (svref items count) nil)
     (when (plusp count)
-      (loop (let* ((left (1+ (* 2 i))) (right (1+ left)) (least i) (least-item last))
-              (when (and (< left count) (item-before-p (svref items left) least-item))
-                (setf least left least-item (svref items left)))
-              (when (and (< right count) (item-before-p (svref items right) least-item))
-                (setf least right least-item (svref items right)))
-              (when (= least i) (return))
-              (setf (svref items i) least-item i least)))
-      (setf (svref items i) last))))
+      (sift-down items count 0 last))))
 
-(declaim (inline agenda-next))
-(defun agenda-next (agenda)
-  "AGENDA's first pending item, or NIL; cancelled items on top are discarded."
-  (declare (agenda agenda))
-  (loop while (plusp (agenda-count agenda))
-        do (let ((top (svref (agenda-items agenda) 0)))
-             (if (eq (agenda-item-status top) :cancelled)
-                 (agenda-remove-top agenda)
-                 (return top)))))
-
-(defun map-agenda (function agenda)
-  "Call FUNCTION on each pending item of AGENDA, in no particular order."
-  (loop for i below (agenda-count agenda)
-        for item = (svref (agenda-items agenda) i)
-        when (eq (agenda-item-status item) :pending) do (funcall function item)))
+(defun agenda-replace-top (agenda item)
+  "Put ITEM in place of AGENDA's first item: one sift down, where removing the
+first and pushing ITEM would take two."
+  (declare (agenda agenda) (agenda-item item))
+  (sift-down (agenda-items agenda) (agenda-count agenda) 0 item))
 
 (defun agenda-clear (agenda)
   "Forget every item of AGENDA."

@@ -53,6 +53,18 @@ below; runs playing beside it on other channels do not matter."
                    (footprints-meet-p footprint (run-footprint* timeline other)))
           (setf settled (agenda-item-end item)))))))
 
+(defun running-ops (run time)
+  "The :OP items of RUN presented and still playing at TIME, newest first, and
+whether RUN has a macro-op."
+  ;; Newest first as before the run fed the agenda lazily (RUN-ITEMS was then
+  ;; newest first): the cut state changes get their sequence numbers in that order.
+  (let ((running '()) (macros nil))
+    (dolist (item (run-items run) (values running macros))
+      (case (agenda-item-kind item)
+        (:macro-end (setf macros t))
+        (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
+               (push item running)))))))
+
 (defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
 interruption points, cancel the rest of it.  Returns the time the new event
@@ -70,12 +82,10 @@ of it was left to do)."
     (declare (double-float time cut-time))
     (flet ((resume-at (item)
              (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
-      ;; Running ops: cut short, or let finish.
-      (dolist (item (run-items run))
-        (when (eq (agenda-item-kind item) :macro-end)
-          (setf macros t))
-        (when (and (eq (agenda-item-kind item) :op) (eq (agenda-item-status item) :done)
-                   (> (agenda-item-end item) time))
+      ;; Running ops: cut short, or let finish, newest first.
+      (multiple-value-bind (running has-macros) (running-ops run time)
+        (setf macros has-macros)
+        (dolist (item running)
           (let ((at (op-cut-time timeline item time)))
             (setf cut-time (max cut-time at))
             (if (< at (agenda-item-end item))
@@ -128,9 +138,8 @@ of it was left to do)."
 CUT-TIME with every pending item inside it kept and none of its sub-ops in
 CUT-OPS (the :OP items cut short): its last sub-op runs to its end through the
 cut, so the macro ends then, declared effects and all."
-  ;; A running run's items are newest first (RECORD-ITEM pushes them as
-  ;; their sequence numbers grow): reversed, they are in SEQ order.
-  (let ((items (reverse (run-items run))))
+  ;; A running run's items are in SEQ order (ORDER-RUN-ITEMS).
+  (let ((items (run-items run)))
     (dolist (item items keep)
       (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)
                  (<= (agenda-item-time item) cut-time))

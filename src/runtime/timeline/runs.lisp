@@ -1,5 +1,9 @@
 ;;;; runs.lisp -- one event played on a timeline: what it was, under which
-;;;; policy it came, and the items it planned ahead.
+;;;; policy it came, and the items it planned ahead.  A run feeds the agenda
+;;;; its items one at a time, in time order: only its next item is on the
+;;;; heap, and the one after takes its place when it comes up.  So the heap
+;;;; stays a few items deep, and the items a cut cancels are mostly never
+;;;; pushed or popped at all.
 
 (in-package #:player)
 
@@ -14,8 +18,12 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (first-step 0 :type fixnum)
   (resumed nil :type boolean)
   (start 0d0 :type double-float)
-  ;; The run's AGENDA-ITEMs, newest first.
+  ;; The run's AGENDA-ITEMs: newest first while it is planned, oldest first
+  ;; (in SEQ order) once it is installed (ORDER-RUN-ITEMS).
   (items '() :type list)
+  ;; Its items not yet taken off the agenda, in (TIME, SEQ) order; the first
+  ;; is on the agenda, the others wait their turn (FEED-NEXT-ITEM).
+  (pending '() :type list)
   ;; What the event may touch (FOOTPRINTS.LISP).
   (footprint nil)
   (finished nil :type boolean))
@@ -28,3 +36,63 @@ directive it starts from (above 0 when it resumes an interrupted run)."
 (defun run-event (run)
   "The EVENT-DEF RUN plays."
   (compiled-event-event (run-compiled run)))
+
+;;;# Feeding the agenda one item per run
+
+(defun order-run-items (run)
+  "Put planned RUN's items in SEQ order and its pending items in (TIME, SEQ)
+order; return the first of those.  They are usually the same order: only a
+:time directive moving the clock back makes an item due before older ones."
+  (let ((items (setf (run-items run) (nreverse (run-items run)))))
+    (setf (run-pending run)
+          (if (loop for (a b) on items while b always (item-before-p a b))
+              items
+              (sort (copy-list items) #'item-before-p)))
+    (first (run-pending run))))
+
+(defun feed-next-item (run)
+  "RUN's first pending item comes off the agenda: drop it, and the cancelled
+items after it, from RUN's pending items; return the next pending one or NIL."
+  (let ((rest (rest (run-pending run))))
+    (loop while (and rest (eq (agenda-item-status (first rest)) :cancelled))
+          do (setf rest (rest rest)))
+    (setf (run-pending run) rest)
+    (first rest)))
+
+(declaim (inline run-head-p))
+(defun run-head-p (item)
+  "Is ITEM the one its run has on the agenda (not an item pushed on its own:
+a timer, a cut's state change)?"
+  (let ((run (agenda-item-run item)))
+    (and run (eq (first (run-pending run)) item))))
+
+(defun agenda-pop (agenda item)
+  "Take ITEM, AGENDA's first, off it; its run's next pending item, if it has
+one, takes its place."
+  (declare (agenda agenda) (agenda-item item))
+  (let ((next (and (run-head-p item) (feed-next-item (agenda-item-run item)))))
+    (if next
+        (agenda-replace-top agenda next)
+        (agenda-remove-top agenda))))
+
+(declaim (inline agenda-next))
+(defun agenda-next (agenda)
+  "AGENDA's first pending item, or NIL; cancelled items on top are discarded."
+  (declare (agenda agenda))
+  (loop while (plusp (agenda-count agenda))
+        do (let ((top (svref (agenda-items agenda) 0)))
+             (if (eq (agenda-item-status top) :cancelled)
+                 (agenda-pop agenda top)
+                 (return top)))))
+
+;; Inline, so PROJECT-STATE's function is not made as a closure on the heap.
+(declaim (inline map-agenda))
+(defun map-agenda (function agenda)
+  "Call FUNCTION on each pending item due on AGENDA (those its runs have not
+fed it yet included), in no particular order."
+  (dotimes (i (agenda-count agenda))
+    (let ((item (svref (agenda-items agenda) i)))
+      (if (run-head-p item)
+          (dolist (pending (run-pending (agenda-item-run item)))
+            (when (eq (agenda-item-status pending) :pending) (funcall function pending)))
+          (when (eq (agenda-item-status item) :pending) (funcall function item))))))

@@ -17,6 +17,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; Does that presenter do nothing with op starts, macro spans, event starts
   ;; and ends, failures and cuts (QUIET-PRESENTER-P)?  Then it is not told.
   (quiet nil :type boolean)
+  ;; Does it do nothing when autoscripts start and stop (QUIET-AUTOSCRIPTS-P)?
+  ;; Then a state change due is applied without looking for autoscripts.
+  (quiet-autoscripts nil :type boolean)
   (now 0d0 :type double-float)
   (agenda (make-agenda) :type agenda)
   (seq 0 :type fixnum)
@@ -70,6 +73,7 @@ triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
           (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
+          (timeline-quiet-autoscripts timeline) (quiet-autoscripts-p (timeline-presenter timeline))
           (timeline-recorder timeline) (make-recorder timeline controller)
           (recorder-declared-durations (timeline-recorder timeline))
           (declared-durations-p (timeline-presenter timeline))
@@ -99,12 +103,11 @@ pending state changes due by then, applied without telling anyone."
   (let ((controller (timeline-controller timeline))
         (agenda (timeline-agenda timeline))
         (due '()))
-    (dotimes (i (agenda-count agenda))
-      (let ((item (svref (agenda-items agenda) i)))
-        (when (and (eq (agenda-item-status item) :pending)
-                   (member (agenda-item-kind item) '(:delta :value))
-                   (<= (agenda-item-time item) time))
-          (push item due))))
+    (map-agenda (lambda (item)
+                  (when (and (member (agenda-item-kind item) '(:delta :value))
+                             (<= (agenda-item-time item) time))
+                    (push item due)))
+                agenda)
     (dolist (item (if (rest due) (sort due #'item-before-p) due))
       (apply-change controller item))))
 
@@ -134,8 +137,9 @@ items on the agenda."
   (setf (timeline-runs timeline) (if (timeline-runs timeline)
                                      (append (timeline-runs timeline) (list run))
                                      (list run)))
-  (dolist (item (run-items run))
-    (agenda-push (timeline-agenda timeline) item)))
+  (let ((first (order-run-items run)))
+    (when first
+      (agenda-push (timeline-agenda timeline) first))))
 
 (defun planned-footprint (timeline run)
   "The footprint of RUN, planned ahead."
@@ -190,7 +194,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
          (progn
            (when (plusp (length values))
              (setf (controller-values controller)
-                   (replace (timeline-scratch-values timeline) values)))
+                   (replace (the simple-vector (timeline-scratch-values timeline))
+                            (the simple-vector values))))
            (when (> time (timeline-now timeline))
              (project-state timeline time))
            (start-recording recorder run)
@@ -243,7 +248,8 @@ on trial; if its footprint meets no running event's it starts now, beside any
 others; else POLICY decides against those it meets.  Returns the disposition
 (:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the planning
 result (T or a FAILURE)."
-  (note-event-for-timers timeline compiled source time)
+  (when (timeline-timers timeline)
+    (note-event-for-timers timeline compiled source time))
   (let ((run (make-event-run compiled name policy source)))
     (if (null (timeline-runs timeline))
         (values :started (start-run timeline run time))
@@ -352,7 +358,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                  (error 'timeline-error
                         :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
                                          (format-number (timeline-now timeline)) *finish-events-limit*)))
-               (agenda-remove-top agenda)
+               (agenda-pop agenda item)
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)
                      (agenda-item-status item) :done)
@@ -389,13 +395,17 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
        (unless (timeline-quiet timeline)
          (present-op presenter (agenda-item-op item) (agenda-item-start item))))
       (:delta
-       (transition-state controller (logior (logandc2 (controller-bits controller) (agenda-item-a item))
-                                            (agenda-item-b item))
-                         time)
+       (let ((bits (logior (logandc2 (controller-bits controller) (agenda-item-a item))
+                           (agenda-item-b item))))
+         (if (timeline-quiet-autoscripts timeline)
+             (setf (controller-bits controller) bits)
+             (transition-state controller bits time)))
        (when (timeline-triggers timeline)
          (check-triggers timeline time)))
       (:value
-       (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time)
+       (if (timeline-quiet-autoscripts timeline)
+           (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
+           (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time))
        (when (timeline-triggers timeline)
          (check-triggers timeline time)))
       (:macro-start
