@@ -7,15 +7,28 @@
 (defparameter *cradle-sizes* '(3 4 5 6 7 8)
   "The cradles timed, smallest first.")
 
-(defparameter *cradle-budget* 120
+(defparameter *cradle-budget* 600
   "Seconds a cradle build may be expected to take: one predicted to take
 longer (the last build times the growth of the one before) is not started.")
 
 (defparameter *cradle-bytes-per-edge* 600
   "About how many bytes of heap a build needs per edge of its merge at its
 peak (at n = 6 about 180 stay allocated afterwards; n = 7, 2.9 M edges,
-exhausts SBCL's default 1 GB heap, so `make bench` runs with 8 GB). A build predicted to need more than half
-the heap is not started: running out of heap ends SBCL.")
+exhausts SBCL's default 1 GB heap, so `make bench` runs with 20 GB; n = 8,
+20 M edges, took 286 s and kept 5.5 GB). A build predicted to need more than 3/4 of
+the heap, or more than the memory the machine has free, is not started:
+running out of heap ends SBCL.")
+
+(defun available-memory ()
+  "Bytes of memory the machine has available (Linux's MemAvailable), or the
+heap's size where /proc/meminfo cannot say."
+  (or (ignore-errors
+       (with-open-file (stream "/proc/meminfo")
+         (loop for line = (read-line stream nil)
+               while line
+               when (eql 0 (search "MemAvailable:" line))
+                 return (* 1024 (parse-integer line :start 13 :junk-allowed t)))))
+      (sb-ext:dynamic-space-size)))
 
 (defun build-cradle (n)
   "Build the N-sphere cradle from nothing (the stage cache emptied first):
@@ -34,12 +47,12 @@ stopping before a build predicted to take more than *CRADLE-BUDGET* seconds."
       (let ((predicted (and previous (* previous growth)))
             (bytes (and edges (* edges edge-growth *cradle-bytes-per-edge*))))
         (when (or (and predicted (> predicted *cradle-budget*))
-                  (and bytes (> bytes (/ (sb-ext:dynamic-space-size) 2))))
+                  (and bytes (> bytes (min (* 3/4 (sb-ext:dynamic-space-size)) (available-memory)))))
           (note "(newton-cradle ~D) not built: predicted ~D s (~,1Fx the last build; budget ~D s) and ~
-                 ~,1F GB of heap (~,1Fx the last merge's edges; heap ~,1F GB); graph expressions in ~
+                 ~,1F GB of heap (~,1Fx the last merge's edges; heap ~,1F GB, ~,1F GB free); graph expressions in ~
                  spec files stop at n = ~D (player::*max-cradle-spheres*)"
                 n (round predicted) growth *cradle-budget* (/ bytes 1d9) edge-growth
-                (/ (sb-ext:dynamic-space-size) 1d9) player::*max-cradle-spheres*)
+                (/ (sb-ext:dynamic-space-size) 1d9) (/ (available-memory) 1d9) player::*max-cradle-spheres*)
           (return))
         (format t "~&  newton-cradle ~D...~%" n) (finish-output)
         (let* ((seconds (build-cradle n))
