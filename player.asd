@@ -165,6 +165,7 @@ run the resulting state machine as Lisp closures or embedded C++."
        (:module "scripts"
         :serial t
         :components ((:file "scripts")
+                     (:file "audio-items")
                      (:file "directors")
                      (:file "script-library")
                      (:file "pose-when")))

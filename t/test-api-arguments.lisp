@@ -85,10 +85,6 @@ CLASS whose report contains FRAGMENT."
 
 ;;;# Controllers
 
-(defun peedy-machine ()
-  "Peedy, freshly compiled."
-  (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp")))))
-
 (defun controller-snapshot (controller)
   "What a rejected call must leave as it was: state, clock, and the trace so far."
   (list (controller-state controller) (controller-clock controller)

@@ -4,12 +4,6 @@
 
 (in-package #:player)
 
-(defun condition-line (condition)
-  "CONDITION's report on one line (a plain description when reporting it fails)."
-  (let ((text (handler-case (princ-to-string condition)
-                (error () (format nil "~(~A~)" (type-of condition))))))
-    (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text))))
-
 (defun print-live-error (condition)
   "Print CONDITION as one \"player: error: ...\" line on *ERROR-OUTPUT*; return the line's text."
   (let ((line (condition-line condition)))

@@ -11,9 +11,7 @@
 (define-gl-constants
   +gl-texture-2d+ #x0DE1  +gl-texture-mag-filter+ #x2800  +gl-texture-min-filter+ #x2801
   +gl-texture-wrap-s+ #x2802  +gl-texture-wrap-t+ #x2803  +gl-clamp-to-edge+ #x812F
-  +gl-scissor-test+ #x0C11  +gl-src-color+ #x0300)
-
-(define-gl-function gl-scissor "glScissor" :void (x :int32) (y :int32) (width :int32) (height :int32))
+  +gl-src-color+ #x0300)
 
 (define-gl-function gl-gen-textures "glGenTextures" :void (n :int32) (textures :pointer))
 (define-gl-function gl-delete-textures "glDeleteTextures" :void (n :int32) (textures :pointer))
