@@ -56,7 +56,7 @@ return (VALUES STDOUT STDERR EXIT-CODE)."
         (is (not (search "again?" out))))
       (multiple-value-bind (out err code) (chat)
         (is (= 0 code) "~A" err)
-        (is (equal '("peedy: \"Madonna again? i still have Summer Radio, would you like to hear something from that?\"")
+        (is (equal '("peedy: \"Madonna again? I still have Summer Radio, would you like to hear something from that?\"")
                    (chat-lines-starting "peedy: " out))))
       (is (= 2 (memory-conversations (load-memory memory "carol")))))))
 

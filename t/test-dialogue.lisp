@@ -47,22 +47,22 @@ it.  Returns the turn."
   (let ((*taken-transitions* '()))
     ;; Figure 7's path, anaphora, refusals.
     (let ((c (jukebox-conversation)))
-      (turn! c "hello" "stIdle" "stAttending" '("ev-hello") "hi! what would you like to hear?")
-      (turn! c "who wrote that" "stAttending" "stAttending" '("ev-no") "i dont know")
+      (turn! c "hello" "stIdle" "stAttending" '("ev-hello") "Hi! What would you like to hear?")
+      (turn! c "who wrote that" "stAttending" "stAttending" '("ev-no") "I don't know.")
       (turn! c "have you got anything by bonnie raitt" "stAttending" "stGotCD" '("ev-search"))
-      (turn! c "no thanks" "stGotCD" "stAttending" '("ev-confirm") "ok, maybe later")
+      (turn! c "no thanks" "stGotCD" "stAttending" '("ev-confirm") "OK, maybe later.")
       (turn! c "what do you have by bonnie raitt" "stAttending" "stGotCD" '("ev-search"))
       (turn! c "sure" "stGotCD" "stSuggested" '("ev-think"))
       (turn! c "no" "stSuggested" "stSuggested" '("ev-think"))
       (turn! c "who wrote that" "stSuggested" "stSuggested" '("ev-point") "Bonnie Raitt")
       (turn! c "ok" "stSuggested" "stPlaying" '("ev-found"))
       (turn! c "thank you" "stPlaying" "stPlaying" '("ev-thanks"))
-      (turn! c "stop the music" "stPlaying" "stAttending" '("ev-stop") "ok, the music is off")
-      (turn! c "stop" "stAttending" "stAttending" '("ev-no") "nothing is playing")
-      (turn! c "yes" "stAttending" "stAttending" '("ev-think") "what would you like me to play?")
-      (turn! c "no" "stAttending" "stAttending" '("ev-confirm") "what would you like me to play?")
-      (turn! c "mumble" "stAttending" "stAttending" '("ev-bad-speech") "huh?")
-      (turn! c "mumble mumble" "stAttending" "stAttending" '("ev-bad-speech") "sorry, could you repeat that?")
+      (turn! c "stop the music" "stPlaying" "stAttending" '("ev-stop") "OK, the music is off.")
+      (turn! c "stop" "stAttending" "stAttending" '("ev-no") "Nothing is playing.")
+      (turn! c "yes" "stAttending" "stAttending" '("ev-think") "What would you like me to play?")
+      (turn! c "no" "stAttending" "stAttending" '("ev-confirm") "What would you like me to play?")
+      (turn! c "mumble" "stAttending" "stAttending" '("ev-bad-speech") "Huh?")
+      (turn! c "mumble mumble" "stAttending" "stAttending" '("ev-bad-speech") "Sorry, could you repeat that?")
       (turn! c "play something by pearl jam next" "stAttending" "stPlaying" '("ev-search" "ev-found"))
       (turn! c "thanks" "stPlaying" "stPlaying" '("ev-thanks"))
       (turn! c "stop" "stPlaying" "stAttending" '("ev-stop"))
@@ -74,7 +74,7 @@ it.  Returns the turn."
       (turn! c '(evPlayArtist (artist . "Frank Zappa")) "stAttending" "stAttending" '("ev-search" "ev-not-found"))
       (turn! c "have you got anything by madonna" "stAttending" "stGotCD" '("ev-search"))
       (turn! c "have you got anything by madonna" "stGotCD" "stGotCD" '("ev-search")
-             "Madonna again? i still have Summer Radio, would you like to hear something from that?")
+             "Madonna again? I still have Summer Radio, would you like to hear something from that?")
       (is (no-failures-p c)))
     (let* ((all (player::dialogue-transitions (jukebox)))
            (missed (remove-if (lambda (transition)
@@ -95,8 +95,8 @@ it.  Returns the turn."
       (is (member track tracks))
       (is (eq track (context-value c "lastRef")))
       (is (member (first (turn-utterances turn))
-                  (list (format nil "how about ~A?" (player::track-title track))
-                        (format nil "would you like to hear ~A?" (player::track-title track)))
+                  (list (format nil "How about ~A?" (player::track-title track))
+                        (format nil "Would you like to hear ~A?" (player::track-title track)))
                   :test #'string=)))))
 
 (test template-cascade-gives-equal-shares
@@ -118,10 +118,10 @@ it.  Returns the turn."
 (test template-expansion-substitutes-context-variables
   (let ((c (jukebox-conversation :controller nil)))
     (conversation-hear c "have you got anything by bonnie raitt")
-    (is (equal '("i have The Bonnie Raitt Collection from 1990"
-                 "ive got The Bonnie Raitt Collection"
-                 "ive got The Bonnie Raitt Collection, would you like to hear something from that?"
-                 "i have The Bonnie Raitt Collection from 1990, would you like to hear something from that?")
+    (is (equal '("I have The Bonnie Raitt Collection from 1990."
+                 "I've got The Bonnie Raitt Collection."
+                 "I've got The Bonnie Raitt Collection, would you like to hear something from that?"
+                 "I have The Bonnie Raitt Collection from 1990, would you like to hear something from that?")
                (mapcar (lambda (template) (expand-template template c))
                        (player::dialogue-category-templates (jukebox) 'haveCD))))))
 
@@ -130,12 +130,12 @@ it.  Returns the turn."
   (let ((c (jukebox-conversation :seed 1 :controller nil)))
     (let ((cranks (loop repeat 40
                         for turn = (conversation-hear c "play something by madonna")
-                        count (search "crank it up" (first (turn-utterances turn))))))
+                        count (search "Crank it up" (first (turn-utterances turn))))))
       (is (= 1 cranks)))
     ;; A new conversation with the same memory may say it again.
     (let ((again (make-conversation (jukebox) :seed 1 :memory (conversation-memory c))))
       (is (= 1 (loop repeat 40
-                     count (search "crank it up"
+                     count (search "Crank it up"
                                    (first (turn-utterances (conversation-hear again "play madonna"))))))))))
 
 (test who-wrote-that-resolves-the-last-referenced-object
@@ -196,20 +196,20 @@ it.  Returns the turn."
   (let ((c (jukebox-conversation)))
     (conversation-hear c "hello")
     (is (eq :neutral (memory-mood (conversation-memory c))))
-    (is (equal '("huh?") (turn-utterances (conversation-hear c "blah"))))
+    (is (equal '("Huh?") (turn-utterances (conversation-hear c "blah"))))
     (is (eq :neutral (memory-mood (conversation-memory c))))
-    (is (equal '("sorry, could you repeat that?") (turn-utterances (conversation-hear c "blah blah"))))
+    (is (equal '("Sorry, could you repeat that?") (turn-utterances (conversation-hear c "blah blah"))))
     (is (eq :sad (memory-mood (conversation-memory c))))
-    (is (equal '("i am really sorry, i just cant make that out") (turn-utterances (conversation-hear c "blah"))))
+    (is (equal '("I am really sorry, I just can't make that out.") (turn-utterances (conversation-hear c "blah"))))
     ;; Understood at last: the streak ends, and success makes him happy.
     (conversation-hear c "play bonnie raitt")
     (is (eq :happy (memory-mood (conversation-memory c))))
-    (is (equal '("huh?") (turn-utterances (conversation-hear c "blah"))))
+    (is (equal '("Huh?") (turn-utterances (conversation-hear c "blah"))))
     ;; A recogniser that heard nothing it knows gives NIL: bad speech too.
     (let ((turn (conversation-hear c nil)))
       (is (string= "evBadSpeech" (symbol-name (turn-event turn))))
       (is-false (turn-understood turn))
-      (is (equal '("sorry, could you repeat that?") (turn-utterances turn))))
+      (is (equal '("Sorry, could you repeat that?") (turn-utterances turn))))
     ;; His mood picks the template: happy, "any time!" is possible.
     (is (no-failures-p c))))
 
@@ -304,7 +304,7 @@ it.  Returns the turn."
                      (format nil "peedy: ~S" (second said))
                      "input: evBadSpeech (not understood)"
                      "transition: stGotCD --evBadSpeech--> stGotCD"
-                     "peedy: \"huh?\"")
+                     "peedy: \"Huh?\"")
                (lines (get-output-stream-string out))))))
 
 (defun pattern-sentences (elements)

@@ -166,7 +166,7 @@ speaker: (VALUES CONVERSATION SPEAKER PERFORMANCE)."
           (destructuring-bind ((start-2 end-2 text-2 who-2) (start-1 end-1 text-1 who-1))
               (speaker-lines speaker)
             (is (equal '(:peedy :peedy) (list who-1 who-2)))
-            (is (string= "hi! what would you like to hear?" text-1))
+            (is (string= "Hi! What would you like to hear?" text-1))
             (is (search "Summer Radio" text-2))
             ;; Said when his animation had ended: the Player clock of the moment.
             (is (= 5.5d0 start-1) "the greeting is said at ~A, when ev-hello's ops end" start-1)
@@ -190,7 +190,7 @@ speaker: (VALUES CONVERSATION SPEAKER PERFORMANCE)."
             (player-command-with-input (format nil "hi~%") "chat" "specs/peedy-dialogue.lisp"
                                        "--render" out "--fps" "4" "--size" "64x48")
           (is (= 0 code) "~A" err)
-          (is (equal '("peedy: \"hi! what would you like to hear?\"") (chat-lines-starting "peedy: " text)))
+          (is (equal '("peedy: \"Hi! What would you like to hear?\"") (chat-lines-starting "peedy: " text)))
           (is (member (format nil "; wrote ~Aspeech.wav" out) (lines text) :test #'string=))
           (let ((sound (read-wav (format nil "~Aspeech.wav" out))))
             ;; ev-hello's ops end at 5.5 s; the greeting lasts about 2 s.
