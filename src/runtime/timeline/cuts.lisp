@@ -112,15 +112,8 @@ of it was left to do)."
             (resume-at item))
           (setf (agenda-item-status item) :cancelled))))
     ;; Close the macros the cut falls in, innermost first.
-    (dolist (item (and macros
-                       (sort (remove-if-not (lambda (item)
-                                              (and (eq (agenda-item-kind item) :macro-start)
-                                                   (eq (agenda-item-status item) :done)
-                                                   (agenda-item-owner item)
-                                                   (eq (agenda-item-status (agenda-item-owner item)) :cancelled)))
-                                            (run-items run))
-                             #'> :key #'agenda-item-seq)))
-      (unless (timeline-quiet timeline)
+    (unless (timeline-quiet timeline)
+      (dolist (item (and macros (cut-macro-starts run)))
         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time)))
     (cond ((timeline-quiet timeline))
           (shown
@@ -132,6 +125,19 @@ of it was left to do)."
           (run-items run) keep
           (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
     (values cut-time resume)))
+
+;; RUN's items are in SEQ order while it runs (ORDER-RUN-ITEMS), so pushing
+;; them as they come leaves the newest, innermost macro first without a sort.
+(defun cut-macro-starts (run)
+  "The :MACRO-START items of RUN presented whose :MACRO-END the cut cancelled,
+innermost (newest) first."
+  (let ((starts '()))
+    (dolist (item (run-items run) starts)
+      (when (and (eq (agenda-item-kind item) :macro-start)
+                 (eq (agenda-item-status item) :done)
+                 (agenda-item-owner item)
+                 (eq (agenda-item-status (agenda-item-owner item)) :cancelled))
+        (push item starts)))))
 
 (defun keep-finished-macros (run keep cut-time cut-ops)
   "KEEP, plus the end (and end state change) of each macro of RUN that ends by

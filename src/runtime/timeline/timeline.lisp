@@ -53,6 +53,9 @@ waiting (QUEUE), and its timers and triggers."
   "The presenter TIMELINE's controller presents to."
   (timeline-presenter timeline))
 
+;; Typed, so the checks against them in ADVANCE-TIMELINE's loop compare fixnums.
+(declaim (type fixnum *finish-events-limit* *max-items-per-instant*))
+
 (defparameter *finish-events-limit* 1000000
   "How many agenda items FINISH-EVENTS applies before it decides that timers
 or triggers keep the controller busy for ever, and signals a TIMELINE-ERROR.")
