@@ -404,13 +404,13 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
              (setf (controller-bits controller) bits)
              (transition-state controller bits time)))
        (when (timeline-triggers timeline)
-         (check-triggers timeline time)))
+         (check-triggers timeline time (agenda-item-a item))))
       (:value
        (if (timeline-quiet-autoscripts timeline)
            (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
            (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time))
        (when (timeline-triggers timeline)
-         (check-triggers timeline time)))
+         (check-triggers timeline time 0)))
       (:macro-start
        (unless (timeline-quiet timeline)
          (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
