@@ -101,7 +101,9 @@ of it was left to do)."
                   (push item shown))
                 (progn (setf finishing item)
                        (dolist (other (run-items run))
-                         (when (eq (agenda-item-owner other) item) (push other keep))))))))
+                         (when (eq (agenda-item-owner other) item) (push other keep)))))
+            ;; Cut short or not, it plays out after RUN is over.
+            (push item (timeline-live-ops timeline)))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
       (when macros
         (setf keep (keep-finished-macros run keep cut-time shown)))

@@ -30,7 +30,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; Runs waiting, first first; QUEUE-TAIL is its last cons, for O(1) appending.
   (queue '() :type list)
   (queue-tail '() :type list)
-  ;; :OP items presented whose (possibly cut) end is still to come.
+  ;; The :OP items of interrupted events that still play out (their possibly
+  ;; cut end is still to come): what a new event may have to wait for.  Only
+  ;; a cut adds to it; an event that is not cut has no op left at its end.
   (live-ops '() :type list)
   ;; Op -> its interruption points in seconds, sorted.
   (cut-points (make-hash-table :test 'eq) :type hash-table)
@@ -394,7 +396,6 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
         (time (agenda-item-time item)))
     (ecase (agenda-item-kind item)
       (:op
-       (push item (timeline-live-ops timeline))
        (unless (timeline-quiet timeline)
          (present-op presenter (agenda-item-op item) (agenda-item-start item))))
       (:delta
