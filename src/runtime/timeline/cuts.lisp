@@ -128,7 +128,7 @@ of it was left to do)."
           (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
     (values cut-time resume)))
 
-;; RUN's items are in SEQ order while it runs (ORDER-RUN-ITEMS), so pushing
+;; RUN's items are in SEQ order (the order they were recorded), so pushing
 ;; them as they come leaves the newest, innermost macro first without a sort.
 (defun cut-macro-starts (run)
   "The :MACRO-START items of RUN presented whose :MACRO-END the cut cancelled,
@@ -146,7 +146,7 @@ innermost (newest) first."
 CUT-TIME with every pending item inside it kept and none of its sub-ops in
 CUT-OPS (the :OP items cut short): its last sub-op runs to its end through the
 cut, so the macro ends then, declared effects and all."
-  ;; A running run's items are in SEQ order (ORDER-RUN-ITEMS).
+  ;; A run's items are in SEQ order (the order they were recorded).
   (let ((items (run-items run)))
     (dolist (item items keep)
       (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)

@@ -142,7 +142,7 @@ items on the agenda."
   (setf (timeline-runs timeline) (if (timeline-runs timeline)
                                      (append (timeline-runs timeline) (list run))
                                      (list run)))
-  (let ((first (order-run-items run)))
+  (let ((first (first (run-pending run))))
     (when first
       (agenda-push (timeline-agenda timeline) first))))
 
@@ -182,6 +182,7 @@ or a running event meets everything anyway.  Returns the planning result, or
 (defun forget-plan (run)
   "Drop what RUN planned on trial (it will be planned again when it starts)."
   (setf (run-items run) '()
+        (run-pending run) '()
         (run-footprint run) nil))
 
 (defun plan-run-ahead (timeline run time)
@@ -218,7 +219,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                                  controller))
            (unless (eq result t)
              (record-failure recorder (failure-goal-form result) (controller-schedule controller)))
-           (record-item recorder :finish (controller-span-end controller)))
+           (record-item recorder :finish (controller-span-end controller))
+           (finish-recording recorder))
       (setf (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
             (controller-bits controller) bits
