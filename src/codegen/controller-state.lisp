@@ -151,21 +151,27 @@ telling autoscripts now."
                (setf (controller-bits controller) new))
         (transition-state controller new time))))
 
-(defun changed-fields (controller old new)
-  "The one-hot fields of CONTROLLER's plannable variables whose values differ
-between states OLD and NEW."
+(defun plannable-field-masks (spec)
+  "The one-hot fields of SPEC's plannable variables, as masks, in declaration
+order (worked out once per compiled macro-op: CHANGED-FIELDS runs at every
+macro end a timed controller plans)."
+  (mapcar #'var-field-mask (plannable-variables spec)))
+
+(defun changed-fields (field-masks old new)
+  "Those of FIELD-MASKS (PLANNABLE-FIELD-MASKS) whose bits differ between
+plannable states OLD and NEW, together as one mask."
   (let ((diff (logxor old new)) (mask 0))
     (unless (zerop diff)
-      (dolist (var (plannable-variables (spec-of controller)))
-        (when (logtest diff (var-field-mask var))
-          (setf mask (logior mask (var-field-mask var))))))
+      (dolist (field field-masks)
+        (when (logtest diff field)
+          (setf mask (logior mask field)))))
     mask))
 
-(defun change-state-to (controller new time &optional op)
+(defun change-state-to (controller new time field-masks &optional op)
   "Make NEW CONTROLLER's plannable state at TIME (at the end of OP, if given),
-as CHANGE-STATE does."
+as CHANGE-STATE does.  FIELD-MASKS are the spec's PLANNABLE-FIELD-MASKS."
   (if (controller-recorder controller)
-      (let ((mask (changed-fields controller (controller-bits controller) new)))
+      (let ((mask (changed-fields field-masks (controller-bits controller) new)))
         (change-state controller mask (logand new mask) time op))
       (transition-state controller new time)))
 

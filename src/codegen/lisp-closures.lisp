@@ -179,7 +179,8 @@ made along the way are internal to the macro)."
   (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
     (let ((seq (compile-steps (directive-steps (op-seq op) machine) machine))
           (bit (ash 1 (position op (spec-ops (machine-spec machine)))))
-          (reentered (make-failure (op-name op))))
+          (reentered (make-failure (op-name op)))
+          (field-masks (plannable-field-masks (machine-spec machine))))
       (lambda (controller)
         (if (logtest bit (controller-active-macros controller))
             reentered
@@ -206,7 +207,7 @@ made along the way are internal to the macro)."
                     (record-macro-end (controller-recorder controller) op start end)
                     (present-macro-end presenter op start end))
                 (when (eq result t)
-                  (change-state-to controller (logior (logandc2 before mask) bits) end op))
+                  (change-state-to controller (logior (logandc2 before mask) bits) end field-masks op))
                 result)))))))
 
 (defun compile-code (form)

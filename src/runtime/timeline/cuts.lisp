@@ -101,7 +101,9 @@ of it was left to do)."
                   (push item shown))
                 (progn (setf finishing item)
                        (dolist (other (run-items run))
-                         (when (eq (agenda-item-owner other) item) (push other keep))))))))
+                         (when (eq (agenda-item-owner other) item) (push other keep)))))
+            ;; Cut short or not, it plays out after RUN is over.
+            (push item (timeline-live-ops timeline)))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
       (when macros
         (setf keep (keep-finished-macros run keep cut-time shown)))
@@ -112,15 +114,8 @@ of it was left to do)."
             (resume-at item))
           (setf (agenda-item-status item) :cancelled))))
     ;; Close the macros the cut falls in, innermost first.
-    (dolist (item (and macros
-                       (sort (remove-if-not (lambda (item)
-                                              (and (eq (agenda-item-kind item) :macro-start)
-                                                   (eq (agenda-item-status item) :done)
-                                                   (agenda-item-owner item)
-                                                   (eq (agenda-item-status (agenda-item-owner item)) :cancelled)))
-                                            (run-items run))
-                             #'> :key #'agenda-item-seq)))
-      (unless (timeline-quiet timeline)
+    (unless (timeline-quiet timeline)
+      (dolist (item (and macros (cut-macro-starts run)))
         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time)))
     (cond ((timeline-quiet timeline))
           (shown
@@ -133,12 +128,25 @@ of it was left to do)."
           (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
     (values cut-time resume)))
 
+;; RUN's items are in SEQ order (the order they were recorded), so pushing
+;; them as they come leaves the newest, innermost macro first without a sort.
+(defun cut-macro-starts (run)
+  "The :MACRO-START items of RUN presented whose :MACRO-END the cut cancelled,
+innermost (newest) first."
+  (let ((starts '()))
+    (dolist (item (run-items run) starts)
+      (when (and (eq (agenda-item-kind item) :macro-start)
+                 (eq (agenda-item-status item) :done)
+                 (agenda-item-owner item)
+                 (eq (agenda-item-status (agenda-item-owner item)) :cancelled))
+        (push item starts)))))
+
 (defun keep-finished-macros (run keep cut-time cut-ops)
   "KEEP, plus the end (and end state change) of each macro of RUN that ends by
 CUT-TIME with every pending item inside it kept and none of its sub-ops in
 CUT-OPS (the :OP items cut short): its last sub-op runs to its end through the
 cut, so the macro ends then, declared effects and all."
-  ;; A running run's items are in SEQ order (ORDER-RUN-ITEMS).
+  ;; A run's items are in SEQ order (the order they were recorded).
   (let ((items (run-items run)))
     (dolist (item items keep)
       (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)

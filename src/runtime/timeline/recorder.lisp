@@ -18,8 +18,13 @@
   ;; The TIMELINE (defined after this file) and its controller.
   (timeline nil)
   (controller nil :type controller)
-  ;; The EVENT-RUN being planned.
+  ;; The EVENT-RUN being planned, and the last cons of its items (they are
+  ;; kept in the order recorded, which is SEQ order).
   (run nil)
+  (items-tail '() :type list)
+  ;; Is each item recorded so far due no earlier than the one before?  Then
+  ;; SEQ order is (TIME, SEQ) order too, and the run's items need no sort.
+  (in-order t :type boolean)
   ;; The :OP item recorded last, whose end delta comes next.
   (last-op nil)
   ;; The :MACRO-END item recorded last, whose end delta comes next.
@@ -32,19 +37,41 @@
 
 (defun start-recording (recorder run)
   "Make RECORDER record RUN's items from scratch."
-  (setf (recorder-run recorder) run
+  (setf (run-items run) '()
+        (recorder-run recorder) run
+        (recorder-items-tail recorder) '()
+        (recorder-in-order recorder) t
         (recorder-last-op recorder) nil
         (recorder-last-macro-end recorder) nil
         (recorder-open-macros recorder) '()))
 
+(defun finish-recording (recorder)
+  "The run RECORDER planned is recorded: its pending items are its items in
+(TIME, SEQ) order.  That is the order they were recorded in unless a :time
+directive moved the clock back."
+  (let* ((run (recorder-run recorder))
+         (items (run-items run)))
+    (setf (run-pending run)
+          (if (recorder-in-order recorder)
+              items
+              (sort (copy-list items) #'item-before-p)))))
+
 (declaim (inline record-item))
 (defun record-item (recorder kind time)
-  "A new pending item of KIND at TIME for the run RECORDER is planning."
+  "A new pending item of KIND at TIME for the run RECORDER is planning, added
+last to its items."
   (let* ((run (recorder-run recorder))
-         (item (make-agenda-item kind (if (typep time 'double-float) time (to-double time))
-                                 (next-seq (recorder-timeline recorder)) run)))
+         (time (if (typep time 'double-float) time (to-double time)))
+         (item (make-agenda-item kind time (next-seq (recorder-timeline recorder)) run))
+         (cell (list item))
+         (tail (recorder-items-tail recorder)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
-    (push item (run-items run))
+    (if tail
+        (progn (when (< time (agenda-item-time (first tail)))
+                 (setf (recorder-in-order recorder) nil))
+               (setf (rest tail) cell))
+        (setf (run-items run) cell))
+    (setf (recorder-items-tail recorder) cell)
     item))
 
 (declaim (inline planned-duration))

@@ -18,11 +18,11 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (first-step 0 :type fixnum)
   (resumed nil :type boolean)
   (start 0d0 :type double-float)
-  ;; The run's AGENDA-ITEMs: newest first while it is planned, oldest first
-  ;; (in SEQ order) once it is installed (ORDER-RUN-ITEMS).
+  ;; The run's AGENDA-ITEMs in the order they were planned (SEQ order).
   (items '() :type list)
-  ;; Its items not yet taken off the agenda, in (TIME, SEQ) order; the first
-  ;; is on the agenda, the others wait their turn (FEED-NEXT-ITEM).
+  ;; Its items not yet taken off the agenda, in (TIME, SEQ) order
+  ;; (FINISH-RECORDING); once it is installed, the first is on the agenda and
+  ;; the others wait their turn (FEED-NEXT-ITEM).
   (pending '() :type list)
   ;; What the event may touch (FOOTPRINTS.LISP).
   (footprint nil)
@@ -38,17 +38,6 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (compiled-event-event (run-compiled run)))
 
 ;;;# Feeding the agenda one item per run
-
-(defun order-run-items (run)
-  "Put planned RUN's items in SEQ order and its pending items in (TIME, SEQ)
-order; return the first of those.  They are usually the same order: only a
-:time directive moving the clock back makes an item due before older ones."
-  (let ((items (setf (run-items run) (nreverse (run-items run)))))
-    (setf (run-pending run)
-          (if (loop for (a b) on items while b always (item-before-p a b))
-              items
-              (sort (copy-list items) #'item-before-p)))
-    (first (run-pending run))))
 
 (defun feed-next-item (run)
   "RUN's first pending item comes off the agenda: drop it, and the cancelled

@@ -30,7 +30,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; Runs waiting, first first; QUEUE-TAIL is its last cons, for O(1) appending.
   (queue '() :type list)
   (queue-tail '() :type list)
-  ;; :OP items presented whose (possibly cut) end is still to come.
+  ;; The :OP items of interrupted events that still play out (their possibly
+  ;; cut end is still to come): what a new event may have to wait for.  Only
+  ;; a cut adds to it; an event that is not cut has no op left at its end.
   (live-ops '() :type list)
   ;; Op -> its interruption points in seconds, sorted.
   (cut-points (make-hash-table :test 'eq) :type hash-table)
@@ -52,6 +54,9 @@ waiting (QUEUE), and its timers and triggers."
 (defun controller-presenter* (timeline)
   "The presenter TIMELINE's controller presents to."
   (timeline-presenter timeline))
+
+;; Typed, so the checks against them in ADVANCE-TIMELINE's loop compare fixnums.
+(declaim (type fixnum *finish-events-limit* *max-items-per-instant*))
 
 (defparameter *finish-events-limit* 1000000
   "How many agenda items FINISH-EVENTS applies before it decides that timers
@@ -137,7 +142,7 @@ items on the agenda."
   (setf (timeline-runs timeline) (if (timeline-runs timeline)
                                      (append (timeline-runs timeline) (list run))
                                      (list run)))
-  (let ((first (order-run-items run)))
+  (let ((first (first (run-pending run))))
     (when first
       (agenda-push (timeline-agenda timeline) first))))
 
@@ -177,6 +182,7 @@ or a running event meets everything anyway.  Returns the planning result, or
 (defun forget-plan (run)
   "Drop what RUN planned on trial (it will be planned again when it starts)."
   (setf (run-items run) '()
+        (run-pending run) '()
         (run-footprint run) nil))
 
 (defun plan-run-ahead (timeline run time)
@@ -213,7 +219,8 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                                  controller))
            (unless (eq result t)
              (record-failure recorder (failure-goal-form result) (controller-schedule controller)))
-           (record-item recorder :finish (controller-span-end controller)))
+           (record-item recorder :finish (controller-span-end controller))
+           (finish-recording recorder))
       (setf (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
             (controller-bits controller) bits
@@ -391,7 +398,6 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
         (time (agenda-item-time item)))
     (ecase (agenda-item-kind item)
       (:op
-       (push item (timeline-live-ops timeline))
        (unless (timeline-quiet timeline)
          (present-op presenter (agenda-item-op item) (agenda-item-start item))))
       (:delta
@@ -401,13 +407,13 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
              (setf (controller-bits controller) bits)
              (transition-state controller bits time)))
        (when (timeline-triggers timeline)
-         (check-triggers timeline time)))
+         (check-triggers timeline time (agenda-item-a item))))
       (:value
        (if (timeline-quiet-autoscripts timeline)
            (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
            (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time))
        (when (timeline-triggers timeline)
-         (check-triggers timeline time)))
+         (check-triggers timeline time 0)))
       (:macro-start
        (unless (timeline-quiet timeline)
          (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))

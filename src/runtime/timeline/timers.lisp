@@ -16,11 +16,14 @@ item on the agenda, not one per restart."
   (seq 0 :type fixnum)
   (item nil))
 
-(defstruct (trigger-state (:constructor make-trigger-state (def condition)))
+(defstruct (trigger-state (:constructor make-trigger-state (def condition fields)))
   "A TRIGGER-DEF on one timeline: its compiled CONDITION and whether it held at
-the last state change (it fires on a rising edge only)."
+the last state change (it fires on a rising edge only).  FIELDS: the plannable
+fields its condition reads when it reads nothing else, or NIL when it compares
+numbers (then any change may turn it)."
   (def nil :type trigger-def)
   (condition nil :type function)
+  (fields nil :type (or null integer))
   (held nil :type boolean))
 
 (defun arm-timer (timeline state time)
@@ -91,18 +94,33 @@ condition true from the start is not a rising edge)."
   (let ((controller (timeline-controller timeline)))
     (setf (timeline-triggers timeline)
           (loop for def in (spec-triggers (spec-of controller))
-                for condition = (compile-condition (trigger-condition def) (controller-machine controller))
-                collect (let ((state (make-trigger-state def condition)))
+                for ast = (trigger-condition def)
+                for condition = (compile-condition ast (controller-machine controller))
+                collect (let ((state (make-trigger-state def condition
+                                                         (and (state-only-p ast)
+                                                              (expression-fields ast (spec-of controller))))))
                           (setf (trigger-state-held state) (and (funcall condition controller) t))
                           state)))))
 
-(defun check-triggers (timeline time)
-  "After a state change at TIME: fire each trigger whose condition has just become true."
+(declaim (inline trigger-may-turn-p))
+(defun trigger-may-turn-p (state changed)
+  "Can the condition of trigger STATE have changed when the plannable fields
+CHANGED (a mask, 0 for a runtime value) did?"
+  (let ((reads (trigger-state-fields state)))
+    (or (null reads) (logtest reads changed))))
+
+;; A trigger whose condition reads only fields the change left alone holds as
+;; it did, so it is not asked again (Peedy's trigger reads one variable).
+(defun check-triggers (timeline time changed)
+  "After a state change at TIME of the plannable fields CHANGED (a mask, 0 for
+a runtime value): fire each trigger whose condition has just become true."
   (when (timeline-triggers timeline)
     (let ((controller (timeline-controller timeline)))
       (setf (controller-schedule controller) time)
       (dolist (state (timeline-triggers timeline))
-        (let ((holds (and (funcall (trigger-state-condition state) controller) t)))
+        (let ((holds (if (trigger-may-turn-p state changed)
+                         (and (funcall (trigger-state-condition state) controller) t)
+                         (trigger-state-held state))))
           (when (and holds (not (trigger-state-held state)))
             (setf (trigger-state-held state) t)
             (present-trigger (timeline-presenter timeline) (trigger-name (trigger-state-def state)) time)
