@@ -80,10 +80,12 @@ batches after MAX-SECONDS (at least 3 batches)."
 ;;; Formatting
 
 (defun format-seconds (seconds)
+  "SECONDS in the unit that shows it best: h, s, ms, us, or ns below 0.1 us."
   (cond ((>= seconds 3600) (format nil "~,1F h" (/ seconds 3600)))
         ((>= seconds 1) (format nil "~,2F s" seconds))
         ((>= seconds 1d-3) (format nil "~,2F ms" (* seconds 1d3)))
-        (t (format nil "~,1F us" (* seconds 1d6)))))
+        ((>= seconds 1d-7) (format nil "~,1F us" (* seconds 1d6)))
+        (t (format nil "~,0F ns" (* seconds 1d9)))))
 
 (defun format-count (x)
   (cond ((>= x 1d9) (format nil "~,2F G" (/ x 1d9)))
