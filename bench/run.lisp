@@ -85,7 +85,7 @@ batches after MAX-SECONDS (at least 3 batches)."
         ((>= seconds 1) (format nil "~,2F s" seconds))
         ((>= seconds 1d-3) (format nil "~,2F ms" (* seconds 1d3)))
         ((>= seconds 1d-7) (format nil "~,1F us" (* seconds 1d6)))
-        (t (format nil "~,0F ns" (* seconds 1d9)))))
+        (t (format nil "~D ns" (round (* seconds 1d9))))))
 
 (defun format-count (x)
   (cond ((>= x 1d9) (format nil "~,2F G" (/ x 1d9)))
