@@ -349,7 +349,7 @@ initial state (all false) the 64 states with LOCKED false are reachable."
                            (error (c) c))))
           (is (typep condition 'graphviz-error))
           (is (search "no-such-graphviz-dot program, which is not installed: install the Debian package graphviz"
-                      (player::one-line condition))))))))
+                      (player::condition-line condition))))))))
 
 ;;;# The command line
 

@@ -278,7 +278,7 @@ every STEP seconds up to END, as a vector."
     (let ((condition (handler-case (progn (player::synthesize-speech "hello") nil)
                        (player::speech-unavailable (c) c))))
       (is (typep condition 'player::speech-unavailable))
-      (let ((line (and condition (player::one-line condition))))
+      (let ((line (and condition (player::condition-line condition))))
         (is (search "install the Debian package libespeak-ng1" (or line "")) "~S" line)))
     ;; Peedy's huh? says something; silently it plays without espeak.
     (let ((simulation (player::simulate (player::choose-spec (checkout-file "specs/peedy.lisp"))

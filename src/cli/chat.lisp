@@ -78,7 +78,7 @@ SPEAKER, the request goes on the audio track before Peedy answers."
 so: the conversation is then drawn or viewed silently."
   (handler-case (progn (ensure-espeak) t)
     (speech-unavailable (condition)
-      (format t "; no speech: ~A~%" (one-line condition))
+      (format t "; no speech: ~A~%" (condition-line condition))
       nil)))
 
 (define-command "chat" (file &key initial seed memory user wav render video silent view frames fps size)

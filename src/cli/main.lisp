@@ -5,12 +5,6 @@
 
 (in-package #:player)
 
-(defun one-line (condition)
-  "CONDITION's report on one line, or a plain description when reporting it fails."
-  (let ((text (handler-case (princ-to-string condition)
-                (error () (format nil "~(~A~)" (type-of condition))))))
-    (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text))))
-
 (defun storage-message (condition)
   "What ran out, for a STORAGE-CONDITION: the stack (input nested too deeply) or the heap."
   (if (typep condition 'sb-kernel::control-stack-exhausted)
@@ -38,13 +32,13 @@ output is closed early, 130 on an interrupt."
       (progn (run-command-line arguments)
              (finish-output *standard-output*)
              (sb-ext:exit :code 0))
-    (usage-error (e) (exit-with-error 2 (one-line e)))
+    (usage-error (e) (exit-with-error 2 (condition-line e)))
     (sb-sys:interactive-interrupt () (sb-ext:exit :code 130 :abort t))
     (storage-condition (e) (exit-with-error 1 (storage-message e)))
     (error (e)
       (if (closed-pipe-p e)
           (sb-ext:exit :code 141 :abort t)
-          (exit-with-error 1 (one-line e))))))
+          (exit-with-error 1 (condition-line e))))))
 
 ;;;# The saved core
 

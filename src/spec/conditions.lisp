@@ -146,3 +146,10 @@ is validated) still names its line.")
   (:report (lambda (condition stream)
              (write-string (state-transfer-message condition) stream)))
   (:documentation "RECOMPILE or :INITIAL-STATE cannot express a state in the new machine."))
+
+(defun condition-line (condition)
+  "CONDITION's report on one line (as the CLI prints errors), or a plain
+description when reporting it fails."
+  (let ((text (handler-case (princ-to-string condition)
+                (error () (format nil "~(~A~)" (type-of condition))))))
+    (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text))))

@@ -200,12 +200,6 @@ in the order first reached.  Names LIBRARY lacks are left out."
       (mapc #'walk names))
     (nreverse seen)))
 
-(defun condition-line (condition)
-  "CONDITION's report as one line (as the CLI prints errors)."
-  (let ((text (handler-case (princ-to-string condition)
-                (error () (format nil "~(~A~)" (type-of condition))))))
-    (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text))))
-
 (defun item-text (item)
   "ITEM as written, shortened for a message."
   (bounded-lisp-text (script-item-form item) 100))
