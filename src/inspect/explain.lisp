@@ -120,13 +120,6 @@ stopping there) and returns NIL."
 
 ;;;# Goals and events
 
-(defun machine-goal-with-cubes (machine cubes form)
-  "MACHINE's goal with canonical CUBES, or a new goal (written FORM) planned on the spot."
-  (let ((spec (machine-spec machine)))
-    (or (find-goal cubes (coerce (machine-goal-table machine) 'list))
-        (solve-goal (%make-goal :cubes cubes :forms (list form) :expression (cubes-expression cubes spec))
-                    (machine-operators machine) (machine-layout machine) spec))))
-
 (defun explain-goal-form (explainer form)
   "Add the steps reaching the state expression FORM. Signals a SPEC-ERROR when
 FORM is not a state expression of the spec."

@@ -222,10 +222,7 @@ when an event asks for it, else one planned now.  A STATE-GRAPH-ERROR when
 FORM is not a state expression of MACHINE's spec."
   (let* ((spec (machine-spec machine))
          (cubes (parse-goal-cubes form spec)))
-    (or (find-goal cubes (coerce (machine-goal-table machine) 'list))
-        (solve-goal (%make-goal :cubes cubes :forms (list form)
-                                :expression (cubes-expression cubes spec))
-                    (machine-operators machine) (machine-layout machine) spec))))
+    (machine-goal-with-cubes machine cubes form)))
 
 (defun goal-holds-p (goal state)
   "Does GOAL hold in the one-hot STATE?"

@@ -6,7 +6,7 @@
 
 (defstruct (diagnostic (:constructor make-diagnostic (kind message &optional details)))
   "One finding of CHECK-SPEC. KIND is :UNREACHABLE-GOAL, :UNUSED-OP,
-:TRUNCATED, :UNREACHABLE-STATES or :SHARED-CHANNEL."
+:TRUNCATED, :UNREACHABLE-STATES, :INEXACT-MACRO or :SHARED-CHANNEL."
   (kind nil :type keyword)
   (message "" :type string)
   (details nil))
@@ -32,13 +32,8 @@ planned on the spot."
          (spec (machine-spec machine))
          (cubes (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
                   (expression-cubes (parse-expression goal) spec)))
-         (known (find-goal cubes (coerce (machine-goal-table machine) 'list))))
-    (goal-plan-table (or known
-                         (solve-goal (%make-goal :cubes cubes :forms (list goal)
-                                                 :expression (cubes-expression cubes spec))
-                                     (machine-operators machine) (machine-layout machine)
-                                     spec))
-                     spec)))
+         (planned (machine-goal-with-cubes machine cubes goal)))
+    (goal-plan-table planned spec)))
 
 (defun used-ops (machine)
   "The ops some plan, event or macro :seq can run."
@@ -144,7 +139,19 @@ MAX-DEPTH truncated, and states unreachable from the initial state."
                                                    spec)))
                                unreachable)
               diagnostics)))
-    (nreverse (revappend (channel-diagnostics spec) diagnostics))))
+    (nreverse (revappend (append (inexact-macro-diagnostics machine) (channel-diagnostics spec))
+                         diagnostics))))
+
+(defun inexact-macro-diagnostics (machine)
+  "An :INEXACT-MACRO diagnostic for each macro-op whose :seq changes a variable
+its declared effects do not mention, under the default (:macros :declared):
+that change is undone when the macro ends. (Under :exact, planning the spec
+already refused it.)"
+  (loop for (macro . why) in (inexact-macros machine)
+        collect (make-diagnostic :inexact-macro
+                                 (format nil "macro-op ~A is not exact: ~A; under the default (:macros :declared) the state flips back when it ends"
+                                         (lisp-text (op-name macro)) why)
+                                 (op-name macro))))
 
 (defun channel-diagnostics (spec)
   "A :SHARED-CHANNEL diagnostic for each pair of SPEC's ops that declare a

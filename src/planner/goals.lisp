@@ -1,7 +1,7 @@
 ;;;; goals.lisp -- the distinct goals a spec needs plans for.
 ;;;; Every :state argument and the precondition of every op an event or macro
-;;;; requests is a goal; goals are put in canonical cube form so that the same
-;;;; condition written twice is planned once.
+;;;; requests is a goal. Goals that hold in the same states are one goal
+;;;; (goal-identity.lisp), planned once, however each is written.
 
 (in-package #:player)
 
@@ -63,7 +63,7 @@ arguments of events and the preconditions of the ops events and macros request."
   "The goal for AST in GOALS (a list, most recent first), adding a new one if needed.
 Returns (VALUES GOAL GOALS)."
   (let* ((cubes (expression-cubes ast spec))
-         (goal (find-goal cubes goals)))
+         (goal (find-equivalent-goal cubes goals spec)))
     (if goal
         (progn (pushnew form (goal-forms goal) :test #'equal)
                (values goal goals))

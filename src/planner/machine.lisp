@@ -50,7 +50,8 @@ argument errors; an UNKNOWN-NAME-ERROR for an undefined name."
   "Plan every goal of SPEC (a spec or a spec's name) and return the MACHINE,
 made by CONSTRUCTOR (which takes MACHINE's slots as keywords: a code generator
 may extend the struct).  Goal rows whose planning inputs are those of the
-spec name's last planning are reused, not searched again (plan-memo.lisp)."
+spec name's last planning are reused, not searched again (plan-memo.lisp).
+Under (:macros :exact), every macro-op is proved exact (macro-exactness.lisp)."
   (let* ((spec (designated-spec spec 'plan-spec))
          (layout (make-layout spec))
          (operators (planner-ops spec))
@@ -62,11 +63,12 @@ spec name's last planning are reused, not searched again (plan-memo.lisp)."
                      (gethash ast goal-of) goal)))
     (let* ((goals (coerce (reverse goals) 'simple-vector))
            (built (plan-goals goals operators layout spec)))
-      (funcall constructor :spec spec :rows-built built :layout layout :goal-table goals :goal-of goal-of
+      (check-exact-macros
+       (funcall constructor :spec spec :rows-built built :layout layout :goal-table goals :goal-of goal-of
                      :operators operators :initial-state (initial-state spec)
                      :watched-variables (watched-plannable-variables spec)
                      :autoscript-mask (reduce #'logior (watched-plannable-variables spec)
-                                              :key #'var-field-mask :initial-value 0)))))
+                                              :key #'var-field-mask :initial-value 0))))))
 
 (defun ensure-machine (designator &optional (function 'ensure-machine))
   "DESIGNATOR as a MACHINE: itself, or the planned machine of a spec or a
@@ -83,6 +85,14 @@ spec's name.  An ARGUMENT-ERROR for FUNCTION when it is none of those."
   "The goal MACHINE planned for goal AST (a :state argument or precondition)."
   (or (gethash ast (machine-goal-of machine))
       (error "internal: no goal was planned for ~S" ast)))
+
+(defun machine-goal-with-cubes (machine cubes form)
+  "MACHINE's goal holding in the states of CUBES (however its cubes are
+written), or a new goal, written FORM, planned on the spot."
+  (let ((spec (machine-spec machine)))
+    (or (find-equivalent-goal cubes (coerce (machine-goal-table machine) 'list) spec)
+        (solve-goal (%make-goal :cubes cubes :forms (list form) :expression (cubes-expression cubes spec))
+                    (machine-operators machine) (machine-layout machine) spec))))
 
 (defun machine-goals (machine)
   "The distinct goals of MACHINE, as readable canonical expressions, in the order planned."

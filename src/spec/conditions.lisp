@@ -103,7 +103,8 @@ place the error was given (the form around it), or NIL."
     effect-error "An op's or event's effects are impossible or contradictory."
     goal-error "A goal or precondition mentions a runtime-only variable."
     spec-reader-error "The Lisp reader could not read a spec file."
-    untrusted-code-error "A spec holds :code or :c++, and code was refused (--no-code)."))
+    untrusted-code-error "A spec holds :code or :c++, and code was refused (--no-code)."
+    inexact-macro-error "Under (:macros :exact), a macro-op's :seq leaves a state other than the one its declared effects promise the planner."))
 
 (defvar *form-places* nil
   "While a spec is parsed: a table from each of its top-level forms to its

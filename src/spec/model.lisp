@@ -32,6 +32,9 @@
   (forms '() :type list)
   ;; Pathname the spec was loaded from, or NIL.
   (source-file nil)
+  ;; Its top-level forms -> (FILE . POSITION), so errors found after parsing
+  ;; (when it is planned) still name the line of the form at fault.
+  (form-places (make-hash-table :test 'eq))
   ;; Package the spec's forms were read in.
   (package *package*))
 

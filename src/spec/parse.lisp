@@ -7,7 +7,7 @@
 (defparameter *default-max-depth* 16
   "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
 
-(defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body :when-busy)
+(defparameter *spec-option-keys* '(:max-depth :optimize :macros :scripts :body :when-busy)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
 (defparameter *expanding-option-keys* '(:graph)
@@ -37,7 +37,8 @@ points at the line of the form it is about, and names that form."
                              :package package :max-depth *default-max-depth*))
          (places (form-places body form-positions source-file))
          (*form-places* places)
-         (forms (parse-spec-header body)))
+         (forms (progn (setf (spec-form-places *spec*) places)
+                       (parse-spec-header body))))
     (flet ((each-form (function)
              (dolist (form forms)
                (let ((*source-position* (or (gethash form places) *source-position*))
@@ -99,6 +100,8 @@ rest, after the forms options such as (:graph EXPR) stand for."
      (setf (getf (spec-options *spec*) :optimize) (parse-optimize-criterion option)))
     (:when-busy
      (setf (getf (spec-options *spec*) :when-busy) (parse-when-busy (second option) option)))
+    (:macros
+     (setf (getf (spec-options *spec*) :macros) (parse-macro-semantics option)))
     (t (setf (getf (spec-options *spec*) (first option)) (second option)))))
 
 (defun parse-optimize-criterion (option)
@@ -108,6 +111,19 @@ of *OPTIMIZE-CRITERIA*, as a keyword or not."
     (or (find-if (lambda (known) (word-p criterion (symbol-name known))) *optimize-criteria*)
         (spec-fail 'spec-syntax-error option "unknown :optimize criterion ~A (allowed: ~{~A~^ or ~})"
                    (bounded-lisp-text criterion 40) (mapcar #'lisp-text *optimize-criteria*)))))
+
+(defparameter *macro-semantics* '(:declared :exact)
+  "What (:macros SEMANTICS) may say the state after a macro-op is: its start
+state with the declared effects (the paper's, the default), or, :EXACT, the
+state its :seq produced with the declared effects on top -- checked, when the
+spec is planned, to be the state the planner assumed (macro-exactness.lisp).")
+
+(defun parse-macro-semantics (option)
+  "The keyword of OPTION, (:macros SEMANTICS): a name of *MACRO-SEMANTICS*."
+  (let ((semantics (unquote (second option))))
+    (or (find-if (lambda (known) (word-p semantics (symbol-name known))) *macro-semantics*)
+        (spec-fail 'spec-syntax-error option "unknown :macros semantics ~A (allowed: ~{~A~^ or ~})"
+                   (bounded-lisp-text semantics 40) (mapcar #'lisp-text *macro-semantics*)))))
 
 (defun form-kind (form)
   "The keyword naming FORM's kind, or a syntax error."
