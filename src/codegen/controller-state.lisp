@@ -176,6 +176,14 @@ NOTIFY-AUTOSCRIPTS does, from the table)."
           (notify-watch controller watch old-bits new-bits time))))
     new-bits))
 
+(declaim (inline state-with-fields))
+(defun state-with-fields (state mask bits)
+  "STATE with the fields of MASK set to BITS.  Fixnums (the usual states) take
+machine instructions; any other integers, generic arithmetic."
+  (if (and (typep state 'fixnum) (typep mask 'fixnum) (typep bits 'fixnum))
+      (logior (logandc2 state mask) bits)
+      (logior (logandc2 state mask) bits)))
+
 (declaim (inline set-state))
 (defun set-state (controller new mask bits time op)
   "Make NEW, CONTROLLER's plannable state with the fields of MASK set to BITS,
@@ -193,7 +201,7 @@ whose presenter is silent tells nobody."
 (defun change-state (controller mask bits time &optional op)
   "Set the plannable fields of MASK to BITS at TIME (at the end of OP, if given),
 as SET-STATE does."
-  (set-state controller (logior (logandc2 (controller-bits controller) mask) bits) mask bits time op))
+  (set-state controller (state-with-fields (controller-bits controller) mask bits) mask bits time op))
 
 (defun plannable-field-masks (spec)
   "The one-hot fields of SPEC's plannable variables, as masks, in declaration

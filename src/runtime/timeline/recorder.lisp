@@ -35,6 +35,8 @@
   ;; :duration (the default method)?  Then it is not asked for every op.
   (declared-durations nil :type boolean))
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline start-recording))
 (defun start-recording (recorder run)
   "Make RECORDER record RUN's items from scratch."
   (setf (run-items run) '()
@@ -45,6 +47,8 @@
         (recorder-last-macro-end recorder) nil
         (recorder-open-macros recorder) '()))
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline finish-recording))
 (defun finish-recording (recorder)
   "The run RECORDER planned is recorded: its pending items are its items in
 (TIME, SEQ) order.  That is the order they were recorded in unless a :time
@@ -141,10 +145,10 @@ is boxed between the steps."
   (let* ((start (controller-schedule controller))
          (end (+ start (record-op recorder op start))))
     (note-op-end controller end)
-    (unless (zerop mask)
+    (unless (eql mask 0)
       (record-change recorder :delta controller end mask bits op)
       (setf (controller-bits controller)
-            (logior (logandc2 (controller-bits controller) mask) bits)))))
+            (state-with-fields (controller-bits controller) mask bits)))))
 
 (defun declared-durations-p (presenter)
   "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration:
