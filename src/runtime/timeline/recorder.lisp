@@ -15,9 +15,11 @@
 
 (defstruct (recorder (:constructor make-recorder (timeline controller)))
   "What a timeline's planning ahead keeps between the closures' calls."
-  ;; The TIMELINE (defined after this file) and its controller.
+  ;; The TIMELINE (defined after this file), its controller, and its AGENDA,
+  ;; which numbers the items (the timeline's accessors are not known here).
   (timeline nil)
   (controller nil :type controller)
+  (agenda nil :type (or null agenda))
   ;; The EVENT-RUN being planned, and the last cons of its items (they are
   ;; kept in the order recorded, which is SEQ order).
   (run nil)
@@ -66,7 +68,7 @@ directive moved the clock back."
 last to its items."
   (let* ((run (recorder-run recorder))
          (time (if (typep time 'double-float) time (to-double time)))
-         (item (make-agenda-item kind time (next-seq (recorder-timeline recorder)) run))
+         (item (make-agenda-item kind time (agenda-next-seq (recorder-agenda recorder)) run))
          (cell (list item))
          (tail (recorder-items-tail recorder)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))

@@ -22,7 +22,6 @@ waiting (QUEUE), and its timers and triggers."
   (quiet-autoscripts nil :type boolean)
   (now 0d0 :type double-float)
   (agenda (make-agenda) :type agenda)
-  (seq 0 :type fixnum)
   ;; The EVENT-RUNs playing, oldest first.
   (runs '() :type list)
   ;; Op -> (CHANNELS . FIELDS), see OP-FOOTPRINT.
@@ -80,6 +79,7 @@ triggers noting whether their conditions hold now."
           (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
           (timeline-quiet-autoscripts timeline) (quiet-autoscripts-p (timeline-presenter timeline))
           (timeline-recorder timeline) (make-recorder timeline controller)
+          (recorder-agenda (timeline-recorder timeline)) (timeline-agenda timeline)
           (recorder-declared-durations (timeline-recorder timeline))
           (declared-durations-p (timeline-presenter timeline))
           (timeline-recording-presenter timeline)
@@ -97,9 +97,14 @@ triggers noting whether their conditions hold now."
 
 ;;;# Starting an event
 
+(declaim (inline next-seq))
 (defun next-seq (timeline)
   "A fresh sequence number: items made later sort later at equal times."
-  (incf (timeline-seq timeline)))
+  (agenda-next-seq (timeline-agenda timeline)))
+
+(defun timeline-seq (timeline)
+  "The last sequence number TIMELINE gave an item (how many it made)."
+  (agenda-seq (timeline-agenda timeline)))
 
 (defun project-state (timeline time)
   "Put into the controller the state it will have at TIME (after NOW): the
