@@ -71,6 +71,8 @@ interrupted event from where it was cut; then one that does nothing."
                        (funcall (the function body) controller)))))
     suffixes))
 
+;; Inline: a timed controller asks for every event it plans.
+(declaim (inline event-suffixes))
 (defun event-suffixes (compiled machine)
   "The suffix closures (see COMPILE-EVENT-SUFFIXES) of COMPILED, an event of
 compiled MACHINE; compiled on first use, so whole-event controllers never pay
@@ -223,7 +225,7 @@ made along the way are internal to the macro)."
                        (record-macro-end (controller-recorder controller) op start end))
                       ((not (silent-p controller)) (present-macro-end presenter op start end)))
                 (when (eq result t)
-                  (change-state-to controller (logior (logandc2 before mask) bits) end field-masks op))
+                  (change-state-to controller (state-with-fields before mask bits) end field-masks op))
                 result)))))))
 
 (defun compile-code (form)
