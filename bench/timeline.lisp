@@ -16,6 +16,7 @@ about half arrive while the previous event plays and preempt it."
 (defun play-timed-stream (controller stream)
   "Send STREAM to timed CONTROLLER: an interrupting event 0.3 s after now, by
 :preempt; the others once everything before has finished."
+  (declare (simple-vector stream))
   (let ((timeline (player::controller-timeline controller)))
     (loop for (name . interrupts) across stream
           do (if interrupts

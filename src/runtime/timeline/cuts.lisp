@@ -69,6 +69,8 @@ whether RUN has a macro-op."
         (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
                (push item running)))))))
 
+;; Typed, so RESOLVE-BUSY takes the latest cut time as a double.
+(declaim (ftype (function (t t double-float t t) (values double-float t &optional)) cut-run))
 (defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
 interruption points, cancel the rest of it.  Returns the time the new event

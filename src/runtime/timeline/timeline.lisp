@@ -294,6 +294,7 @@ result (T or a FAILURE)."
        (values :dropped nil))
       ((:preempt :interleave)
        (let ((cut-time time) (resumptions '()))
+         (declare (double-float cut-time))
          (dolist (other met)
            (multiple-value-bind (at resume-step) (cut-run timeline other time name footprint)
              (setf cut-time (max cut-time at))
