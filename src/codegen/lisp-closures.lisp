@@ -19,11 +19,42 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   ;; published: a new symbol replaces the whole table (copy on write), so
   ;; controllers on several threads may read it while one adds to it.
   (event-symbols (make-hash-table :test 'eq))
+  ;; The same pairs as an open-addressed SYMBOL-INDEX, replaced with the
+  ;; table: what FIND-COMPILED-EVENT reads (a probe or two, no hash-table call).
+  (symbol-index (make-symbol-index '()) :type simple-vector)
   ;; The goal and op procedure boxes, for closures compiled later (EVENT-SUFFIXES).
   (procedures nil)
   ;; The WATCHes of its watched variables (see TRANSITION-STATE), made once.
   (watches nil :type list)
   (watches-made nil :type boolean))
+
+;;; A symbol index: (SYMBOL . VALUE) pairs in a simple-vector of 2^k slot
+;;; pairs, SYMBOL at 2i and VALUE at 2i+1, placed by the symbol's SXHASH
+;;; (SBCL keeps it in the symbol) and linear probing; at most half full, so
+;;; every probe ends at an empty slot (key 0, never a symbol).
+
+(defun make-symbol-index (pairs)
+  "A symbol index of PAIRS ((SYMBOL . VALUE) ..., distinct symbols)."
+  (let* ((size (loop for size = 2 then (* 2 size)
+                     when (>= size (* 2 (1+ (length pairs)))) return size))
+         (index (make-array (* 2 size) :initial-element 0))
+         (mask (1- size)))
+    (loop for (symbol . value) in pairs
+          do (loop for i = (logand (sxhash symbol) mask) then (logand (1+ i) mask)
+                   when (eql (svref index (* 2 i)) 0)
+                     return (setf (svref index (* 2 i)) symbol
+                                  (svref index (1+ (* 2 i))) value)))
+    index))
+
+(declaim (inline symbol-index-value))
+(defun symbol-index-value (index symbol)
+  "The value of SYMBOL in symbol INDEX, or NIL."
+  (declare (simple-vector index) (symbol symbol))
+  (let ((mask (1- (ash (length index) -1))))
+    (loop for i of-type fixnum = (logand (sxhash symbol) mask) then (logand (1+ i) mask)
+          for key = (svref index (* 2 i))
+          do (cond ((eq key symbol) (return (svref index (1+ (* 2 i)))))
+                   ((eql key 0) (return nil))))))
 
 (defun machine-watches (machine)
   "MACHINE's WATCHes (see TRANSITION-STATE): made once for a compiled machine."
