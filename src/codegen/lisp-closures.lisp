@@ -339,10 +339,16 @@ STEP and, on success, returns what NEXT returns; on failure, a FAILURE."))
                      mask bit (controller-schedule controller) nil)
           (funcall (the function next) controller))))))
 
-(defconstant +no-overflow+ 1d150
-  "Doubles below this in magnitude add, subtract and multiply to a finite
-double: arithmetic on them needs no float traps masked (masking costs more
-than the arithmetic).")
+(declaim (inline plain-number-p))
+(defun plain-number-p (x)
+  "Is X a fixnum, or a double below 2^500 in magnitude, so that comparing it,
+or adding, subtracting or multiplying it with another such, raises no float
+trap?  Then the closures skip masking traps (which costs more than the sum).
+A double's exponent bits say it: NaNs and infinities fail too, without a
+comparison (which would trap on a NaN)."
+  (or (typep x 'fixnum)
+      (and (typep x 'double-float)
+           (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) (+ 1023 500)))))
 
 (defun checked-sum (value delta integerp)
   "VALUE + DELTA, or NIL when the sum leaves the variable's type: an integer
@@ -352,7 +358,7 @@ long long and double)."
       (let ((sum (+ value delta)))
         (and (typep sum '(signed-byte 64)) sum))
       (let ((value (the double-float value)) (delta (the double-float delta)))
-        (if (and (< (abs value) +no-overflow+) (< (abs delta) +no-overflow+))
+        (if (and (plain-number-p value) (plain-number-p delta))
             ;; Far from the limits, the sum is finite: no traps to mask.
             (+ value delta)
             (let ((sum (sb-int:with-float-traps-masked (:overflow :invalid :inexact)
@@ -405,13 +411,6 @@ long long and double)."
           (:or (let ((parts (mapcar (lambda (a) (compile-condition a machine)) (rest ast))))
                  (lambda (controller) (some (lambda (p) (funcall (the function p) controller)) parts))))
           (:cmp (compile-comparison (second ast) (cddr ast) machine))))))
-
-(defun plain-number-p (x)
-  "Is X a fixnum, or a double small enough (+NO-OVERFLOW+) that comparing it,
-or adding, subtracting or multiplying it with another such, raises no float
-trap?  Then the closures skip masking traps (which costs more than the sum)."
-  (or (typep x 'fixnum)
-      (and (typep x 'double-float) (< (abs x) +no-overflow+))))
 
 (defun compile-comparison (operator operands machine)
   "A predicate comparing OPERANDS with OPERATOR. An unset time variable is like
