@@ -303,6 +303,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "timeline-model")
                  (:file "test-timeline-model")
                  (:file "test-c++")
+                 (:file "test-dispatch")
                  (:file "test-c++-hostile")
                  (:file "test-cli")
                  (:file "test-timeline")

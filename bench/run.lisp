@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "dialogue"))
+    (dolist (file '("synthetic" "naive" "dispatch" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "dialogue"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -293,6 +293,9 @@ when they pass BUDGET seconds, at least one) and the last machine."
         (*random-state* (sb-ext:seed-random-state 35)))
     (coerce (loop repeat length collect (svref names (random (length names)))) 'simple-vector)))
 
+(defvar *in-order-rate* nil
+  "Events per second of the compiled closures on all events in spec order, for the C++ comparison.")
+
 (defun bench-event-mix (machine label events &key (target t))
   "Time EVENTS (a vector of names, run over and over) through the compiled
 closures and through run-time planning; add the rows; return the ratio."
@@ -324,19 +327,17 @@ closures and through run-time planning; add the rows; return the ratio."
       (setf (search-space-searches space) 0 (search-space-expanded space) 0)
       (dotimes (i count) (naive-send-event runner planned (svref defs i)))
       (row (format nil "3. events/s, compiled closures, null presenter: ~A" label)
-           (format-count compiled-rate) (if target ">= 1 M/s" "") (if target (>= compiled-rate 1d6) ""))
+           (format-count compiled-rate) (if target ">= 5 M/s (issue 13)" "") (if target (>= compiled-rate 5d6) ""))
       (row "   events/s, planning each goal at run time (forward BFS)" (format-count naive-rate) "" "")
-      (row "   ratio compiled / run-time planning" (format-ratio ratio)
-           (if target ">= 1000x" "") (if target (>= ratio 1000) ""))
+      ;; Peedy's 144 states make run-time search cheap: the ratio's target is
+      ;; on the synthetic family (BENCH-SYNTHETIC-DISPATCH).
+      (row "   ratio compiled / run-time planning" (format-ratio ratio) "" "")
       (when target (setf *in-order-rate* compiled-rate))
       (note "~A: ~D of ~D events fail (goal unreachable); compiled and run-time-planning agents in the same plannable state after ~D of ~D events; run-time planning does ~,1F BFS searches per event, expanding ~,1F states per search"
             label failures count same count
             (/ (search-space-searches space) (* count 1d0))
             (/ (search-space-expanded space) (max 1 (search-space-searches space))))
       ratio)))
-
-(defvar *in-order-rate* nil
-  "Events per second of the compiled closures on all events in spec order, for the C++ comparison.")
 
 (defun bench-events (machine)
   (let ((count (length (player:event-names machine))))
@@ -397,6 +398,9 @@ closures and through run-time planning; add the rows; return the ratio."
           (bench-optimize-duration n))
         (rule)
         (bench-events machine)
+        (dolist (n *dispatch-sizes*)
+          (format t "~&  synthetic n=~D dispatch...~%" n) (finish-output)
+          (bench-synthetic-dispatch n))
         (rule)
         (bench-timeline machine)
         (rule)

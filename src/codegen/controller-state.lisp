@@ -37,7 +37,42 @@
   (step 0 :type fixnum)
   ;; A compiled machine to switch to at the next safe point: a redefinition
   ;; that came while an event ran (see REDEFINE-CONTROLLER).
-  (pending nil))
+  (pending nil)
+  ;; The presenter when it is silent (SILENT-PRESENTER-P: it does nothing
+  ;; with anything a whole-event controller tells it, and its ops take their
+  ;; declared durations), else :NONE.  The compiled closures then skip the
+  ;; protocol's calls; they compare it with the presenter slot (SILENT-P), so
+  ;; a presenter set since is never taken for silent.  SEND-EVENT refreshes it
+  ;; (NOTE-PRESENTER-SILENCE) when the presenter or the protocol's methods
+  ;; changed since CHECKED-PRESENTER and CHECKED-GENERATION.
+  (silent-presenter :none)
+  (checked-presenter :none)
+  (checked-generation -1 :type fixnum))
+
+(declaim (inline silent-p))
+(defun silent-p (controller)
+  "May CONTROLLER's closures skip telling its presenter what they do: is the
+presenter the one found silent when the running event started?"
+  (eq (controller-presenter controller) (controller-silent-presenter controller)))
+
+;;; The one-hot state is an integer; where a machine's states fit a fixnum
+;;; (62 bits: every spec but those with hundreds of values), the closures that
+;;; test cubes and change fields are compiled with the state declared a fixnum,
+;;; so each test is a couple of machine instructions instead of calls of
+;;; generic LOGAND and LOGIOR.  Wider states (bignums) take the general path.
+
+(defun fixnum-state-p (machine)
+  "Do all of MACHINE's one-hot states (and so its cubes and masks) fit a fixnum?"
+  (typep (top-cube (machine-spec machine)) 'fixnum))
+
+(defmacro with-state-bits ((machine) &body body)
+  "BODY, compiled twice: run where MACHINE's states fit a fixnum with
+(STATE-BITS FORM) declaring FORM a fixnum, else with (STATE-BITS FORM) = FORM,
+any integer.  Bind masks and cubes with STATE-BITS outside the closures BODY
+makes, so the closures see them typed."
+  `(if (fixnum-state-p ,machine)
+       (macrolet ((state-bits (form) `(the fixnum ,form))) ,@body)
+       (macrolet ((state-bits (form) form)) ,@body)))
 
 ;;; While a timed controller plans an event ahead, the compiled closures hand
 ;;; what they do to its recorder, by plain calls (they run for every op) of
@@ -129,6 +164,8 @@ NOTIFY-AUTOSCRIPTS does, from the table)."
 
 (defun transition-state (controller new-bits time)
   "Make NEW-BITS CONTROLLER's plannable state at TIME, telling autoscripts."
+  (when (silent-p controller)
+    (return-from transition-state (setf (controller-bits controller) new-bits)))
   (let* ((machine (controller-machine controller))
          (old-bits (controller-bits controller))
          (watched (logand (logxor old-bits new-bits) (machine-autoscript-mask machine))))
@@ -139,17 +176,32 @@ NOTIFY-AUTOSCRIPTS does, from the table)."
           (notify-watch controller watch old-bits new-bits time))))
     new-bits))
 
+(declaim (inline state-with-fields))
+(defun state-with-fields (state mask bits)
+  "STATE with the fields of MASK set to BITS.  Fixnums (the usual states) take
+machine instructions; any other integers, generic arithmetic."
+  (if (and (typep state 'fixnum) (typep mask 'fixnum) (typep bits 'fixnum))
+      (logior (logandc2 state mask) bits)
+      (logior (logandc2 state mask) bits)))
+
+(declaim (inline set-state))
+(defun set-state (controller new mask bits time op)
+  "Make NEW, CONTROLLER's plannable state with the fields of MASK set to BITS,
+its state at TIME (at the end of OP, or NIL).  A controller planning ahead
+records the change for its timeline instead of telling autoscripts now; one
+whose presenter is silent tells nobody."
+  (let ((recorder (controller-recorder controller)))
+    (cond (recorder
+           (record-change recorder :delta controller time mask bits op)
+           (setf (controller-bits controller) new))
+          ((silent-p controller) (setf (controller-bits controller) new))
+          (t (transition-state controller new time)))))
+
 (declaim (inline change-state))
 (defun change-state (controller mask bits time &optional op)
-  "Set the plannable fields of MASK to BITS at TIME (at the end of OP, if given).
-A controller planning ahead records the change for its timeline instead of
-telling autoscripts now."
-  (let ((new (logior (logandc2 (controller-bits controller) mask) bits))
-        (recorder (controller-recorder controller)))
-    (if recorder
-        (progn (record-change recorder :delta controller time mask bits op)
-               (setf (controller-bits controller) new))
-        (transition-state controller new time))))
+  "Set the plannable fields of MASK to BITS at TIME (at the end of OP, if given),
+as SET-STATE does."
+  (set-state controller (state-with-fields (controller-bits controller) mask bits) mask bits time op))
 
 (defun plannable-field-masks (spec)
   "The one-hot fields of SPEC's plannable variables, as masks, in declaration
@@ -178,8 +230,9 @@ as CHANGE-STATE does.  FIELD-MASKS are the spec's PLANNABLE-FIELD-MASKS."
 (defun set-runtime-value (controller var value time)
   "Set runtime variable VAR to VALUE at TIME, telling autoscripts that watch it
 (a controller planning ahead records the change instead)."
-  (when (controller-recorder controller)
-    (record-change (controller-recorder controller) :value controller time var value nil)
+  (when (or (controller-recorder controller) (silent-p controller))
+    (when (controller-recorder controller)
+      (record-change (controller-recorder controller) :value controller time var value nil))
     (setf (svref (controller-values controller) (var-slot var)) value)
     (return-from set-runtime-value value))
   (let ((old (svref (controller-values controller) (var-slot var))))

@@ -19,11 +19,42 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   ;; published: a new symbol replaces the whole table (copy on write), so
   ;; controllers on several threads may read it while one adds to it.
   (event-symbols (make-hash-table :test 'eq))
+  ;; The same pairs as an open-addressed SYMBOL-INDEX, replaced with the
+  ;; table: what FIND-COMPILED-EVENT reads (a probe or two, no hash-table call).
+  (symbol-index (make-symbol-index '()) :type simple-vector)
   ;; The goal and op procedure boxes, for closures compiled later (EVENT-SUFFIXES).
   (procedures nil)
   ;; The WATCHes of its watched variables (see TRANSITION-STATE), made once.
   (watches nil :type list)
   (watches-made nil :type boolean))
+
+;;; A symbol index: (SYMBOL . VALUE) pairs in a simple-vector of 2^k slot
+;;; pairs, SYMBOL at 2i and VALUE at 2i+1, placed by the symbol's SXHASH
+;;; (SBCL keeps it in the symbol) and linear probing; at most half full, so
+;;; every probe ends at an empty slot (key 0, never a symbol).
+
+(defun make-symbol-index (pairs)
+  "A symbol index of PAIRS ((SYMBOL . VALUE) ..., distinct symbols)."
+  (let* ((size (loop for size = 2 then (* 2 size)
+                     when (>= size (* 2 (1+ (length pairs)))) return size))
+         (index (make-array (* 2 size) :initial-element 0))
+         (mask (1- size)))
+    (loop for (symbol . value) in pairs
+          do (loop for i = (logand (sxhash symbol) mask) then (logand (1+ i) mask)
+                   when (eql (svref index (* 2 i)) 0)
+                     return (setf (svref index (* 2 i)) symbol
+                                  (svref index (1+ (* 2 i))) value)))
+    index))
+
+(declaim (inline symbol-index-value))
+(defun symbol-index-value (index symbol)
+  "The value of SYMBOL in symbol INDEX, or NIL."
+  (declare (simple-vector index) (symbol symbol))
+  (let ((mask (1- (ash (length index) -1))))
+    (loop for i of-type fixnum = (logand (sxhash symbol) mask) then (logand (1+ i) mask)
+          for key = (svref index (* 2 i))
+          do (cond ((eq key symbol) (return (svref index (1+ (* 2 i)))))
+                   ((eql key 0) (return nil))))))
 
 (defun machine-watches (machine)
   "MACHINE's WATCHes (see TRANSITION-STATE): made once for a compiled machine."
@@ -60,7 +91,7 @@ from them the first time."
 interrupted event from where it was cut; then one that does nothing."
   (let* ((count (length steps))
          (suffixes (make-array (1+ count))))
-    (setf (svref suffixes count) (constantly t))
+    (setf (svref suffixes count) #'succeed)
     (loop for k from (1- count) downto 0
           for step in (reverse steps)
           do (let ((body (compile-step step (svref suffixes (1+ k)) machine))
@@ -71,6 +102,8 @@ interrupted event from where it was cut; then one that does nothing."
                        (funcall (the function body) controller)))))
     suffixes))
 
+;; Inline: a timed controller asks for every event it plans.
+(declaim (inline event-suffixes))
 (defun event-suffixes (compiled machine)
   "The suffix closures (see COMPILE-EVENT-SUFFIXES) of COMPILED, an event of
 compiled MACHINE; compiled on first use, so whole-event controllers never pay
@@ -94,7 +127,7 @@ STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
          (machine (plan-spec spec :constructor #'%make-compiled-machine))
          (*procedures* (make-hash-table :test 'eq)))
     (loop for goal across (machine-goal-table machine)
-          do (setf (car (procedure-box goal)) (compile-achiever goal)))
+          do (setf (car (procedure-box goal)) (compile-achiever goal machine)))
     (dolist (op (spec-ops spec))
       (setf (car (procedure-box op)) (compile-executor op machine)))
     (dolist (event (spec-events spec))
@@ -114,7 +147,12 @@ planned machine's spec, of a spec, or of a spec's name."
         (t (check-argument 'compile-spec 'machine designator #'machine-designator-p *machine-designator*)
            (compile-spec designator))))
 
-(defun compile-steps (steps machine &optional (final (constantly t)))
+(defun succeed (controller)
+  "The end of every chain: nothing left to do, so CONTROLLER's event succeeded."
+  (declare (ignore controller))
+  t)
+
+(defun compile-steps (steps machine &optional (final #'succeed))
   "Chain STEPS into one closure that ends by calling FINAL."
   (reduce (lambda (step next) (compile-step step next machine))
           steps :from-end t :initial-value final))
@@ -126,28 +164,32 @@ planned machine's spec, of a spec, or of a spec's name."
 
 ;;; State-achieving procedures
 
-(defun compile-achiever (goal)
+(defun compile-achiever (goal machine)
   "GOAL's state-achieving procedure: run the first plan whose condition holds.
 Returns T, NIL when no plan applies, or a FAILURE from inside a macro-op."
   (let* ((plans (goal-plans goal))
          (conditions (map 'simple-vector #'plan-condition plans))
          (runners (map 'simple-vector (lambda (plan) (compile-plan-runner (plan-ops plan))) plans))
          (count (length plans)))
-    (lambda (controller)
-      (let ((bits (controller-bits controller)))
-        (dotimes (i count nil)
-          (when (state-in-cube-p bits (svref conditions i))
-            (return (funcall (the function (svref runners i)) controller))))))))
+    (with-state-bits (machine)
+      (lambda (controller)
+        (let ((bits (state-bits (controller-bits controller))))
+          (dotimes (i count nil)
+            (when (zerop (logandc2 bits (state-bits (svref conditions i))))
+              (return (funcall (the function (svref runners i)) controller)))))))))
 
 (defun compile-plan-runner (ops)
   "A closure running OPS in order, stopping at the first failure."
-  (if (null ops)
-      (constantly t)
-      (let ((boxes (mapcar #'procedure-box ops)))
-        (lambda (controller)
-          (dolist (box boxes t)
-            (let ((result (call-box box controller)))
-              (unless (eq result t) (return result))))))))
+  (cond ((null ops) #'succeed)
+        ;; One op (most plans' last step): its procedure's answer is the plan's.
+        ((null (rest ops))
+         (let ((box (procedure-box (first ops))))
+           (lambda (controller) (call-box box controller))))
+        (t (let ((boxes (mapcar #'procedure-box ops)))
+             (lambda (controller)
+               (dolist (box boxes t)
+                 (let ((result (call-box box controller)))
+                   (unless (eq result t) (return result)))))))))
 
 ;;; Operator-execution procedures
 
@@ -156,8 +198,9 @@ Returns T, NIL when no plan applies, or a FAILURE from inside a macro-op."
 effects. Its precondition is the caller's business."
   (if (eq (op-kind op) :macro)
       (compile-macro-executor op machine)
-      (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
-        (let ((code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
+      (with-state-bits (machine)
+        (let ((mask (state-bits (op-effect-mask op))) (bits (state-bits (op-effect-bits op)))
+              (code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
           (lambda (controller)
             (when code (funcall (the function code)))
             (let ((recorder (controller-recorder controller)))
@@ -166,10 +209,16 @@ effects. Its precondition is the caller's business."
                   ;; its end's change (one plain call, no protocol dispatch).
                   (record-op-played recorder controller op mask bits)
                   (let* ((start (controller-schedule controller))
-                         (end (+ start (to-double (present-op (controller-presenter controller) op start)))))
+                         ;; A silent presenter's PRESENT-OP answers the
+                         ;; declared duration: no need to ask it.
+                         (end (+ start (if (silent-p controller)
+                                           (op-duration op)
+                                           (to-double (present-op (controller-presenter controller) op start))))))
                     (note-op-end controller end)
                     (unless (zerop mask)
-                      (change-state controller mask bits end op)))))
+                      (set-state controller
+                                 (state-bits (logior (logandc2 (state-bits (controller-bits controller)) mask) bits))
+                                 mask bits end op)))))
             t)))))
 
 (defun compile-macro-executor (op machine)
@@ -189,9 +238,9 @@ made along the way are internal to the macro)."
                   (outer-start (controller-span-start controller))
                   (outer-end (controller-span-end controller))
                   (before (controller-bits controller)))
-              (if (controller-recorder controller)
-                  (record-macro-start (controller-recorder controller) op start)
-                  (present-macro-start presenter op start))
+              (cond ((controller-recorder controller)
+                     (record-macro-start (controller-recorder controller) op start))
+                    ((not (silent-p controller)) (present-macro-start presenter op start)))
               (setf (controller-span-start controller) start
                     (controller-span-end controller) start
                     (controller-active-macros controller)
@@ -203,11 +252,11 @@ made along the way are internal to the macro)."
                       (controller-span-start controller) outer-start
                       (controller-span-end controller) (max outer-end end)
                       (controller-schedule controller) end)
-                (if (controller-recorder controller)
-                    (record-macro-end (controller-recorder controller) op start end)
-                    (present-macro-end presenter op start end))
+                (cond ((controller-recorder controller)
+                       (record-macro-end (controller-recorder controller) op start end))
+                      ((not (silent-p controller)) (present-macro-end presenter op start end)))
                 (when (eq result t)
-                  (change-state-to controller (logior (logandc2 before mask) bits) end field-masks op))
+                  (change-state-to controller (state-with-fields before mask bits) end field-masks op))
                 result)))))))
 
 (defun compile-code (form)
@@ -281,13 +330,25 @@ STEP and, on success, returns what NEXT returns; on failure, a FAILURE."))
           (funcall (the function next) controller)))))
 
 (defmethod compile-step ((step assign-step) next machine)
-  (declare (ignore machine))
-  (let* ((var (assign-step-variable step))
-         (mask (var-field-mask var))
-         (bit (var-value-bit var (assign-step-index step))))
-    (lambda (controller)
-      (change-state controller mask bit (controller-schedule controller))
-      (funcall (the function next) controller))))
+  (let ((var (assign-step-variable step)))
+    (with-state-bits (machine)
+      (let ((mask (state-bits (var-field-mask var)))
+            (bit (state-bits (var-value-bit var (assign-step-index step)))))
+        (lambda (controller)
+          (set-state controller (state-bits (logior (logandc2 (state-bits (controller-bits controller)) mask) bit))
+                     mask bit (controller-schedule controller) nil)
+          (funcall (the function next) controller))))))
+
+(declaim (inline plain-number-p))
+(defun plain-number-p (x)
+  "Is X a fixnum, or a double below 2^500 in magnitude, so that comparing it,
+or adding, subtracting or multiplying it with another such, raises no float
+trap?  Then the closures skip masking traps (which costs more than the sum).
+A double's exponent bits say it: NaNs and infinities fail too, without a
+comparison (which would trap on a NaN)."
+  (or (typep x 'fixnum)
+      (and (typep x 'double-float)
+           (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) (+ 1023 500)))))
 
 (defun checked-sum (value delta integerp)
   "VALUE + DELTA, or NIL when the sum leaves the variable's type: an integer
@@ -296,9 +357,13 @@ long long and double)."
   (if integerp
       (let ((sum (+ value delta)))
         (and (typep sum '(signed-byte 64)) sum))
-      (let ((sum (sb-int:with-float-traps-masked (:overflow :invalid :inexact)
-                   (+ (the double-float value) (the double-float delta)))))
-        (and (<= (abs sum) most-positive-double-float) sum))))
+      (let ((value (the double-float value)) (delta (the double-float delta)))
+        (if (and (plain-number-p value) (plain-number-p delta))
+            ;; Far from the limits, the sum is finite: no traps to mask.
+            (+ value delta)
+            (let ((sum (sb-int:with-float-traps-masked (:overflow :invalid :inexact)
+                         (+ value delta))))
+              (and (<= (abs sum) most-positive-double-float) sum))))))
 
 (defmethod compile-step ((step increment-step) next machine)
   (declare (ignore machine))
@@ -333,10 +398,11 @@ long long and double)."
   (let ((spec (machine-spec machine)))
     (if (state-only-p ast)
         (let ((cubes (expression-cubes ast spec)))
-          (lambda (controller)
-            (let ((bits (controller-bits controller)))
-              (dolist (cube cubes nil)
-                (when (state-in-cube-p bits cube) (return t))))))
+          (with-state-bits (machine)
+            (lambda (controller)
+              (let ((bits (state-bits (controller-bits controller))))
+                (dolist (cube cubes nil)
+                  (when (zerop (logandc2 bits (state-bits cube))) (return t)))))))
         (ecase (first ast)
           (:not (let ((inner (compile-condition (second ast) machine)))
                   (lambda (controller) (not (funcall (the function inner) controller)))))
@@ -351,18 +417,32 @@ long long and double)."
 NaN: every comparison with it is false, except /=."
   (let ((values (mapcar (lambda (a) (compile-number a machine)) operands))
         (function (symbol-function operator)))
-    (lambda (controller)
-      (let ((numbers (mapcar (lambda (v) (funcall (the function v) controller)) values)))
-        (if (member nil numbers)
-            (eq operator '/=)
-            ;; IEEE comparisons, as in the C++: a NaN compares false.
-            (sb-int:with-float-traps-masked (:invalid :overflow :inexact)
-              (apply function numbers)))))))
+    (if (= (length values) 2)
+        (compile-binary-comparison operator function (first values) (second values))
+        (lambda (controller)
+          (let ((numbers (mapcar (lambda (v) (funcall (the function v) controller)) values)))
+            (if (member nil numbers)
+                (eq operator '/=)
+                ;; IEEE comparisons, as in the C++: a NaN compares false.
+                (sb-int:with-float-traps-masked (:invalid :overflow :inexact)
+                  (apply function numbers))))))))
+
+(defun compile-binary-comparison (operator function left right)
+  "COMPILE-COMPARISON's predicate for two operands, LEFT and RIGHT (compiled
+numbers): the same answers without a list of the numbers, and without
+masking traps when both are plain numbers (PLAIN-NUMBER-P)."
+  (lambda (controller)
+    (let ((a (funcall (the function left) controller))
+          (b (funcall (the function right) controller)))
+      (cond ((or (null a) (null b)) (eq operator '/=))
+            ((and (plain-number-p a) (plain-number-p b)) (funcall function a b))
+            (t (sb-int:with-float-traps-masked (:invalid :overflow :inexact)
+                 (funcall function a b)))))))
 
 (defun compile-number (ast machine)
   "A function of the controller computing numeric AST, or NIL for an unset time."
   (ecase (first ast)
-    (:num (let ((x (second ast))) (constantly x)))
+    (:num (let ((x (second ast))) (lambda (controller) (declare (ignore controller)) x)))
     (:now (lambda (controller) (controller-schedule controller)))
     (:label (let ((slot (second ast)))
               (lambda (controller) (aref (controller-labels controller) slot))))
@@ -373,9 +453,23 @@ NaN: every comparison with it is false, except /=."
                     (lambda (controller) (svref (controller-values controller) slot))))))
     (:arith (let ((parts (mapcar (lambda (a) (compile-number a machine)) (cddr ast)))
                   (function (symbol-function (second ast))))
-              (lambda (controller)
-                (let ((numbers (mapcar (lambda (p) (funcall (the function p) controller)) parts)))
-                  (unless (member nil numbers)
-                    ;; IEEE arithmetic, as in the C++: overflow gives an infinity.
-                    (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
-                      (apply function numbers)))))))))
+              (if (and (= (length parts) 2) (member (second ast) '(+ - *)))
+                  (compile-binary-arithmetic function (first parts) (second parts))
+                  (lambda (controller)
+                    (let ((numbers (mapcar (lambda (p) (funcall (the function p) controller)) parts)))
+                      (unless (member nil numbers)
+                        ;; IEEE arithmetic, as in the C++: overflow gives an infinity.
+                        (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
+                          (apply function numbers))))))))))
+
+(defun compile-binary-arithmetic (function left right)
+  "COMPILE-NUMBER's function for +, - or * (FUNCTION) of two operands, LEFT
+and RIGHT (compiled numbers): the same value without a list of the numbers,
+and without masking traps when both are plain numbers (PLAIN-NUMBER-P)."
+  (lambda (controller)
+    (let ((a (funcall (the function left) controller))
+          (b (funcall (the function right) controller)))
+      (cond ((or (null a) (null b)) nil)
+            ((and (plain-number-p a) (plain-number-p b)) (funcall function a b))
+            (t (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
+                 (funcall function a b)))))))

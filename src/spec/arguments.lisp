@@ -97,6 +97,13 @@ NaN is recognised without comparing it, which would trap."
   "VALUE, a finite number of seconds from MINIMUM to MAXIMUM (by default
 +-*MAX-SECONDS*), as a double-float (see TO-DOUBLE); else an ARGUMENT-ERROR (or
 CLASS).  Conses nothing for a double-float in range."
+  ;; The usual case first: a double, no bounds of the caller's, and an
+  ;; exponent (its bits: NaNs and infinities excluded without comparing
+  ;; them, which would trap) below 2^49, inside +-*MAX-SECONDS* (1e15).
+  (when (and (typep value 'double-float) (null minimum) (null maximum)
+             (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits value)) (+ 1023 49))
+             (>= *max-seconds* #.(expt 2d0 49)))
+    (return-from check-seconds value))
   (if (and (seconds-p value)
            (or (null minimum) (>= value minimum))
            (or (null maximum) (<= value maximum)))

@@ -77,7 +77,12 @@ name) accepts, in spec order."
   "Publish a copy of MACHINE's symbol table with SYMBOL -> COMPILED added (the
 table is never changed in place, so readers need no lock); return COMPILED."
   (let ((table (alexandria:copy-hash-table (compiled-machine-event-symbols machine))))
-    (setf (gethash symbol table) compiled
+    (setf (gethash symbol table) compiled)
+    ;; The index first: a reader that sees the new table may find its pair
+    ;; missing from the old index, and look the name up the slow way.
+    (setf (compiled-machine-symbol-index machine)
+          (make-symbol-index (loop for key being the hash-keys of table using (hash-value value)
+                                   collect (cons key value)))
           (compiled-machine-event-symbols machine) table)
     compiled))
 
@@ -89,7 +94,7 @@ nothing; the table holds only interned symbols that name events, so it stays
 as small as the spec's events (an uninterned symbol is looked up by name each
 time)."
   (let ((machine (controller-machine controller)))
-    (or (and (symbolp name) (gethash name (compiled-machine-event-symbols machine)))
+    (or (and (symbolp name) (symbol-index-value (compiled-machine-symbol-index machine) name))
         (let ((compiled (gethash (if (stringp name)
                                      (string-upcase name)
                                      (name-key (check-argument function 'event name #'name-designator-p
@@ -148,18 +153,21 @@ playback time unless AT is given."
          (event (compiled-event-event compiled))
          (presenter (controller-presenter controller))
          (*controller* controller))
+    (note-presenter-silence controller)
     (setf (controller-schedule controller) start
           (controller-span-start controller) start
           (controller-span-end controller) start)
-    (present-event presenter (event-name event) start)
+    (unless (silent-p controller)
+      (present-event presenter (event-name event) start))
     (dolist (var (event-time-variables event))
       (set-runtime-value controller var start start))
     (let ((result (funcall (the function (compiled-event-run compiled)) controller)))
-      (unless (eq result t)
+      (unless (or (eq result t) (silent-p controller))
         (present-failure presenter (event-name event) (failure-goal-form result)
                          (controller-schedule controller)))
       (setf (controller-clock controller) (controller-span-end controller))
-      (present-state presenter controller)
+      (unless (silent-p controller)
+        (present-state presenter controller))
       (if (eq result t)
           t
           (values nil (failure-goal-form result))))))

@@ -197,6 +197,53 @@ timed controller then applies state changes without looking for autoscripts
   (and (quiet-method-p 'start-autoscript 'presenter presenter)
        (quiet-method-p 'stop-autoscript 'presenter presenter)))
 
+;;; Silence, for the whole-event controller: a presenter that does nothing
+;;; with anything SEND-EVENT tells it is not told (the closures' SILENT-P).
+;;; Which methods apply can change as methods are defined, so a count of the
+;;; protocol's changes tells a controller when to ask again.
+
+(defparameter *silence-functions*
+  (append (mapcar #'first *quiet-methods*) '(start-autoscript stop-autoscript))
+  "The protocol functions whose methods decide whether a presenter is silent.")
+
+(defvar *protocol-generation* 0
+  "How many times a method of *SILENCE-FUNCTIONS* was added or removed: a
+controller asks SILENT-PRESENTER-P again when this moved.")
+(declaim (type fixnum *protocol-generation*))
+
+(defclass protocol-watcher () ()
+  (:documentation "A MOP dependent of the presenter protocol's generic
+functions, counting their changes in *PROTOCOL-GENERATION*."))
+
+(defmethod sb-mop:update-dependent ((generic generic-function) (watcher protocol-watcher) &rest initargs)
+  (declare (ignore initargs))
+  (incf *protocol-generation*))
+
+(defvar *protocol-watcher*
+  (let ((watcher (make-instance 'protocol-watcher)))
+    (dolist (function *silence-functions* watcher)
+      (sb-mop:add-dependent (fdefinition function) watcher)))
+  "The one PROTOCOL-WATCHER, registered once (a reload keeps it).")
+
+(defun silent-presenter-p (presenter)
+  "Is PRESENTER silent: do nothing but the base methods of QUIET-PRESENTER-P's
+and QUIET-AUTOSCRIPTS-P's functions apply to it, so that a whole-event
+controller need not tell it anything and its ops take their declared
+durations (a null presenter)?"
+  (and (quiet-presenter-p presenter) (quiet-autoscripts-p presenter)))
+
+(defun note-presenter-silence (controller)
+  "Bring CONTROLLER's record of whether its presenter is silent (SILENT-P) up
+to date: asked again only when the presenter or the protocol's methods changed."
+  (let ((presenter (controller-presenter controller))
+        (generation *protocol-generation*))
+    (unless (and (eq presenter (controller-checked-presenter controller))
+                 (= generation (controller-checked-generation controller)))
+      (setf (controller-silent-presenter controller)
+            (if (silent-presenter-p presenter) presenter :none)
+            (controller-checked-presenter controller) presenter
+            (controller-checked-generation controller) generation))))
+
 ;;; The trace presenter
 
 (defclass trace-presenter (presenter)

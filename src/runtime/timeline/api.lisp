@@ -11,7 +11,8 @@
 
 (defun check-time-from-now (function argument time timeline)
   "TIME as seconds, at or after TIMELINE's NOW; else an ARGUMENT-ERROR."
-  (let ((seconds (check-seconds function argument time)))
+  ;; CHECK-SECONDS returns a double or signals: compared as doubles.
+  (let ((seconds (the double-float (check-seconds function argument time))))
     (when (< seconds (timeline-now timeline))
       (argument-fail function argument time
                      (format nil "a time no earlier than now (~A s): a timed controller cannot go back"

@@ -19,6 +19,8 @@ asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
                             (op-interrupt op))
                     #'<))))))
 
+;; Typed, so CUT-RUN compares the times it returns as doubles.
+(declaim (ftype (function (t agenda-item double-float) (values double-float &optional)) op-cut-time))
 (defun op-cut-time (timeline item time)
   "When the op of :OP ITEM, running at TIME, can stop: its next interruption
 point at or after TIME, else its end."
@@ -40,6 +42,7 @@ point at or after TIME, else its end."
       (cons (loop for (var) in effects sum (var-field-mask var))
             (loop for (var . index) in effects sum (var-value-bit var index))))))
 
+(declaim (ftype (function (t t double-float t) (values double-float &optional)) settled-time))
 (defun settled-time (timeline run time footprint)
   "The earliest moment from TIME when the ops of earlier, already cut runs that
 meet FOOTPRINT (the interrupting event's) are all over.  RUN's own are cut
@@ -58,6 +61,7 @@ below; runs playing beside it on other channels do not matter."
 whether RUN has a macro-op."
   ;; Newest first as before the run fed the agenda lazily (RUN-ITEMS was then
   ;; newest first): the cut state changes get their sequence numbers in that order.
+  (declare (double-float time))
   (let ((running '()) (macros nil))
     (dolist (item (run-items run) (values running macros))
       (case (agenda-item-kind item)
@@ -65,6 +69,8 @@ whether RUN has a macro-op."
         (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
                (push item running)))))))
 
+;; Typed, so RESOLVE-BUSY takes the latest cut time as a double.
+(declaim (ftype (function (t t double-float t t) (values double-float t &optional)) cut-run))
 (defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
 interruption points, cancel the rest of it.  Returns the time the new event

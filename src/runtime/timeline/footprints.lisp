@@ -19,6 +19,12 @@ fields, as a mask; RUNTIME: the runtime variables."
   "The footprint of an event that meets every other (some op of it on no known
 channel): its variables never matter, so one footprint serves them all.")
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline meets-everything-p))
+(defun meets-everything-p (footprint)
+  "Does FOOTPRINT meet every other, whatever it is (no known channels)?"
+  (member (footprint-channels footprint) '(:all nil)))
+
 (defun footprints-meet-p (a b)
   "Do footprints A and B share a channel or a variable?  An event with no op
 on a known channel (its channels :ALL, or none) meets every other: only two
@@ -62,10 +68,6 @@ items play, and the variables its changes set."
         (:value (pushnew (agenda-item-a item) runtime))))
     (make-footprint channels fields runtime)))
 
-(defun meets-everything-p (footprint)
-  "Does FOOTPRINT meet every other, whatever it is (no known channels)?"
-  (member (footprint-channels footprint) '(:all nil)))
-
 (defun directives-run-code-p (directives)
   "Do parsed DIRECTIVES hold a :code directive (at any depth of :if)?"
   (some (lambda (directive)
@@ -79,6 +81,8 @@ items play, and the variables its changes set."
 planned on trial, since planning it runs the code."
   (directives-run-code-p (event-directives event)))
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline compiled-event-runs-code-p))
 (defun compiled-event-runs-code-p (compiled)
   "EVENT-RUNS-CODE-P of the event COMPILED, worked out once per compiled event."
   (let ((known (compiled-event-runs-code compiled)))

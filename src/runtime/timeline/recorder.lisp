@@ -15,9 +15,11 @@
 
 (defstruct (recorder (:constructor make-recorder (timeline controller)))
   "What a timeline's planning ahead keeps between the closures' calls."
-  ;; The TIMELINE (defined after this file) and its controller.
+  ;; The TIMELINE (defined after this file), its controller, and its AGENDA,
+  ;; which numbers the items (the timeline's accessors are not known here).
   (timeline nil)
   (controller nil :type controller)
+  (agenda nil :type (or null agenda))
   ;; The EVENT-RUN being planned, and the last cons of its items (they are
   ;; kept in the order recorded, which is SEQ order).
   (run nil)
@@ -35,6 +37,8 @@
   ;; :duration (the default method)?  Then it is not asked for every op.
   (declared-durations nil :type boolean))
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline start-recording))
 (defun start-recording (recorder run)
   "Make RECORDER record RUN's items from scratch."
   (setf (run-items run) '()
@@ -45,6 +49,8 @@
         (recorder-last-macro-end recorder) nil
         (recorder-open-macros recorder) '()))
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline finish-recording))
 (defun finish-recording (recorder)
   "The run RECORDER planned is recorded: its pending items are its items in
 (TIME, SEQ) order.  That is the order they were recorded in unless a :time
@@ -62,7 +68,7 @@ directive moved the clock back."
 last to its items."
   (let* ((run (recorder-run recorder))
          (time (if (typep time 'double-float) time (to-double time)))
-         (item (make-agenda-item kind time (next-seq (recorder-timeline recorder)) run))
+         (item (make-agenda-item kind time (agenda-next-seq (recorder-agenda recorder)) run))
          (cell (list item))
          (tail (recorder-items-tail recorder)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
@@ -141,10 +147,10 @@ is boxed between the steps."
   (let* ((start (controller-schedule controller))
          (end (+ start (record-op recorder op start))))
     (note-op-end controller end)
-    (unless (zerop mask)
+    (unless (eql mask 0)
       (record-change recorder :delta controller end mask bits op)
       (setf (controller-bits controller)
-            (logior (logandc2 (controller-bits controller) mask) bits)))))
+            (state-with-fields (controller-bits controller) mask bits)))))
 
 (defun declared-durations-p (presenter)
   "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration:

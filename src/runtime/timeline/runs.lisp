@@ -33,12 +33,16 @@ directive it starts from (above 0 when it resumes an interrupted run)."
     (format stream "~A ~(~A~) from ~A~:[~; (finished)~]" (lisp-text (run-name run)) (run-policy run)
             (format-number (run-start run)) (run-finished run))))
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline run-event))
 (defun run-event (run)
   "The EVENT-DEF RUN plays."
   (compiled-event-event (run-compiled run)))
 
 ;;;# Feeding the agenda one item per run
 
+;; Inline: it runs for every event a timed controller plays.
+(declaim (inline feed-next-item))
 (defun feed-next-item (run)
   "RUN's first pending item comes off the agenda: drop it, and the cancelled
 items after it, from RUN's pending items; return the next pending one or NIL."
@@ -55,6 +59,8 @@ a timer, a cut's state change)?"
   (let ((run (agenda-item-run item)))
     (and run (eq (first (run-pending run)) item))))
 
+;; Inline: ADVANCE-TIMELINE takes every item off the agenda with it.
+(declaim (inline agenda-pop))
 (defun agenda-pop (agenda item)
   "Take ITEM, AGENDA's first, off it; its run's next pending item, if it has
 one, takes its place."

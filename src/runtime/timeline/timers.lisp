@@ -107,7 +107,10 @@ condition true from the start is not a rising edge)."
   "Can the condition of trigger STATE have changed when the plannable fields
 CHANGED (a mask, 0 for a runtime value) did?"
   (let ((reads (trigger-state-fields state)))
-    (or (null reads) (logtest reads changed))))
+    (cond ((null reads))
+          ;; Fixnum masks (the usual states) test in a machine instruction.
+          ((and (typep reads 'fixnum) (typep changed 'fixnum)) (logtest reads changed))
+          (t (logtest reads changed)))))
 
 ;; A trigger whose condition reads only fields the change left alone holds as
 ;; it did, so it is not asked again (Peedy's trigger reads one variable).
