@@ -79,33 +79,6 @@
 
 ;;; The proof against simulation, state by state.
 
-(defun simulate-seq (macro machine state)
-  "The one-hot state MACRO's :seq leaves from STATE, achieving each sub-op's
-precondition by the first plan whose condition holds, or NIL when one fails."
-  (dolist (directive (player::op-seq macro) state)
-    (when (eq (first directive) :op)
-      (let ((sub (second directive)))
-        (when (player::op-precond sub)
-          (let* ((goal (player::machine-goal-for machine (player::op-precond sub)))
-                 (plan (find-if (lambda (plan) (player::state-in-cube-p state (player::plan-condition plan)))
-                                (player::goal-plans goal))))
-            (unless plan (return nil))
-            (dolist (op (player::plan-ops plan))
-              (setf state (player::apply-effects-of-op state op)))))
-        (setf state (player::apply-effects-of-op state sub))))))
-
-(defun brute-force-exact-p (macro machine)
-  "Is MACRO exact, checked on every state of MACHINE's spec where its precondition holds?"
-  (let* ((layout (player::machine-layout machine))
-         (spec (player::machine-spec machine))
-         (pre (player::expression-cubes (player::op-precond macro) spec))
-         (declared (player::op-effect-mask macro)))
-    (loop for dense below (player::layout-state-count layout)
-          for state = (player::dense-to-state dense layout)
-          for after = (and (some (lambda (cube) (player::state-in-cube-p state cube)) pre)
-                           (simulate-seq macro machine state))
-          never (and after (/= (logandc2 after declared) (logandc2 state declared))))))
-
 (defun form-named-p (form name)
   "Is FORM a list whose head is the symbol named NAME?"
   (and (consp form) (symbolp (first form)) (string= (symbol-name (first form)) name)))
