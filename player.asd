@@ -30,6 +30,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "classes")
                    (:file "variables")
                    (:file "parse")
+                   (:file "state-space")
                    (:file "directives")
                    (:file "interruption")
                    (:file "timers")
@@ -43,6 +44,8 @@ run the resulting state machine as Lisp closures or embedded C++."
       :serial t
       :components ((:file "encoding")
                    (:file "solved-states")
+                   ;; Past the full space: plans for the reachable states only.
+                   (:file "reachable")
                    (:file "regression")
                    (:file "uniform-cost")
                    (:file "goals")

@@ -117,15 +117,6 @@ than LIMIT are reachable."
                                       (> limit *graph-state-limit*)))
                 t))))
 
-(defun transition-ops (spec)
-  "SPEC's ops that change a state, must-ask ops and macro-ops included, as PLANNER-OPs."
-  (loop for op in (spec-ops spec)
-        when (op-effects op) collect (make-planner-op op spec)))
-
-(defun op-applies-p (planner-op state)
-  "Does PLANNER-OP's precondition hold in the one-hot STATE?"
-  (some (lambda (cube) (state-in-cube-p state cube)) (planner-op-precondition planner-op)))
-
 (defun states-reached (initial transitions limit)
   "The one-hot states reached from INITIAL by TRANSITIONS (planner ops applied
 where their preconditions hold), INITIAL included, as a hash table whose keys

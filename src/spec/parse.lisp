@@ -7,7 +7,8 @@
 (defparameter *default-max-depth* 16
   "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
 
-(defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body :when-busy)
+(defparameter *spec-option-keys* '(:max-depth :optimize :scripts :body :when-busy
+                                   :state-space :unplanned-states)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
 (defparameter *expanding-option-keys* '(:graph)
@@ -46,6 +47,7 @@ points at the line of the form it is about, and names that form."
       (each-form #'declare-form)
       (assign-layout *spec*)
       (each-form #'define-form))
+    (parse-start-states *spec*)
     (validate-spec *spec*)
     *spec*))
 
@@ -85,9 +87,11 @@ rest, after the forms options such as (:graph EXPR) stand for."
 
 (defun parse-spec-option (option)
   "Record the (:KEY VALUE) OPTION of a defspec's head in *SPEC*."
+  (when (eq (first option) :start-states)
+    (return-from parse-spec-option (record-start-states-option option)))
   (unless (and (proper-list-p option) (= (length option) 2)
                (member (first option) *spec-option-keys*))
-    (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~}, (:graph EXPR ...))"
+    (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~}, (:graph EXPR ...), (:start-states EXPR ...))"
                (mapcar #'lisp-text *spec-option-keys*)))
   (case (first option)
     (:max-depth
@@ -99,6 +103,11 @@ rest, after the forms options such as (:graph EXPR) stand for."
      (setf (getf (spec-options *spec*) :optimize) (parse-optimize-criterion option)))
     (:when-busy
      (setf (getf (spec-options *spec*) :when-busy) (parse-when-busy (second option) option)))
+    (:state-space
+     (setf (getf (spec-options *spec*) :state-space) (parse-keyword-choice option *state-space-regimes*)))
+    (:unplanned-states
+     (setf (getf (spec-options *spec*) :unplanned-states)
+           (parse-keyword-choice option *unplanned-state-policies*)))
     (t (setf (getf (spec-options *spec*) (first option)) (second option)))))
 
 (defun parse-optimize-criterion (option)
