@@ -115,6 +115,8 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "presenter")
                      (:file "controller")
+                     ;; States the reachable regime has no plans from.
+                     (:file "unplanned-states")
                      ;; Live authoring: a running controller switched to its redefined spec.
                      (:file "redefinition")
                      (:file "following")))

@@ -90,8 +90,14 @@ under :reachable."
 
 (defun layout-cube-empty-p (cube layout)
   "True when CUBE allows no state."
-  (loop for mask across (layout-masks layout)
-          thereis (zerop (logand cube mask))))
+  (if (typep cube 'fixnum)
+      (loop for mask across (layout-masks layout)
+              thereis (zerop (logand cube mask)))
+      ;; Past 62 bits LOGAND makes a bignum per field; LOGBITP makes none.
+      (loop for offset of-type fixnum across (layout-offsets layout)
+            for size of-type fixnum across (layout-sizes layout)
+              never (loop for bit of-type fixnum from offset below (+ offset size)
+                            thereis (logbitp bit cube)))))
 
 (defun dense-to-state (dense layout)
   "The one-hot state numbered DENSE."

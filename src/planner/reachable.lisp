@@ -198,15 +198,17 @@ values) has one of the values of FIELD; made once per field."
   "The bitmaps whose AND is the set of CUBE's states in LAYOUT's reachable
 index, most selective first (never none: the bitmap of every state then)."
   (let* ((index (layout-reachable layout))
-         (sets (loop for offset across (layout-offsets layout)
-                     for size across (layout-sizes layout)
-                     for field = (ldb (byte size offset) cube)
-                     unless (= field (1- (ash 1 size)))
-                       collect (if (= 1 (logcount field))
-                                   (let ((bit (+ offset (1- (integer-length field)))))
+         (sets (loop for offset of-type fixnum across (layout-offsets layout)
+                     for size of-type fixnum across (layout-sizes layout)
+                     for allowed = (loop for bit from offset below (+ offset size)
+                                         count (logbitp bit cube))
+                     unless (= allowed size)
+                       collect (if (= 1 allowed)
+                                   (let ((bit (loop for bit from offset
+                                                    when (logbitp bit cube) return bit)))
                                      (cons (svref (reachable-index-bit-sets index) bit)
                                            (svref (reachable-index-bit-counts index) bit)))
-                                   (choice-set index offset size field)))))
+                                   (choice-set index offset size (ldb (byte size offset) cube))))))
     (coerce (if sets
                 (mapcar #'car (sort sets #'< :key #'cdr))
                 (list (reachable-index-all index)))
