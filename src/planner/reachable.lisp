@@ -251,3 +251,31 @@ bit in BITMAP is clear?"
   (do-cube-words (word pattern cube layout :within (logandc2 +full-word+ (raw-word bitmap word)))
     (return-from reachable-cube-has-unmarked-p (plusp pattern)))
   nil)
+
+;;; The planned set
+
+(defun planned-state-p (machine state)
+  "Does MACHINE have shortest plans from one-hot STATE: always in the full
+space, for its reachable states in the reachable regime?"
+  (let ((index (layout-reachable (machine-layout machine))))
+    (or (null index) (reachable-state-p index state))))
+
+(defun state-description (state spec)
+  "One-hot STATE of SPEC as text, var=value separated by spaces, at most 200 characters."
+  (truncate-text (format nil "~{~A~^ ~}"
+                         (loop for var in (plannable-variables spec)
+                               for field = (ldb (byte (var-domain-size var) (var-bit-offset var)) state)
+                               for index = (1- (integer-length field))
+                               collect (format nil "~A=~A" (lisp-text (var-name var))
+                                               (if (eq (var-kind var) :boolean)
+                                                   (if (= index 1) "true" "false")
+                                                   (lisp-text (aref (var-domain var) index))))))
+                 200))
+
+(defun refuse-unplanned-state (machine state &optional goal)
+  "Signal STATE-OUTSIDE-PLANNED-SET for one-hot STATE of MACHINE (while
+achieving GOAL, if given)."
+  (let ((spec (machine-spec machine)))
+    (error 'state-outside-planned-set
+           :spec (lisp-text (spec-name spec)) :state (state-description state spec)
+           :goal (and goal (goal-description goal)))))
