@@ -417,3 +417,17 @@ reachable regime; :auto plans the same spec for its reachable states."
          (is (search "2 of 6 states cannot be reached" (player::diagnostic-message (second (check-spec machine)))))
          (is (equal '(player-user::inside) (first (plans machine 'player-user::inside)))))
     (remove-spec 'door)))
+
+;;; The command line
+
+(test cli-in-the-reachable-regime
+  "bin/player on a spec planned for its reachable states: `plans` says how many,
+`run` from a state outside them is a one-line error with status 1."
+  (multiple-value-bind (out err code) (player-command "plans" (fixture "door.lisp"))
+    (is (eql 0 code) "stderr ~S" err)
+    (is (search "spec door: 1 goals, 4 reachable states" out)))
+  (check-cli-error 1 "spec door has no plans from the state door=locked inside=false"
+                   "run" (fixture "door.lisp") "--initial" "door=locked" "--events" "go-in")
+  (multiple-value-bind (out err code) (player-command "run" (fixture "door.lisp") "--events" "go-in")
+    (is (eql 0 code) "stderr ~S" err)
+    (is (search "(:op enter :script enter :start 1 :end 2)" out))))
