@@ -431,3 +431,25 @@ reachable regime; :auto plans the same spec for its reachable states."
   (multiple-value-bind (out err code) (player-command "run" (fixture "door.lisp") "--events" "go-in")
     (is (eql 0 code) "stderr ~S" err)
     (is (search "(:op enter :script enter :start 1 :end 2)" out))))
+
+;;; C++
+
+(test c++-of-a-reachable-machine
+  "The C++ backend runs a reachable machine whose one-hot state fits 64 bits
+(blocks world, 3 blocks: 16 booleans, 22 reachable states) with the Lisp
+trace, line for line; a wider one is generated, or a clear error."
+  (let ((problem (player-strips:blocks-world 3)))
+    (unwind-protect
+         (let ((machine (compile-spec (define-spec (player-strips:strips-problem-name problem)
+                                          (player-strips:strips-spec-forms problem)
+                                        :package (find-package '#:player-user)))))
+           (is (= 22 (machine-state-count machine)))
+           (is (null (compare-backends machine '() (mapcar #'first (player-strips:strips-problem-goals problem))))))
+      (remove-spec (player-strips:strips-problem-name problem))))
+  (unwind-protect
+       (let ((machine (plan-spec (define-spec 'token-ring (token-ring-forms 40) :package (find-package '#:player-user)))))
+         ;; until the multi-word C++ state (branch wt-cpp) lands, a clear error
+         (handler-case (is (plusp (length (player::c++-sources machine "ring" "ring"))))
+           (player-error (e)
+             (is (search "the C++ backend packs the state into 64 bits" (princ-to-string e))))))
+    (remove-spec 'token-ring)))
