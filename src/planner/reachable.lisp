@@ -44,7 +44,9 @@
   ;; (OFFSET . FIELD) -> (BITMAP . COUNT), for variables a cube allows several values
   (choices (make-hash-table :test 'equal) :type hash-table)
   ;; what decides the states: the roots and the transitions (for plan-memo.lisp)
-  (signature nil))
+  (signature nil)
+  ;; (CUBE . SETS) of the last CUBE-SETS: regression tests a cube, then marks it
+  (last-cube-sets (cons nil nil) :type cons))
 
 (defun reachable-state (index number)
   "The one-hot state numbered NUMBER in INDEX."
@@ -196,23 +198,34 @@ values) has one of the values of FIELD; made once per field."
 
 (defun cube-sets (cube layout)
   "The bitmaps whose AND is the set of CUBE's states in LAYOUT's reachable
-index, most selective first (never none: the bitmap of every state then)."
+index, the most selective first (never none: the bitmap of every state then)."
   (let* ((index (layout-reachable layout))
-         (sets (loop for offset of-type fixnum across (layout-offsets layout)
-                     for size of-type fixnum across (layout-sizes layout)
-                     for allowed = (loop for bit from offset below (+ offset size)
-                                         count (logbitp bit cube))
-                     unless (= allowed size)
-                       collect (if (= 1 allowed)
-                                   (let ((bit (loop for bit from offset
-                                                    when (logbitp bit cube) return bit)))
-                                     (cons (svref (reachable-index-bit-sets index) bit)
-                                           (svref (reachable-index-bit-counts index) bit)))
-                                   (choice-set index offset size (ldb (byte size offset) cube))))))
-    (coerce (if sets
-                (mapcar #'car (sort sets #'< :key #'cdr))
-                (list (reachable-index-all index)))
-            'simple-vector)))
+         (last (reachable-index-last-cube-sets index)))
+    (if (eql cube (car last))
+        (cdr last)
+        (let ((sets (compute-cube-sets cube layout index)))
+          ;; one fresh cons, so a reader on another thread sees a whole pair
+          (setf (reachable-index-last-cube-sets index) (cons cube sets))
+          sets))))
+
+(defun compute-cube-sets (cube layout index)
+  "CUBE-SETS of CUBE in LAYOUT's reachable INDEX, worked out."
+  (let ((sets (loop for offset of-type fixnum across (layout-offsets layout)
+                    for size of-type fixnum across (layout-sizes layout)
+                    for allowed = (loop for bit from offset below (+ offset size)
+                                        count (logbitp bit cube))
+                    unless (= allowed size)
+                      collect (if (= 1 allowed)
+                                  (let ((bit (loop for bit from offset
+                                                   when (logbitp bit cube) return bit)))
+                                    (cons (svref (reachable-index-bit-sets index) bit)
+                                          (svref (reachable-index-bit-counts index) bit)))
+                                  (choice-set index offset size (ldb (byte size offset) cube))))))
+    (if sets
+        ;; the most selective first: the AND of a word mostly stops there
+        (let ((first (reduce (lambda (a b) (if (< (cdr b) (cdr a)) b a)) sets)))
+          (coerce (cons (car first) (mapcar #'car (remove first sets :test #'eq))) 'simple-vector))
+        (vector (reachable-index-all index)))))
 
 (defmacro do-cube-words ((word pattern cube layout &key (within '+full-word+)) &body body)
   "Run BODY with WORD bound to each word index of the reachable bitmaps and
