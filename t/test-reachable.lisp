@@ -453,3 +453,35 @@ trace, line for line; a wider one is generated, or a clear error."
            (player-error (e)
              (is (search "the C++ backend packs the state into 64 bits" (princ-to-string e))))))
     (remove-spec 'token-ring)))
+
+(test cut-ops-leave-planned-states
+  "An op's :if-cut effects count among the transitions: a timed controller that
+cuts it lands in a planned state (CRASHED is set by nothing else) and plans on."
+  (unwind-protect
+       (let* ((machine (compile-spec
+                        (define-spec 'glider
+                            '((:state-space :reachable)
+                              (player-user::state-variable player-user::posture player-user::string player-user::stand
+                               (player-user::stand player-user::fly))
+                              (player-user::state-variable player-user::crashed player-user::boolean player-user::false)
+                              (player-user::op player-user::take-off :precond player-user::posture.stand
+                               :add player-user::posture.fly :duration 2 :interrupt :anytime
+                               :if-cut (:add player-user::crashed))
+                              (player-user::op player-user::land :precond player-user::posture.fly
+                               :add player-user::posture.stand)
+                              (player-user::op player-user::recover :precond player-user::crashed
+                               :sub player-user::crashed)
+                              (player-user::event player-user::ev-fly :op player-user::take-off)
+                              (player-user::event player-user::ev-calm (:when-busy :preempt)
+                               :state (and player-user::posture.stand (player-user::not player-user::crashed))))
+                          :package (find-package '#:player-user))))
+              (controller (make-controller machine :timed t)))
+         ;; (stand, fly) x (crashed or not): crashed only by the cut
+         (is (= 4 (machine-state-count machine)))
+         (send-event controller 'player-user::ev-fly :at 0)
+         (send-event controller 'player-user::ev-calm :at 1)
+         (finish-events controller)
+         (is (equal '((player-user::posture . player-user::stand) (player-user::crashed))
+                    (controller-state controller)))
+         (is (find "(:op recover" (trace-of controller) :test (lambda (a b) (search a b)))))
+    (remove-spec 'glider)))

@@ -5,7 +5,8 @@
 ;;;; state, yet few of them can ever occur (four blocks on a table: 29
 ;;;; booleans, 125 states). So a forward breadth-first search from the
 ;;;; initial state and the :start-states, under every op (must-ask ops and
-;;;; macro-ops too) and every event's :add/:sub, finds the reachable set R;
+;;;; macro-ops too), every event's :add/:sub and every op's :if-cut (what a
+;;;; timed controller leaves when it cuts the op), finds the reachable set R;
 ;;;; its states are numbered in the order found, and SolvedStates becomes a
 ;;;; bit per state of R. For each bit of the one-hot state, the states of R
 ;;;; that have it are a bitmap over R too, so the states of R in a cube are
@@ -85,10 +86,20 @@
                                 ops)))
                       (event-directives event)))))
 
+(defun cut-ops (spec)
+  "Pseudo-ops for the :if-cut effects of SPEC's ops: a timed controller that
+cuts such an op leaves the state it started in (where its precondition held)
+with those effects applied."
+  (loop for op in (spec-ops spec)
+        when (op-cut-effects op)
+          collect (make-planner-op (make-op-def :name (op-name op) :precond (op-precond op)
+                                                :effects (op-cut-effects op))
+                                   spec)))
+
 (defun reachability-transitions (spec)
-  "Every way SPEC's state can change: its ops with effects and its events'
-:add/:sub, as PLANNER-OPs."
-  (append (transition-ops spec) (event-assignment-ops spec)))
+  "Every way SPEC's state can change: its ops with effects, its events'
+:add/:sub and its ops' :if-cut effects, as PLANNER-OPs."
+  (append (transition-ops spec) (event-assignment-ops spec) (cut-ops spec)))
 
 ;;; The roots: the initial state and the :start-states.
 
