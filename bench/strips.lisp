@@ -77,10 +77,12 @@ STATE-SPACE), its compile time (CPU seconds) and the heap its machine holds."
     ("gripper-4" ,(lambda () (player-strips:gripper 4)) :full)
     ("gripper-4" ,(lambda () (player-strips:gripper 4)) :reachable)
     ("gripper-8" ,(lambda () (player-strips:gripper 8)) :reachable)
+    ("gripper-9" ,(lambda () (player-strips:gripper 9)) :reachable)
     ("gripper-10" ,(lambda () (player-strips:gripper 10)) :reachable)
     ("gripper-11" ,(lambda () (player-strips:gripper 11)) :reachable)
     ("gripper-2, 20 rooms" ,(lambda () (player-strips:gripper 2 :rooms 20)) :reachable 80)
     ("gripper-2, 42 rooms" ,(lambda () (player-strips:gripper 2 :rooms 42)) :reachable 120)
+    ("gripper-1, 64 rooms" ,(lambda () (player-strips:gripper 1 :rooms 64)) :reachable 160)
     ("gripper-1, 84 rooms" ,(lambda () (player-strips:gripper 1 :rooms 84)) :reachable 200))
   "(LABEL PROBLEM-THUNK STATE-SPACE [MAX-DEPTH]) of the README's table.")
 
