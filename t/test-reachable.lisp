@@ -485,3 +485,55 @@ cuts it lands in a planned state (CRASHED is set by nothing else) and plans on."
                     (controller-state controller)))
          (is (find "(:op recover" (trace-of controller) :test (lambda (a b) (search a b)))))
     (remove-spec 'glider)))
+
+(test recompile-keeps-only-planned-states
+  "Switching a controller to a redefined spec that has no plans from its state
+is a STATE-TRANSFER-ERROR that changes nothing."
+  (unwind-protect
+       (let ((controller (make-controller (reachable-door-machine '(:start-states player-user::door.locked))
+                                          :initial-state '((player-user::door . player-user::locked)))))
+         (reachable-door-machine)
+         (let ((e (handler-case (progn (recompile controller) nil) (player-error (e) e))))
+           (is (typep e 'state-transfer-error))
+           (is (search "has no plans from the state door=locked" (princ-to-string e))))
+         (is (eq 'player-user::locked (state-value controller 'player-user::door))))
+    (remove-spec 'door)))
+
+(test run-time-search-finds-shortest-plans
+  "On 40 random specs, the run-time search from states outside the planned set
+finds valid plans as short as the reference BFS's (or none when it has none)."
+  (let ((problems '()) (checked 0))
+    (loop for seed from 1 to 40
+          do (multiple-value-bind (forms model) (random-spec seed)
+               (let ((name (model-name model))
+                     (reachable (reference-reachable-indices model)))
+                 (unwind-protect
+                      (let ((machine (plan-spec (define-spec name (list* '(:state-space :reachable)
+                                                                         '(:unplanned-states :search) forms)
+                                                             :package (find-package '#:player-user)))))
+                        (dolist (event (goal-events model))
+                          (let ((goal (event-goal model event))
+                                (player-goal (player-goal-of-event machine (mevent-name event)))
+                                (distances (reference-distances model (event-goal model event))))
+                            (loop for index below (model-state-count model)
+                                  for start = (model-index-state model index)
+                                  unless (gethash index reachable)
+                                    do (incf checked)
+                                       (let* ((ops (player::search-unplanned-plan
+                                                    (model-one-hot model machine start) player-goal machine))
+                                              (names (and (listp ops) (mapcar #'player::op-name ops)))
+                                              (want (svref distances index)))
+                                         (cond ((not (eq (null want) (eq ops :none)))
+                                                (push (format nil "seed ~D ~A: searched ~S, reference ~A"
+                                                              seed (mevent-name event) ops want)
+                                                      problems))
+                                               (want
+                                                (let ((problem (check-timed-plan model (unit-durations model) goal start names)))
+                                                  (when (or problem (/= want (length names)))
+                                                    (push (format nil "seed ~D ~A: ~S: ~A (reference ~D)" seed
+                                                                  (mevent-name event) names problem want)
+                                                          problems)))))))))))
+                   (remove-spec name)))))
+    (is (> checked 1000))
+    (is (null problems) "~D problems, the first:~{~%  ~A~}" (length problems)
+        (subseq problems 0 (min 3 (length problems))))))

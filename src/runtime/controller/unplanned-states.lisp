@@ -19,8 +19,8 @@
   "Most states a run-time search from an unplanned state visits before it gives up.")
 
 (defparameter *unplanned-search-memo-limit* 1024
-  "How many (state . goal) searches a goal procedure remembers (it forgets
-them all past that).")
+  "From how many states a goal procedure remembers the plan it searched (it
+forgets them all past that).")
 
 ;;; The presenter's report
 
