@@ -30,19 +30,37 @@
 (defparameter *start-state-limit* (expt 2 16)
   "Most states one (:start-states EXPR...) expression may stand for.")
 
+(defstruct (state-set (:constructor %make-state-set (bits count words)))
+  "Some states of a reachable index: BITS, a bit per state number; COUNT, how
+many; WORDS, a bit per 64-bit word of BITS, set when the word holds one."
+  (bits nil :type simple-bit-vector)
+  (count 0 :type fixnum)
+  (words nil :type simple-bit-vector))
+
+(defun make-state-set (bits)
+  "The STATE-SET of the states whose bits are set in BITS."
+  (let ((words (make-array (ceiling (length bits) 64) :element-type 'bit :initial-element 0)))
+    (dotimes (word (length words))
+      (unless (zerop (raw-word bits word))
+        (setf (sbit words word) 1)))
+    (%make-state-set bits (count 1 bits) words)))
+
 (defstruct (reachable-index (:constructor %make-reachable-index))
-  "The reachable states of a spec, numbered, with a bitmap per one-hot bit."
-  ;; one-hot states by number, in the order the search found them
+  "The reachable states of a spec, numbered, with their STATE-SET per one-hot bit."
+  ;; one-hot states by number: ascending, so the states a cube fixes the
+  ;; high variables of lie in runs of numbers (and of words)
   (states #() :type simple-vector)
   ;; one-hot state -> its number
   (numbers (make-hash-table) :type hash-table)
-  ;; for each one-hot bit: a bitmap over the numbers of the states that have it
+  ;; for each one-hot bit: the STATE-SET of the states that have it
   (bit-sets #() :type simple-vector)
-  ;; how many states each of BIT-SETS holds
-  (bit-counts #() :type simple-vector)
-  ;; the bitmap of every state
-  (all nil :type (or null simple-bit-vector))
-  ;; (OFFSET . FIELD) -> (BITMAP . COUNT), for variables a cube allows several values
+  ;; the STATE-SET of every state
+  (all nil)
+  ;; for each one-hot bit: the position of its variable in the layout
+  (bit-variables #() :type simple-vector)
+  ;; the cube of every state
+  (top 0 :type unsigned-byte)
+  ;; (OFFSET . FIELD) -> STATE-SET, for variables a cube allows several values of
   (choices (make-hash-table :test 'equal) :type hash-table)
   ;; what decides the states: the roots and the transitions (for plan-memo.lisp)
   (signature nil)
@@ -137,16 +155,16 @@ spec's initial state, then the states of each :start-states expression."
 
 (defun reached-states (roots transitions limit)
   "The one-hot states reached from ROOTS by TRANSITIONS (applied where their
-preconditions hold), breadth first: (VALUES STATES NUMBERS), a vector in the
-order found and a table from state to position. REACHABLE-SPACE-TOO-LARGE
+preconditions hold), breadth first: (VALUES STATES NUMBERS), a vector in
+ascending order and a table from state to position. REACHABLE-SPACE-TOO-LARGE
 past LIMIT states."
   (let ((states (make-array 64 :adjustable t :fill-pointer 0))
-        (numbers (make-hash-table)))
+        (seen (make-hash-table)))
     (flet ((add (state)
-             (unless (gethash state numbers)
+             (unless (gethash state seen)
                (when (>= (fill-pointer states) limit)
                  (error 'reachable-space-too-large :limit limit))
-               (setf (gethash state numbers) (fill-pointer states))
+               (setf (gethash state seen) t)
                (vector-push-extend state states))))
       (mapc #'add roots)
       (loop for next from 0
@@ -155,12 +173,17 @@ past LIMIT states."
                  (dolist (op transitions)
                    (when (op-applies-p op state)
                      (add (apply-effects state op)))))))
-    (values (coerce states 'simple-vector) numbers)))
+    (let ((sorted (sort (coerce states 'simple-vector) #'<))
+          (numbers (make-hash-table :size (hash-table-count seen))))
+      (loop for state across sorted
+            for number from 0
+            do (setf (gethash state numbers) number))
+      (values sorted numbers))))
 
 ;;; The index
 
 (defun bit-sets (states bit-count)
-  "For each of BIT-COUNT one-hot bits, the bitmap over the positions of
+  "For each of BIT-COUNT one-hot bits, the STATE-SET of the positions of
 STATES of those that have it."
   (let ((sets (coerce (loop repeat bit-count
                             collect (make-array (length states) :element-type 'bit :initial-element 0))
@@ -170,7 +193,7 @@ STATES of those that have it."
           do (loop for bit below (integer-length state)
                    when (logbitp bit state)
                      do (setf (sbit (svref sets bit) number) 1)))
-    sets))
+    (map 'simple-vector #'make-state-set sets)))
 
 (defun add-reachable-index (layout)
   "LAYOUT with its spec's reachable states as its numbered states."
@@ -178,25 +201,28 @@ STATES of those that have it."
          (roots (reachability-roots layout))
          (transitions (reachability-transitions spec)))
     (multiple-value-bind (states numbers) (reached-states roots transitions *reachable-state-limit*)
-      (let ((sets (bit-sets states (spec-bit-count spec))))
-        (setf (layout-reachable layout)
-              (%make-reachable-index
-               :states states :numbers numbers :bit-sets sets
-               :bit-counts (map 'simple-vector (lambda (set) (count 1 set)) sets)
-               :all (make-array (length states) :element-type 'bit :initial-element 1)
-               :signature (list roots (mapcar (lambda (op)
-                                                (list (planner-op-precondition op)
-                                                      (planner-op-effect-mask op)
-                                                      (planner-op-effect-bits op)))
-                                              transitions)))
-              (layout-state-count layout) (max 1 (length states)))
-        layout))))
+      (setf (layout-reachable layout)
+            (%make-reachable-index
+             :states states :numbers numbers :bit-sets (bit-sets states (spec-bit-count spec))
+             :bit-variables (coerce (loop for size across (layout-sizes layout)
+                                          for k from 0
+                                          nconc (make-list size :initial-element k))
+                                    'simple-vector)
+             :top (top-cube spec)
+             :all (make-state-set (make-array (length states) :element-type 'bit :initial-element 1))
+             :signature (list roots (mapcar (lambda (op)
+                                              (list (planner-op-precondition op)
+                                                    (planner-op-effect-mask op)
+                                                    (planner-op-effect-bits op)))
+                                            transitions)))
+            (layout-state-count layout) (max 1 (length states)))
+      layout)))
 
 ;;; Cubes over the index
 
 (defun choice-set (index offset size field)
-  "(BITMAP . COUNT): the states of INDEX whose variable at OFFSET (SIZE
-values) has one of the values of FIELD; made once per field."
+  "The STATE-SET of the states of INDEX whose variable at OFFSET (SIZE values)
+has one of the values of FIELD; made once per field."
   (let ((key (cons offset field)))
     (or (gethash key (reachable-index-choices index))
         (setf (gethash key (reachable-index-choices index))
@@ -204,12 +230,13 @@ values) has one of the values of FIELD; made once per field."
                                                                                 :initial-element 0)))
                 (loop for value below size
                       when (logbitp value field)
-                        do (bit-ior union (svref (reachable-index-bit-sets index) (+ offset value)) union))
-                (cons union (count 1 union)))))))
+                        do (bit-ior union (state-set-bits (svref (reachable-index-bit-sets index) (+ offset value)))
+                                    union))
+                (make-state-set union))))))
 
 (defun cube-sets (cube layout)
-  "The bitmaps whose AND is the set of CUBE's states in LAYOUT's reachable
-index, the most selective first (never none: the bitmap of every state then)."
+  "The STATE-SETs whose intersection is CUBE's states in LAYOUT's reachable
+index, the most selective first (never none: the set of every state then)."
   (let* ((index (layout-reachable layout))
          (last (reachable-index-last-cube-sets index)))
     (if (eql cube (car last))
@@ -219,61 +246,114 @@ index, the most selective first (never none: the bitmap of every state then)."
           (setf (reachable-index-last-cube-sets index) (cons cube sets))
           sets))))
 
+(defun map-set-bits (function integer)
+  "Call FUNCTION on the position of each bit set in the non-negative INTEGER,
+ascending, a 64-bit digit at a time (LOGBITP on a bignum costs a call per bit)."
+  (declare (type function function) (type unsigned-byte integer) (optimize speed))
+  (flet ((digit (bits base)
+           (declare (type (unsigned-byte 64) bits) (type fixnum base))
+           (loop until (zerop bits)
+                 do (let ((low (logand bits (ldb (byte 64 0) (- bits)))))
+                      (declare (type (unsigned-byte 64) low))
+                      (funcall function (+ base (1- (integer-length low))))
+                      (setf bits (logxor bits low))))))
+    (if (typep integer 'fixnum)
+        (digit integer 0)
+        (dotimes (i (sb-bignum:%bignum-length integer))
+          (digit (sb-bignum:%bignum-ref integer i) (* 64 i))))))
+
+(defun variable-set (index layout k cube)
+  "The STATE-SET of INDEX's states whose variable K (in LAYOUT) has a value CUBE allows."
+  (let* ((offset (svref (layout-offsets layout) k))
+         (field (ldb (byte (svref (layout-sizes layout) k) offset) cube)))
+    (if (= 1 (logcount field))
+        (svref (reachable-index-bit-sets index) (+ offset (1- (integer-length field))))
+        (choice-set index offset (svref (layout-sizes layout) k) field))))
+
 (defun compute-cube-sets (cube layout index)
-  "CUBE-SETS of CUBE in LAYOUT's reachable INDEX, worked out."
-  (let ((sets (loop for offset of-type fixnum across (layout-offsets layout)
-                    for size of-type fixnum across (layout-sizes layout)
-                    for allowed = (loop for bit from offset below (+ offset size)
-                                        count (logbitp bit cube))
-                    unless (= allowed size)
-                      collect (if (= 1 allowed)
-                                  (let ((bit (loop for bit from offset
-                                                   when (logbitp bit cube) return bit)))
-                                    (cons (svref (reachable-index-bit-sets index) bit)
-                                          (svref (reachable-index-bit-counts index) bit)))
-                                  (choice-set index offset size (ldb (byte size offset) cube))))))
+  "CUBE-SETS of CUBE in LAYOUT's reachable INDEX, worked out: a set per
+variable with a value CUBE excludes."
+  (let ((sets '())
+        (previous -1)
+        (bit-variables (reachable-index-bit-variables index)))
+    (map-set-bits (lambda (bit)
+                    ;; a variable's excluded bits come one after another
+                    (let ((k (svref bit-variables bit)))
+                      (unless (eql k previous)
+                        (setf previous k)
+                        (push (variable-set index layout k cube) sets))))
+                  (logandc1 cube (reachable-index-top index)))
     (if sets
         ;; the most selective first: the AND of a word mostly stops there
-        (let ((first (reduce (lambda (a b) (if (< (cdr b) (cdr a)) b a)) sets)))
-          (coerce (cons (car first) (mapcar #'car (remove first sets :test #'eq))) 'simple-vector))
+        (let ((first (reduce (lambda (a b) (if (< (state-set-count b) (state-set-count a)) b a)) sets)))
+          (coerce (cons first (remove first sets :test #'eq)) 'simple-vector))
         (vector (reachable-index-all index)))))
 
-(defmacro do-cube-words ((word pattern cube layout &key (within '+full-word+)) &body body)
+(defmacro do-cube-words ((word pattern cube layout full &key (within '+full-word+)) &body body)
   "Run BODY with WORD bound to each word index of the reachable bitmaps and
 PATTERN to the 64-bit mask of CUBE's states in it that are also in WITHIN (a
-form of WORD giving a 64-bit mask), for the words where there are some."
-  (with-gensyms (sets count k)
+form of WORD giving a 64-bit mask), for the words where there are some.
+Words are taken 64 at a time: only those where every set of the cube has
+states and whose bit in FULL (a bitmap of a bit per word, set when the word
+is full) is clear are read."
+  (with-gensyms (sets count k group open low position)
     `(let* ((,sets (cube-sets ,cube ,layout))
             (,count (length ,sets)))
        (declare (type simple-vector ,sets) (type fixnum ,count))
-       (dotimes (,word (ceiling (length (the simple-bit-vector (svref ,sets 0))) 64))
-         (let ((,pattern (logand (the (unsigned-byte 64) ,within) (raw-word (svref ,sets 0) ,word))))
-           (declare (type (unsigned-byte 64) ,pattern))
-           (loop for ,k of-type fixnum from 1 below ,count
-                 until (zerop ,pattern)
-                 do (setf ,pattern (logand ,pattern (raw-word (svref ,sets ,k) ,word))))
-           (unless (zerop ,pattern)
-             ,@body))))))
+       (dotimes (,group (ceiling (length (state-set-words (svref ,sets 0))) 64))
+         (let ((,open (logandc2 +full-word+ (raw-word ,full ,group))))
+           (declare (type (unsigned-byte 64) ,open))
+           (loop for ,k of-type fixnum from 0 below ,count
+                 until (zerop ,open)
+                 do (setf ,open (logand ,open (raw-word (state-set-words (svref ,sets ,k)) ,group))))
+           (loop until (zerop ,open)
+                 do (let* ((,low (logand ,open (ldb (byte 64 0) (- ,open))))
+                           (,position (1- (integer-length ,low)))
+                           (,word (+ (* ,group 64) ,position))
+                           (,pattern (logand (the (unsigned-byte 64) ,within)
+                                             (raw-word (state-set-bits (svref ,sets 0)) ,word))))
+                      (declare (type (unsigned-byte 64) ,low ,pattern) (type fixnum ,position ,word))
+                      (setf ,open (logxor ,open ,low))
+                      (loop for ,k of-type fixnum from 1 below ,count
+                            until (zerop ,pattern)
+                            do (setf ,pattern (logand ,pattern (raw-word (state-set-bits (svref ,sets ,k)) ,word))))
+                      (unless (zerop ,pattern)
+                        ,@body))))))))
 
-(defun mark-reachable-cube (bitmap cube layout)
-  "MARK-CUBE over a reachable index: set the bits of CUBE's states in BITMAP;
-return how many were clear."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  (let ((new 0))
-    (declare (type fixnum new))
-    (do-cube-words (word pattern cube layout)
-      (let ((old (raw-word bitmap word)))
-        (incf new (logcount (logandc1 old pattern)))
-        (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old pattern))))
+(defun mark-reachable-cube (solved-states cube layout)
+  "MARK-CUBE over a reachable index: add CUBE's states to SOLVED-STATES, keeping
+its bit per full word up to date; return how many were not in it before."
+  (declare (optimize speed))
+  (let* ((bitmap (solved-states-bits solved-states))
+         (full (solved-states-full-words solved-states))
+         (last (1- (length full)))
+         ;; the bits of the last word that stand for states
+         (last-states (let ((rest (mod (length bitmap) 64)))
+                        (if (zerop rest) +full-word+ (1- (ash 1 rest)))))
+         (new 0))
+    (declare (type simple-bit-vector bitmap full) (type fixnum new last)
+             (type (unsigned-byte 64) last-states))
+    (do-cube-words (word pattern cube layout full)
+      (let* ((old (raw-word bitmap word))
+             (now (logior old pattern)))
+        (declare (type (unsigned-byte 64) now))
+        (unless (= old now)
+          (incf new (logcount (logxor old now)))
+          (setf (sb-kernel:%vector-raw-bits bitmap word) now)
+          (when (= now (if (= word last) last-states +full-word+))
+            (setf (sbit full word) 1)))))
     new))
 
-(defun reachable-cube-has-unmarked-p (bitmap cube layout)
-  "CUBE-HAS-UNMARKED-P over a reachable index: does CUBE hold a state whose
-bit in BITMAP is clear?"
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  ;; Starting from the clear bits, a word that is already full costs one read.
-  (do-cube-words (word pattern cube layout :within (logandc2 +full-word+ (raw-word bitmap word)))
-    (return-from reachable-cube-has-unmarked-p (plusp pattern)))
+(defun reachable-cube-has-unmarked-p (solved-states cube layout)
+  "CUBE-HAS-UNMARKED-P over a reachable index: does CUBE hold a state not in
+SOLVED-STATES?"
+  (declare (optimize speed))
+  (let ((bitmap (solved-states-bits solved-states)))
+    (declare (type simple-bit-vector bitmap))
+    ;; Starting from the clear bits, a word that is already full costs one read.
+    (do-cube-words (word pattern cube layout (the simple-bit-vector (solved-states-full-words solved-states))
+                    :within (logandc2 +full-word+ (raw-word bitmap word)))
+      (return-from reachable-cube-has-unmarked-p (plusp pattern))))
   nil)
 
 ;;; The planned set

@@ -48,10 +48,6 @@ in one-hot STATE: outside the planned set, with (:unplanned-states :refuse)."
 
 ;;; Searching
 
-(defun goal-holds-p (goal state)
-  "Does GOAL hold in one-hot STATE?"
-  (some (lambda (cube) (state-in-cube-p state cube)) (goal-cubes goal)))
-
 (defun search-unplanned-plan (state goal machine)
   "The ops of a shortest plan (fewest ops, or least duration under
 (:optimize :duration), then fewest ops) from one-hot STATE to GOAL with
