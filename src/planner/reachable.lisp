@@ -61,7 +61,8 @@ many; WORDS, a bit per 64-bit word of BITS, set when the word holds one."
   ;; the cube of every state
   (top 0 :type unsigned-byte)
   ;; (OFFSET . FIELD) -> STATE-SET, for variables a cube allows several values of
-  (choices (make-hash-table :test 'equal) :type hash-table)
+  ;; (synchronized: PLANS may plan goals of one machine on several threads)
+  (choices (make-hash-table :test 'equal :synchronized t) :type hash-table)
   ;; what decides the states: the roots and the transitions (for plan-memo.lisp)
   (signature nil)
   ;; (CUBE . SETS) of the last CUBE-SETS: regression tests a cube, then marks it
