@@ -4,7 +4,7 @@
 ;;;; can be a bit vector with one bit per state (solved-states.lisp).
 ;;;; Past *FULL-SPACE-THRESHOLD* states (or when the spec says (:state-space
 ;;;; :reachable)) only the states reachable from the initial state are planned
-;;;; for and numbered, in the order they were found (reachable.lisp).
+;;;; for and numbered, in ascending order (reachable.lisp).
 
 (in-package #:player)
 

@@ -7,12 +7,15 @@
 ;;;; initial state and the :start-states, under every op (must-ask ops and
 ;;;; macro-ops too), every event's :add/:sub and every op's :if-cut (what a
 ;;;; timed controller leaves when it cuts the op), finds the reachable set R;
-;;;; its states are numbered in the order found, and SolvedStates becomes a
+;;;; its states are numbered in ascending order, and SolvedStates becomes a
 ;;;; bit per state of R. For each bit of the one-hot state, the states of R
 ;;;; that have it are a bitmap over R too, so the states of R in a cube are
 ;;;; the AND, over the variables the cube constrains, of the OR of the
 ;;;; bitmaps of the values it allows: asking "does this cube hold a state of
-;;;; R not yet solved" is a few word operations per 64 states of R.
+;;;; R not yet solved" is a few word operations per 64 states of R. A bit per
+;;;; word of each bitmap (the word holds states) and of SolvedStates (the word
+;;;; is full) lets most words be skipped 64 at a time: in ascending order, a
+;;;; cube's states lie in few words.
 ;;;;
 ;;;; R is closed under the planner's operators, so the paper's regression
 ;;;; (regression.lisp) runs unchanged and still finds shortest plans for
