@@ -29,6 +29,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "canonical")
                    (:file "classes")
                    (:file "variables")
+                   (:file "state-space")
                    (:file "parse")
                    (:file "directives")
                    (:file "interruption")
@@ -43,6 +44,8 @@ run the resulting state machine as Lisp closures or embedded C++."
       :serial t
       :components ((:file "encoding")
                    (:file "solved-states")
+                   ;; Past the full space: plans for the reachable states only.
+                   (:file "reachable")
                    (:file "regression")
                    (:file "uniform-cost")
                    (:file "goal-identity")
@@ -114,6 +117,8 @@ run the resulting state machine as Lisp closures or embedded C++."
         :serial t
         :components ((:file "presenter")
                      (:file "controller")
+                     ;; States the reachable regime has no plans from.
+                     (:file "unplanned-states")
                      ;; Live authoring: a running controller switched to its redefined spec.
                      (:file "redefinition")
                      (:file "following")))
@@ -306,6 +311,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-dispatch")
                  (:file "test-c++-hostile")
                  (:file "test-cli")
+                 ;; the reachable regime (issue 13), its CLI too
+                 (:file "strips-families")
+                 (:file "reference-reachable")
+                 (:file "test-reachable")
                  (:file "test-timeline")
                  (:file "test-c++-timeline")
                  (:file "test-hostile-input")

@@ -20,7 +20,8 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "dispatch" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "dialogue"))
+    (dolist (file '("synthetic" "naive" "dispatch" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "dialogue"
+                    "strips"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -396,6 +397,8 @@ closures and through run-time planning; add the rows; return the ratio."
         (dolist (n *duration-sizes*)
           (format t "~&  synthetic n=~D, :optimize :duration...~%" n) (finish-output)
           (bench-optimize-duration n))
+        (format t "~&  STRIPS families, reachable states...~%") (finish-output)
+        (bench-strips-families)
         (rule)
         (bench-events machine)
         (dolist (n *dispatch-sizes*)

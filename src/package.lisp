@@ -84,6 +84,7 @@
    #:class-cycle-error #:label-error #:effect-error #:goal-error
    #:spec-reader-error #:untrusted-code-error #:unknown-event #:unknown-event-name
    #:state-space-too-large #:state-transfer-error
+   #:reachable-space-too-large #:state-outside-planned-set
    ;; Command line
    #:main #:usage-error
    ;; Argument checking of the Lisp API (issue 11): every exported function

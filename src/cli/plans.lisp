@@ -11,9 +11,10 @@ they are tried, each a condition on the state and the ops to run."
      :output "standard output")
   (let* ((spec (choose-spec file spec :allow-code (not no-code)))
          (machine (plan-spec spec)))
-    (format t "spec ~A: ~D goals, ~D states, max-depth ~D~:[~;, optimize :duration~]~%"
+    (format t "spec ~A: ~D goals, ~D ~:[~;reachable ~]states, max-depth ~D~:[~;, optimize :duration~]~%"
             (lisp-text (spec-name spec)) (length (machine-goal-table machine))
-            (machine-state-count machine) (spec-max-depth spec) (eq (spec-optimize spec) :duration))
+            (machine-state-count machine) (layout-reachable (machine-layout machine))
+            (spec-max-depth spec) (eq (spec-optimize spec) :duration))
     (loop for goal across (machine-goal-table machine)
           do (format t "~%goal ~D: ~A~%" (1+ (goal-id goal)) (lisp-text (goal-expression goal)))
              (format t "  requested as: ~{~A~^, ~}~%" (mapcar #'lisp-text (reverse (goal-forms goal))))
@@ -23,5 +24,5 @@ they are tried, each a condition on the state and the ops to run."
                               (if ops (lisp-text ops) "nothing (already true)")))
              (let ((missing (- (machine-state-count machine) (goal-solved-count goal))))
                (when (plusp missing)
-                 (format t "  unreachable from ~D of ~D states~%" missing
-                         (machine-state-count machine)))))))
+                 (format t "  unreachable from ~D of ~D ~:[~;reachable ~]states~%" missing
+                         (machine-state-count machine) (layout-reachable (machine-layout machine))))))))

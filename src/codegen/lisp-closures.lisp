@@ -127,7 +127,9 @@ STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
          (machine (plan-spec spec :constructor #'%make-compiled-machine))
          (*procedures* (make-hash-table :test 'eq)))
     (loop for goal across (machine-goal-table machine)
-          do (setf (car (procedure-box goal)) (compile-achiever goal machine)))
+          do (setf (car (procedure-box goal))
+                   ;; the reachable regime's guard (unplanned-states.lisp); else the achiever itself
+                   (guard-planned-states (compile-achiever goal machine) goal machine)))
     (dolist (op (spec-ops spec))
       (setf (car (procedure-box op)) (compile-executor op machine)))
     (dolist (event (spec-events spec))

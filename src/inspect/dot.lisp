@@ -11,6 +11,9 @@
 
 (in-package #:player)
 
+(defparameter *current-state-color* "#d62728"
+  "The border colour of the node of the state a running controller is in.")
+
 (defparameter *dot-program* "dot"
   "The Graphviz program that renders .svg and .png files: a name looked up on
 PATH, or a path.  Debian's package graphviz installs it.")
@@ -141,9 +144,6 @@ its op, with the extra DOT ATTRIBUTES."
       (write-plan-tree graph stream))
     (format stream "}~%")
     graph))
-
-(defparameter *current-state-color* "#d62728"
-  "The border colour of the node of the state a running controller is in.")
 
 (defun write-state-graph (machine stream &key goal current)
   "Write MACHINE's plannable state graph (MACHINE a machine, a spec or a

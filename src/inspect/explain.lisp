@@ -222,8 +222,10 @@ already holds says so; an unreachable goal ends it with an EXPLAINED-UNREACHABLE
 saying why (goal literals no op adds, or the preconditions that block in the
 reachable states nearest the goal). Signals UNKNOWN-EVENT for an event the spec
 lacks, a SPEC-ERROR for a GOAL that is no state expression of the spec or an
-unknown variable or bad value in INITIAL, and an ARGUMENT-ERROR for an argument
-of the wrong kind or for giving both or neither of GOAL and EVENT."
+unknown variable or bad value in INITIAL, STATE-OUTSIDE-PLANNED-SET for a
+state a spec planned for its reachable states only has no plans from, and an
+ARGUMENT-ERROR for an argument of the wrong kind or for giving both or neither
+of GOAL and EVENT."
   (check-argument 'explain-plan 'machine machine #'machine-designator-p *machine-designator*)
   (check-argument 'explain-plan :initial initial #'initial-alist-p
                   "a proper alist ((variable . value) ...) with symbols for variables and finite numbers")
@@ -238,6 +240,9 @@ of the wrong kind or for giving both or neither of GOAL and EVENT."
   (let* ((machine (ensure-machine machine 'explain-plan))
          (spec (machine-spec machine))
          (explainer (make-explainer machine (explanation-initial-state spec initial))))
+    ;; outside the reachable regime's planned set no plan is known to be shortest
+    (unless (planned-state-p machine (explainer-state explainer))
+      (refuse-unplanned-state machine (explainer-state explainer)))
     (add-explanation-step explainer (make-explanation-start (spec-name spec)
                                                 (explained-state-text (explainer-state explainer) spec)))
     (if goal-p

@@ -117,15 +117,6 @@ than LIMIT are reachable."
                                       (> limit *graph-state-limit*)))
                 t))))
 
-(defun transition-ops (spec)
-  "SPEC's ops that change a state, must-ask ops and macro-ops included, as PLANNER-OPs."
-  (loop for op in (spec-ops spec)
-        when (op-effects op) collect (make-planner-op op spec)))
-
-(defun op-applies-p (planner-op state)
-  "Does PLANNER-OP's precondition hold in the one-hot STATE?"
-  (some (lambda (cube) (state-in-cube-p state cube)) (planner-op-precondition planner-op)))
-
 (defun states-reached (initial transitions limit)
   "The one-hot states reached from INITIAL by TRANSITIONS (planner ops applied
 where their preconditions hold), INITIAL included, as a hash table whose keys
@@ -263,8 +254,10 @@ edge once, in the order first walked."
   "One sentence saying what GRAPH shows, for its caption."
   (let* ((spec (machine-spec (state-graph-machine graph)))
          (count (length (state-graph-states graph))))
-    (format nil "spec ~A: ~:[all ~D plannable state~:P~*~;the ~D state~:P reachable from the initial state (of ~D plannable states)~]~:[; too many for the op graph, only the plan tree is drawn~;, ~D op edge~:P (dashed: must-ask ops)~]~@[~A~]"
+    (format nil "spec ~A: ~:[all ~D ~A state~P~*~;the ~D state~:P reachable from the initial state (of ~2*~D plannable states)~]~:[; too many for the op graph, only the plan tree is drawn~;, ~D op edge~:P (dashed: must-ask ops)~]~@[~A~]"
             (lisp-text (spec-name spec)) (state-graph-reachable-only graph) count
+            ;; the reachable regime plans (and draws) only the reachable states
+            (if (layout-reachable (machine-layout (state-graph-machine graph))) "reachable" "plannable") count
             (state-graph-total graph) (state-graph-op-graph-p graph) (length (state-graph-edges graph))
             (and (state-graph-goal graph)
                  (format nil "; goal ~A shaded~:[~;, its plan tree beside~]"

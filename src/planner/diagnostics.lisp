@@ -71,20 +71,6 @@ too) or event :add/:sub, with every precondition respected."
                        (push next queue)))))))
     seen))
 
-(defun event-assignment-ops (spec)
-  "Unconditional pseudo-ops for every :add/:sub of a plannable literal in an event."
-  (let ((ops '()))
-    (dolist (event (spec-events spec) ops)
-      (map-directives (lambda (directive)
-                        (when (eq (first directive) :assign)
-                          (push (make-planner-op
-                                 (make-op-def :name (event-name event)
-                                              :effects (list (cons (second directive)
-                                                                   (third directive))))
-                                 spec)
-                                ops)))
-                      (event-directives event)))))
-
 (defun goal-description (goal)
   "GOAL as its author wrote it (first writing), for messages."
   (lisp-text (first (last (goal-forms goal)))))

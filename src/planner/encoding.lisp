@@ -2,11 +2,19 @@
 ;;;; At run time a state is the one-hot integer of canonical.lisp. The planner
 ;;;; also numbers states densely (mixed radix over the domains) so SolvedStates
 ;;;; can be a bit vector with one bit per state (solved-states.lisp).
+;;;; Past *FULL-SPACE-THRESHOLD* states (or when the spec says (:state-space
+;;;; :reachable)) only the states reachable from the initial state are planned
+;;;; for and numbered, in ascending order (reachable.lisp).
 
 (in-package #:player)
 
 (defparameter *state-limit* (expt 2 26)
-  "Most plannable states the planner accepts (the SolvedStates bitmap is this many bits).")
+  "Most plannable states the full-space planner accepts (the SolvedStates bitmap
+is this many bits).")
+
+(defparameter *full-space-threshold* (expt 2 26)
+  "Most plannable states for which (:state-space :auto), the default, plans
+every state; past it, only the reachable ones.")
 
 (defparameter *group-threshold* (expt 2 18)
   "Fewest states for which SolvedStates keeps a bit per full word (solved-states.lisp):
@@ -20,7 +28,12 @@ below it, reading the words themselves is as quick.")
   (offsets #() :type simple-vector)
   (masks #() :type simple-vector)
   (strides #() :type simple-vector)
+  ;; how many states are numbered: the product space, or the reachable states
   (state-count 1 :type (integer 1))
+  ;; the product of the domain sizes
+  (space-size 1 :type (integer 1))
+  ;; the REACHABLE-INDEX of the states numbered, or NIL for the full space
+  (reachable nil)
   ;; leading variables spanning exactly one 64-bit word, or NIL (see CUBE-WORD-PATTERN)
   (word-prefix nil)
   (word-masks #() :type simple-vector)
@@ -29,7 +42,10 @@ below it, reading the words themselves is as quick.")
   (group-masks #() :type simple-vector))
 
 (defun make-layout (spec)
-  "The layout of SPEC's plannable state; STATE-SPACE-TOO-LARGE past *STATE-LIMIT*."
+  "The layout of SPEC's plannable state: every state when SPEC's :state-space
+lets FULL-SPACE-P choose that, else the states reachable from its initial
+state and :start-states. STATE-SPACE-TOO-LARGE for (:state-space :full) past
+*STATE-LIMIT*, REACHABLE-SPACE-TOO-LARGE past *REACHABLE-STATE-LIMIT*."
   (let* ((vars (coerce (plannable-variables spec) 'simple-vector))
          (sizes (map 'simple-vector #'var-domain-size vars))
          (strides (make-array (length vars)))
@@ -37,27 +53,56 @@ below it, reading the words themselves is as quick.")
     (loop for i below (length vars)
           do (setf (aref strides i) count
                    count (* count (aref sizes i))))
-    (when (> count *state-limit*)
-      (error 'state-space-too-large :states count :limit *state-limit*))
     (let ((layout (%make-layout :spec spec :variables vars :sizes sizes
                                 :offsets (map 'simple-vector #'var-bit-offset vars)
                                 :masks (map 'simple-vector #'var-field-mask vars)
-                                :strides strides :state-count count)))
-      (when-let ((prefix (span-prefix layout 0 64)))
-        (setf (layout-word-prefix layout) prefix
-              (layout-word-masks layout) (position-value-masks layout 0 prefix 1))
-        (when-let ((group (and (>= count *group-threshold*) (span-prefix layout prefix 64))))
-          (setf (layout-group-prefix layout) group
-                (layout-group-masks layout) (position-value-masks layout prefix group 64))))
-      layout)))
+                                :strides strides :state-count count :space-size count)))
+      (if (full-space-p spec count)
+          (add-word-prefixes layout)
+          (add-reachable-index layout)))))
+
+(defun full-space-p (spec count)
+  "Does SPEC, of COUNT plannable states, get plans from every state? Under
+(:state-space :auto) when COUNT is at most *FULL-SPACE-THRESHOLD*; always
+under :full, which signals STATE-SPACE-TOO-LARGE past *STATE-LIMIT*; never
+under :reachable."
+  (ecase (spec-state-space spec)
+    (:auto (and (<= count *full-space-threshold*) (full-space-p-or-fail count)))
+    (:full (full-space-p-or-fail count))
+    (:reachable nil)))
+
+(defun full-space-p-or-fail (count)
+  "T when COUNT states fit *STATE-LIMIT*; STATE-SPACE-TOO-LARGE otherwise."
+  (when (> count *state-limit*)
+    (error 'state-space-too-large :states count :limit *state-limit*))
+  t)
+
+(defun add-word-prefixes (layout)
+  "LAYOUT, a full space, with its word and group prefixes filled in."
+  (when-let ((prefix (span-prefix layout 0 64)))
+    (setf (layout-word-prefix layout) prefix
+          (layout-word-masks layout) (position-value-masks layout 0 prefix 1))
+    (when-let ((group (and (>= (layout-state-count layout) *group-threshold*)
+                           (span-prefix layout prefix 64))))
+      (setf (layout-group-prefix layout) group
+            (layout-group-masks layout) (position-value-masks layout prefix group 64))))
+  layout)
 
 (defun layout-cube-empty-p (cube layout)
   "True when CUBE allows no state."
-  (loop for mask across (layout-masks layout)
-          thereis (zerop (logand cube mask))))
+  (if (typep cube 'fixnum)
+      (loop for mask across (layout-masks layout)
+              thereis (zerop (logand cube mask)))
+      ;; Past 62 bits LOGAND makes a bignum per field; LOGBITP makes none.
+      (loop for offset of-type fixnum across (layout-offsets layout)
+            for size of-type fixnum across (layout-sizes layout)
+              thereis (loop for bit of-type fixnum from offset below (+ offset size)
+                              never (logbitp bit cube)))))
 
 (defun dense-to-state (dense layout)
   "The one-hot state numbered DENSE."
+  (when-let ((index (layout-reachable layout)))
+    (return-from dense-to-state (reachable-state index dense)))
   (loop with state = 0
         for size across (layout-sizes layout)
         for offset across (layout-offsets layout)
@@ -67,7 +112,9 @@ below it, reading the words themselves is as quick.")
         finally (return state)))
 
 (defun state-to-dense (state layout)
-  "The dense number of one-hot STATE."
+  "The dense number of one-hot STATE (NIL for a state the layout does not number)."
+  (when-let ((index (layout-reachable layout)))
+    (return-from state-to-dense (reachable-number index state)))
   (loop for size across (layout-sizes layout)
         for offset across (layout-offsets layout)
         for stride across (layout-strides layout)

@@ -31,7 +31,8 @@
             (length (machine-goal-table machine)) (layout-state-count (machine-layout machine)))))
 
 (defun machine-state-count (machine)
-  "How many plannable states MACHINE's spec has."
+  "How many states MACHINE has plans from: every plannable state of its spec,
+or in the reachable regime its reachable states."
   (check-argument 'machine-state-count 'machine machine #'machine-p "a machine")
   (layout-state-count (machine-layout machine)))
 

@@ -48,16 +48,21 @@ whether :max-depth truncated the search."
 
 (defun planning-signature (spec layout operators)
   "What planning any goal of SPEC reads besides the goal: :optimize,
-:max-depth, LAYOUT's field sizes and the planner OPERATORS."
+:max-depth, LAYOUT's field sizes and the planner OPERATORS (and, in the
+reachable regime, what decides the reachable states)."
   (let ((optimize (spec-optimize spec)))
-    (list optimize (spec-max-depth spec) (coerce (layout-sizes layout) 'list)
-          (mapcar (lambda (operator)
-                    (list (name-key (op-name (planner-op-op operator)))
-                          (planner-op-precondition operator)
-                          (planner-op-effect-mask operator)
-                          (planner-op-effect-bits operator)
-                          (and (eq optimize :duration) (planner-op-duration operator))))
-                  operators))))
+    (list* optimize (spec-max-depth spec) (coerce (layout-sizes layout) 'list)
+           (mapcar (lambda (operator)
+                     (list (name-key (op-name (planner-op-op operator)))
+                           (planner-op-precondition operator)
+                           (planner-op-effect-mask operator)
+                           (planner-op-effect-bits operator)
+                           (and (eq optimize :duration) (planner-op-duration operator))))
+                   operators)
+           ;; The reachable regime's rows are over its states, which the
+           ;; initial state, :start-states and every transition decide.
+           (when-let ((index (layout-reachable layout)))
+             (list (reachable-index-signature index))))))
 
 (defun previous-plan-rows (spec signature)
   "The rows of SPEC's name's last planning when it had SIGNATURE, else NIL."

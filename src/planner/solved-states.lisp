@@ -21,6 +21,7 @@ them all past that).")
   "A set of dense states of a layout."
   (bits nil :type simple-bit-vector)
   ;; a bit per word of BITS, set when the word is full; NIL without groups
+  ;; (and with a reachable index, see reachable.lisp)
   (full-words nil :type (or null simple-bit-vector))
   ;; cubes known to lie inside
   (known (make-hash-table) :type hash-table))
@@ -29,8 +30,10 @@ them all past that).")
   "An empty SolvedStates for LAYOUT."
   (let ((count (layout-state-count layout)))
     (%make-solved-states (make-array count :element-type 'bit :initial-element 0)
-                         (when (layout-group-prefix layout)
-                           (make-array (floor count 64) :element-type 'bit :initial-element 0)))))
+                         (cond ((layout-reachable layout) ; a bit per word, the last one partial
+                                (make-array (ceiling count 64) :element-type 'bit :initial-element 0))
+                               ((layout-group-prefix layout)
+                                (make-array (floor count 64) :element-type 'bit :initial-element 0))))))
 
 (defun copy-solved-states-deeply (solved-states)
   "A fresh SolvedStates holding the same states (and remembering no cube)."
@@ -60,7 +63,8 @@ them all past that).")
   (if (known-inside-p solved-states cube)
       0
       (let ((bits (solved-states-bits solved-states)))
-        (prog1 (cond ((solved-states-full-words solved-states) (mark-cube-groups solved-states cube layout))
+        (prog1 (cond ((layout-reachable layout) (mark-reachable-cube solved-states cube layout))
+                     ((solved-states-full-words solved-states) (mark-cube-groups solved-states cube layout))
                      ((layout-word-prefix layout) (mark-cube-words bits cube layout))
                      (t (mark-cube-runs bits cube layout)))
           (remember-inside solved-states cube)))))
@@ -69,7 +73,8 @@ them all past that).")
   "True when some state of CUBE is not in SOLVED-STATES."
   (unless (known-inside-p solved-states cube)
     (let ((bits (solved-states-bits solved-states)))
-      (or (cond ((solved-states-full-words solved-states) (cube-groups-have-unmarked-p solved-states cube layout))
+      (or (cond ((layout-reachable layout) (reachable-cube-has-unmarked-p solved-states cube layout))
+                ((solved-states-full-words solved-states) (cube-groups-have-unmarked-p solved-states cube layout))
                 ((layout-word-prefix layout) (cube-words-have-unmarked-p bits cube layout))
                 (t (cube-runs-have-unmarked-p bits cube layout)))
           (progn (remember-inside solved-states cube) nil)))))

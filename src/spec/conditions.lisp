@@ -142,6 +142,26 @@ is validated) still names its line.")
                      (too-large-states condition) (too-large-limit condition))))
   (:documentation "The product of the plannable domains is too large to plan for."))
 
+(define-condition reachable-space-too-large (player-error)
+  ((limit :initarg :limit :reader too-large-limit))
+  (:report (lambda (condition stream)
+             (format stream "more than ~:D states are reachable from the initial state and the :start-states, over the reachable planner's limit"
+                     (too-large-limit condition))))
+  (:documentation "The reachable regime found more states than it plans for (*REACHABLE-STATE-LIMIT*)."))
+
+(define-condition state-outside-planned-set (player-error)
+  ((spec :initarg :spec :reader outside-spec
+         :documentation "The name of the spec.")
+   (state :initarg :state :reader outside-state
+          :documentation "The state, as its text (var=value ...).")
+   (goal :initarg :goal :initform nil :reader outside-goal
+         :documentation "The goal being achieved, as written, or NIL."))
+  (:report (lambda (condition stream)
+             (format stream "spec ~A has no plans from the state ~A~@[ (achieving ~A)~]: it is not reachable from the initial state or the :start-states; add it with (:start-states EXPR), or let the controller search at run time with (:unplanned-states :search)"
+                     (outside-spec condition) (outside-state condition) (outside-goal condition))))
+  (:documentation "A controller of a spec planned for its reachable states only is in, or
+is asked to start from, a state outside them, and may not search at run time."))
+
 (define-condition state-transfer-error (player-error)
   ((message :initarg :message :reader state-transfer-message))
   (:report (lambda (condition stream)

@@ -7,7 +7,8 @@
 (defparameter *default-max-depth* 16
   "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
 
-(defparameter *spec-option-keys* '(:max-depth :optimize :macros :scripts :body :when-busy)
+(defparameter *spec-option-keys* '(:max-depth :optimize :macros :scripts :body :when-busy
+                                   :state-space :unplanned-states)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
 (defparameter *expanding-option-keys* '(:graph)
@@ -26,6 +27,12 @@ for, put before the forms written after it, and as a second value the
 (defparameter *optimize-criteria* '(:steps :duration)
   "What (:optimize CRITERION) may ask the planner to minimise: the number of
 operators (the paper's, the default), or their total :duration.")
+
+(defparameter *macro-semantics* '(:declared :exact)
+  "What (:macros SEMANTICS) may say the state after a macro-op is: its start
+state with the declared effects (the paper's, the default), or, :EXACT, the
+state its :seq produced with the declared effects on top -- checked, when the
+spec is planned, to be the state the planner assumed (macro-exactness.lisp).")
 
 (defun parse-spec (name body &key source-file (package *package*) form-positions)
   "Parse BODY, the forms after DEFSPEC NAME, into a validated SPEC.
@@ -47,6 +54,7 @@ points at the line of the form it is about, and names that form."
       (each-form #'declare-form)
       (assign-layout *spec*)
       (each-form #'define-form))
+    (parse-start-states *spec*)
     (validate-spec *spec*)
     *spec*))
 
@@ -86,9 +94,11 @@ rest, after the forms options such as (:graph EXPR) stand for."
 
 (defun parse-spec-option (option)
   "Record the (:KEY VALUE) OPTION of a defspec's head in *SPEC*."
+  (when (eq (first option) :start-states)
+    (return-from parse-spec-option (record-start-states-option option)))
   (unless (and (proper-list-p option) (= (length option) 2)
                (member (first option) *spec-option-keys*))
-    (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~}, (:graph EXPR ...))"
+    (spec-fail 'spec-syntax-error option "unknown or malformed spec option (allowed: ~{(~A VALUE)~^ ~}, (:graph EXPR ...), (:start-states EXPR ...))"
                (mapcar #'lisp-text *spec-option-keys*)))
   (case (first option)
     (:max-depth
@@ -101,7 +111,12 @@ rest, after the forms options such as (:graph EXPR) stand for."
     (:when-busy
      (setf (getf (spec-options *spec*) :when-busy) (parse-when-busy (second option) option)))
     (:macros
-     (setf (getf (spec-options *spec*) :macros) (parse-macro-semantics option)))
+     (setf (getf (spec-options *spec*) :macros) (parse-keyword-choice option *macro-semantics*)))
+    (:state-space
+     (setf (getf (spec-options *spec*) :state-space) (parse-keyword-choice option *state-space-regimes*)))
+    (:unplanned-states
+     (setf (getf (spec-options *spec*) :unplanned-states)
+           (parse-keyword-choice option *unplanned-state-policies*)))
     (t (setf (getf (spec-options *spec*) (first option)) (second option)))))
 
 (defun parse-optimize-criterion (option)
@@ -111,19 +126,6 @@ of *OPTIMIZE-CRITERIA*, as a keyword or not."
     (or (find-if (lambda (known) (word-p criterion (symbol-name known))) *optimize-criteria*)
         (spec-fail 'spec-syntax-error option "unknown :optimize criterion ~A (allowed: ~{~A~^ or ~})"
                    (bounded-lisp-text criterion 40) (mapcar #'lisp-text *optimize-criteria*)))))
-
-(defparameter *macro-semantics* '(:declared :exact)
-  "What (:macros SEMANTICS) may say the state after a macro-op is: its start
-state with the declared effects (the paper's, the default), or, :EXACT, the
-state its :seq produced with the declared effects on top -- checked, when the
-spec is planned, to be the state the planner assumed (macro-exactness.lisp).")
-
-(defun parse-macro-semantics (option)
-  "The keyword of OPTION, (:macros SEMANTICS): a name of *MACRO-SEMANTICS*."
-  (let ((semantics (unquote (second option))))
-    (or (find-if (lambda (known) (word-p semantics (symbol-name known))) *macro-semantics*)
-        (spec-fail 'spec-syntax-error option "unknown :macros semantics ~A (allowed: ~{~A~^ or ~})"
-                   (bounded-lisp-text semantics 40) (mapcar #'lisp-text *macro-semantics*)))))
 
 (defun form-kind (form)
   "The keyword naming FORM's kind, or a syntax error."

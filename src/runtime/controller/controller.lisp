@@ -40,7 +40,8 @@ SEND-EVENT plans the event and ADVANCE presents it as its time comes, so an
 event can arrive while another plays and be resolved by its :when-busy
 policy; its timers and triggers run. Signals a SPEC-ERROR for an unknown variable
 or a value outside its domain, an ARGUMENT-ERROR for an argument of the wrong
-kind."
+kind, STATE-OUTSIDE-PLANNED-SET for a start its machine has no plans from (a
+spec planned for its reachable states only, without (:unplanned-states :search))."
   (check-argument 'make-controller 'machine machine #'machine-designator-p *machine-designator*)
   (check-argument 'make-controller :initial-state initial-state #'initial-state-p *initial-state-phrase*)
   (check-argument 'make-controller :presenter presenter #'presenter-p
@@ -54,6 +55,7 @@ kind."
                       :labels (make-array (spec-label-count spec) :element-type 'double-float
                                                                   :initial-element 0d0))))
     (install-assignments controller assignments)
+    (check-planned-state machine (controller-bits controller))
     (present-initial-state presenter controller)
     (start-initial-autoscripts controller (controller-clock controller))
     (when timed

@@ -33,12 +33,20 @@ Variables SPEC does not have are dropped; new ones take their initial values."
 
 (defun transferred-assignments (controller machine)
   "The assignments that express CONTROLLER's current state in MACHINE's spec;
-a STATE-TRANSFER-ERROR when a current value does not exist there."
-  (let ((new-spec (machine-spec machine)))
-    (handler-case (initial-assignments new-spec (transferred-state controller new-spec))
-      (spec-error (e)
+a STATE-TRANSFER-ERROR when a current value does not exist there, or when
+MACHINE has no plans from that state (the reachable regime)."
+  (let* ((new-spec (machine-spec machine))
+         (assignments (handler-case (initial-assignments new-spec (transferred-state controller new-spec))
+                        (spec-error (e)
+                          (error 'state-transfer-error
+                                 :message (format nil "cannot keep the controller's state in the new spec: ~A" e))))))
+    ;; a spec planned for its reachable states only may have no plans from it
+    (handler-case (check-planned-state machine (loop for (var . value) in assignments
+                                                     when (plannable-p var) sum (var-value-bit var value)))
+      (state-outside-planned-set (e)
         (error 'state-transfer-error
-               :message (format nil "cannot keep the controller's state in the new spec: ~A" e))))))
+               :message (format nil "cannot keep the controller's state in the new spec: ~A" e))))
+    assignments))
 
 (defun switch-machine (controller machine)
   "Make compiled MACHINE CONTROLLER's, now, keeping its state, clock and
