@@ -127,3 +127,19 @@
       (let ((e (handler-case (progn (compile-spec spec) nil) (player-error (e) e))))
         (is (typep e 'state-space-too-large))
         (is (search "64 states, over the planner's limit of 32" (princ-to-string e)))))))
+
+(test empty-cubes-are-empty-past-62-bits
+  "LAYOUT-CUBE-EMPTY-P answers alike for a fixnum cube and a bignum one: a cube
+is empty when any one variable has no value left."
+  (with-machine (m wide-empty
+                 (state-variable pad integer 0 #.(loop for i below 64 collect i))
+                 (state-variable a boolean false)
+                 (state-variable b boolean false)
+                 (event e :state a))
+    (let* ((spec (player::machine-spec m))
+           (layout (player::machine-layout m))
+           (top (player::top-cube spec))
+           (a-field (player::var-field-mask (find "A" (player::spec-variables spec) :key (lambda (v) (symbol-name (player::var-name v))) :test #'string=))))
+      (is (not (player::layout-cube-empty-p top layout)))
+      (is (player::layout-cube-empty-p (logandc2 top a-field) layout))
+      (is (not (typep (logandc2 top a-field) 'fixnum))))))
