@@ -16,6 +16,9 @@
 (defvar *state-words* 1
   "How many 64-bit words hold the one-hot state of the machine being generated.")
 
+(defvar *state-bit-count* 0
+  "How many one-hot bits the state of the machine being generated has.")
+
 (defun state-word-count (spec)
   "How many 64-bit words SPEC's one-hot state needs (at least one)."
   (max 1 (ceiling (spec-bit-count spec) 64)))
@@ -65,7 +68,8 @@
 word, the mask test it always was; wider, one test per word where the cube
 forbids something (true when it forbids nothing)."
   (if (wide-state-p)
-      (let ((forbidden (logandc2 (1- (ash 1 (* 64 *state-words*))) cube)))
+      ;; Bits past the last field are never set: no test for them.
+      (let ((forbidden (logandc2 (1- (ash 1 *state-bit-count*)) cube)))
         (c++-conjunction
          (loop for index in (nonzero-words forbidden)
                collect (format nil "(~A & ~A) == 0" (c++-word bits index)

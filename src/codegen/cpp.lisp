@@ -172,7 +172,8 @@ names critical times is a PLAYER-ERROR."
   (let* ((*c++-timed* timed)
          (*names* (%make-c++-names :machine machine))
          (spec (machine-spec machine))
-         (*state-words* (state-word-count spec)))
+         (*state-words* (state-word-count spec))
+         (*state-bit-count* (spec-bit-count spec)))
     (check-c++-integers machine)
     (when timed
       (check-c++-interruption-points spec)
