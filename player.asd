@@ -305,6 +305,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-cli")
                  (:file "test-timeline")
                  (:file "test-c++-timeline")
+                 (:file "test-c++-wide")
                  (:file "test-hostile-input")
                  (:file "test-repl")
                  (:file "test-anim")

@@ -239,12 +239,14 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
         (format nil "~A == ~D" current value)
         (format nil "same_value(~A, ~A)" current (runtime-literal var value)))))
 
-(defun autoscript-call (auto proc function-name test)
-  "C++ calling the presenter's FUNCTION-NAME for PROC of AUTO when TEST holds."
-  (format nil "if (~A) presenter_.~A(~{~A~^, ~}, time);" test function-name
+(defun autoscript-call (auto proc function-name test &optional (time "time"))
+  "C++ calling the presenter's FUNCTION-NAME for PROC of AUTO at TIME (a C++
+expression) when TEST holds."
+  (format nil "if (~A) presenter_.~A(~{~A~^, ~}, ~A);" test function-name
           (mapcar #'c++-string (list (lisp-text proc)
                                      (lisp-text (var-name (autoscript-variable auto)))
-                                     (lisp-text (autoscript-value auto))))))
+                                     (lisp-text (autoscript-value auto))))
+          time))
 
 (defun autoscript-calls (machine var function-name value-expression)
   "C++ lines calling FUNCTION-NAME for VAR's autoscripts whose value equals VALUE-EXPRESSION."
@@ -263,14 +265,42 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
   "Plannable variables some autoscript watches, in declaration order."
   (remove-if-not #'plannable-p (watched-vars machine)))
 
-(defun plannable-autoscript-calls (machine var function-name bits)
-  "C++ lines calling FUNCTION-NAME for plannable VAR's autoscripts whose value
-is set in the StateBits expression BITS (one bit test each)."
+(defun plannable-autoscript-calls (machine var function-name bits &optional (time "time"))
+  "C++ lines calling FUNCTION-NAME (at TIME) for plannable VAR's autoscripts
+whose value is set in the StateBits expression BITS (one bit test each)."
   (loop for auto in (spec-autoscripts (machine-spec machine))
         when (eq (autoscript-variable auto) var)
           append (loop with test = (c++-bit-set-p (var-value-bit var (autoscript-value-index auto)) bits)
                        for proc in (autoscript-procs auto)
-                       collect (autoscript-call auto proc function-name test))))
+                       collect (autoscript-call auto proc function-name test time))))
+
+(defun autoscript-change-lines (machine var before after time)
+  "C++ lines stopping and starting watched plannable VAR's autoscripts when
+its field differs between the StateBits expressions BEFORE and AFTER, at TIME."
+  (append (list (format nil "if (~A) {" (c++-bits-differ before after (var-field-mask var))))
+          (mapcar (lambda (line) (concatenate 'string "  " line))
+                  (append (plannable-autoscript-calls machine var "stop_autoscript" before time)
+                          (plannable-autoscript-calls machine var "start_autoscript" after time)))
+          (list "}")))
+
+(defun state-change-lines (machine next time mask)
+  "C++ lines making NEXT (a StateBits expression that may read state_.bits)
+the state at TIME, when only the fields in MASK can change: an op's effects or
+an :add/:sub. The autoscripts of just those fields are told, inline, so a
+change that no autoscript watches is one store."
+  (let ((watched (remove-if (lambda (var) (zerop (logand mask (var-field-mask var))))
+                            (watched-plannable-vars machine))))
+    (if (null watched)
+        (list (format nil "state_.bits = ~A;" next))
+        ;; NEXT in a constant, so the compiler folds the tests its effects decide.
+        (append (list "{"
+                      "  const StateBits before = state_.bits;"
+                      (format nil "  const StateBits next = ~A;" next)
+                      "  state_.bits = next;")
+                (loop for var in watched
+                      append (mapcar (lambda (line) (concatenate 'string "  " line))
+                                     (autoscript-change-lines machine var "before" "next" time)))
+                (list "}")))))
 
 (defun emit-transition (machine)
   "transition(), number setters and the initial autoscripts. transition() is
@@ -291,10 +321,8 @@ and, when a watched field changed, the call of notify_autoscripts_()."
       (emit "void Controller::notify_autoscripts_(~A, ~A, double time) {"
             (c++-bits-parameter "before") (c++-bits-parameter "next"))
       (dolist (var watched)
-        (emit "  if (~A) {" (c++-bits-differ "before" "next" (var-field-mask var)))
-        (dolist (line (plannable-autoscript-calls machine var "stop_autoscript" "before")) (emit "    ~A" line))
-        (dolist (line (plannable-autoscript-calls machine var "start_autoscript" "next")) (emit "    ~A" line))
-        (emit "  }"))
+        (dolist (line (autoscript-change-lines machine var "before" "next" "time"))
+          (emit "  ~A" line)))
       (emit "}~%")))
   (dolist (var (runtime-vars machine))
     (when (eq (var-kind var) :number)
@@ -360,7 +388,9 @@ embedder's hook (the whole-event procedure and its timed planning twin alike)."
                 (if (eq (op-kind op) :director) "run_director" "play") index)
           (emit "  note_op_end(end);")
           (when (op-effects op)
-            (emit "  transition(~A, end);" (effects-expression op "state_.bits")))
+            (dolist (line (state-change-lines machine (effects-expression op "state_.bits") "end"
+                                              (op-effect-mask op)))
+              (emit "  ~A" line)))
           (emit "  return 1;~%}~%")))))
 
 (defun emit-macro-executor (op index machine)

@@ -78,13 +78,13 @@ generated name ends in an underscore after a name that is not a C++ keyword)."
   (emit-line "}"))
 
 (defmethod emit-step ((step assign-step) machine)
-  (declare (ignore machine))
   (let* ((var (assign-step-variable step))
          (mask (var-field-mask var))
          (bit (var-value-bit var (assign-step-index step))))
     (if *planning*
         (emit-line "record_delta_(~A, ~A, schedule_, nullptr);" (c++-bits mask) (c++-bits bit))
-        (emit-line "transition(~A, schedule_);" (c++-with-delta "state_.bits" mask bit)))))
+        (dolist (line (state-change-lines machine (c++-with-delta "state_.bits" mask bit) "schedule_" mask))
+          (emit-line "~A" line)))))
 
 ;;; :add/:sub (VAR N): a sum that would leave the variable's type (64 bits, or
 ;;; a finite double) fails the event with the goal (:overflow VAR), leaving the
