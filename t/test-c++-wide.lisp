@@ -79,9 +79,9 @@ bit 127, the last of word 1; c58 bit 128, the first of word 2), UP after."
     (event edge :state (and row.r63 col.c57))
     (event either :state (or row.r5 col.c57) :if ((and row.r5 (not up)) :add col.c1))))
 
-(defparameter *wide-random-seeds* '(21 8 12 19 13 20)
-  "Random wide specs (see WIDE-RANDOM-SPEC): 64 bits (one word, the edge), 68,
-67, 128 (two full words), 138 and 149 bits (three words).")
+(defparameter *wide-random-seeds* '(21 12 19 20)
+  "Random wide specs (see WIDE-RANDOM-SPEC): 64 bits (one word, the edge), 67,
+128 (two full words) and 149 bits (three words).")
 
 (defun wide-enum-values (seed)
   "The values of random wide spec SEED's enumerations: 24 to 70 of them."
@@ -227,6 +227,6 @@ and random timed scenarios alike."
     (is (>= runs (* 3 (length cases))))
     (is (null problems) "~D comparisons differ; the first:~{~%~%~A~}"
         (length problems) (subseq problems 0 (min 3 (length problems))))
-    (is (<= 3 (count-if (lambda (case)
+    (is (<= 4 (count-if (lambda (case)
                           (> (player::state-word-count (machine-spec (wide-machine case))) 1))
                         cases)))))
