@@ -292,7 +292,7 @@ change that no autoscript watches is one store."
                             (watched-plannable-vars machine))))
     (if (null watched)
         (list (format nil "state_.bits = ~A;" next))
-        ;; NEXT in a constant, so the compiler folds the tests its effects decide.
+        ;; NEXT held in a constant, so the compiler folds the tests the effects decide.
         (append (list "{"
                       "  const StateBits before = state_.bits;"
                       (format nil "  const StateBits next = ~A;" next)
@@ -304,8 +304,9 @@ change that no autoscript watches is one store."
 
 (defun emit-transition (machine)
   "transition(), number setters and the initial autoscripts. transition() is
-the state change every op makes, so it is small enough to inline: a store
-and, when a watched field changed, the call of notify_autoscripts_()."
+any state change (a macro's end, the timed layer's changes); small enough to
+inline: a store and, when a watched field changed, the call of
+notify_autoscripts_(). An op's own change is STATE-CHANGE-LINES'."
   (let ((watched (watched-plannable-vars machine)))
     (emit "void Controller::transition(~A, double time) {" (c++-bits-parameter "next"))
     (if watched

@@ -4,7 +4,9 @@
 ;;;; procedure per goal (its plans as if/else in breadth-first order); one
 ;;;; operator-execution procedure per op; one procedure per event. Steps are the
 ;;;; IR of ir.lisp, emitted by EMIT-STEP methods beside COMPILE-STEP's. The
-;;;; code needs only the standard library; traces print exactly as Lisp's.
+;;;; one-hot state is one 64-bit word, or as many as a wide spec needs
+;;;; (cpp-words.lisp). The code needs only the standard library; traces print
+;;;; exactly as Lisp's.
 
 (in-package #:player)
 
@@ -140,7 +142,8 @@ autoscript watches, or an :add/:sub delta."
 DIRECTORY: standalone C++17 with a Presenter to implement and a Controller
 class. NAME defaults to the spec's name, NAMESPACE to NAME, both made C++
 identifiers; given, each must satisfy C++-IDENTIFIER-TEXT-P (else a
-C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR. With TIMED,
+C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR; the one-hot
+state may have any number of bits (kStateWords words of 64). With TIMED,
 the Controller also has the timed API of MAKE-CONTROLLER :TIMED T (advance,
 send_timed, finish_events; policies, cuts, timers and triggers); a spec
 whose :interrupt names critical times is then a PLAYER-ERROR. Returns the
