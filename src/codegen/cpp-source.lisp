@@ -283,19 +283,19 @@ its field differs between the StateBits expressions BEFORE and AFTER, at TIME."
                           (plannable-autoscript-calls machine var "start_autoscript" after time)))
           (list "}")))
 
-(defun state-change-lines (machine next time mask)
-  "C++ lines making NEXT (a StateBits expression that may read state_.bits)
-the state at TIME, when only the fields in MASK can change: an op's effects or
-an :add/:sub. The autoscripts of just those fields are told, inline, so a
-change that no autoscript watches is one store."
+(defun state-change-lines (machine time mask values)
+  "C++ lines setting the fields MASK of the state to VALUES at TIME: an op's
+effects or an :add/:sub. The autoscripts of just those fields are told,
+inline, so a change that no autoscript watches is one store (a store per
+word it touches)."
   (let ((watched (remove-if (lambda (var) (zerop (logand mask (var-field-mask var))))
                             (watched-plannable-vars machine))))
     (if (null watched)
-        (list (format nil "state_.bits = ~A;" next))
+        (c++-delta-statements "state_.bits" mask values)
         ;; NEXT held in a constant, so the compiler folds the tests the effects decide.
         (append (list "{"
                       "  const StateBits before = state_.bits;"
-                      (format nil "  const StateBits next = ~A;" next)
+                      (format nil "  const StateBits next = ~A;" (c++-with-delta "before" mask values))
                       "  state_.bits = next;")
                 (loop for var in watched
                       append (mapcar (lambda (line) (concatenate 'string "  " line))
@@ -389,8 +389,7 @@ embedder's hook (the whole-event procedure and its timed planning twin alike)."
                 (if (eq (op-kind op) :director) "run_director" "play") index)
           (emit "  note_op_end(end);")
           (when (op-effects op)
-            (dolist (line (state-change-lines machine (effects-expression op "state_.bits") "end"
-                                              (op-effect-mask op)))
+            (dolist (line (state-change-lines machine "end" (op-effect-mask op) (op-effect-bits op)))
               (emit "  ~A" line)))
           (emit "  return 1;~%}~%")))))
 

@@ -83,7 +83,7 @@ generated name ends in an underscore after a name that is not a C++ keyword)."
          (bit (var-value-bit var (assign-step-index step))))
     (if *planning*
         (emit-line "record_delta_(~A, ~A, schedule_, nullptr);" (c++-bits mask) (c++-bits bit))
-        (dolist (line (state-change-lines machine (c++-with-delta "state_.bits" mask bit) "schedule_" mask))
+        (dolist (line (state-change-lines machine "schedule_" mask bit))
           (emit-line "~A" line)))))
 
 ;;; :add/:sub (VAR N): a sum that would leave the variable's type (64 bits, or

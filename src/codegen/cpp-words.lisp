@@ -88,6 +88,16 @@ forbids something (true when it forbids nothing)."
          collect (format nil "((~A ^ ~A) & ~A) != 0" (c++-word before index)
                          (c++-word after index) (c++-hex (state-word mask index))))))
 
+(defun c++-delta-statements (bits mask values)
+  "C++ statements setting the fields MASK of the StateBits lvalue BITS to
+VALUES: in a wide state, only the words MASK touches."
+  (if (wide-state-p)
+      (loop for index in (nonzero-words mask)
+            collect (let ((word (c++-word bits index)))
+                      (format nil "~A = (~A & ~~~A) | ~A;" word word (c++-hex (state-word mask index))
+                              (c++-hex (state-word values index)))))
+      (list (format nil "~A = ~A;" bits (c++-with-delta bits mask values)))))
+
 (defun c++-with-delta (bits mask values)
   "C++ for the StateBits expression BITS with the fields MASK set to VALUES."
   (if (wide-state-p)
