@@ -319,13 +319,16 @@ public:
     (dolist (var (runtime-vars machine))
       (when (eq (var-kind var) :number)
         (emit "  void set_~A(~A value, double time);" (var-id var) (runtime-c++-type var))))
+    ;; Inline, though defined in the .cpp (the only place that calls them), so
+    ;; the compiler may flatten an event, its plans and its ops into one procedure.
+    (emit "  // The procedures of goals, ops and events (defined and used in the .cpp).")
     (loop for goal across (machine-goal-table machine)
-          do (emit "  int ~A();" (goal-fn-id goal)))
+          do (emit "  inline int ~A();" (goal-fn-id goal)))
     (dolist (op (spec-ops spec))
-      (emit "  int ~A();" (op-id op))
-      (when (eq (op-kind op) :macro) (emit "  int ~A_seq();" (op-id op))))
+      (emit "  inline int ~A();" (op-id op))
+      (when (eq (op-kind op) :macro) (emit "  inline int ~A_seq();" (op-id op))))
     (dolist (event (spec-events spec))
-      (emit "  int ~A();" (event-id event)))
+      (emit "  inline int ~A();" (event-id event)))
     (when *c++-timed* (emit-timed-members machine))
     (emit "};~%")))
 
