@@ -5,11 +5,12 @@
 ;;;; bits (Peedy needs 14) keeps the fast path it always had: StateBits is one
 ;;;; std::uint64_t and a cube test is one mask test. A wider spec gets
 ;;;; std::array<std::uint64_t, kStateWords>, kStateWords a constant of the
-;;;; generated code, and every test and change of the state is written word
-;;;; by word, naming only the words its constant mask touches: "does this plan
-;;;; apply" stays a few mask tests however wide the state is. The functions
-;;;; here turn Lisp masks into that C++; the rest of the backend never looks
-;;;; at a word itself.
+;;;; generated code; every test of the state is written word by word, naming
+;;;; only the words its constant mask constrains, so "does this plan apply"
+;;;; stays a few mask tests however wide the state is, and an op's change
+;;;; stores only the words it touches (other changes go through with_delta,
+;;;; a loop over the words). The functions here turn Lisp masks into that
+;;;; C++; the rest of the backend never looks at a word itself.
 
 (in-package #:player)
 
