@@ -1,5 +1,5 @@
-;;;; test-c++-wide.lisp -- the generated C++ with states wider than 64 bits
-;;;; (issue 13): the one-hot state held in several 64-bit words
+;;;; test-c++-wide.lisp -- issue 13's generated C++: lean compiled events, and
+;;;; states wider than 64 bits: the one-hot state held in several 64-bit words
 ;;;; (src/codegen/cpp-words.lisp) must print the Lisp traces, whole-event and
 ;;;; timed, line for line. Two fixed specs put a 70-value field across the
 ;;;; boundary of two words, with autoscripts, :if tests and goals on both
@@ -230,3 +230,31 @@ and random timed scenarios alike."
     (is (<= 4 (count-if (lambda (case)
                           (> (player::state-word-count (machine-spec (wide-machine case))) 1))
                         cases)))))
+
+;;; Lean events
+
+(defun c++-procedures (source prefix)
+  "The texts of SOURCE's Controller procedures whose names start with PREFIX."
+  (let ((opening (format nil "int Controller::~A" prefix)))
+    (loop for start = (search opening source) then (search opening source :start2 end)
+          for end = (and start (+ (search (format nil "~%}~%") source :start2 start) 3))
+          while start
+          collect (subseq source start end))))
+
+(test c++-compiled-events-are-mask-tests-and-calls
+  "Peedy's whole-event procedures (events, goals, ops) allocate nothing and
+touch no string: an event is mask tests, stores and the presenter's calls.
+An op whose effects no autoscript watches changes the state with one store."
+  (let* ((source (nth-value 1 (player::c++-sources (plan-spec (peedy-spec)) "peedy" "peedy")))
+         (procedures (mapcan (lambda (prefix) (c++-procedures source prefix)) '("ev_" "achieve_" "op_"))))
+    (is (< 60 (length procedures)))
+    (let ((offenders (loop for procedure in procedures
+                           for word = (find-if (lambda (word) (search word procedure))
+                                               '("std::string" "new " "make_shared" "std::vector"
+                                                 "format_number" "field_index"))
+                           when word collect (format nil "~A in:~%~A" word procedure))))
+      (is (null offenders) "~D procedures allocate or read strings; the first: ~A"
+          (length offenders) (first offenders)))
+    (let ((search (first (c++-procedures source "op_search("))))
+      (is (= 1 (count-occurrences "state_.bits = " search)) "op_search: ~A" search)
+      (is (not (search "autoscript" search)) "op_search: ~A" search))))
