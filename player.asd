@@ -88,6 +88,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "lisp-closures")
                    ;; C++: a standalone controller to embed.
                    (:file "cpp-names")
+                   ;; The one-hot state in 64-bit words: one for most specs, more for wide ones.
+                   (:file "cpp-words")
                    (:file "cpp")
                    (:file "cpp-steps")
                    (:file "cpp-timeline")
@@ -317,6 +319,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-reachable")
                  (:file "test-timeline")
                  (:file "test-c++-timeline")
+                 (:file "test-c++-wide")
                  (:file "test-hostile-input")
                  (:file "test-repl")
                  (:file "test-anim")

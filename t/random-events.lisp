@@ -149,13 +149,15 @@ the events it makes use syntax the model cannot express."
             (extras-autoscript-forms extras) (random-autoscript-forms prng model extras)))
     '()))
 
-(defun c++-random-spec (seed)
-  "The spec forms for SEED: RANDOM-SPEC's, plus runtime and time variables after
-the plannable ones, the generated events and autoscripts. (VALUES FORMS MODEL EXTRAS)."
+(defun c++-random-spec (seed &rest random-spec-options)
+  "The spec forms for SEED: RANDOM-SPEC's (given RANDOM-SPEC-OPTIONS, such as
+:ENUM-VALUES), plus runtime and time variables after the plannable ones, the
+generated events and autoscripts. (VALUES FORMS MODEL EXTRAS)."
   (let ((extras (make-c++-extras)))
     (multiple-value-bind (forms model)
-        (random-spec seed :name (rs-symbol "c++-random-~D" seed)
-                          :event-generator (c++-event-generator extras))
+        (apply #'random-spec seed :name (rs-symbol "c++-random-~D" seed)
+                                  :event-generator (c++-event-generator extras)
+                                  random-spec-options)
       (let ((split (1+ (model-variable-count model))))
         (values (append (subseq forms 0 split)
                         (extras-variable-forms extras)

@@ -324,10 +324,11 @@ on CONDITION (a function of no arguments making a state expression)."
                         :when (funcall condition)
                         :event (rs-pick prng events))))))
 
-(defun c++-timeline-spec (seed)
-  "The forms of random timed spec SEED (C++-RANDOM-SPEC's, with timed
-options), its model and extras: (VALUES FORMS MODEL EXTRAS)."
-  (multiple-value-bind (forms model extras) (c++-random-spec seed)
+(defun c++-timeline-spec (seed &rest random-spec-options)
+  "The forms of random timed spec SEED (C++-RANDOM-SPEC's, given
+RANDOM-SPEC-OPTIONS, with timed options), its model and extras: (VALUES
+FORMS MODEL EXTRAS)."
+  (multiple-value-bind (forms model extras) (apply #'c++-random-spec seed random-spec-options)
     (let* ((prng (make-rs-prng (+ 300000 seed)))
            (events (loop for form in forms when (form-head-p form "EVENT") collect (second form)))
            (forms (mapcar (lambda (form)

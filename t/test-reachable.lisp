@@ -437,7 +437,7 @@ reachable regime; :auto plans the same spec for its reachable states."
 (test c++-of-a-reachable-machine
   "The C++ backend runs a reachable machine whose one-hot state fits 64 bits
 (blocks world, 3 blocks: 16 booleans, 22 reachable states) with the Lisp
-trace, line for line; a wider one is generated, or a clear error."
+trace, line for line, and one of 131 variables (five 64-bit words) too."
   (let ((problem (player-strips:blocks-world 3)))
     (unwind-protect
          (let ((machine (compile-spec (define-spec (player-strips:strips-problem-name problem)
@@ -446,12 +446,14 @@ trace, line for line; a wider one is generated, or a clear error."
            (is (= 22 (machine-state-count machine)))
            (is (null (compare-backends machine '() (mapcar #'first (player-strips:strips-problem-goals problem))))))
       (remove-spec (player-strips:strips-problem-name problem))))
+  ;; 130 booleans and a three-valued variable: 263 one-hot bits, five words
+  ;; of generated C++, planned in the reachable regime.
   (unwind-protect
-       (let ((machine (plan-spec (define-spec 'token-ring (token-ring-forms 40) :package (find-package '#:player-user)))))
-         ;; until the multi-word C++ state (branch wt-cpp) lands, a clear error
-         (handler-case (is (plusp (length (player::c++-sources machine "ring" "ring"))))
-           (player-error (e)
-             (is (search "the C++ backend packs the state into 64 bits" (princ-to-string e))))))
+       (let ((machine (compile-spec (define-spec 'token-ring (token-ring-forms 130)
+                                                 :package (find-package '#:player-user)))))
+         (is (= 390 (machine-state-count machine)))
+         (is (search "kStateWords = 5" (player::c++-sources machine "ring" "ring")))
+         (is (null (compare-backends machine '() '(player-user::finish player-user::finish)))))
     (remove-spec 'token-ring)))
 
 (test cut-ops-leave-planned-states

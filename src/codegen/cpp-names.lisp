@@ -61,7 +61,10 @@ no underscore followed by a capital (reserved to the implementation); not in
     "clock_" "schedule_" "span_start_" "span_end_" "failed_goal_" "active_" "fail"
     "note_op_end" "transition" "start_initial_autoscripts" "Controller" "Presenter" "State"
     "Op" "Event" "event_count" "event_name" "find_event" "initial_state" "assign"
-    "format_number" "field_index" "kOps" "kEventNames" "same_value" "exponent_form")
+    "format_number" "field_index" "kOps" "kEventNames" "same_value" "exponent_form"
+    ;; The one-hot state's type and helpers (cpp-words.lisp), and the timed layer's.
+    "StateBits" "kStateWords" "with_delta" "bits_meet" "add_bits" "common_bits"
+    "differing_bits" "notify_autoscripts_" "changed_fields")
   "Names the generated code uses itself, so no Lisp name may take them.")
 
 (defun make-identifier-table ()

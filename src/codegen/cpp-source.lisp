@@ -14,13 +14,7 @@
   (terpri *out*))
 
 (defparameter *c++-helpers*
-  "[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
-  for (int i = 0; i < size; ++i)
-    if (bits >> (offset + i) & 1u) return i;
-  return 0;  // unreachable for a valid one-hot state; 0 keeps every table index in bounds
-}
-
-// Runtime values compare as Lisp's EQL does: 0.0 and -0.0 differ.
+  "// Runtime values compare as Lisp's EQL does: 0.0 and -0.0 differ.
 [[maybe_unused]] bool same_value(long long a, long long b) { return a == b; }
 [[maybe_unused]] bool same_value(double a, double b) {
   return a == b && std::signbit(a) == std::signbit(b);
@@ -81,6 +75,7 @@ std::string exponent_form(double x) {
 #include <string>
 ")
     (emit "namespace ~A {~%namespace {~%" namespace)
+    (emit-state-bits-helpers)
     (emit-text *c++-helpers*)
     (dolist (var (plannable-vars machine))
       (when (and (eq (var-kind var) :enumerated) (every #'integerp (var-domain var)))
@@ -138,7 +133,7 @@ std::string exponent_form(double x) {
 (defun emit-initial-state (machine)
   "initial_state(): the declared initial values."
   (emit "State initial_state() {~%  State s;")
-  (emit "  s.bits = ~A;" (c++-hex (machine-initial-state machine)))
+  (emit "  s.bits = ~A;" (c++-bits (machine-initial-state machine)))
   (dolist (var (runtime-vars machine))
     (emit "  s.~A = ~A;" (var-id var)
           (if (eq (var-kind var) :time)
@@ -155,9 +150,9 @@ std::string exponent_form(double x) {
 (defun emit-assign-plannable (var)
   "The body of assign() for plannable VAR: one test per value."
   (loop for i below (var-domain-size var)
-        do (emit "    if (~{value == ~A~^ || ~}) { s.bits = (s.bits & ~~~A) | ~A; return true; }"
-                 (mapcar #'c++-string (value-texts var i)) (c++-hex (var-field-mask var))
-                 (c++-hex (var-value-bit var i))))
+        do (emit "    if (~{value == ~A~^ || ~}) { s.bits = ~A; return true; }"
+                 (mapcar #'c++-string (value-texts var i))
+                 (c++-with-delta "s.bits" (var-field-mask var) (var-value-bit var i))))
   (emit "    return false;"))
 
 (defun emit-assign-number (var)
@@ -193,7 +188,6 @@ type, in range (a long long, or a finite double)."
     (emit "Controller::Controller(Presenter& presenter, const State& state, double clock)")
     (emit "    : presenter_(presenter), state_(state), clock_(clock) {")
     (emit "  start_initial_autoscripts(clock);~%}~%")
-    (emit "bool Controller::send(Event e) { return send_at(e, clock_); }~%")
     (emit "bool Controller::send_at(Event e, double at) {")
     (emit "  schedule_ = span_start_ = span_end_ = at;")
     (emit "  failed_goal_ = \"\";")
@@ -213,8 +207,8 @@ type, in range (a long long, or a finite double)."
     (dolist (var (spec-variables spec))
       (let ((getter (id (cons :get var) (var-name var))))
         (ecase (var-kind var)
-          (:boolean (emit "bool Controller::~A() const { return (state_.bits & ~A) != 0; }"
-                          getter (c++-hex (var-value-bit var 1))))
+          (:boolean (emit "bool Controller::~A() const { return ~A; }"
+                          getter (c++-bit-set-p (var-value-bit var 1) "state_.bits")))
           (:enumerated (emit "~A Controller::~A() const { return static_cast<~A>(~A); }"
                              (enum-type var) getter (enum-type var)
                              (field-index-expression var "state_.bits")))
@@ -245,12 +239,14 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
         (format nil "~A == ~D" current value)
         (format nil "same_value(~A, ~A)" current (runtime-literal var value)))))
 
-(defun autoscript-call (auto proc function-name test)
-  "C++ calling the presenter's FUNCTION-NAME for PROC of AUTO when TEST holds."
-  (format nil "if (~A) presenter_.~A(~{~A~^, ~}, time);" test function-name
+(defun autoscript-call (auto proc function-name test &optional (time "time"))
+  "C++ calling the presenter's FUNCTION-NAME for PROC of AUTO at TIME (a C++
+expression) when TEST holds."
+  (format nil "if (~A) presenter_.~A(~{~A~^, ~}, ~A);" test function-name
           (mapcar #'c++-string (list (lisp-text proc)
                                      (lisp-text (var-name (autoscript-variable auto)))
-                                     (lisp-text (autoscript-value auto))))))
+                                     (lisp-text (autoscript-value auto))))
+          time))
 
 (defun autoscript-calls (machine var function-name value-expression)
   "C++ lines calling FUNCTION-NAME for VAR's autoscripts whose value equals VALUE-EXPRESSION."
@@ -265,23 +261,70 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
   (let ((watched (mapcar #'autoscript-variable (spec-autoscripts (machine-spec machine)))))
     (remove-if-not (lambda (var) (member var watched)) (spec-variables (machine-spec machine)))))
 
+(defun watched-plannable-vars (machine)
+  "Plannable variables some autoscript watches, in declaration order."
+  (remove-if-not #'plannable-p (watched-vars machine)))
+
+(defun plannable-autoscript-calls (machine var function-name bits &optional (time "time"))
+  "C++ lines calling FUNCTION-NAME (at TIME) for plannable VAR's autoscripts
+whose value is set in the StateBits expression BITS (one bit test each)."
+  (loop for auto in (spec-autoscripts (machine-spec machine))
+        when (eq (autoscript-variable auto) var)
+          append (loop with test = (c++-bit-set-p (var-value-bit var (autoscript-value-index auto)) bits)
+                       for proc in (autoscript-procs auto)
+                       collect (autoscript-call auto proc function-name test time))))
+
+(defun autoscript-change-lines (machine var before after time)
+  "C++ lines stopping and starting watched plannable VAR's autoscripts when
+its field differs between the StateBits expressions BEFORE and AFTER, at TIME."
+  (append (list (format nil "if (~A) {" (c++-bits-differ before after (var-field-mask var))))
+          (mapcar (lambda (line) (concatenate 'string "  " line))
+                  (append (plannable-autoscript-calls machine var "stop_autoscript" before time)
+                          (plannable-autoscript-calls machine var "start_autoscript" after time)))
+          (list "}")))
+
+(defun state-change-lines (machine time mask values)
+  "C++ lines setting the fields MASK of the state to VALUES at TIME: an op's
+effects or an :add/:sub. The autoscripts of just those fields are told,
+inline, so a change that no autoscript watches is one store (a store per
+word it touches)."
+  (let ((watched (remove-if (lambda (var) (zerop (logand mask (var-field-mask var))))
+                            (watched-plannable-vars machine))))
+    (if (null watched)
+        (c++-delta-statements "state_.bits" mask values)
+        ;; NEXT held in a constant, so the compiler folds the tests the effects decide.
+        (append (list "{"
+                      "  const StateBits before = state_.bits;"
+                      (format nil "  const StateBits next = ~A;" (c++-with-delta "before" mask values))
+                      "  state_.bits = next;")
+                (loop for var in watched
+                      append (mapcar (lambda (line) (concatenate 'string "  " line))
+                                     (autoscript-change-lines machine var "before" "next" time)))
+                (list "}")))))
+
 (defun emit-transition (machine)
-  "transition(), number setters and the initial autoscripts."
-  (emit "void Controller::transition(std::uint64_t next, double time) {")
-  (emit "  const std::uint64_t before = state_.bits;")
-  (emit "  state_.bits = next;")
-  (emit "  (void)time;")
-  (emit "  const std::uint64_t changed = (before ^ next) & ~A;" (c++-hex (machine-autoscript-mask machine)))
-  (emit "  if (changed == 0) return;")
-  (dolist (var (watched-vars machine))
-    (when (plannable-p var)
-      (emit "  if (changed & ~A) {" (c++-hex (var-field-mask var)))
-      (emit "    const int old_value = ~A;" (field-index-expression var "before"))
-      (emit "    const int new_value = ~A;" (field-index-expression var "next"))
-      (dolist (line (autoscript-calls machine var "stop_autoscript" "old_value")) (emit "    ~A" line))
-      (dolist (line (autoscript-calls machine var "start_autoscript" "new_value")) (emit "    ~A" line))
-      (emit "  }")))
-  (emit "}~%")
+  "transition(), number setters and the initial autoscripts. transition() is
+any state change (a macro's end, the timed layer's changes); small enough to
+inline: a store and, when a watched field changed, the call of
+notify_autoscripts_(). An op's own change is STATE-CHANGE-LINES'."
+  (let ((watched (watched-plannable-vars machine)))
+    (emit "void Controller::transition(~A, double time) {" (c++-bits-parameter "next"))
+    (if watched
+        (progn
+          (emit "  const StateBits before = state_.bits;")
+          (emit "  state_.bits = next;")
+          (emit "  if (~A) notify_autoscripts_(before, next, time);"
+                (c++-bits-differ "before" "next" (machine-autoscript-mask machine))))
+        (emit "  state_.bits = next;~%  (void)time;"))
+    (emit "}~%")
+    (when watched
+      (emit "// Stop the autoscripts of the values watched fields left, start those of the values they took.")
+      (emit "void Controller::notify_autoscripts_(~A, ~A, double time) {"
+            (c++-bits-parameter "before") (c++-bits-parameter "next"))
+      (dolist (var watched)
+        (dolist (line (autoscript-change-lines machine var "before" "next" "time"))
+          (emit "  ~A" line)))
+      (emit "}~%")))
   (dolist (var (runtime-vars machine))
     (when (eq (var-kind var) :number)
       (emit "void Controller::set_~A(~A value, double time) {" (var-id var) (runtime-c++-type var))
@@ -309,11 +352,11 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
   (let ((spec (machine-spec machine)))
     (emit "// Goal ~A" (c++-comment-text (lisp-text (goal-expression goal))))
     (emit "int Controller::~A() {" (goal-call-id goal))
-    (emit "  const std::uint64_t s = state_.bits;")
+    (emit "  const StateBits~:[~;&~] s = state_.bits;" (wide-state-p))
     (emit "  (void)s;")
     (loop for plan across (goal-plans goal)
           for keyword = "if" then "else if"
-          do (emit "  ~A ((s & ~~~A) == 0) {  // ~A" keyword (c++-hex (plan-condition plan))
+          do (emit "  ~A (~A) {  // ~A" keyword (c++-cube-holds (plan-condition plan) "s")
                    (c++-comment-text (lisp-text (cube-expression (plan-condition plan) spec))))
              (dolist (op (plan-ops plan))
                (emit "    if (~A() != 1) return 2;" (op-call-id op)))
@@ -321,9 +364,8 @@ plannable one), holds the value AUTO watches; numbers compare as EQL does."
     (emit "  return 0;~%}~%")))
 
 (defun effects-expression (op bits-expression)
-  "C++ for BITS-EXPRESSION with OP's effects applied."
-  (let ((mask (op-effect-mask op)) (bits (op-effect-bits op)))
-    (format nil "(~A & ~~~A) | ~A" bits-expression (c++-hex mask) (c++-hex bits))))
+  "C++ for BITS-EXPRESSION (StateBits) with OP's effects applied."
+  (c++-with-delta bits-expression (op-effect-mask op) (op-effect-bits op)))
 
 (defun emit-op-procedure-opening (op id)
   "Open the procedure ID that plays OP: its :c++ text, and for a :code op the
@@ -347,7 +389,8 @@ embedder's hook (the whole-event procedure and its timed planning twin alike)."
                 (if (eq (op-kind op) :director) "run_director" "play") index)
           (emit "  note_op_end(end);")
           (when (op-effects op)
-            (emit "  transition(~A, end);" (effects-expression op "state_.bits")))
+            (dolist (line (state-change-lines machine "end" (op-effect-mask op) (op-effect-bits op)))
+              (emit "  ~A" line)))
           (emit "  return 1;~%}~%")))))
 
 (defun emit-macro-executor (op index machine)
@@ -356,7 +399,7 @@ embedder's hook (the whole-event procedure and its timed planning twin alike)."
   (emit "  if (active_[~D]) return fail(~A);" index (c++-string (lisp-text (op-name op))))
   (when (op-c++ op) (emit "  ~A" (op-c++ op)))
   (emit "  const double start = schedule_, outer_start = span_start_, outer_end = span_end_;")
-  (emit "  const std::uint64_t before = state_.bits;")
+  (emit "  const StateBits before = state_.bits;")
   (emit "  presenter_.macro_start(kOps[~D], start);" index)
   (emit "  span_start_ = span_end_ = start;")
   (emit "  active_[~D] = true;" index)

@@ -78,13 +78,13 @@ generated name ends in an underscore after a name that is not a C++ keyword)."
   (emit-line "}"))
 
 (defmethod emit-step ((step assign-step) machine)
-  (declare (ignore machine))
   (let* ((var (assign-step-variable step))
-         (mask (c++-hex (var-field-mask var)))
-         (bit (c++-hex (var-value-bit var (assign-step-index step)))))
+         (mask (var-field-mask var))
+         (bit (var-value-bit var (assign-step-index step))))
     (if *planning*
-        (emit-line "record_delta_(~A, ~A, schedule_, nullptr);" mask bit)
-        (emit-line "transition((state_.bits & ~~~A) | ~A, schedule_);" mask bit))))
+        (emit-line "record_delta_(~A, ~A, schedule_, nullptr);" (c++-bits mask) (c++-bits bit))
+        (dolist (line (state-change-lines machine "schedule_" mask bit))
+          (emit-line "~A" line)))))
 
 ;;; :add/:sub (VAR N): a sum that would leave the variable's type (64 bits, or
 ;;; a finite double) fails the event with the goal (:overflow VAR), leaving the
@@ -150,7 +150,8 @@ subtraction, since it has no literal."
   "C++ testing the state against the disjunction CUBES."
   (if (null cubes)
       "false"
-      (format nil "(~{(state_.bits & ~~~A) == 0~^ || ~})" (mapcar #'c++-hex cubes))))
+      (format nil "(~{~A~^ || ~})"
+              (mapcar (lambda (cube) (c++-cube-holds cube "state_.bits")) cubes))))
 
 (defun c++-condition (ast machine)
   "C++ for the :IF condition AST."

@@ -58,18 +58,18 @@ void Controller::record_op_(int op, double start, double end) {
   last_op_ = &item;
 }
 
-void Controller::record_delta_(std::uint64_t mask, std::uint64_t bits, double time, Item* owner) {
+void Controller::record_delta_(const StateBits& mask, const StateBits& bits, double time, Item* owner) {
   Item& item = record_(kItemDelta, time);
   item.mask = mask;
   item.bits = bits;
   item.owner = owner;
-  state_.bits = (state_.bits & ~mask) | bits;
+  state_.bits = with_delta(state_.bits, mask, bits);
 }
 
 // A macro's end: the fields its effects change.
-void Controller::record_state_(std::uint64_t next, double time) {
-  const std::uint64_t mask = changed_fields(state_.bits, next);
-  record_delta_(mask, next & mask, time, last_macro_end_);
+void Controller::record_state_(const StateBits& next, double time) {
+  const StateBits mask = changed_fields(state_.bits, next);
+  record_delta_(mask, common_bits(next, mask), time, last_macro_end_);
 }
 
 void Controller::record_value_(int var, long long value, double time) {
@@ -113,7 +113,7 @@ void Controller::project_state_(double time) {
   std::sort(due.begin(), due.end(), [](const Item* a, const Item* b) { return later_(*b, *a); });
   for (const Item* item : due) {
     if (item->kind == kItemDelta)
-      state_.bits = (state_.bits & ~item->mask) | item->bits;
+      state_.bits = with_delta(state_.bits, item->mask, item->bits);
     else
       apply_value_(*item, false);
   }
@@ -150,7 +150,7 @@ int Controller::plan_run_(const std::shared_ptr<Run>& run, double time) {
 // Do footprints A and B share a channel or a variable?  One with no known
 // channel (ALL, or none) meets every other.
 bool Controller::footprints_meet_(const Footprint& a, const Footprint& b) {
-  if (meets_everything_(a) || meets_everything_(b) || (a.fields & b.fields) != 0) return true;
+  if (meets_everything_(a) || meets_everything_(b) || bits_meet(a.fields, b.fields)) return true;
   for (std::size_t i = 0; i < sizeof a.channels / sizeof a.channels[0]; ++i)
     if ((a.channels[i] & b.channels[i]) != 0) return true;
   for (std::size_t i = 0; i < sizeof a.runtime / sizeof a.runtime[0]; ++i)
@@ -171,13 +171,13 @@ void Controller::note_footprint_(Run& run) const {
           for (std::size_t i = 0; i < sizeof footprint.channels / sizeof footprint.channels[0]; ++i)
             footprint.channels[i] |= kOpChannels[item->op][i];
         }
-        footprint.fields |= kOpFields[item->op];
+        add_bits(footprint.fields, kOpFields[item->op]);
         break;
       case kItemMacroStart:
-        footprint.fields |= kOpFields[item->op];
+        add_bits(footprint.fields, kOpFields[item->op]);
         break;
       case kItemDelta:
-        footprint.fields |= item->mask;
+        add_bits(footprint.fields, item->mask);
         break;
       case kItemValue:
         footprint.runtime[item->var / 64] |= std::uint64_t{1} << (item->var % 64);

@@ -130,7 +130,7 @@ double Controller::cut_run_(Run& run, double time, int by, const Footprint& foot
     const double at = op_cut_time_(item, time);
     if (at > cut_time) cut_time = at;
     if (at < item.end) {
-      std::uint64_t mask = 0, bits = 0;
+      StateBits mask{}, bits{};
       item.end = at;
       resume_at(item);
       if (cut_effects_(item.op, mask, bits)) {
@@ -313,7 +313,7 @@ void Controller::apply_item_(const std::shared_ptr<Item>& item) {
         presenter_.play(kOps[item->op], item->start);
       break;
     case kItemDelta:
-      transition((state_.bits & ~item->mask) | item->bits, time);
+      transition(with_delta(state_.bits, item->mask, item->bits), time);
       check_triggers_(time);
       break;
     case kItemValue:

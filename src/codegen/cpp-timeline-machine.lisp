@@ -15,7 +15,7 @@
     (emit "  record_op_(~D, start, end);" index)
     (emit "  note_op_end(end);")
     (unless (zerop (op-effect-mask op))
-      (emit "  record_delta_(~A, ~A, end, last_op_);" (c++-hex (op-effect-mask op)) (c++-hex (op-effect-bits op))))
+      (emit "  record_delta_(~A, ~A, end, last_op_);" (c++-bits (op-effect-mask op)) (c++-bits (op-effect-bits op))))
     (emit "  return 1;~%}~%")))
 
 (defun emit-planning-macro-executor (op machine)
@@ -25,7 +25,7 @@
     (emit "  if (active_[~D]) return fail(~A);" index (c++-string (lisp-text (op-name op))))
     (when (op-c++ op) (emit "  ~A" (op-c++ op)))
     (emit "  const double start = schedule_, outer_start = span_start_, outer_end = span_end_;")
-    (emit "  const std::uint64_t before = state_.bits;")
+    (emit "  const StateBits before = state_.bits;")
     (emit "  record_macro_start_(~D, start);" index)
     (emit "  span_start_ = span_end_ = start;")
     (emit "  active_[~D] = true;" index)
@@ -141,14 +141,14 @@ case braced, so a directive's C++ is its own scope)."
 
 (defun emit-cut-effects (machine)
   "cut_effects_(): the state change of an op's :if-cut, when it has one."
-  (emit "bool Controller::cut_effects_(int op, std::uint64_t& mask, std::uint64_t& bits) const {")
+  (emit "bool Controller::cut_effects_(int op, StateBits& mask, StateBits& bits) const {")
   (emit "  (void)mask;~%  (void)bits;")
   (emit "  switch (op) {")
   (dolist (op (spec-ops-of machine))
     (let ((delta (cut-effect-delta op)))
       (when delta
         (emit "    case ~D:  // ~A" (op-index op machine) (c++-comment-text (lisp-text (op-name op))))
-        (emit "      mask = ~A;~%      bits = ~A;~%      return true;" (c++-hex (car delta)) (c++-hex (cdr delta))))))
+        (emit "      mask = ~A;~%      bits = ~A;~%      return true;" (c++-bits (car delta)) (c++-bits (cdr delta))))))
   (emit "    default:~%      return false;~%  }~%}~%"))
 
 (defun timer-restart-test (timer spec)

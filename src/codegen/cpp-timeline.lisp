@@ -115,7 +115,7 @@ critical time needs a script library, which the C++ controller has not."
     int event = 0;               // its Run's event
     int op = 0;
     double start = 0, end = 0;
-    std::uint64_t mask = 0, bits = 0;  // a state change: fields MASK become BITS
+    StateBits mask{}, bits{};    // a state change: fields MASK become BITS
     int var = 0;                 // a runtime value: variable VAR becomes INTEGER or NUMBER
     long long integer = 0;
     double number = 0;
@@ -134,7 +134,7 @@ critical time needs a script library, which the C++ controller has not."
   struct Footprint {
     bool all = false;
     std::uint64_t channels[~D] = {};
-    std::uint64_t fields = 0;
+    StateBits fields{};
     std::uint64_t runtime[~D] = {};
   };"
   "The Footprint struct; its arrays are sized for the machine's channels and runtime variables.")
@@ -181,8 +181,8 @@ critical time needs a script library, which the C++ controller has not."
   void pop_item_();
   Item& record_(int kind, double time);
   void record_op_(int op, double start, double end);
-  void record_delta_(std::uint64_t mask, std::uint64_t bits, double time, Item* owner);
-  void record_state_(std::uint64_t next, double time);
+  void record_delta_(const StateBits& mask, const StateBits& bits, double time, Item* owner);
+  void record_state_(const StateBits& next, double time);
   void record_value_(int var, long long value, double time);
   void record_value_(int var, double value, double time);
   void record_macro_start_(int op, double start);
@@ -213,7 +213,7 @@ critical time needs a script library, which the C++ controller has not."
   void restore_values_(const State& saved);
   void apply_value_(const Item& item, bool notify);
   double op_cut_time_(const Item& item, double time) const;
-  bool cut_effects_(int op, std::uint64_t& mask, std::uint64_t& bits) const;
+  bool cut_effects_(int op, StateBits& mask, StateBits& bits) const;
   void start_timers_();
   void note_event_for_timers_(int event, int source, double time);
   void start_triggers_();
@@ -292,8 +292,9 @@ constexpr long long kMaxItemsPerInstant = 100000;"
     (emit-table "int" "kEventPolicies"
                 (mapcar (lambda (event) (princ-to-string (policy-number (event-policy event spec))))
                         (spec-events spec)))
-    (emit-table "std::uint64_t" "kFieldMasks" (mapcar (lambda (var) (c++-hex (var-field-mask var)))
-                                                      (plannable-vars machine)))
+    (emit-table "StateBits" "kFieldMasks" (mapcar (lambda (var) (c++-bits (var-field-mask var)))
+                                                  (plannable-vars machine))
+                "StateBits{}")
     (emit-table "char* const" "kTimerNames"
                 (mapcar (lambda (timer) (c++-string (lisp-text (timer-name timer)))) (spec-timers spec))
                 "nullptr")
@@ -314,10 +315,11 @@ constexpr long long kMaxItemsPerInstant = 100000;"
                 (mapcar (lambda (trigger) (princ-to-string (event-number (trigger-event trigger) spec)))
                         (spec-triggers spec)))
     (emit "~%// The one-hot fields that differ between two states.")
-    (emit "[[maybe_unused]] std::uint64_t changed_fields(std::uint64_t old_bits, std::uint64_t new_bits) {")
-    (emit "  std::uint64_t mask = 0;")
-    (emit "  for (const std::uint64_t field : kFieldMasks)")
-    (emit "    if ((old_bits ^ new_bits) & field) mask |= field;")
+    (emit "[[maybe_unused]] StateBits changed_fields(const StateBits& old_bits, const StateBits& new_bits) {")
+    (emit "  const StateBits differing = differing_bits(old_bits, new_bits);")
+    (emit "  StateBits mask{};")
+    (emit "  for (const StateBits& field : kFieldMasks)")
+    (emit "    if (bits_meet(differing, field)) add_bits(mask, field);")
     (emit "  return mask;~%}~%")
     (emit "}  // namespace~%")))
 
@@ -338,7 +340,8 @@ constexpr long long kMaxItemsPerInstant = 100000;"
     (emit-table "bool" "kOpChannelsAll" (mapcar (lambda (op) (if (op-channels op) "false" "true")) ops) "true")
     (emit "[[maybe_unused]] const std::uint64_t kOpChannels[][~D] = {~{{~{~A~^, ~}}, ~}{0}};"
           words (mapcar (lambda (op) (op-channel-words op names words)) ops))
-    (emit-table "std::uint64_t" "kOpFields" (mapcar (lambda (op) (c++-hex (op-variable-fields op spec))) ops))))
+    (emit-table "StateBits" "kOpFields" (mapcar (lambda (op) (c++-bits (op-variable-fields op spec))) ops)
+                "StateBits{}")))
 
 (defun event-number (event spec)
   "EVENT's index among SPEC's events (its Event value)."

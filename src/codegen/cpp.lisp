@@ -4,7 +4,9 @@
 ;;;; procedure per goal (its plans as if/else in breadth-first order); one
 ;;;; operator-execution procedure per op; one procedure per event. Steps are the
 ;;;; IR of ir.lisp, emitted by EMIT-STEP methods beside COMPILE-STEP's. The
-;;;; code needs only the standard library; traces print exactly as Lisp's.
+;;;; one-hot state is one 64-bit word, or as many as a wide spec needs
+;;;; (cpp-words.lisp). The code needs only the standard library; traces print
+;;;; exactly as Lisp's.
 
 (in-package #:player)
 
@@ -140,7 +142,8 @@ autoscript watches, or an :add/:sub delta."
 DIRECTORY: standalone C++17 with a Presenter to implement and a Controller
 class. NAME defaults to the spec's name, NAMESPACE to NAME, both made C++
 identifiers; given, each must satisfy C++-IDENTIFIER-TEXT-P (else a
-C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR. With TIMED,
+C++-NAME-ERROR). Integers beyond 64 bits are a C++-RANGE-ERROR; the one-hot
+state may have any number of bits (kStateWords words of 64). With TIMED,
 the Controller also has the timed API of MAKE-CONTROLLER :TIMED T (advance,
 send_timed, finish_events; policies, cuts, timers and triggers); a spec
 whose :interrupt names critical times is then a PLAYER-ERROR. Returns the
@@ -172,11 +175,8 @@ names critical times is a PLAYER-ERROR."
   (let* ((*c++-timed* timed)
          (*names* (%make-c++-names :machine machine))
          (spec (machine-spec machine))
-         (bits (spec-bit-count spec)))
-    (when (> bits 64)
-      (error 'player-error-with-message
-             :message (format nil "the C++ backend packs the state into 64 bits; spec ~A needs ~D"
-                              (lisp-text (spec-name spec)) bits)))
+         (*state-words* (state-word-count spec))
+         (*state-bit-count* (spec-bit-count spec)))
     (check-c++-integers machine)
     (when timed
       (check-c++-interruption-points spec)
@@ -204,10 +204,12 @@ names critical times is a PLAYER-ERROR."
          (guard (string-upcase (format nil "PLAYER_~A_HPP" (c++-base-identifier name)))))
     (emit-banner machine (format nil "~A.hpp" name))
     (emit "#ifndef ~A~%#define ~A~%" guard guard)
+    (when (wide-state-p) (emit "#include <array>"))
     (if *c++-timed*
         (emit "#include <cstdint>~%#include <deque>~%#include <memory>~%#include <string>~%#include <vector>~%")
         (emit "#include <cstdint>~%#include <string>~%"))
     (emit "namespace ~A {~%" namespace)
+    (emit-state-bits-type)
     (emit "/// The events the controller accepts.")
     (emit "enum class Event : int {~{~%  ~A,~}~%};" (mapcar #'event-enum (spec-events spec)))
     (emit "constexpr int event_count = ~D;" (length (spec-events spec)))
@@ -276,7 +278,7 @@ public:
     (emit "~%/// One agent's state. Plannable variables live one-hot in BITS (read them")
     (emit "/// through the Controller's accessors); time variables are NaN until set.")
     (emit "struct State {")
-    (emit "  std::uint64_t bits = 0;")
+    (emit "  StateBits bits = {};")
     (dolist (var (runtime-vars machine))
       (emit "  ~A ~A = 0;  // ~A" (runtime-c++-type var) (var-id var)
             (c++-comment-text (lisp-text (var-name var)))))
@@ -291,7 +293,7 @@ public:
     (emit "public:")
     (emit "  Controller(Presenter& presenter, const State& state = initial_state(), double clock = 0);")
     (emit "  /// Process E at clock() (or AT); true on success. On failure failed_goal() says why.")
-    (emit "  bool send(Event e);")
+    (emit "  bool send(Event e) { return send_at(e, clock_); }")
     (emit "  bool send_at(Event e, double at);")
     (emit "  const char* failed_goal() const { return failed_goal_; }")
     (emit "  /// When the next event starts: the end of the last op of the previous one.")
@@ -309,18 +311,24 @@ public:
     (emit "  bool active_[~D] = {};" (max 1 (length (spec-ops spec))))
     (emit "  int fail(const char* goal) { failed_goal_ = goal; return 2; }")
     (emit "  void note_op_end(double end) { schedule_ = end; if (end > span_end_) span_end_ = end; }")
-    (emit "  void transition(std::uint64_t next, double time);")
+    (emit "  void transition(~A, double time);" (c++-bits-parameter "next"))
+    (when (watched-plannable-vars machine)
+      (emit "  void notify_autoscripts_(~A, ~A, double time);"
+            (c++-bits-parameter "before") (c++-bits-parameter "next")))
     (emit "  void start_initial_autoscripts(double time);")
     (dolist (var (runtime-vars machine))
       (when (eq (var-kind var) :number)
         (emit "  void set_~A(~A value, double time);" (var-id var) (runtime-c++-type var))))
+    ;; Inline, though defined in the .cpp (the only place that calls them), so
+    ;; the compiler may flatten an event, its plans and its ops into one procedure.
+    (emit "  // The procedures of goals, ops and events (defined and used in the .cpp).")
     (loop for goal across (machine-goal-table machine)
-          do (emit "  int ~A();" (goal-fn-id goal)))
+          do (emit "  inline int ~A();" (goal-fn-id goal)))
     (dolist (op (spec-ops spec))
-      (emit "  int ~A();" (op-id op))
-      (when (eq (op-kind op) :macro) (emit "  int ~A_seq();" (op-id op))))
+      (emit "  inline int ~A();" (op-id op))
+      (when (eq (op-kind op) :macro) (emit "  inline int ~A_seq();" (op-id op))))
     (dolist (event (spec-events spec))
-      (emit "  int ~A();" (event-id event)))
+      (emit "  inline int ~A();" (event-id event)))
     (when *c++-timed* (emit-timed-members machine))
     (emit "};~%")))
 
