@@ -8,31 +8,43 @@
 ;; Inline: the recorder makes several items for every event a timed
 ;; controller plans.
 (declaim (inline make-agenda-item))
+;; Twelve words with the header: an item is made for every op, state change,
+;; macro span and end an event plans, and a third of them a cut cancels
+;; unplayed, so the slots a kind seldom needs share A and B (a :FAIL's goal,
+;; a :MACRO-END's start) and an :OP or :MACRO-START item's start is its TIME.
 (defstruct (agenda-item (:constructor make-agenda-item (kind time seq run)))
   "One thing due on a timeline.  KIND says what:
-  :OP          play OP from START (to END, which a cut may bring forward)
+  :OP          play OP from TIME (its start) to END, which a cut may bring forward
   :DELTA       set the plannable fields of mask A to the bits B
   :VALUE       set runtime variable A to B
-  :MACRO-START, :MACRO-END   macro-op OP's span, START to END
-  :FAIL        the event could not achieve GOAL
+  :MACRO-START macro-op OP's span begins at TIME (and ends at END)
+  :MACRO-END   macro-op OP's span, begun at A (a double), ends at TIME
+  :FAIL        the event could not achieve goal B
   :FINISH      the event RUN is over: show the state, start the next one
-  :TIMER       timer state A goes off"
+  :TIMER       timer state A goes off
+AGENDA-ITEM-START is where an :OP or a macro span starts."
   (kind :op :type keyword)
   (time 0d0 :type double-float)
   (seq 0 :type fixnum)
   ;; The EVENT-RUN the item belongs to (NIL for a timer).
   (run nil)
   (op nil)
-  (start 0d0 :type double-float)
   (end 0d0 :type double-float)
   (a nil)
   (b nil)
   ;; An op's end :DELTA -> that op's :OP item; a :MACRO-START -> its :MACRO-END.
   (owner nil)
-  (goal nil)
   ;; The top-level directive of the event that produced the item.
   (step 0 :type fixnum)
   (status :pending :type (member :pending :done :cancelled)))
+
+(declaim (inline agenda-item-start))
+(defun agenda-item-start (item)
+  "When the op or macro span of ITEM (:OP, :MACRO-START or :MACRO-END) starts."
+  (declare (agenda-item item))
+  (if (eq (agenda-item-kind item) :macro-end)
+      (the double-float (agenda-item-a item))
+      (agenda-item-time item)))
 
 (declaim (inline item-before-p))
 (defun item-before-p (a b)

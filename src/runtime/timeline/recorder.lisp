@@ -95,7 +95,6 @@ last to its items."
         (item (record-item recorder :op start)))
     (declare (double-float duration))
     (setf (agenda-item-op item) op
-          (agenda-item-start item) start
           (agenda-item-end item) (+ start duration)
           (recorder-last-op recorder) item)
     duration))
@@ -103,7 +102,7 @@ last to its items."
 (defun record-macro-start (recorder op start)
   "Record macro-op OP beginning at START."
   (let ((item (record-item recorder :macro-start start)))
-    (setf (agenda-item-op item) op (agenda-item-start item) (to-double start))
+    (setf (agenda-item-op item) op)
     (push item (recorder-open-macros recorder))
     item))
 
@@ -111,7 +110,7 @@ last to its items."
   "Record macro-op OP, begun at START, ending at END."
   (let ((opening (pop (recorder-open-macros recorder)))
         (item (record-item recorder :macro-end end)))
-    (setf (agenda-item-op item) op (agenda-item-start item) (to-double start)
+    (setf (agenda-item-op item) op (agenda-item-a item) (to-double start)
           (agenda-item-end item) (to-double end)
           (agenda-item-end opening) (to-double end)
           (agenda-item-owner opening) item
@@ -120,7 +119,7 @@ last to its items."
 
 (defun record-failure (recorder goal time)
   "Record that the event could not achieve GOAL at TIME."
-  (setf (agenda-item-goal (record-item recorder :fail time)) goal))
+  (setf (agenda-item-b (record-item recorder :fail time)) goal))
 
 (declaim (inline record-change))
 (defun record-change (recorder kind controller time a b op)

@@ -430,7 +430,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
          (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time)))
       (:fail
        (unless (timeline-quiet timeline)
-         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-goal item) time)))
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) time)))
       (:finish (finish-run timeline (agenda-item-run item) time))
       (:timer (fire-timer timeline (agenda-item-a item) item time)))))
 
