@@ -8,19 +8,21 @@
 (in-package #:player)
 
 (defun resolve-cut-points (timeline)
-  "Give each op with (:at POINT...) its points in seconds, sorted; names are
+  "Give each op with (:at POINT...) its points in seconds (doubles), sorted; names are
 asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
   (let ((presenter (timeline-presenter timeline)))
     (dolist (op (spec-ops (spec-of (timeline-controller timeline))))
       (when (listp (op-interrupt op))
         (setf (gethash op (timeline-cut-points timeline))
               (sort (mapcar (lambda (point)
-                              (if (realp point) point (to-double (critical-time presenter op point))))
+                              (to-double (if (realp point) point (critical-time presenter op point))))
                             (op-interrupt op))
                     #'<))))))
 
-;; Typed, so CUT-RUN compares the times it returns as doubles.
-(declaim (ftype (function (t agenda-item double-float) (values double-float &optional)) op-cut-time))
+;; Typed, so CUT-RUN compares the times it returns as doubles; inline, so
+;; they are not boxed to be returned.
+(declaim (ftype (function (t agenda-item double-float) (values double-float &optional)) op-cut-time)
+         (inline op-cut-time))
 (defun op-cut-time (timeline item time)
   "When the op of :OP ITEM, running at TIME, can stop: its next interruption
 point at or after TIME, else its end."
@@ -30,8 +32,8 @@ point at or after TIME, else its end."
          (interrupt (op-interrupt op)))
     (cond ((eq interrupt :never) end)
           ((eq interrupt :anytime) (max time start))
-          (t (or (loop for point in (gethash op (timeline-cut-points timeline))
-                       for at = (+ start point)
+          (t (or (loop for point of-type double-float in (gethash op (timeline-cut-points timeline))
+                       for at of-type double-float = (+ start point)
                        when (and (>= at time) (<= at end)) return at)
                  end)))))
 

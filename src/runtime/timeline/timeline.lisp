@@ -385,19 +385,21 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
               (t (return)))))
     (setf (timeline-now timeline) time)
     (when (timeline-live-ops timeline)
-      (setf (timeline-live-ops timeline) (forget-ended-ops (timeline-live-ops timeline) time)))
+      (forget-ended-ops timeline))
     (setf (controller-clock (timeline-controller timeline)) time)))
 
-(defun forget-ended-ops (live-ops time)
-  "LIVE-OPS (destructively) without the :OP items that end by TIME."
-  (declare (double-float time))
-  (flet ((ended-p (item) (<= (agenda-item-end item) time)))
-    (loop while (and live-ops (ended-p (first live-ops)))
-          do (pop live-ops))
-    (loop for cell on live-ops
-          do (loop while (and (rest cell) (ended-p (second cell)))
-                   do (setf (rest cell) (cddr cell))))
-    live-ops))
+(defun forget-ended-ops (timeline)
+  "Drop (destructively) from TIMELINE's live ops the :OP items that end by its NOW."
+  ;; NOW read here, not passed: a double argument of a full call is boxed.
+  (let ((live-ops (timeline-live-ops timeline))
+        (time (timeline-now timeline)))
+    (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+      (loop while (and live-ops (ended-p (first live-ops)))
+            do (pop live-ops))
+      (loop for cell on live-ops
+            do (loop while (and (rest cell) (ended-p (second cell)))
+                     do (setf (rest cell) (cddr cell))))
+      (setf (timeline-live-ops timeline) live-ops))))
 
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."
@@ -415,13 +417,13 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
              (setf (controller-bits controller) bits)
              (transition-state controller bits time)))
        (when (timeline-triggers timeline)
-         (check-triggers timeline time (agenda-item-a item))))
+         (check-triggers timeline (agenda-item-a item))))
       (:value
        (if (timeline-quiet-autoscripts timeline)
            (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
            (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time))
        (when (timeline-triggers timeline)
-         (check-triggers timeline time 0)))
+         (check-triggers timeline 0)))
       (:macro-start
        (unless (timeline-quiet timeline)
          (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
@@ -431,17 +433,17 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
       (:fail
        (unless (timeline-quiet timeline)
          (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) time)))
-      (:finish (finish-run timeline (agenda-item-run item) time))
+      (:finish (finish-run timeline (agenda-item-run item)))
       (:timer (fire-timer timeline (agenda-item-a item) item time)))))
 
-(defun finish-run (timeline run time)
-  "RUN is over at TIME: show the state, and start the waiting events that no
-running event meets any more, first first."
+(defun finish-run (timeline run)
+  "RUN is over at TIMELINE's NOW: show the state, and start the waiting events
+that no running event meets any more, first first."
   (setf (run-finished run) t)
   (unless (timeline-quiet timeline)
     (present-state (timeline-presenter timeline) (timeline-controller timeline)))
   (setf (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
-  (start-waiting-runs timeline time))
+  (start-waiting-runs timeline (timeline-now timeline)))
 
 (defun start-waiting-runs (timeline time)
   "Start, at TIME, the first waiting runs while no running event meets the first."

@@ -114,11 +114,15 @@ CHANGED (a mask, 0 for a runtime value) did?"
 
 ;; A trigger whose condition reads only fields the change left alone holds as
 ;; it did, so it is not asked again (Peedy's trigger reads one variable).
-(defun check-triggers (timeline time changed)
-  "After a state change at TIME of the plannable fields CHANGED (a mask, 0 for
-a runtime value): fire each trigger whose condition has just become true."
+;; The time is TIMELINE's NOW (the change is being applied), read here rather
+;; than passed: a double passed to a full call is boxed, for every change.
+(defun check-triggers (timeline changed)
+  "After a state change, at TIMELINE's NOW, of the plannable fields CHANGED (a
+mask, 0 for a runtime value): fire each trigger whose condition has just
+become true."
   (when (timeline-triggers timeline)
-    (let ((controller (timeline-controller timeline)))
+    (let ((controller (timeline-controller timeline))
+          (time (timeline-now timeline)))
       (setf (controller-schedule controller) time)
       (dolist (state (timeline-triggers timeline))
         (let ((holds (if (trigger-may-turn-p state changed)
