@@ -386,7 +386,9 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
     (setf (timeline-now timeline) time)
     (when (timeline-live-ops timeline)
       (forget-ended-ops timeline))
-    (setf (controller-clock (timeline-controller timeline)) time)))
+    (setf (controller-clock (timeline-controller timeline)) time)
+    ;; No value: a double returned would be boxed, twice per event.
+    (values)))
 
 (defun forget-ended-ops (timeline)
   "Drop (destructively) from TIMELINE's live ops the :OP items that end by its NOW."
@@ -403,9 +405,10 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."
+  ;; ITEM's time is read where it is passed on, never bound: a double variable
+  ;; that several calls take boxed is boxed where it is bound, on every item.
   (let ((controller (timeline-controller timeline))
-        (presenter (timeline-presenter timeline))
-        (time (agenda-item-time item)))
+        (presenter (timeline-presenter timeline)))
     (ecase (agenda-item-kind item)
       (:op
        (unless (timeline-quiet timeline)
@@ -415,13 +418,13 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                                       (agenda-item-b item))))
          (if (timeline-quiet-autoscripts timeline)
              (setf (controller-bits controller) bits)
-             (transition-state controller bits time)))
+             (transition-state controller bits (agenda-item-time item))))
        (when (timeline-triggers timeline)
          (check-triggers timeline (agenda-item-a item))))
       (:value
        (if (timeline-quiet-autoscripts timeline)
            (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
-           (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) time))
+           (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) (agenda-item-time item)))
        (when (timeline-triggers timeline)
          (check-triggers timeline 0)))
       (:macro-start
@@ -429,12 +432,12 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
          (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
       (:macro-end
        (unless (timeline-quiet timeline)
-         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) time)))
+         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-time item))))
       (:fail
        (unless (timeline-quiet timeline)
-         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) time)))
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) (agenda-item-time item))))
       (:finish (finish-run timeline (agenda-item-run item)))
-      (:timer (fire-timer timeline (agenda-item-a item) item time)))))
+      (:timer (fire-timer timeline (agenda-item-a item) item (agenda-item-time item))))))
 
 (defun finish-run (timeline run)
   "RUN is over at TIMELINE's NOW: show the state, and start the waiting events
@@ -443,7 +446,8 @@ that no running event meets any more, first first."
   (unless (timeline-quiet timeline)
     (present-state (timeline-presenter timeline) (timeline-controller timeline)))
   (setf (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
-  (start-waiting-runs timeline (timeline-now timeline)))
+  (when (timeline-queue timeline)
+    (start-waiting-runs timeline (timeline-now timeline))))
 
 (defun start-waiting-runs (timeline time)
   "Start, at TIME, the first waiting runs while no running event meets the first."
