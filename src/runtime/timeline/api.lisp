@@ -43,7 +43,7 @@ if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the s
             compiled (find-compiled-event controller event)
             policy (timed-event-policy controller compiled when-busy)))
     (multiple-value-bind (disposition result)
-        (dispatch-event timeline compiled (event-name (compiled-event-event compiled)) time policy :user)
+        (dispatch-event timeline compiled time policy :user)
       (cond ((eq disposition :dropped) (values nil :dropped))
             ((eq result t) t)
             (t (values nil (failure-goal-form result)))))))

@@ -7,17 +7,17 @@
 
 (in-package #:player)
 
-(defstruct (event-run (:conc-name run-) (:constructor make-event-run (compiled name policy source)))
-  "Event NAME (its COMPILED-EVENT) on a timed controller, from its start to its
+;; Ten words with the header, one made for every event: its name is its
+;; compiled event's (RUN-NAME), not a slot of its own.
+(defstruct (event-run (:conc-name run-) (:constructor make-event-run (compiled policy source)))
+  "An event (its COMPILED-EVENT) on a timed controller, from its start to its
 end or cut.  SOURCE is :USER, :TIMER or :TRIGGER.  FIRST-STEP is the top-level
 directive it starts from (above 0 when it resumes an interrupted run)."
   (compiled nil :type compiled-event)
-  (name nil)
   (policy :queue :type keyword)
   (source :user :type keyword)
   (first-step 0 :type fixnum)
   (resumed nil :type boolean)
-  (start 0d0 :type double-float)
   ;; The run's AGENDA-ITEMs in the order they were planned (SEQ order).
   (items '() :type list)
   ;; Its items not yet taken off the agenda, in (TIME, SEQ) order
@@ -28,16 +28,20 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (footprint nil)
   (finished nil :type boolean))
 
-(defmethod print-object ((run event-run) stream)
-  (print-unreadable-object (run stream :type t)
-    (format stream "~A ~(~A~) from ~A~:[~; (finished)~]" (lisp-text (run-name run)) (run-policy run)
-            (format-number (run-start run)) (run-finished run))))
-
 ;; Inline: it runs for every event a timed controller plays.
-(declaim (inline run-event))
+(declaim (inline run-event run-name))
 (defun run-event (run)
   "The EVENT-DEF RUN plays."
   (compiled-event-event (run-compiled run)))
+
+(defun run-name (run)
+  "The name of the event RUN plays."
+  (event-name (run-event run)))
+
+(defmethod print-object ((run event-run) stream)
+  (print-unreadable-object (run stream :type t)
+    (format stream "~A ~(~A~) from step ~D~:[~; (finished)~]" (lisp-text (run-name run)) (run-policy run)
+            (run-first-step run) (run-finished run))))
 
 ;;;# Feeding the agenda one item per run
 

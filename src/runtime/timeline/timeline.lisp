@@ -143,7 +143,6 @@ items on the agenda."
       (if (run-resumed run)
           (present-resume presenter (run-name run) time)
           (present-event presenter (run-name run) time))))
-  (setf (run-start run) time)
   (setf (timeline-runs timeline) (if (timeline-runs timeline)
                                      (append (timeline-runs timeline) (list run))
                                      (list run)))
@@ -254,15 +253,15 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
     (unless (timeline-queue timeline)
       (setf (timeline-queue-tail timeline) '()))))
 
-(defun dispatch-event (timeline compiled name time policy source)
-  "Event NAME (COMPILED) arrives at TIME (= NOW) from SOURCE.  It is planned
+(defun dispatch-event (timeline compiled time policy source)
+  "Event COMPILED arrives at TIME (= NOW) from SOURCE.  It is planned
 on trial; if its footprint meets no running event's it starts now, beside any
 others; else POLICY decides against those it meets.  Returns the disposition
 (:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the planning
 result (T or a FAILURE)."
   (when (timeline-timers timeline)
     (note-event-for-timers timeline compiled source time))
-  (let ((run (make-event-run compiled name policy source)))
+  (let ((run (make-event-run compiled policy source)))
     (if (null (timeline-runs timeline))
         (values :started (start-run timeline run time))
         (let ((trial (plan-on-trial timeline run time)))
@@ -328,7 +327,7 @@ result (T or a FAILURE)."
 
 (defun resumption (run step)
   "A run that finishes interrupted RUN from its top-level directive STEP."
-  (let ((again (make-event-run (run-compiled run) (run-name run) (run-policy run) (run-source run))))
+  (let ((again (make-event-run (run-compiled run) (run-policy run) (run-source run))))
     (setf (run-first-step again) step
           (run-resumed again) t)
     again))

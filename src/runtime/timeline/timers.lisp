@@ -84,7 +84,7 @@ policy, once everything else due at TIME has happened."
   (let* ((controller (timeline-controller timeline))
          (compiled (find-compiled-event controller (event-name event))))
     (push (lambda ()
-            (dispatch-event timeline compiled (event-name event) time
+            (dispatch-event timeline compiled time
                             (event-policy event (spec-of controller)) source))
           (timeline-deferred timeline))))
 
