@@ -56,7 +56,10 @@ items play, and the variables its changes set."
   (let ((channels '()) (fields 0) (runtime '()))
     (dolist (item (run-items run))
       (case (agenda-item-kind item)
-        (:op (let ((footprint (op-footprint timeline (agenda-item-op item))))
+        (:op (when (and (timeline-declared-channels timeline) (null (op-channels (agenda-item-op item))))
+               ;; On every channel, as OP-FOOTPRINT would say (below).
+               (return-from run-footprint-from-items *everything-footprint*))
+             (let ((footprint (op-footprint timeline (agenda-item-op item))))
                ;; One op on every channel: the run meets everything, whatever
                ;; its variables (FOOTPRINTS-MEET-P never looks at them).
                (when (eq (car footprint) :all)

@@ -151,15 +151,26 @@ is boxed between the steps."
       (setf (controller-bits controller)
             (state-with-fields (controller-bits controller) mask bits)))))
 
-(defun declared-durations-p (presenter)
-  "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration:
-is the default method the only one that applies to it?  (Asked when a
-timeline is made: a method defined later is not seen by timelines made before.)"
+(defun default-method-only-p (function presenter &rest more-arguments)
+  "Does only FUNCTION's default method (on PRESENTER) apply to PRESENTER, with
+MORE-ARGUMENTS arguments of any class after it?  (Asked when a timeline is
+made: a method defined later is not seen by timelines made before.)"
   (multiple-value-bind (methods known)
       (sb-mop:compute-applicable-methods-using-classes
-       #'planned-op-duration (list (class-of presenter) (find-class t) (find-class t)))
+       function (list* (class-of presenter) (mapcar (lambda (x) (declare (ignore x)) (find-class t))
+                                                   more-arguments)))
     (and known methods (null (rest methods))
          (eq (first (sb-mop:method-specializers (first methods))) (find-class 'presenter)))))
+
+(defun declared-durations-p (presenter)
+  "Does PRESENTER answer PLANNED-OP-DURATION with the op's declared :duration
+(only the default method applies to it)?"
+  (default-method-only-p #'planned-op-duration presenter 'op 'start))
+
+(defun declared-channels-p (presenter)
+  "Does PRESENTER answer OP-CHANNEL-SET with the op's declared :channels, or
+:ALL when it declares none (only the default method applies to it)?"
+  (default-method-only-p #'op-channel-set presenter 'op))
 
 ;;;# The presenter while an event is planned
 

@@ -26,6 +26,10 @@ waiting (QUEUE), and its timers and triggers."
   (runs '() :type list)
   ;; Op -> (CHANNELS . FIELDS), see OP-FOOTPRINT.
   (op-footprints (make-hash-table :test 'eq) :type hash-table)
+  ;; Does the presenter give an op its declared channels, :ALL when it has
+  ;; none (DECLARED-CHANNELS-P)?  Then an op without :channels meets
+  ;; everything, and a run playing one needs no table look-up to say so.
+  (declared-channels nil :type boolean)
   ;; Runs waiting, first first; QUEUE-TAIL is its last cons, for O(1) appending.
   (queue '() :type list)
   (queue-tail '() :type list)
@@ -78,6 +82,7 @@ triggers noting whether their conditions hold now."
     (setf (timeline-now timeline) (controller-clock controller)
           (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
           (timeline-quiet-autoscripts timeline) (quiet-autoscripts-p (timeline-presenter timeline))
+          (timeline-declared-channels timeline) (declared-channels-p (timeline-presenter timeline))
           (timeline-recorder timeline) (make-recorder timeline controller)
           (recorder-agenda (timeline-recorder timeline)) (timeline-agenda timeline)
           (recorder-declared-durations (timeline-recorder timeline))
