@@ -30,6 +30,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "classes")
                    (:file "variables")
                    (:file "state-space")
+                   (:file "spec-options")
                    (:file "parse")
                    (:file "directives")
                    (:file "interruption")

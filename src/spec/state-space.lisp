@@ -24,16 +24,6 @@
 (defparameter *unplanned-state-policies* '(:refuse :search)
   "What (:unplanned-states POLICY) may say.")
 
-(defun parse-keyword-choice (option choices)
-  "The keyword among CHOICES that OPTION's value, (KEY VALUE), names (as a
-keyword or a plain symbol); a SPEC-SYNTAX-ERROR naming OPTION otherwise."
-  (let ((value (unquote (second option))))
-    (or (and (symbolp value)
-             (find-if (lambda (known) (word-p value (symbol-name known))) choices))
-        (spec-fail 'spec-syntax-error option "unknown ~A value ~A (allowed: ~{~A~^, ~})"
-                   (lisp-text (first option)) (bounded-lisp-text value 40)
-                   (mapcar #'lisp-text choices)))))
-
 (defun record-start-states-option (option)
   "Keep (:start-states EXPR...) OPTION's expressions in *SPEC* for
 PARSE-START-STATES; a SPEC-SYNTAX-ERROR when it is not a proper list of at
