@@ -87,6 +87,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    ;; Lisp: closures running on a controller struct.
                    (:file "controller-state")
                    (:file "lisp-closures")
+                   (:file "lisp-steps")
                    ;; C++: a standalone controller to embed.
                    (:file "cpp-names")
                    ;; The one-hot state in 64-bit words: one for most specs, more for wide ones.
