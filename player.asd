@@ -99,7 +99,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cpp-timeline-dispatch")
                    (:file "cpp-timeline-machine")
                    (:file "cpp-source")
-                   (:file "cpp-build")))
+                   (:file "cpp-drivers")
+                   (:file "cpp-build")
+                   (:file "cpp-batch")))
      ;; Speech: sound files, espeak-ng synthesis with its phoneme timeline as
      ;; visemes, pocketsphinx recognition; libraries loaded on first use.
      (:module "speech"
