@@ -122,6 +122,7 @@ run the resulting state machine as Lisp closures or embedded C++."
       ((:module "controller"
         :serial t
         :components ((:file "presenter")
+                     (:file "presenter-silence")
                      (:file "controller")
                      ;; States the reachable regime has no plans from.
                      (:file "unplanned-states")
