@@ -137,6 +137,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "footprints")
                      (:file "recorder")
                      (:file "timeline")
+                     (:file "arrivals")
                      (:file "cuts")
                      (:file "timers")
                      (:file "api")))

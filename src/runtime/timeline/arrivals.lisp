@@ -1,0 +1,98 @@
+;;;; arrivals.lisp -- an event arriving at a timed controller: queued behind
+;;;; the runs before it, or, when the controller is busy, resolved by its
+;;;; :when-busy policy (queue, preempt, override, interleave) against the runs
+;;;; it meets; an interrupted run resumes from the step it had reached.
+
+(in-package #:player)
+
+(defun enqueue-run (timeline run)
+  "Put RUN last in TIMELINE's queue."
+  (let ((cell (list run)))
+    (if (timeline-queue timeline)
+        (setf (cdr (timeline-queue-tail timeline)) cell)
+        (setf (timeline-queue timeline) cell))
+    (setf (timeline-queue-tail timeline) cell)))
+
+(defun push-run-first (timeline run)
+  "Put RUN first in TIMELINE's queue."
+  (push run (timeline-queue timeline))
+  (unless (cdr (timeline-queue timeline))
+    (setf (timeline-queue-tail timeline) (timeline-queue timeline))))
+
+(defun pop-run (timeline)
+  "Take the first run off TIMELINE's queue."
+  (prog1 (pop (timeline-queue timeline))
+    (unless (timeline-queue timeline)
+      (setf (timeline-queue-tail timeline) '()))))
+
+(defun dispatch-event (timeline compiled time policy source)
+  "Event COMPILED arrives at TIME (= NOW) from SOURCE.  It is planned
+on trial; if its footprint meets no running event's it starts now, beside any
+others; else POLICY decides against those it meets.  Returns the disposition
+(:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the planning
+result (T or a FAILURE)."
+  (when (timeline-timers timeline)
+    (note-event-for-timers timeline compiled source time))
+  (let ((run (make-event-run compiled policy source)))
+    (if (null (timeline-runs timeline))
+        (values :started (start-run timeline run time))
+        (let ((trial (plan-on-trial timeline run time)))
+          (cond ((or (eq trial :untried) (meets-running-p timeline run))
+                 (resolve-busy timeline run time policy))
+                ((meets-finishing-p timeline run)
+                 ;; Only the last op of an interrupted event is in its way:
+                 ;; start when that is over.
+                 (let ((start (settled-time timeline nil time (run-footprint run))))
+                   (forget-plan run)
+                   (values :started (start-run timeline run start))))
+                (t (install-run timeline run time)
+                   (values :started trial)))))))
+
+(defun resolve-busy (timeline run time policy)
+  "RUN arrives at TIME while events it meets play: do what POLICY says."
+  (let* ((name (run-name run))
+         (met (if (run-footprint run)
+                  (met-runs timeline run)
+                  (timeline-runs timeline)))
+         (footprint (or (run-footprint run) *everything-footprint*)))
+    (forget-plan run)
+    (ecase policy
+      (:queue
+       (enqueue-run timeline run)
+       (values :queued t))
+      (:override
+       (present-dropped (timeline-presenter timeline) name time (run-name (first met)))
+       (values :dropped nil))
+      ((:preempt :interleave)
+       (let ((cut-time time) (resumptions '()))
+         (declare (double-float cut-time))
+         (dolist (other met)
+           (multiple-value-bind (at resume-step) (cut-run timeline other time name footprint)
+             (setf cut-time (max cut-time at))
+             (when (and (eq policy :interleave) resume-step)
+               (push (resumption other resume-step) resumptions))))
+         ;; A cut falling now leaves its :if-cut state now: apply it
+         ;; before the new event plans from it.
+         (advance-timeline timeline time :dispatch nil)
+         ;; The interrupted resume in the order they started, before the queue.
+         (dolist (again resumptions)
+           (push-run-first timeline again))
+         (values (if (eq policy :preempt) :preempted :interleaved)
+                 (start-run timeline run cut-time)))))))
+
+(defun met-runs (timeline run)
+  "The running events whose footprints meet planned RUN's, oldest first."
+  (flet ((meets-p (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other))))
+    (let ((runs (timeline-runs timeline)))
+      ;; One event running (the usual case): no new list unless it is left out.
+      (if (null (rest runs))
+          (and runs (meets-p (first runs)) runs)
+          (remove-if-not #'meets-p runs)))))
+
+;; Inline: it runs for every event a timed controller plays.
+(defun resumption (run step)
+  "A run that finishes interrupted RUN from its top-level directive STEP."
+  (let ((again (make-event-run (run-compiled run) (run-policy run) (run-source run))))
+    (setf (run-first-step again) step
+          (run-resumed again) t)
+    again))
