@@ -152,3 +152,18 @@ precondition by the first plan whose condition holds, or NIL when one fails."
           do (when spec (remove-spec name)))
     (is (> macros 100))
     (is (< 0 inexact macros))))
+
+(test a-macro-the-proof-gives-up-on-is-a-check-warning
+  "Past *MACRO-BRANCH-LIMIT* branches the proof stops: under :exact planning
+refuses the spec, under the default CHECK-SPEC warns instead of failing."
+  (with-spec (spec exact-wake-limited
+              (state-variable alert string sleep (sleep drowsy awake))
+              (op stir :precond alert.sleep :add alert.drowsy)
+              (op open-eyes :precond alert.drowsy :add alert.awake)
+              (macro-op wake :precond (not alert.awake) :add alert.awake
+                        :seq (:op stir :op open-eyes)))
+    (let ((player::*macro-branch-limit* 0))
+      (let ((warnings (remove :inexact-macro (check-spec (compile-spec spec))
+                              :key #'player::diagnostic-kind :test-not #'eq)))
+        (is (= 1 (length warnings)))
+        (is (search "cannot be proved exact" (player::diagnostic-message (first warnings))))))))

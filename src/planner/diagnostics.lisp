@@ -132,12 +132,16 @@ MAX-DEPTH truncated, and states unreachable from the initial state."
   "An :INEXACT-MACRO diagnostic for each macro-op whose :seq changes a variable
 its declared effects do not mention, under the default (:macros :declared):
 that change is undone when the macro ends. (Under :exact, planning the spec
-already refused it.)"
-  (loop for (macro . why) in (inexact-macros machine)
-        collect (make-diagnostic :inexact-macro
-                                 (format nil "macro-op ~A is not exact: ~A; under the default (:macros :declared) the state flips back when it ends"
-                                         (lisp-text (op-name macro)) why)
-                                 (op-name macro))))
+already refused it.) A macro the proof gives up on is reported as such."
+  (handler-case
+      (loop for (macro . why) in (inexact-macros machine)
+            collect (make-diagnostic :inexact-macro
+                                     (format nil "macro-op ~A is not exact: ~A; under the default (:macros :declared) the state flips back when it ends"
+                                             (lisp-text (op-name macro)) why)
+                                     (op-name macro)))
+    (inexact-macro-error (condition)
+      (list (make-diagnostic :inexact-macro (spec-error-message condition)
+                             (spec-error-form condition))))))
 
 (defun channel-diagnostics (spec)
   "A :SHARED-CHANNEL diagnostic for each pair of SPEC's ops that declare a
