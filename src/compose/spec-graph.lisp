@@ -46,7 +46,7 @@ those the planner's ops reach from SPEC's initial state. A GRAPH-ERROR past
         (let ((count (layout-state-count layout)))
           (when (> count *spec-graph-state-limit*) (too-many))
           (loop for dense below count collect (dense-to-state dense layout)))
-        (let ((seen (or (states-reached (initial-state spec) (planner-ops spec) *spec-graph-state-limit*)
+        (let ((seen (or (states-reached (list (initial-state spec)) (planner-ops spec) *spec-graph-state-limit*)
                         (too-many))))
           (sort (hash-table-keys seen) #'< :key (lambda (state) (state-to-dense state layout)))))))
 

@@ -117,32 +117,13 @@ than LIMIT are reachable."
                                       (> limit *graph-state-limit*)))
                 t))))
 
-(defun states-reached (initial transitions limit)
-  "The one-hot states reached from INITIAL by TRANSITIONS (planner ops applied
-where their preconditions hold), INITIAL included, as a hash table whose keys
-they are; NIL as soon as there are more than LIMIT."
-  (let ((seen (make-hash-table))
-        (queue (list initial)))
-    (setf (gethash initial seen) t)
-    (loop while queue
-          do (let ((state (pop queue)))
-               (dolist (op transitions)
-                 (when (op-applies-p op state)
-                   (let ((next (apply-effects state op)))
-                     (unless (gethash next seen)
-                       (when (>= (hash-table-count seen) limit)
-                         (return-from states-reached nil))
-                       (setf (gethash next seen) t)
-                       (push next queue)))))))
-    seen))
-
 (defun bounded-reachable-states (machine limit)
   "The one-hot states reachable from MACHINE's initial state by ops and by
 events' :add/:sub (as REACHABLE-STATES finds them), ascending by dense number;
 NIL as soon as there are more than LIMIT."
   (let* ((spec (machine-spec machine))
          (layout (machine-layout machine))
-         (seen (states-reached (machine-initial-state machine)
+         (seen (states-reached (list (machine-initial-state machine))
                                (append (transition-ops spec) (event-assignment-ops spec))
                                limit)))
     (and seen

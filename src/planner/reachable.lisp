@@ -157,32 +157,40 @@ spec's initial state, then the states of each :start-states expression."
                 nconc (loop for cube in (expression-cubes ast spec)
                             nconc (cube-states cube layout *start-state-limit* form))))))
 
-(defun reached-states (roots transitions limit)
-  "The one-hot states reached from ROOTS by TRANSITIONS (applied where their
-preconditions hold), breadth first: (VALUES STATES NUMBERS), a vector in
-ascending order and a table from state to position. REACHABLE-SPACE-TOO-LARGE
-past LIMIT states."
-  (let ((states (make-array 64 :adjustable t :fill-pointer 0))
-        (seen (make-hash-table)))
+(defun states-reached (roots transitions limit)
+  "The one-hot states reached from the states ROOTS by TRANSITIONS (PLANNER-OPs
+applied where their preconditions hold), ROOTS included, as a hash table
+whose keys they are; NIL as soon as there are more than LIMIT.  (The order of
+the search does not matter: only the set is kept.)"
+  (let ((seen (make-hash-table))
+        (queue '()))
     (flet ((add (state)
              (unless (gethash state seen)
-               (when (>= (fill-pointer states) limit)
-                 (error 'reachable-space-too-large :limit limit))
+               (when (>= (hash-table-count seen) limit)
+                 (return-from states-reached nil))
                (setf (gethash state seen) t)
-               (vector-push-extend state states))))
+               (push state queue))))
       (mapc #'add roots)
-      (loop for next from 0
-            while (< next (fill-pointer states))
-            do (let ((state (aref states next)))
+      (setf queue (nreverse queue))
+      (loop while queue
+            do (let ((state (pop queue)))
                  (dolist (op transitions)
                    (when (op-applies-p op state)
                      (add (apply-effects state op)))))))
-    (let ((sorted (sort (coerce states 'simple-vector) #'<))
-          (numbers (make-hash-table :size (hash-table-count seen))))
-      (loop for state across sorted
-            for number from 0
-            do (setf (gethash state numbers) number))
-      (values sorted numbers))))
+    seen))
+
+(defun reached-states (roots transitions limit)
+  "The one-hot states reached from ROOTS by TRANSITIONS (STATES-REACHED):
+(VALUES STATES NUMBERS), a vector in ascending order and a table from state to
+position. REACHABLE-SPACE-TOO-LARGE past LIMIT states."
+  (let* ((seen (or (states-reached roots transitions limit)
+                   (error 'reachable-space-too-large :limit limit)))
+         (sorted (sort (coerce (hash-table-keys seen) 'simple-vector) #'<))
+         (numbers (make-hash-table :size (hash-table-count seen))))
+    (loop for state across sorted
+          for number from 0
+          do (setf (gethash state numbers) number))
+    (values sorted numbers)))
 
 ;;; The index
 
