@@ -133,6 +133,7 @@ run the resulting state machine as Lisp closures or embedded C++."
        (:module "timeline"
         :serial t
         :components ((:file "agenda")
+                     (:file "item-pool")
                      (:file "runs")
                      (:file "footprints")
                      (:file "recorder")
@@ -315,6 +316,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "timeline-streams")
                  (:file "timeline-model")
                  (:file "test-timeline-model")
+                 (:file "test-item-pool")
                  (:file "test-c++")
                  (:file "test-dispatch")
                  (:file "test-c++-hostile")

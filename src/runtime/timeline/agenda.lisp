@@ -22,6 +22,7 @@
   :FAIL        the event could not achieve goal B
   :FINISH      the event RUN is over: show the state, start the next one
   :TIMER       timer state A goes off
+  :FREE        none: the item is retired, in its agenda's pool (ITEM-POOL.LISP)
 AGENDA-ITEM-START is where an :OP or a macro span starts."
   (kind :op :type keyword)
   (time 0d0 :type double-float)
@@ -36,7 +37,7 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   (owner nil)
   ;; The top-level directive of the event that produced the item.
   (step 0 :type fixnum)
-  (status :pending :type (member :pending :done :cancelled)))
+  (status :pending :type (member :pending :done :cancelled :free)))
 
 (declaim (inline agenda-item-start))
 (defun agenda-item-start (item)
@@ -61,7 +62,14 @@ is O(1))."
   (items (make-array 64) :type simple-vector)
   (count 0 :type fixnum)
   ;; The last sequence number given to an item made for it (AGENDA-NEXT-SEQ).
-  (seq 0 :type fixnum))
+  (seq 0 :type fixnum)
+  ;; Retired items to use again, chained through their OWNER, and conses of
+  ;; runs' item lists to use again (ITEM-POOL.LISP).
+  (free nil :type (or null agenda-item))
+  (free-conses '() :type list)
+  ;; Runs that played to their end, to use again, chained through their
+  ;; FOOTPRINT (RUNS.LISP).
+  (free-runs nil))
 
 ;; Inline: the recorder numbers every item it makes.
 (declaim (inline agenda-next-seq))

@@ -33,7 +33,7 @@ others; else POLICY decides against those it meets.  Returns the disposition
 result (T or a FAILURE)."
   (when (timeline-timers timeline)
     (note-event-for-timers timeline compiled source time))
-  (let ((run (make-event-run compiled policy source)))
+  (let ((run (fresh-event-run (timeline-agenda timeline) compiled policy source)))
     (if (null (timeline-runs timeline))
         (values :started (start-run timeline run time))
         (let ((trial (plan-on-trial timeline run time)))
@@ -43,7 +43,7 @@ result (T or a FAILURE)."
                  ;; Only the last op of an interrupted event is in its way:
                  ;; start when that is over.
                  (let ((start (settled-time timeline nil time (run-footprint run))))
-                   (forget-plan run)
+                   (forget-plan timeline run)
                    (values :started (start-run timeline run start))))
                 (t (install-run timeline run time)
                    (values :started trial)))))))
@@ -55,7 +55,7 @@ result (T or a FAILURE)."
                   (met-runs timeline run)
                   (timeline-runs timeline)))
          (footprint (or (run-footprint run) *everything-footprint*)))
-    (forget-plan run)
+    (forget-plan timeline run)
     (ecase policy
       (:queue
        (enqueue-run timeline run)

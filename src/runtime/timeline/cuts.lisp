@@ -81,37 +81,38 @@ of it was left to do)."
   ;; Its footprint stays needed (SETTLED-TIME) after its items are trimmed.
   (run-footprint* timeline run)
   (let ((presenter (timeline-presenter timeline))
+        (agenda (timeline-agenda timeline))
         (cut-time (settled-time timeline run time footprint))
         (resume nil)
         (keep '())
         (shown nil)
         (finishing nil)
+        (running '())
         (macros nil))
     (declare (double-float time cut-time))
     (flet ((resume-at (item)
              (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
       ;; Running ops: cut short, or let finish, newest first.
-      (multiple-value-bind (running has-macros) (running-ops run time)
-        (setf macros has-macros)
-        (dolist (item running)
-          (let ((at (op-cut-time timeline item time)))
-            (setf cut-time (max cut-time at))
-            (if (< at (agenda-item-end item))
-                (let ((delta (cut-effect-delta (agenda-item-op item))))
-                  (setf (agenda-item-end item) at)
-                  (resume-at item)
-                  (when delta
-                    (let ((change (make-agenda-item :delta at (next-seq timeline) run)))
-                      (setf (agenda-item-a change) (car delta) (agenda-item-b change) (cdr delta)
-                            (agenda-item-step change) (agenda-item-step item))
-                      (push change keep)
-                      (agenda-push (timeline-agenda timeline) change)))
-                  (push item shown))
-                (progn (setf finishing item)
-                       (dolist (other (run-items run))
-                         (when (eq (agenda-item-owner other) item) (push other keep)))))
-            ;; Cut short or not, it plays out after RUN is over.
-            (push item (timeline-live-ops timeline)))))
+      (multiple-value-setq (running macros) (running-ops run time))
+      (dolist (item running)
+        (let ((at (op-cut-time timeline item time)))
+          (setf cut-time (max cut-time at))
+          (if (< at (agenda-item-end item))
+              (let ((delta (cut-effect-delta (agenda-item-op item))))
+                (setf (agenda-item-end item) at)
+                (resume-at item)
+                (when delta
+                  (let ((change (fresh-agenda-item agenda :delta at run)))
+                    (setf (agenda-item-a change) (car delta) (agenda-item-b change) (cdr delta)
+                          (agenda-item-step change) (agenda-item-step item))
+                    (push change keep)
+                    (agenda-push agenda change)))
+                (push item shown))
+              (progn (setf finishing item)
+                     (dolist (other (run-items run))
+                       (when (eq (agenda-item-owner other) item) (push other keep)))))
+          ;; Cut short or not, it plays out after RUN is over.
+          (push item (timeline-live-ops timeline))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
       (when macros
         (setf keep (keep-finished-macros run keep cut-time shown)))
@@ -131,10 +132,21 @@ of it was left to do)."
              (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by)))
           (t (present-cut presenter (and finishing (agenda-item-op finishing))
                           (if finishing (agenda-item-start finishing) time) cut-time by)))
+    (retire-played-items agenda run running keep)
     (setf (run-finished run) t
-          (run-items run) keep
+          (run-items run) '()
           (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
     (values cut-time resume)))
+
+(defun retire-played-items (agenda run running keep)
+  "Retire the items of RUN, being cut, that have been played and neither play
+on (RUNNING, which become live ops) nor are KEPT: nothing will reach them.
+Its cancelled items are retired as the agenda passes them (FEED-NEXT-ITEM)."
+  (dolist (item (run-items run))
+    (when (and (eq (agenda-item-status item) :done)
+               (not (member item running :test #'eq))
+               (not (member item keep :test #'eq)))
+      (retire-item agenda item))))
 
 ;; RUN's items are in SEQ order (the order they were recorded), so pushing
 ;; them as they come leaves the newest, innermost macro first without a sort.

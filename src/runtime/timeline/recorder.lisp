@@ -68,8 +68,8 @@ directive moved the clock back."
 last to its items."
   (let* ((run (recorder-run recorder))
          (time (if (typep time 'double-float) time (to-double time)))
-         (item (make-agenda-item kind time (agenda-next-seq (recorder-agenda recorder)) run))
-         (cell (list item))
+         (item (fresh-agenda-item (recorder-agenda recorder) kind time run))
+         (cell (fresh-item-cons (recorder-agenda recorder) item))
          (tail (recorder-items-tail recorder)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
     (if tail

@@ -18,7 +18,8 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (source :user :type keyword)
   (first-step 0 :type fixnum)
   (resumed nil :type boolean)
-  ;; The run's AGENDA-ITEMs in the order they were planned (SEQ order).
+  ;; The run's AGENDA-ITEMs in the order they were planned (SEQ order); none
+  ;; once it is over (its items are retired, or, if cut, retired as they go).
   (items '() :type list)
   ;; Its items not yet taken off the agenda, in (TIME, SEQ) order
   ;; (FINISH-RECORDING); once it is installed, the first is on the agenda and
@@ -27,6 +28,38 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   ;; What the event may touch (FOOTPRINTS.LISP).
   (footprint nil)
   (finished nil :type boolean))
+
+;; Inline: a run is taken for every event a timed controller plays.
+(declaim (inline fresh-event-run))
+(defun fresh-event-run (agenda compiled policy source)
+  "A run of COMPILED by POLICY from SOURCE: one from AGENDA's spare runs, every
+slot set again, or a new one."
+  (declare (agenda agenda))
+  (let ((run (agenda-free-runs agenda)))
+    (if (null run)
+        (make-event-run compiled policy source)
+        (progn
+          (setf (agenda-free-runs agenda) (run-footprint run)
+                (run-compiled run) compiled
+                (run-policy run) policy
+                (run-source run) source
+                (run-first-step run) 0
+                (run-resumed run) nil
+                (run-items run) '()
+                (run-pending run) '()
+                (run-footprint run) nil
+                (run-finished run) nil)
+          run))))
+
+(defun retire-run (agenda run)
+  "RUN played to its end and nothing reaches it any more (its items are
+retired): keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
+  (declare (agenda agenda))
+  (when *recycle-agenda-items*
+    (setf (run-items run) '()
+          (run-pending run) '()
+          (run-footprint run) (agenda-free-runs agenda)
+          (agenda-free-runs agenda) run)))
 
 ;; Inline: it runs for every event a timed controller plays.
 (declaim (inline run-event run-name))
@@ -47,12 +80,14 @@ directive it starts from (above 0 when it resumes an interrupted run)."
 
 ;; Inline: it runs for every event a timed controller plays.
 (declaim (inline feed-next-item))
-(defun feed-next-item (run)
-  "RUN's first pending item comes off the agenda: drop it, and the cancelled
-items after it, from RUN's pending items; return the next pending one or NIL."
+(defun feed-next-item (agenda run)
+  "RUN's first pending item comes off AGENDA: drop it, and the cancelled
+items after it (retired: nothing else reaches them), from RUN's pending items;
+return the next pending one or NIL."
   (let ((rest (rest (run-pending run))))
     (loop while (and rest (eq (agenda-item-status (first rest)) :cancelled))
-          do (setf rest (rest rest)))
+          do (retire-item agenda (first rest))
+             (setf rest (rest rest)))
     (setf (run-pending run) rest)
     (first rest)))
 
@@ -69,19 +104,22 @@ a timer, a cut's state change)?"
   "Take ITEM, AGENDA's first, off it; its run's next pending item, if it has
 one, takes its place."
   (declare (agenda agenda) (agenda-item item))
-  (let ((next (and (run-head-p item) (feed-next-item (agenda-item-run item)))))
+  (let ((next (and (run-head-p item) (feed-next-item agenda (agenda-item-run item)))))
     (if next
         (agenda-replace-top agenda next)
         (agenda-remove-top agenda))))
 
 (declaim (inline agenda-next))
 (defun agenda-next (agenda)
-  "AGENDA's first pending item, or NIL; cancelled items on top are discarded."
+  "AGENDA's first pending item, or NIL; cancelled items on top are discarded
+(and a cut run's retired: a cancelled timer item is still its timer's)."
   (declare (agenda agenda))
   (loop while (plusp (agenda-count agenda))
         do (let ((top (svref (agenda-items agenda) 0)))
              (if (eq (agenda-item-status top) :cancelled)
-                 (agenda-pop agenda top)
+                 (progn (agenda-pop agenda top)
+                        (when (agenda-item-run top)
+                          (retire-item agenda top)))
                  (return top)))))
 
 ;; Inline, so PROJECT-STATE's function is not made as a closure on the heap.

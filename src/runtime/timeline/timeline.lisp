@@ -188,10 +188,11 @@ or a running event meets everything anyway.  Returns the planning result, or
                  (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))))
         (timeline-live-ops timeline)))
 
-(defun forget-plan (run)
-  "Drop what RUN planned on trial (it will be planned again when it starts)."
-  (setf (run-items run) '()
-        (run-pending run) '()
+(defun forget-plan (timeline run)
+  "Drop what RUN planned on trial (it will be planned again when it starts):
+its items were never on the agenda, so they are retired."
+  (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()))
+  (setf (run-pending run) '()
         (run-footprint run) nil))
 
 (defun plan-run-ahead (timeline run time)
@@ -287,7 +288,13 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)
                      (agenda-item-status item) :done)
-               (apply-item timeline item))
+               ;; An item of a run already cut is reached by nothing once
+               ;; applied.  (Asked before: applying a :FINISH ends its run.)
+               (let ((run (agenda-item-run item)))
+                 (if (and run (run-finished run))
+                     (progn (apply-item timeline item)
+                            (retire-item agenda item))
+                     (apply-item timeline item))))
               ((and dispatch (timeline-deferred timeline))
                (let ((sends (reverse (timeline-deferred timeline))))
                  (setf (timeline-deferred timeline) '())
@@ -301,16 +308,19 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
     (values)))
 
 (defun forget-ended-ops (timeline)
-  "Drop (destructively) from TIMELINE's live ops the :OP items that end by its NOW."
+  "Drop (destructively) from TIMELINE's live ops the :OP items that end by its
+NOW, and retire them: their runs are over, so nothing else reaches them."
   ;; NOW read here, not passed: a double argument of a full call is boxed.
   (let ((live-ops (timeline-live-ops timeline))
-        (time (timeline-now timeline)))
+        (time (timeline-now timeline))
+        (agenda (timeline-agenda timeline)))
     (flet ((ended-p (item) (<= (agenda-item-end item) time)))
       (loop while (and live-ops (ended-p (first live-ops)))
-            do (pop live-ops))
+            do (retire-item agenda (pop live-ops)))
       (loop for cell on live-ops
             do (loop while (and (rest cell) (ended-p (second cell)))
-                     do (setf (rest cell) (cddr cell))))
+                     do (retire-item agenda (second cell))
+                        (setf (rest cell) (cddr cell))))
       (setf (timeline-live-ops timeline) live-ops))))
 
 (defun apply-item (timeline item)
@@ -356,6 +366,11 @@ that no running event meets any more, first first."
   (unless (timeline-quiet timeline)
     (present-state (timeline-presenter timeline) (timeline-controller timeline)))
   (setf (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
+  ;; Every item of a run that played to its end has come off the agenda (its
+  ;; :FINISH is its last), so nothing reaches them now.
+  (when (null (run-pending run))
+    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()))
+    (retire-run (timeline-agenda timeline) run))
   (when (timeline-queue timeline)
     (start-waiting-runs timeline (timeline-now timeline))))
 
@@ -369,4 +384,4 @@ that no running event meets any more, first first."
                  (if (and (not (eq trial :untried)) (not (meets-running-p timeline next))
                           (not (meets-finishing-p timeline next)))
                      (install-run timeline (pop-run timeline) time)
-                     (progn (forget-plan next) (return)))))))
+                     (progn (forget-plan timeline next) (return)))))))

@@ -1,0 +1,105 @@
+;;;; item-pool.lisp -- agenda items used again.  A timed controller makes four
+;;;; or five items for every event it plans.  Made fresh, they were two thirds
+;;;; of what it allocated (about 450 of 675 bytes an event); at a million
+;;;; events a second that is half a gigabyte a second, and once a garbage
+;;;; collection has handed pages back to the system, touching fresh ones cost
+;;;; more than the work (a page fault every 25 events, the rate halved).  So
+;;;; an item nothing can reach any more goes back to its agenda's pool, and the
+;;;; recorder takes the next item from there.
+;;;;
+;;;; An item is retired (RETIRE-ITEM) only where nothing can reach it again:
+;;;;  - every item of a run that played to its end, at its :FINISH (FINISH-RUN):
+;;;;    all of them have come off the agenda by then;
+;;;;  - the items of a run planned on trial and not started (FORGET-PLAN);
+;;;;  - at a cut, the items of the cut run already played that neither play on
+;;;;    (as live ops) nor are kept (CUT-RUN);
+;;;;  - a cancelled item, when the agenda discards it or its run's pending
+;;;;    list passes it (AGENDA-NEXT, FEED-NEXT-ITEM);
+;;;;  - an item of a run already over (cut) once it is applied (ADVANCE-TIMELINE);
+;;;;  - a live op when it leaves the live ops (FORGET-ENDED-OPS).
+;;;; An item never retired is left to the garbage collector: a case missed
+;;;; costs memory, never correctness.
+
+(in-package #:player)
+
+(defvar *recycle-agenda-items* t
+  "Do retired agenda items go back to their agenda's pool?  When false they
+are only marked :FREE (and never used again), so a test can look for a
+retired item that something still reaches (CHECK-NO-RETIRED-ITEMS).")
+
+;; Inline: the recorder takes an item for every op, state change and macro
+;; span of every event a timed controller plans.
+(declaim (inline fresh-agenda-item))
+(defun fresh-agenda-item (agenda kind time run)
+  "A pending item of KIND due at TIME for RUN, with AGENDA's next sequence
+number: one from AGENDA's pool, every slot set again, or a new one."
+  (declare (agenda agenda) (double-float time))
+  (let ((item (agenda-free agenda))
+        (seq (agenda-next-seq agenda)))
+    (if (null item)
+        (make-agenda-item kind time seq run)
+        (progn
+          (setf (agenda-free agenda) (agenda-item-owner item)
+                (agenda-item-kind item) kind
+                (agenda-item-time item) time
+                (agenda-item-seq item) seq
+                (agenda-item-run item) run
+                (agenda-item-owner item) nil
+                (agenda-item-end item) 0d0
+                (agenda-item-step item) 0
+                (agenda-item-status item) :pending)
+          item))))
+
+(defun retire-item (agenda item)
+  "Nothing reaches ITEM any more: mark it :FREE, drop what it refers to, and
+put it in AGENDA's pool (unless *RECYCLE-AGENDA-ITEMS* is false).  An item
+already retired is left alone."
+  (declare (agenda agenda) (agenda-item item))
+  (unless (eq (agenda-item-status item) :free)
+    ;; KIND :FREE too, so applying a retired item is an ECASE error, not a
+    ;; silent wrong state.
+    (setf (agenda-item-status item) :free
+          (agenda-item-kind item) :free
+          (agenda-item-run item) nil
+          (agenda-item-op item) nil
+          (agenda-item-a item) nil
+          (agenda-item-b item) nil
+          (agenda-item-owner item) nil)
+    (when *recycle-agenda-items*
+      ;; The pool is chained through OWNER: no cons per item.
+      (setf (agenda-item-owner item) (agenda-free agenda)
+            (agenda-free agenda) item)))
+  nil)
+
+(defun retire-items (agenda items)
+  "Retire each item of the list ITEMS (see RETIRE-ITEM)."
+  (dolist (item items)
+    (retire-item agenda item)))
+
+;; Inline: the recorder takes a cons for every item it records.
+(declaim (inline fresh-item-cons))
+(defun fresh-item-cons (agenda item)
+  "A list of ITEM alone: a cons from AGENDA's spare conses, or a new one."
+  (declare (agenda agenda))
+  (let ((cell (agenda-free-conses agenda)))
+    (if (null cell)
+        (list item)
+        (progn (setf (agenda-free-conses agenda) (rest cell)
+                     (first cell) item
+                     (rest cell) '())
+               cell))))
+
+(defun retire-item-list (agenda items)
+  "Retire each item of ITEMS, a run's own list that nothing else shares any
+more, and keep its conses for FRESH-ITEM-CONS."
+  (declare (agenda agenda) (list items))
+  (when items
+    (let ((last items))
+      (loop (retire-item agenda (first last))
+            (setf (first last) nil)
+            (if (rest last)
+                (setf last (rest last))
+                (return)))
+      (when *recycle-agenda-items*
+        (setf (rest last) (agenda-free-conses agenda)
+              (agenda-free-conses agenda) items)))))

@@ -1,0 +1,135 @@
+;;;; test-item-pool.lisp -- a timed controller uses its agenda items, their
+;;;; conses and its runs again (src/runtime/timeline/item-pool.lisp).  An item
+;;;; retired while something still reaches it would be handed out twice and
+;;;; play as two things at once, so the random specs and streams of the
+;;;; model-based test are played with items never used again but marked
+;;;; :FREE, and after every call nothing the timeline reaches may be :FREE;
+;;;; and played again with the pool on, the traces must be the same.
+
+(in-package #:player-tests)
+
+(def-suite* item-pool :in player-tests)
+
+(defun timeline-reachable-items (timeline)
+  "Every agenda item TIMELINE can still reach: on its agenda, pending in or
+recorded by the runs there, running or waiting, live ops, timers."
+  (let ((items '()))
+    (labels ((note (item) (when item (push item items)))
+             (note-run (run)
+               (when run
+                 (mapc #'note (player::run-items run))
+                 (mapc #'note (player::run-pending run)))))
+      (let ((agenda (player::timeline-agenda timeline)))
+        (dotimes (i (player::agenda-count agenda))
+          (let ((item (svref (player::agenda-items agenda) i)))
+            (note item)
+            (note-run (player::agenda-item-run item)))))
+      (mapc #'note-run (player::timeline-runs timeline))
+      (mapc #'note-run (player::timeline-queue timeline))
+      (mapc #'note (player::timeline-live-ops timeline))
+      (dolist (state (player::timeline-timers timeline))
+        (note (player::timer-state-item state))))
+    items))
+
+(defun retired-but-reached (controller)
+  "How many items CONTROLLER's timeline reaches that were retired."
+  (count :free (timeline-reachable-items (player::controller-timeline controller))
+         :key #'player::agenda-item-status))
+
+(defun play-stream-checking-items (machine spec actions initial)
+  "Play ACTIONS like TM-PLAY-STREAM (a trace presenter), counting after every
+call the retired items still reached.  Returns that count and the number of
+checks made."
+  (let ((controller (make-controller machine :timed t :presenter (make-trace-presenter)
+                                               :initial-state (model-state-alist (tms-model spec) initial)))
+        (reached 0) (checks 0))
+    (flet ((check () (incf checks) (incf reached (retired-but-reached controller))))
+      (handler-case
+          (progn
+            (dolist (action actions)
+              (ecase (first action)
+                (:send (destructuring-bind (event time policy) (rest action)
+                         (if policy
+                             (send-event controller event :at (float time 1d0) :when-busy policy)
+                             (send-event controller event :at (float time 1d0)))))
+                (:check (advance controller (float (second action) 1d0)))
+                (:settle (loop for step from 1 to *tm-settle-steps*
+                               while (controller-busy-p controller)
+                               do (advance controller (float (+ (second action) (* 50 step)) 1d0))
+                                  (check))))
+              (check))
+            (finish-events controller)
+            (check))
+        (player::timeline-error () nil)))
+    (values reached checks)))
+
+(defun item-pool-problem (seed stream)
+  "What goes wrong with recycled items on stream STREAM of random spec SEED, or
+NIL.  Returns a second value: how many times the items were checked."
+  (let* ((spec (tm-random-spec seed))
+         (name (model-name (tms-model spec)))
+         (*package* (find-package '#:player-user)))
+    (unwind-protect
+         (let ((machine (tm-compile-spec spec)))
+           (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
+             (flet ((summary (recycle)
+                      (let ((player::*recycle-agenda-items* recycle))
+                        (tm-play-summary (tm-play-stream machine spec actions initial)))))
+               (multiple-value-bind (reached checks)
+                   (let ((player::*recycle-agenda-items* nil))
+                     (play-stream-checking-items machine spec actions initial))
+                 (values (cond ((plusp reached)
+                                (format nil "~D retired items still reached" reached))
+                               ((not (equal (summary t) (summary nil)))
+                                "the trace with items used again differs from the one with fresh items"))
+                         checks)))))
+      (remove-spec name))))
+
+(test timeline-items-used-again-are-never-reached
+  "On random timed specs and streams (cuts, macros, parallel channels, timers,
+triggers, every policy), no item a timeline retired is reached again, and
+playing with items used again gives the trace of playing with fresh ones."
+  (let ((problems '()) (checks 0))
+    (dolist (seed (subseq *tm-spec-seeds* 0 100))
+      (loop for stream from 1 to 2
+            do (multiple-value-bind (problem checked)
+                   (handler-case (item-pool-problem seed stream)
+                     (error (e) (format nil "error: ~A" e)))
+                 (incf checks (or checked 0))
+                 (when problem
+                   (push (format nil "spec seed ~D, stream ~D: ~A" seed stream problem) problems)))))
+    (is (null problems) "~{~A~^~%~}" (reverse problems))
+    ;; About seven checks a stream: fewer means the streams played nothing.
+    (is (> checks 1000) "only ~D checks" checks)))
+
+(test timed-peedy-uses-its-items-again
+  "Peedy on a timed controller, half the events preempting the one playing:
+the timeline's pool hands items out again, so it allocates a fraction of what
+fresh items would take (about 450 bytes an event) and the trace is the one
+fresh items give."
+  (let* ((machine (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp")))))
+         (names (coerce (event-names machine) 'simple-vector))
+         (*random-state* (sb-ext:seed-random-state 7))
+         (stream (loop repeat 2000
+                       collect (cons (svref names (random (length names))) (zerop (random 2))))))
+    (flet ((play (presenter)
+             (let ((controller (make-controller machine :timed t :presenter presenter)))
+               (loop for (name . interrupts) in stream
+                     do (if interrupts
+                            (send-event controller name :at (+ (controller-time controller) 0.3d0)
+                                                        :when-busy :preempt)
+                            (progn (finish-events controller)
+                                   (send-event controller name))))
+               (finish-events controller)
+               (values controller presenter))))
+      (play (make-null-presenter))      ; warm up: compiled events, footprints
+      (let* ((before (sb-ext:get-bytes-consed))
+             (controller (play (make-null-presenter)))
+             (bytes (/ (- (sb-ext:get-bytes-consed) before) (length stream)))
+             (agenda (player::timeline-agenda (player::controller-timeline controller))))
+        (is (player::agenda-free agenda) "the pool is empty at the end")
+        (is (< bytes 350) "~,1F bytes an event" bytes))
+      (let ((recycled (nth-value 1 (play (make-trace-presenter))))
+            (fresh (let ((player::*recycle-agenda-items* nil)) (nth-value 1 (play (make-trace-presenter))))))
+        (is (equal (trace-lines recycled) (trace-lines fresh)))
+        (is (> (length (trace-lines fresh)) 4000))))))
