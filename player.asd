@@ -133,8 +133,8 @@ run the resulting state machine as Lisp closures or embedded C++."
        (:module "timeline"
         :serial t
         :components ((:file "agenda")
-                     (:file "item-pool")
                      (:file "runs")
+                     (:file "item-pool")
                      (:file "footprints")
                      (:file "recorder")
                      (:file "timeline")

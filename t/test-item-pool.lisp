@@ -1,10 +1,11 @@
 ;;;; test-item-pool.lisp -- a timed controller uses its agenda items, their
 ;;;; conses and its runs again (src/runtime/timeline/item-pool.lisp).  An item
-;;;; retired while something still reaches it would be handed out twice and
-;;;; play as two things at once, so the random specs and streams of the
-;;;; model-based test are played with items never used again but marked
-;;;; :FREE, and after every call nothing the timeline reaches may be :FREE;
-;;;; and played again with the pool on, the traces must be the same.
+;;;; or run retired while something still reaches it would be handed out
+;;;; twice and play as two things at once, so the random specs and streams of
+;;;; the model-based test are played with nothing used again but retired
+;;;; items and runs marked :FREE, and after every call nothing the timeline
+;;;; reaches may be :FREE; and played again with the pool on, the traces must
+;;;; be the same.
 
 (in-package #:player-tests)
 
@@ -32,9 +33,13 @@ recorded by the runs there, running or waiting, live ops, timers."
     items))
 
 (defun retired-but-reached (controller)
-  "How many items CONTROLLER's timeline reaches that were retired."
-  (count :free (timeline-reachable-items (player::controller-timeline controller))
-         :key #'player::agenda-item-status))
+  "How many items, and runs of items, CONTROLLER's timeline reaches that were retired."
+  (let ((timeline (player::controller-timeline controller)))
+    (+ (count :free (timeline-reachable-items timeline) :key #'player::agenda-item-status)
+       (count :free (remove-duplicates
+                     (append (player::timeline-runs timeline) (player::timeline-queue timeline)
+                             (remove nil (mapcar #'player::agenda-item-run (timeline-reachable-items timeline)))))
+              :key #'player::run-policy))))
 
 (defun play-stream-checking-items (machine spec actions initial)
   "Play ACTIONS like TM-PLAY-STREAM (a trace presenter), counting after every

@@ -54,6 +54,11 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   (let ((ta (agenda-item-time a)) (tb (agenda-item-time b)))
     (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
 
+(defvar *recycle-agenda-items* t
+  "Do retired agenda items go back to their agenda's pool?  When false they
+are only marked :FREE (and never used again), so a test can look for a
+retired item that something still reaches (test-item-pool.lisp).")
+
 (defstruct (agenda (:constructor make-agenda ()))
   "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  An event's items are
 not all on it: each run feeds it its next item only (RUNS.LISP).  Cancelled
@@ -63,6 +68,10 @@ is O(1))."
   (count 0 :type fixnum)
   ;; The last sequence number given to an item made for it (AGENDA-NEXT-SEQ).
   (seq 0 :type fixnum)
+  ;; Does nobody need told when an op starts (the timeline's presenter is
+  ;; quiet)?  Then an :OP item is played when its run reaches it, if it is due
+  ;; then, without going on the heap (SKIP-PENDING).
+  (silent-ops nil :type boolean)
   ;; Retired items to use again, chained through their OWNER, and conses of
   ;; runs' item lists to use again (ITEM-POOL.LISP).
   (free nil :type (or null agenda-item))

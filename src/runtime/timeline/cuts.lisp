@@ -44,7 +44,8 @@ point at or after TIME, else its end."
       (cons (loop for (var) in effects sum (var-field-mask var))
             (loop for (var . index) in effects sum (var-value-bit var index))))))
 
-(declaim (ftype (function (t t double-float t) (values double-float &optional)) settled-time))
+(declaim (ftype (function (t t double-float t) (values double-float &optional)) settled-time)
+         (inline settled-time))
 (defun settled-time (timeline run time footprint)
   "The earliest moment from TIME when the ops of earlier, already cut runs that
 meet FOOTPRINT (the interrupting event's) are all over.  RUN's own are cut
@@ -133,10 +134,21 @@ of it was left to do)."
           (t (present-cut presenter (and finishing (agenda-item-op finishing))
                           (if finishing (agenda-item-start finishing) time) cut-time by)))
     (retire-played-items agenda run running keep)
+    (give-back-played-conses agenda run)
     (setf (run-finished run) t
-          (run-items run) '()
-          (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
+          (run-items run) '())
+    (drop-run timeline run)
     (values cut-time resume)))
+
+(defun give-back-played-conses (agenda run)
+  "Give back the conses of RUN's items list (RUN being cut) that its pending
+list does not share: the played items', or all of them when the pending list
+is a sorted copy.  The run keeps only its pending list from now on."
+  (let ((pending (run-pending run)))
+    (loop for cell = (run-items run) then next
+          for next = (rest cell)
+          until (or (null cell) (eq cell pending))
+          do (give-back-cons agenda cell))))
 
 (defun retire-played-items (agenda run running keep)
   "Retire the items of RUN, being cut, that have been played and neither play

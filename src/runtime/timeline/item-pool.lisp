@@ -17,15 +17,13 @@
 ;;;;    list passes it (AGENDA-NEXT, FEED-NEXT-ITEM);
 ;;;;  - an item of a run already over (cut) once it is applied (ADVANCE-TIMELINE);
 ;;;;  - a live op when it leaves the live ops (FORGET-ENDED-OPS).
-;;;; An item never retired is left to the garbage collector: a case missed
-;;;; costs memory, never correctness.
+;;;; A run counts its items not retired; the last one of a run that is over
+;;;; retires the run.  The conses of a run's item list go back when the run
+;;;; is over: all at once at its end, or, when it is cut, as the agenda passes
+;;;; them (the list is then the run's alone).  An item never retired is left
+;;;; to the garbage collector: a case missed costs memory, never correctness.
 
 (in-package #:player)
-
-(defvar *recycle-agenda-items* t
-  "Do retired agenda items go back to their agenda's pool?  When false they
-are only marked :FREE (and never used again), so a test can look for a
-retired item that something still reaches (CHECK-NO-RETIRED-ITEMS).")
 
 ;; Inline: the recorder takes an item for every op, state change and macro
 ;; span of every event a timed controller plans.
@@ -36,6 +34,8 @@ number: one from AGENDA's pool, every slot set again, or a new one."
   (declare (agenda agenda) (double-float time))
   (let ((item (agenda-free agenda))
         (seq (agenda-next-seq agenda)))
+    (when run
+      (incf (run-live-items run)))
     (if (null item)
         (make-agenda-item kind time seq run)
         (progn
@@ -53,9 +53,13 @@ number: one from AGENDA's pool, every slot set again, or a new one."
 (defun retire-item (agenda item)
   "Nothing reaches ITEM any more: mark it :FREE, drop what it refers to, and
 put it in AGENDA's pool (unless *RECYCLE-AGENDA-ITEMS* is false).  An item
-already retired is left alone."
+already retired is left alone.  The last item of a run that is over retires
+the run too."
   (declare (agenda agenda) (agenda-item item))
   (unless (eq (agenda-item-status item) :free)
+    (let ((run (agenda-item-run item)))
+      (when (and run (zerop (decf (run-live-items run))) (run-finished run))
+        (retire-run agenda run)))
     ;; KIND :FREE too, so applying a retired item is an ECASE error, not a
     ;; silent wrong state.
     (setf (agenda-item-status item) :free

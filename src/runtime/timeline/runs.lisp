@@ -7,8 +7,8 @@
 
 (in-package #:player)
 
-;; Ten words with the header, one made for every event: its name is its
-;; compiled event's (RUN-NAME), not a slot of its own.
+;; Twelve words with the header, one taken for every event (ITEM-POOL.LISP):
+;; its name is its compiled event's (RUN-NAME), not a slot of its own.
 (defstruct (event-run (:conc-name run-) (:constructor make-event-run (compiled policy source)))
   "An event (its COMPILED-EVENT) on a timed controller, from its start to its
 end or cut.  SOURCE is :USER, :TIMER or :TRIGGER.  FIRST-STEP is the top-level
@@ -27,7 +27,10 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (pending '() :type list)
   ;; What the event may touch (FOOTPRINTS.LISP).
   (footprint nil)
-  (finished nil :type boolean))
+  (finished nil :type boolean)
+  ;; How many of its items are not retired: when none is left of a run that
+  ;; is over, nothing reaches it and it is used again (ITEM-POOL.LISP).
+  (live-items 0 :type fixnum))
 
 ;; Inline: a run is taken for every event a timed controller plays.
 (declaim (inline fresh-event-run))
@@ -48,18 +51,34 @@ slot set again, or a new one."
                 (run-items run) '()
                 (run-pending run) '()
                 (run-footprint run) nil
-                (run-finished run) nil)
+                (run-finished run) nil
+                (run-live-items run) 0)
           run))))
 
 (defun retire-run (agenda run)
-  "RUN played to its end and nothing reaches it any more (its items are
-retired): keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
+  "RUN is over and nothing reaches it any more (its last item is retired):
+keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
   (declare (agenda agenda))
+  ;; POLICY :FREE, so a test can see a retired run something still reaches
+  ;; (test-item-pool.lisp).
+  (setf (run-policy run) :free
+        (run-items run) '()
+        (run-pending run) '())
   (when *recycle-agenda-items*
-    (setf (run-items run) '()
-          (run-pending run) '()
-          (run-footprint run) (agenda-free-runs agenda)
+    (setf (run-footprint run) (agenda-free-runs agenda)
           (agenda-free-runs agenda) run)))
+
+(declaim (ftype (function (t t) (values null &optional)) retire-item))
+
+;; Inline: a cut run gives back a cons for every item the agenda passes.
+(declaim (inline give-back-cons))
+(defun give-back-cons (agenda cell)
+  "Keep CELL, a cons nothing else holds, for FRESH-ITEM-CONS."
+  (declare (agenda agenda) (cons cell))
+  (when *recycle-agenda-items*
+    (setf (first cell) nil
+          (rest cell) (agenda-free-conses agenda)
+          (agenda-free-conses agenda) cell)))
 
 ;; Inline: it runs for every event a timed controller plays.
 (declaim (inline run-event run-name))
@@ -78,16 +97,39 @@ retired): keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
 
 ;;;# Feeding the agenda one item per run
 
-;; Inline: it runs for every event a timed controller plays.
+;; Inline: it runs for every item a timed controller plays.
+(declaim (inline skip-pending))
+(defun skip-pending (agenda pending time skip-ops)
+  "PENDING (a run's pending items) from the first item the agenda must still
+take.  Cancelled items are retired (nothing else reaches them).  With SKIP-OPS,
+when AGENDA's ops are silent, an :OP item due at TIME, the instant the run
+reaches it, is played there and then (marked :DONE): telling nobody, it need
+not wait its turn on the agenda, and no cut can fall before it (a cut comes
+once everything due at its instant has happened)."
+  (declare (agenda agenda) (list pending) (double-float time))
+  (loop (let ((item (first pending)))
+          (cond ((null item) (return pending))
+                ((eq (agenda-item-status item) :cancelled)
+                 ;; Only a cut cancels, and a cut run's pending list is its own.
+                 (retire-item agenda item)
+                 (give-back-cons agenda (shiftf pending (rest pending))))
+                ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)
+                      (= (agenda-item-time item) time))
+                 (setf (agenda-item-status item) :done
+                       pending (rest pending)))
+                (t (return pending))))))
+
+;; Inline: it runs for every item a timed controller plays.
 (declaim (inline feed-next-item))
-(defun feed-next-item (agenda run)
-  "RUN's first pending item comes off AGENDA: drop it, and the cancelled
-items after it (retired: nothing else reaches them), from RUN's pending items;
-return the next pending one or NIL."
-  (let ((rest (rest (run-pending run))))
-    (loop while (and rest (eq (agenda-item-status (first rest)) :cancelled))
-          do (retire-item agenda (first rest))
-             (setf rest (rest rest)))
+(defun feed-next-item (agenda run skip-ops)
+  "RUN's first pending item comes off AGENDA: drop it, and the items after it
+SKIP-PENDING passes, from RUN's pending items; return the next pending one or NIL."
+  (let* ((pending (run-pending run))
+         (rest (skip-pending agenda (rest pending) (agenda-item-time (first pending)) skip-ops)))
+    ;; A run that is over (cut) owns its pending list: its items list is
+    ;; empty.  Otherwise the list is shared with its items.
+    (when (run-finished run)
+      (give-back-cons agenda pending))
     (setf (run-pending run) rest)
     (first rest)))
 
@@ -100,11 +142,11 @@ a timer, a cut's state change)?"
 
 ;; Inline: ADVANCE-TIMELINE takes every item off the agenda with it.
 (declaim (inline agenda-pop))
-(defun agenda-pop (agenda item)
+(defun agenda-pop (agenda item &optional (skip-ops t))
   "Take ITEM, AGENDA's first, off it; its run's next pending item, if it has
-one, takes its place."
+one, takes its place (past silent ops due now, unless SKIP-OPS is false)."
   (declare (agenda agenda) (agenda-item item))
-  (let ((next (and (run-head-p item) (feed-next-item agenda (agenda-item-run item)))))
+  (let ((next (and (run-head-p item) (feed-next-item agenda (agenda-item-run item) skip-ops))))
     (if next
         (agenda-replace-top agenda next)
         (agenda-remove-top agenda))))
@@ -117,7 +159,7 @@ one, takes its place."
   (loop while (plusp (agenda-count agenda))
         do (let ((top (svref (agenda-items agenda) 0)))
              (if (eq (agenda-item-status top) :cancelled)
-                 (progn (agenda-pop agenda top)
+                 (progn (agenda-pop agenda top nil)
                         (when (agenda-item-run top)
                           (retire-item agenda top)))
                  (return top)))))

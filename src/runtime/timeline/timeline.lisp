@@ -81,6 +81,7 @@ triggers noting whether their conditions hold now."
   (let ((timeline (%make-timeline controller (controller-presenter controller))))
     (setf (timeline-now timeline) (controller-clock controller)
           (timeline-quiet timeline) (quiet-presenter-p (timeline-presenter timeline))
+          (agenda-silent-ops (timeline-agenda timeline)) (timeline-quiet timeline)
           (timeline-quiet-autoscripts timeline) (quiet-autoscripts-p (timeline-presenter timeline))
           (timeline-declared-channels timeline) (declared-channels-p (timeline-presenter timeline))
           (timeline-recorder timeline) (make-recorder timeline controller)
@@ -151,9 +152,11 @@ items on the agenda."
   (setf (timeline-runs timeline) (if (timeline-runs timeline)
                                      (append (timeline-runs timeline) (list run))
                                      (list run)))
-  (let ((first (first (run-pending run))))
-    (when first
-      (agenda-push (timeline-agenda timeline) first))))
+  (let* ((agenda (timeline-agenda timeline))
+         (pending (setf (run-pending run)
+                        (skip-pending agenda (run-pending run) (timeline-now timeline) t))))
+    (when pending
+      (agenda-push agenda (first pending)))))
 
 (defun planned-footprint (timeline run)
   "The footprint of RUN, planned ahead."
@@ -237,12 +240,15 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
             (controller-values controller) values))
     result))
 
-(declaim (inline remove-run))
-(defun remove-run (run runs)
-  "RUNS without RUN (a fresh list unless RUN is absent or alone in it)."
-  (if (and (eq (first runs) run) (null (rest runs)))
-      '()
-      (remove run runs)))
+(declaim (inline drop-run))
+(defun drop-run (timeline run)
+  "Take RUN out of TIMELINE's running runs (a fresh list unless RUN is absent
+or alone in it: a caller may be walking the old list, MET-RUNS's say)."
+  (let ((runs (timeline-runs timeline)))
+    (setf (timeline-runs timeline)
+          (if (and (eq (first runs) run) (null (rest runs)))
+              '()
+              (remove run runs)))))
 
 ;;;# Advancing the clock
 
@@ -365,12 +371,11 @@ that no running event meets any more, first first."
   (setf (run-finished run) t)
   (unless (timeline-quiet timeline)
     (present-state (timeline-presenter timeline) (timeline-controller timeline)))
-  (setf (timeline-runs timeline) (remove-run run (timeline-runs timeline)))
+  (drop-run timeline run)
   ;; Every item of a run that played to its end has come off the agenda (its
   ;; :FINISH is its last), so nothing reaches them now.
   (when (null (run-pending run))
-    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()))
-    (retire-run (timeline-agenda timeline) run))
+    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '())))
   (when (timeline-queue timeline)
     (start-waiting-runs timeline (timeline-now timeline))))
 
