@@ -135,6 +135,7 @@ run the resulting state machine as Lisp closures or embedded C++."
         :components ((:file "agenda")
                      (:file "runs")
                      (:file "item-pool")
+                     (:file "feeding")
                      (:file "footprints")
                      (:file "recorder")
                      (:file "timeline")

@@ -64,11 +64,10 @@ result (T or a FAILURE)."
        (present-dropped (timeline-presenter timeline) name time (run-name (first met)))
        (values :dropped nil))
       ((:preempt :interleave)
-       (let ((cut-time time) (resumptions '()))
-         (declare (double-float cut-time))
+       (let ((resumptions '()))
+         (setf (timeline-cuts-end timeline) time)
          (dolist (other met)
-           (multiple-value-bind (at resume-step) (cut-run timeline other time name footprint)
-             (setf cut-time (max cut-time at))
+           (let ((resume-step (cut-run timeline other time name footprint)))
              (when (and (eq policy :interleave) resume-step)
                (push (resumption other resume-step) resumptions))))
          ;; A cut falling now leaves its :if-cut state now: apply it
@@ -78,7 +77,10 @@ result (T or a FAILURE)."
          (dolist (again resumptions)
            (push-run-first timeline again))
          (values (if (eq policy :preempt) :preempted :interleaved)
-                 (start-run timeline run cut-time)))))))
+                 ;; TIME itself when no cut runs on: it comes boxed.
+                 (start-run timeline run (if (> (timeline-cuts-end timeline) time)
+                                             (timeline-cuts-end timeline)
+                                             time))))))))
 
 (defun met-runs (timeline run)
   "The running events whose footprints meet planned RUN's, oldest first."

@@ -59,6 +59,8 @@ below; runs playing beside it on other channels do not matter."
                    (footprints-meet-p footprint (run-footprint* timeline other)))
           (setf settled (agenda-item-end item)))))))
 
+;; Inline: a double argument of a full call is boxed, on every cut.
+(declaim (inline running-ops))
 (defun running-ops (run time)
   "The :OP items of RUN presented and still playing at TIME, newest first, and
 whether RUN has a macro-op."
@@ -72,13 +74,12 @@ whether RUN has a macro-op."
         (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
                (push item running)))))))
 
-;; Typed, so RESOLVE-BUSY takes the latest cut time as a double.
-(declaim (ftype (function (t t double-float t t) (values double-float t &optional)) cut-run))
 (defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
-interruption points, cancel the rest of it.  Returns the time the new event
-can start, and the top-level directive RUN would resume from (NIL when nothing
-of it was left to do)."
+interruption points, cancel the rest of it.  The time the new event can start
+is brought up to TIMELINE's CUTS-END (a double returned would be boxed).
+Returns the top-level directive RUN would resume from (NIL when nothing of it
+was left to do)."
   ;; Its footprint stays needed (SETTLED-TIME) after its items are trimmed.
   (run-footprint* timeline run)
   (let ((presenter (timeline-presenter timeline))
@@ -138,7 +139,8 @@ of it was left to do)."
     (setf (run-finished run) t
           (run-items run) '())
     (drop-run timeline run)
-    (values cut-time resume)))
+    (setf (timeline-cuts-end timeline) (max (timeline-cuts-end timeline) cut-time))
+    resume))
 
 (defun give-back-played-conses (agenda run)
   "Give back the conses of RUN's items list (RUN being cut) that its pending

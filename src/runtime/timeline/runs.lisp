@@ -1,9 +1,6 @@
 ;;;; runs.lisp -- one event played on a timeline: what it was, under which
-;;;; policy it came, and the items it planned ahead.  A run feeds the agenda
-;;;; its items one at a time, in time order: only its next item is on the
-;;;; heap, and the one after takes its place when it comes up.  So the heap
-;;;; stays a few items deep, and the items a cut cancels are mostly never
-;;;; pushed or popped at all.
+;;;; policy it came, and the items it planned ahead (FEEDING.LISP gives them
+;;;; to the agenda one at a time).
 
 (in-package #:player)
 
@@ -68,18 +65,6 @@ keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
     (setf (run-footprint run) (agenda-free-runs agenda)
           (agenda-free-runs agenda) run)))
 
-(declaim (ftype (function (t t) (values null &optional)) retire-item))
-
-;; Inline: a cut run gives back a cons for every item the agenda passes.
-(declaim (inline give-back-cons))
-(defun give-back-cons (agenda cell)
-  "Keep CELL, a cons nothing else holds, for FRESH-ITEM-CONS."
-  (declare (agenda agenda) (cons cell))
-  (when *recycle-agenda-items*
-    (setf (first cell) nil
-          (rest cell) (agenda-free-conses agenda)
-          (agenda-free-conses agenda) cell)))
-
 ;; Inline: it runs for every event a timed controller plays.
 (declaim (inline run-event run-name))
 (defun run-event (run)
@@ -94,84 +79,3 @@ keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
   (print-unreadable-object (run stream :type t)
     (format stream "~A ~(~A~) from step ~D~:[~; (finished)~]" (lisp-text (run-name run)) (run-policy run)
             (run-first-step run) (run-finished run))))
-
-;;;# Feeding the agenda one item per run
-
-;; Inline: it runs for every item a timed controller plays.
-(declaim (inline skip-pending))
-(defun skip-pending (agenda pending time skip-ops)
-  "PENDING (a run's pending items) from the first item the agenda must still
-take.  Cancelled items are retired (nothing else reaches them).  With SKIP-OPS,
-when AGENDA's ops are silent, an :OP item due at TIME, the instant the run
-reaches it, is played there and then (marked :DONE): telling nobody, it need
-not wait its turn on the agenda, and no cut can fall before it (a cut comes
-once everything due at its instant has happened)."
-  (declare (agenda agenda) (list pending) (double-float time))
-  (loop (let ((item (first pending)))
-          (cond ((null item) (return pending))
-                ((eq (agenda-item-status item) :cancelled)
-                 ;; Only a cut cancels, and a cut run's pending list is its own.
-                 (retire-item agenda item)
-                 (give-back-cons agenda (shiftf pending (rest pending))))
-                ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)
-                      (= (agenda-item-time item) time))
-                 (setf (agenda-item-status item) :done
-                       pending (rest pending)))
-                (t (return pending))))))
-
-;; Inline: it runs for every item a timed controller plays.
-(declaim (inline feed-next-item))
-(defun feed-next-item (agenda run skip-ops)
-  "RUN's first pending item comes off AGENDA: drop it, and the items after it
-SKIP-PENDING passes, from RUN's pending items; return the next pending one or NIL."
-  (let* ((pending (run-pending run))
-         (rest (skip-pending agenda (rest pending) (agenda-item-time (first pending)) skip-ops)))
-    ;; A run that is over (cut) owns its pending list: its items list is
-    ;; empty.  Otherwise the list is shared with its items.
-    (when (run-finished run)
-      (give-back-cons agenda pending))
-    (setf (run-pending run) rest)
-    (first rest)))
-
-(declaim (inline run-head-p))
-(defun run-head-p (item)
-  "Is ITEM the one its run has on the agenda (not an item pushed on its own:
-a timer, a cut's state change)?"
-  (let ((run (agenda-item-run item)))
-    (and run (eq (first (run-pending run)) item))))
-
-;; Inline: ADVANCE-TIMELINE takes every item off the agenda with it.
-(declaim (inline agenda-pop))
-(defun agenda-pop (agenda item &optional (skip-ops t))
-  "Take ITEM, AGENDA's first, off it; its run's next pending item, if it has
-one, takes its place (past silent ops due now, unless SKIP-OPS is false)."
-  (declare (agenda agenda) (agenda-item item))
-  (let ((next (and (run-head-p item) (feed-next-item agenda (agenda-item-run item) skip-ops))))
-    (if next
-        (agenda-replace-top agenda next)
-        (agenda-remove-top agenda))))
-
-(declaim (inline agenda-next))
-(defun agenda-next (agenda)
-  "AGENDA's first pending item, or NIL; cancelled items on top are discarded
-(and a cut run's retired: a cancelled timer item is still its timer's)."
-  (declare (agenda agenda))
-  (loop while (plusp (agenda-count agenda))
-        do (let ((top (svref (agenda-items agenda) 0)))
-             (if (eq (agenda-item-status top) :cancelled)
-                 (progn (agenda-pop agenda top nil)
-                        (when (agenda-item-run top)
-                          (retire-item agenda top)))
-                 (return top)))))
-
-;; Inline, so PROJECT-STATE's function is not made as a closure on the heap.
-(declaim (inline map-agenda))
-(defun map-agenda (function agenda)
-  "Call FUNCTION on each pending item due on AGENDA (those its runs have not
-fed it yet included), in no particular order."
-  (dotimes (i (agenda-count agenda))
-    (let ((item (svref (agenda-items agenda) i)))
-      (if (run-head-p item)
-          (dolist (pending (run-pending (agenda-item-run item)))
-            (when (eq (agenda-item-status pending) :pending) (funcall function pending)))
-          (when (eq (agenda-item-status item) :pending) (funcall function item))))))

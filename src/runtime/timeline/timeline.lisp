@@ -48,6 +48,10 @@ waiting (QUEUE), and its timers and triggers."
   ;; dispatched once everything else due at NOW has happened, as a send from
   ;; outside at that time would be.
   (deferred '() :type list)
+  ;; When the ops cut for the event arriving now are all over (CUT-RUN).
+  (cuts-end 0d0 :type double-float)
+  ;; A cons that held the one run playing, to hold the next one (DROP-RUN).
+  (spare-runs-cons nil :type list)
   ;; Items applied at the current instant, against loops of zero-length work.
   (instant-count 0 :type fixnum)
   ;; The runtime values an event planned ahead works on (the controller's are
@@ -149,9 +153,13 @@ items on the agenda."
       (if (run-resumed run)
           (present-resume presenter (run-name run) time)
           (present-event presenter (run-name run) time))))
-  (setf (timeline-runs timeline) (if (timeline-runs timeline)
-                                     (append (timeline-runs timeline) (list run))
-                                     (list run)))
+  (setf (timeline-runs timeline) (cond ((timeline-runs timeline)
+                                        (append (timeline-runs timeline) (list run)))
+                                       ((timeline-spare-runs-cons timeline)
+                                        (let ((cell (shiftf (timeline-spare-runs-cons timeline) nil)))
+                                          (setf (first cell) run)
+                                          cell))
+                                       (t (list run))))
   (let* ((agenda (timeline-agenda timeline))
          (pending (setf (run-pending run)
                         (skip-pending agenda (run-pending run) (timeline-now timeline) t))))
@@ -242,12 +250,15 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
 
 (declaim (inline drop-run))
 (defun drop-run (timeline run)
-  "Take RUN out of TIMELINE's running runs (a fresh list unless RUN is absent
-or alone in it: a caller may be walking the old list, MET-RUNS's say)."
+  "Take RUN out of TIMELINE's running runs: a fresh list unless RUN is absent
+or alone in it.  A list of RUN alone is kept for the next run to play alone;
+its REST stays NIL, as a caller may be walking it (MET-RUNS's list)."
   (let ((runs (timeline-runs timeline)))
     (setf (timeline-runs timeline)
           (if (and (eq (first runs) run) (null (rest runs)))
-              '()
+              (progn (setf (first runs) nil
+                           (timeline-spare-runs-cons timeline) runs)
+                     '())
               (remove run runs)))))
 
 ;;;# Advancing the clock
