@@ -70,7 +70,7 @@ the time it stopped at. Signals a
 TIMELINE-ERROR, at the time reached, when events never stop coming (a timer
 that repeats faster than its event plays, say): ADVANCE to a time instead."
   (let ((timeline (check-timed-controller 'finish-events controller)))
-    (advance-timeline timeline most-positive-double-float :until-idle t)
+    (advance-timeline timeline most-positive-double-float t t)
     (when (controller-pending controller)
       (install-pending-machine controller))
     (controller-time controller)))

@@ -72,7 +72,7 @@ result (T or a FAILURE)."
                (push (resumption other resume-step) resumptions))))
          ;; A cut falling now leaves its :if-cut state now: apply it
          ;; before the new event plans from it.
-         (advance-timeline timeline time :dispatch nil)
+         (advance-timeline timeline time nil)
          ;; The interrupted resume in the order they started, before the queue.
          (dolist (again resumptions)
            (push-run-first timeline again))

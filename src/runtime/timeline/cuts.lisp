@@ -37,12 +37,16 @@ point at or after TIME, else its end."
                        when (and (>= at time) (<= at end)) return at)
                  end)))))
 
+(defun cut-effect-fields (op)
+  "The MASK and BITS (two values) of OP's :if-cut effects: 0 and 0 when it has none."
+  (let ((effects (op-cut-effects op)))
+    (values (loop for (var) in effects sum (var-field-mask var))
+            (loop for (var . index) in effects sum (var-value-bit var index)))))
+
 (defun cut-effect-delta (op)
   "The (MASK . BITS) of OP's :if-cut effects, or NIL when it has none."
-  (let ((effects (op-cut-effects op)))
-    (when effects
-      (cons (loop for (var) in effects sum (var-field-mask var))
-            (loop for (var . index) in effects sum (var-value-bit var index))))))
+  (when (op-cut-effects op)
+    (multiple-value-call #'cons (cut-effect-fields op))))
 
 (declaim (ftype (function (t t double-float t) (values double-float &optional)) settled-time)
          (inline settled-time))
@@ -61,7 +65,7 @@ below; runs playing beside it on other channels do not matter."
 
 ;; Inline: a double argument of a full call is boxed, on every cut.
 (declaim (inline running-ops))
-(defun running-ops (run time)
+(defun running-ops (agenda run time)
   "The :OP items of RUN presented and still playing at TIME, newest first, and
 whether RUN has a macro-op."
   ;; Newest first as before the run fed the agenda lazily (RUN-ITEMS was then
@@ -72,7 +76,7 @@ whether RUN has a macro-op."
       (case (agenda-item-kind item)
         (:macro-end (setf macros t))
         (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
-               (push item running)))))))
+               (setf running (spare-cons agenda item running))))))))
 
 (defun cut-run (timeline run time by footprint)
   "Interrupt RUN at TIME for event BY: cut its running ops at their next
@@ -95,29 +99,30 @@ was left to do)."
     (flet ((resume-at (item)
              (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
       ;; Running ops: cut short, or let finish, newest first.
-      (multiple-value-setq (running macros) (running-ops run time))
+      (multiple-value-setq (running macros) (running-ops agenda run time))
       (dolist (item running)
         (let ((at (op-cut-time timeline item time)))
           (setf cut-time (max cut-time at))
           (if (< at (agenda-item-end item))
-              (let ((delta (cut-effect-delta (agenda-item-op item))))
+              (multiple-value-bind (mask bits) (cut-effect-fields (agenda-item-op item))
                 (setf (agenda-item-end item) at)
                 (resume-at item)
-                (when delta
+                (unless (eql mask 0)
                   (let ((change (fresh-agenda-item agenda :delta at run)))
-                    (setf (agenda-item-a change) (car delta) (agenda-item-b change) (cdr delta)
+                    (setf (agenda-item-a change) mask (agenda-item-b change) bits
                           (agenda-item-step change) (agenda-item-step item))
-                    (push change keep)
+                    (setf keep (spare-cons agenda change keep))
                     (agenda-push agenda change)))
-                (push item shown))
+                (setf shown (spare-cons agenda item shown)))
               (progn (setf finishing item)
                      (dolist (other (run-items run))
-                       (when (eq (agenda-item-owner other) item) (push other keep)))))
+                       (when (eq (agenda-item-owner other) item)
+                         (setf keep (spare-cons agenda other keep))))))
           ;; Cut short or not, it plays out after RUN is over.
-          (push item (timeline-live-ops timeline))))
+          (setf (timeline-live-ops timeline) (spare-cons agenda item (timeline-live-ops timeline)))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
       (when macros
-        (setf keep (keep-finished-macros run keep cut-time shown)))
+        (setf keep (keep-finished-macros agenda run keep cut-time shown)))
       ;; Everything else still pending is cancelled.
       (dolist (item (run-items run))
         (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
@@ -135,32 +140,36 @@ was left to do)."
           (t (present-cut presenter (and finishing (agenda-item-op finishing))
                           (if finishing (agenda-item-start finishing) time) cut-time by)))
     (retire-played-items agenda run running keep)
-    (give-back-played-conses agenda run)
+    ;; Lists of this cut alone (the live ops have their own conses).
+    (give-back-list agenda running)
+    (give-back-list agenda shown)
+    (give-back-list agenda keep)
     (setf (run-finished run) t
           (run-items run) '())
     (drop-run timeline run)
     (setf (timeline-cuts-end timeline) (max (timeline-cuts-end timeline) cut-time))
     resume))
 
-(defun give-back-played-conses (agenda run)
-  "Give back the conses of RUN's items list (RUN being cut) that its pending
-list does not share: the played items', or all of them when the pending list
-is a sorted copy.  The run keeps only its pending list from now on."
-  (let ((pending (run-pending run)))
-    (loop for cell = (run-items run) then next
-          for next = (rest cell)
-          until (or (null cell) (eq cell pending))
-          do (give-back-cons agenda cell))))
-
 (defun retire-played-items (agenda run running keep)
   "Retire the items of RUN, being cut, that have been played and neither play
 on (RUNNING, which become live ops) nor are KEPT: nothing will reach them.
-Its cancelled items are retired as the agenda passes them (FEED-NEXT-ITEM)."
-  (dolist (item (run-items run))
-    (when (and (eq (agenda-item-status item) :done)
-               (not (member item running :test #'eq))
-               (not (member item keep :test #'eq)))
-      (retire-item agenda item))))
+Its cancelled items are retired as the agenda passes them (FEED-NEXT-ITEM).
+Give back the conses of RUN's items list that its pending list does not share
+(all of them when that is a sorted copy): the run keeps only its pending list."
+  (let ((pending (run-pending run))
+        (own t))
+    (do* ((cell (run-items run) next)
+          (next (rest cell) (rest cell)))
+         ((null cell))
+      (let ((item (first cell)))
+        (when (eq cell pending)
+          (setf own nil))
+        (when (and (eq (agenda-item-status item) :done)
+                   (not (member item running :test #'eq))
+                   (not (member item keep :test #'eq)))
+          (retire-item agenda item))
+        (when own
+          (give-back-cons agenda cell))))))
 
 ;; RUN's items are in SEQ order (the order they were recorded), so pushing
 ;; them as they come leaves the newest, innermost macro first without a sort.
@@ -175,7 +184,7 @@ innermost (newest) first."
                  (eq (agenda-item-status (agenda-item-owner item)) :cancelled))
         (push item starts)))))
 
-(defun keep-finished-macros (run keep cut-time cut-ops)
+(defun keep-finished-macros (agenda run keep cut-time cut-ops)
   "KEEP, plus the end (and end state change) of each macro of RUN that ends by
 CUT-TIME with every pending item inside it kept and none of its sub-ops in
 CUT-OPS (the :OP items cut short): its last sub-op runs to its end through the
@@ -194,6 +203,7 @@ cut, so the macro ends then, declared effects and all."
                                        (or (not (eq (agenda-item-status inner) :pending))
                                            (member inner keep)))))
                             items))
-            (push item keep)
+            (setf keep (spare-cons agenda item keep))
             (dolist (other items)
-              (when (eq (agenda-item-owner other) item) (push other keep)))))))))
+              (when (eq (agenda-item-owner other) item)
+                (setf keep (spare-cons agenda other keep))))))))))

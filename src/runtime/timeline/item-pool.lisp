@@ -83,27 +83,40 @@ the run too."
     (retire-item agenda item)))
 
 ;; Inline: the recorder takes a cons for every item it records.
-(declaim (inline fresh-item-cons))
-(defun fresh-item-cons (agenda item)
-  "A list of ITEM alone: a cons from AGENDA's spare conses, or a new one."
+(declaim (inline spare-cons))
+(defun spare-cons (agenda first rest)
+  "(CONS FIRST REST), with a cons from AGENDA's spares when it has one.  Every
+cons given back (GIVE-BACK-CONS) must have come from here, or the spares
+would grow without end."
   (declare (agenda agenda))
   (let ((cell (agenda-free-conses agenda)))
     (if (null cell)
-        (list item)
+        (cons first rest)
         (progn (setf (agenda-free-conses agenda) (rest cell)
-                     (first cell) item
-                     (rest cell) '())
+                     (first cell) first
+                     (rest cell) rest)
                cell))))
+
+(declaim (inline fresh-item-cons))
+(defun fresh-item-cons (agenda item)
+  "A list of ITEM alone, with a cons from AGENDA's spares when it has one."
+  (spare-cons agenda item '()))
 
 ;; Inline: a cut run gives back a cons for every item the agenda passes.
 (declaim (inline give-back-cons))
 (defun give-back-cons (agenda cell)
-  "Keep CELL, a cons nothing else holds, for FRESH-ITEM-CONS."
+  "Keep CELL, a cons nothing else holds and SPARE-CONS made, for SPARE-CONS."
   (declare (agenda agenda) (cons cell))
   (when *recycle-agenda-items*
     (setf (first cell) nil
           (rest cell) (agenda-free-conses agenda)
           (agenda-free-conses agenda) cell)))
+
+(defun give-back-list (agenda list)
+  "Keep the conses of LIST, which nothing else holds and SPARE-CONS made, for SPARE-CONS."
+  (declare (agenda agenda) (list list))
+  (loop while list
+        do (give-back-cons agenda (shiftf list (rest list)))))
 
 (defun retire-item-list (agenda items)
   "Retire each item of ITEMS, a run's own list that nothing else shares any

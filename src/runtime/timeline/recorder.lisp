@@ -60,7 +60,13 @@ directive moved the clock back."
     (setf (run-pending run)
           (if (recorder-in-order recorder)
               items
-              (sort (copy-list items) #'item-before-p)))))
+              ;; A copy of spare conses: a cut run gives its pending
+              ;; conses back (SPARE-CONS).
+              (let ((copy '())
+                    (agenda (recorder-agenda recorder)))
+                (dolist (item items)
+                  (setf copy (spare-cons agenda item copy)))
+                (stable-sort copy #'item-before-p))))))
 
 (declaim (inline record-item))
 (defun record-item (recorder kind time)

@@ -275,7 +275,8 @@ its REST stays NIL, as a caller may be walking it (MET-RUNS's list)."
                                 (format-number time) *max-items-per-instant*)))
       (setf (timeline-instant-count timeline) 0)))
 
-(defun advance-timeline (timeline time &key (dispatch t) until-idle)
+;; Optional, not keyword, arguments: it is called twice for every event.
+(defun advance-timeline (timeline time &optional (dispatch t) until-idle)
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
 then NOW is TIME.  Events that timers and triggers send at an instant are
 dispatched when everything else due then has happened (unless DISPATCH is
@@ -333,11 +334,12 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
         (agenda (timeline-agenda timeline)))
     (flet ((ended-p (item) (<= (agenda-item-end item) time)))
       (loop while (and live-ops (ended-p (first live-ops)))
-            do (retire-item agenda (pop live-ops)))
+            do (retire-item agenda (first live-ops))
+               (give-back-cons agenda (shiftf live-ops (rest live-ops))))
       (loop for cell on live-ops
             do (loop while (and (rest cell) (ended-p (second cell)))
                      do (retire-item agenda (second cell))
-                        (setf (rest cell) (cddr cell))))
+                        (give-back-cons agenda (shiftf (rest cell) (cddr cell)))))
       (setf (timeline-live-ops timeline) live-ops))))
 
 (defun apply-item (timeline item)
