@@ -71,24 +71,20 @@ checks made."
 (defun item-pool-problem (seed stream)
   "What goes wrong with recycled items on stream STREAM of random spec SEED, or
 NIL.  Returns a second value: how many times the items were checked."
-  (let* ((spec (tm-random-spec seed))
-         (name (model-name (tms-model spec)))
-         (*package* (find-package '#:player-user)))
-    (unwind-protect
-         (let ((machine (tm-compile-spec spec)))
-           (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
-             (flet ((summary (recycle)
-                      (let ((player::*recycle-agenda-items* recycle))
-                        (tm-play-summary (tm-play-stream machine spec actions initial)))))
-               (multiple-value-bind (reached checks)
-                   (let ((player::*recycle-agenda-items* nil))
-                     (play-stream-checking-items machine spec actions initial))
-                 (values (cond ((plusp reached)
-                                (format nil "~D retired items still reached" reached))
-                               ((not (equal (summary t) (summary nil)))
-                                "the trace with items used again differs from the one with fresh items"))
-                         checks)))))
-      (remove-spec name))))
+  (call-with-random-stream
+   seed stream
+   (lambda (machine spec actions initial)
+     (flet ((summary (recycle)
+              (let ((player::*recycle-agenda-items* recycle))
+                (tm-play-summary (tm-play-stream machine spec actions initial)))))
+       (multiple-value-bind (reached checks)
+           (let ((player::*recycle-agenda-items* nil))
+             (play-stream-checking-items machine spec actions initial))
+         (values (cond ((plusp reached)
+                        (format nil "~D retired items still reached" reached))
+                       ((not (equal (summary t) (summary nil)))
+                        "the trace with items used again differs from the one with fresh items"))
+                 checks))))))
 
 (test timeline-items-used-again-are-never-reached
   "On random timed specs and streams (cuts, macros, parallel channels, timers,

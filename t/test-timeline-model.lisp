@@ -292,28 +292,24 @@ nothing): not quiet, so a timed controller tells it everything."))
 (defun tm-fast-path-problem (seed stream)
   "How the fast and general paths differ on stream STREAM of spec SEED, or NIL.
 Returns a second value: the number of lines the quiet log holds."
-  (let* ((spec (tm-random-spec seed))
-         (name (model-name (tms-model spec)))
-         (*package* (find-package '#:player-user)))
-    (unwind-protect
-         (let ((machine (tm-compile-spec spec)))
-           (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
-             (flet ((play (presenter) (tm-play-stream machine spec actions initial :presenter presenter)))
-               (let ((quiet (make-instance 'tm-quiet-log-presenter))
-                     (told (make-instance 'tm-told-log-presenter)))
-                 (values
-                  (cond ((not (equal (tm-play-summary (play (make-trace-presenter)))
-                                     (tm-play-summary (play (make-instance 'tm-asked-durations-presenter)))))
-                         "declared durations: the trace differs from the one asking the presenter")
-                        ((not (equal (cdr (tm-play-summary (play quiet))) (cdr (tm-play-summary (play told)))))
-                         "quiet presenter: answers, checkpoints or end state differ from a presenter told everything")
-                        ((not (equal (tm-log-lines quiet) (tm-log-lines told)))
-                         "quiet presenter: autoscripts, timers or triggers differ from a presenter told everything")
-                        ((not (equal (cdr (tm-play-summary (play (make-null-presenter))))
-                                     (cdr (tm-play-summary (play told)))))
-                         "null presenter (autoscripts not looked for): answers, checkpoints or end state differ from a presenter told everything"))
-                  (length (tm-log-lines quiet)))))))
-      (remove-spec name))))
+  (call-with-random-stream
+   seed stream
+   (lambda (machine spec actions initial)
+     (flet ((play (presenter) (tm-play-stream machine spec actions initial :presenter presenter)))
+       (let ((quiet (make-instance 'tm-quiet-log-presenter))
+             (told (make-instance 'tm-told-log-presenter)))
+         (values
+          (cond ((not (equal (tm-play-summary (play (make-trace-presenter)))
+                             (tm-play-summary (play (make-instance 'tm-asked-durations-presenter)))))
+                 "declared durations: the trace differs from the one asking the presenter")
+                ((not (equal (cdr (tm-play-summary (play quiet))) (cdr (tm-play-summary (play told)))))
+                 "quiet presenter: answers, checkpoints or end state differ from a presenter told everything")
+                ((not (equal (tm-log-lines quiet) (tm-log-lines told)))
+                 "quiet presenter: autoscripts, timers or triggers differ from a presenter told everything")
+                ((not (equal (cdr (tm-play-summary (play (make-null-presenter))))
+                             (cdr (tm-play-summary (play told)))))
+                 "null presenter (autoscripts not looked for): answers, checkpoints or end state differ from a presenter told everything"))
+          (length (tm-log-lines quiet))))))))
 
 (test timeline-fast-paths-match-general-paths
   "On random specs and streams, a timed controller gives the same trace, answers,

@@ -313,6 +313,19 @@ stays busy (a repeating timer or triggers may keep it busy for ever).")
   ;; :LIVELOCK (still busy after settling) or :ZERO-TIME-LOOP (a TIMELINE-ERROR).
   abandoned)
 
+(defun call-with-random-stream (seed stream function)
+  "Call FUNCTION with the machine, the TM-SPEC, the actions and the initial
+state of stream STREAM of random spec SEED (in package PLAYER-USER), then
+remove the spec; return what FUNCTION returns."
+  (let* ((spec (tm-random-spec seed))
+         (name (model-name (tms-model spec)))
+         (*package* (find-package '#:player-user)))
+    (unwind-protect
+         (let ((machine (tm-compile-spec spec)))
+           (multiple-value-bind (actions initial) (tm-random-stream spec seed stream)
+             (funcall function machine spec actions initial)))
+      (remove-spec name))))
+
 (defun tm-play-stream (machine spec actions initial &key (presenter (make-trace-presenter)))
   "Play ACTIONS on a fresh timed controller of MACHINE from INITIAL, then FINISH-EVENTS.
 A (:settle T) advances by 50 s steps from T while the controller is busy.  The
