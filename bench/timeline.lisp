@@ -50,6 +50,17 @@ only the stream's events play)."
          (rate (/ (length stream) seconds)))
     (row "12. events/s, timed controller, null presenter, half the events preempt"
          (format-count rate) ">= 1 M/s" (>= rate 1d6))
+    ;; This machine's speed drifts by up to 2x from minute to minute: the same
+    ;; events sent whole, measured now, say which minute this was.
+    (let ((whole (/ (length stream)
+                    (seconds-per-call (lambda ()
+                                        (let ((controller (player:make-controller
+                                                           machine :presenter (player:make-null-presenter))))
+                                          (loop for (name) across stream
+                                                do (player:send-event controller name))))
+                                      :batches 5 :batch-seconds 0.2d0))))
+      (note "the same events sent whole (untimed controller), in the same minute: ~A events/s; the timed controller runs at ~,2F of that"
+            (format-count whole) (/ rate whole)))
     (note "timed stream: ~D events made ~D agenda items (~,1F per event), consing ~D bytes per event; by CPU time (what other processes on the machine take does not count), the best of 7 passes gives ~A events/s"
           (length stream) items (/ items (length stream))
           (let ((before (sb-ext:get-bytes-consed)))
