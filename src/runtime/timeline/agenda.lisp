@@ -55,9 +55,10 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
     (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
 
 (defvar *recycle-agenda-items* t
-  "Do retired agenda items go back to their agenda's pool?  When false they
-are only marked :FREE (and never used again), so a test can look for a
-retired item that something still reaches (test-item-pool.lisp).")
+  "Do the agendas made while it is true use retired agenda items, conses and
+runs again?  When false, retired items and runs are only marked :FREE (and
+never used again), so a test can look for one that something still reaches
+(test-item-pool.lisp).")
 
 (defstruct (agenda (:constructor make-agenda ()))
   "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  An event's items are
@@ -72,6 +73,9 @@ is O(1))."
   ;; quiet)?  Then an :OP item is played when its run reaches it, if it is due
   ;; then, without going on the heap (SKIP-PENDING).
   (silent-ops nil :type boolean)
+  ;; Does it use retired items, conses and runs again (*RECYCLE-AGENDA-ITEMS*
+  ;; when it was made)?
+  (recycle *recycle-agenda-items* :type boolean)
   ;; Retired items to use again, chained through their OWNER, and conses of
   ;; runs' item lists to use again (ITEM-POOL.LISP).
   (free nil :type (or null agenda-item))

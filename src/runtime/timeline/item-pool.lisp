@@ -44,6 +44,9 @@ number: one from AGENDA's pool, every slot set again, or a new one."
                 (agenda-item-time item) time
                 (agenda-item-seq item) seq
                 (agenda-item-run item) run
+                (agenda-item-op item) nil
+                (agenda-item-a item) nil
+                (agenda-item-b item) nil
                 (agenda-item-owner item) nil
                 (agenda-item-end item) 0d0
                 (agenda-item-step item) 0
@@ -53,28 +56,29 @@ number: one from AGENDA's pool, every slot set again, or a new one."
 ;; Inline: an item is retired for every one a timed controller records.
 (declaim (inline retire-item))
 (defun retire-item (agenda item)
-  "Nothing reaches ITEM any more: mark it :FREE, drop what it refers to, and
-put it in AGENDA's pool (unless *RECYCLE-AGENDA-ITEMS* is false).  An item
-already retired is left alone.  The last item of a run that is over retires
-the run too."
+  "Nothing reaches ITEM any more: mark it :FREE and put it in AGENDA's pool;
+an agenda that does not recycle (*RECYCLE-AGENDA-ITEMS*) poisons it instead,
+KIND :FREE and nothing referred to.  An item already retired is left alone.
+The last item of a run that is over retires the run too."
   (declare (agenda agenda) (agenda-item item))
   (unless (eq (agenda-item-status item) :free)
     (let ((run (agenda-item-run item)))
       (when (and run (zerop (decf (run-live-items run))) (run-finished run))
         (retire-run agenda run)))
-    ;; KIND :FREE too, so applying a retired item is an ECASE error, not a
-    ;; silent wrong state.
-    (setf (agenda-item-status item) :free
-          (agenda-item-kind item) :free
-          (agenda-item-run item) nil
-          (agenda-item-op item) nil
-          (agenda-item-a item) nil
-          (agenda-item-b item) nil
-          (agenda-item-owner item) nil)
-    (when *recycle-agenda-items*
-      ;; The pool is chained through OWNER: no cons per item.
-      (setf (agenda-item-owner item) (agenda-free agenda)
-            (agenda-free agenda) item)))
+    (setf (agenda-item-status item) :free)
+    (if (agenda-recycle agenda)
+        ;; The pool is chained through OWNER: no cons per item.  The other
+        ;; slots are set when the item is taken again (FRESH-AGENDA-ITEM).
+        (setf (agenda-item-owner item) (agenda-free agenda)
+              (agenda-free agenda) item)
+        ;; KIND :FREE, so applying a retired item is an ECASE error, not a
+        ;; silent wrong state.
+        (setf (agenda-item-kind item) :free
+              (agenda-item-run item) nil
+              (agenda-item-op item) nil
+              (agenda-item-a item) nil
+              (agenda-item-b item) nil
+              (agenda-item-owner item) nil)))
   nil)
 
 (defun retire-items (agenda items)
@@ -107,9 +111,8 @@ would grow without end."
 (defun give-back-cons (agenda cell)
   "Keep CELL, a cons nothing else holds and SPARE-CONS made, for SPARE-CONS."
   (declare (agenda agenda) (cons cell))
-  (when *recycle-agenda-items*
-    (setf (first cell) nil
-          (rest cell) (agenda-free-conses agenda)
+  (when (agenda-recycle agenda)
+    (setf (rest cell) (agenda-free-conses agenda)
           (agenda-free-conses agenda) cell)))
 
 (defun give-back-list (agenda list)
@@ -125,10 +128,9 @@ more, and keep its conses for FRESH-ITEM-CONS."
   (when items
     (let ((last items))
       (loop (retire-item agenda (first last))
-            (setf (first last) nil)
             (if (rest last)
                 (setf last (rest last))
                 (return)))
-      (when *recycle-agenda-items*
+      (when (agenda-recycle agenda)
         (setf (rest last) (agenda-free-conses agenda)
               (agenda-free-conses agenda) items)))))

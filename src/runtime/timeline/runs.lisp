@@ -61,7 +61,7 @@ keep it for FRESH-EVENT-RUN, chained through its FOOTPRINT."
   (setf (run-policy run) :free
         (run-items run) '()
         (run-pending run) '())
-  (when *recycle-agenda-items*
+  (when (agenda-recycle agenda)
     (setf (run-footprint run) (agenda-free-runs agenda)
           (agenda-free-runs agenda) run)))
 

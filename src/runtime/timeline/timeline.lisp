@@ -286,8 +286,10 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 *FINISH-EVENTS-LIMIT* items if that never comes."
   (let ((agenda (timeline-agenda timeline))
         (time (if (typep time 'double-float) time (to-double time)))
-        (steps 0))
-    (declare (fixnum steps) (double-float time))
+        (steps 0)
+        ;; Read once: a special variable's value is looked up on each read.
+        (step-limit (if until-idle *finish-events-limit* most-positive-fixnum)))
+    (declare (fixnum steps step-limit) (double-float time))
     (loop
       (let ((item (agenda-next agenda)))
         (cond ((and until-idle (null (timeline-deferred timeline))
@@ -298,7 +300,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
               ((and item (<= (agenda-item-time item) time)
                     (not (and dispatch (timeline-deferred timeline)
                               (> (agenda-item-time item) (timeline-now timeline)))))
-               (when (and until-idle (> (incf steps) *finish-events-limit*))
+               (when (> (incf steps) step-limit)
                  (error 'timeline-error
                         :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
                                          (format-number (timeline-now timeline)) *finish-events-limit*)))
