@@ -73,7 +73,7 @@ returns and controllers run. The C++ backend needs only the MACHINE."
   "While a machine compiles: hash table of GOAL or OP-DEF -> box (a cons whose
 CAR is the procedure), so procedures can call each other before they exist.")
 
-(defstruct (compiled-event (:constructor make-compiled-event (event run steps)))
+(defstruct (compiled-event (:constructor make-compiled-event (event run steps policy)))
   "An event compiled to a closure of one argument, the controller. STEPS are
 its top-level IR steps; a timed controller asks for EVENT-SUFFIXES, compiled
 from them the first time."
@@ -81,6 +81,9 @@ from them the first time."
   (run nil :type function)
   (steps '() :type list)
   (suffixes nil :type (or null simple-vector))
+  ;; Its :when-busy policy, else its spec's (EVENT-POLICY), known when it is
+  ;; compiled: a timed controller asks for every event it is sent.
+  (policy :queue :type keyword)
   ;; Does the event run :code of its own: T, NIL, or :UNKNOWN until a timed
   ;; controller asks (EVENT-RUNS-CODE-P, src/runtime/timeline/footprints.lisp).
   (runs-code :unknown :type (member t nil :unknown)))
@@ -135,7 +138,7 @@ STATE-SPACE-TOO-LARGE for a spec beyond the planner's reach."
     (dolist (event (spec-events spec))
       (setf (gethash (name-key (event-name event)) (compiled-machine-events machine))
             (let ((steps (directive-steps (event-directives event) machine)))
-              (make-compiled-event event (compile-steps steps machine) steps))))
+              (make-compiled-event event (compile-steps steps machine) steps (event-policy event spec)))))
     (setf (compiled-machine-procedures machine) *procedures*)
     (setf (machine-compile-seconds machine)
           (/ (float (- (get-internal-real-time) start) 1d0) internal-time-units-per-second))

@@ -19,29 +19,29 @@
                              (format-number (timeline-now timeline)))))
     seconds))
 
-(defun timed-event-policy (controller compiled when-busy)
-  "The :when-busy policy of compiled event COMPILED on CONTROLLER: WHEN-BUSY
+(defun timed-event-policy (compiled when-busy)
+  "The :when-busy policy of compiled event COMPILED: WHEN-BUSY
 if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the spec's."
   (if when-busy
       (or (and (member when-busy *when-busy-policies*) when-busy) ; the keyword itself, without a string compare
           (and (symbolp when-busy) (when-busy-policy when-busy))
           (argument-fail 'send-event :when-busy when-busy
                          (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
-      (event-policy (compiled-event-event compiled) (spec-of controller))))
+      (compiled-event-policy compiled)))
 
 (defun send-timed-event (controller event at when-busy)
   "SEND-EVENT on a timed controller (see there)."
   (let* ((timeline (controller-timeline controller))
          (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
          (compiled (find-compiled-event controller event))
-         (policy (timed-event-policy controller compiled when-busy)))
+         (policy (timed-event-policy compiled when-busy)))
     (advance-timeline timeline time)
     ;; A redefinition waiting for the controller to be idle happens now, and
     ;; the event is the new machine's (the switch made a new timeline).
     (when (and (controller-pending controller) (install-pending-machine controller))
       (setf timeline (controller-timeline controller)
             compiled (find-compiled-event controller event)
-            policy (timed-event-policy controller compiled when-busy)))
+            policy (timed-event-policy compiled when-busy)))
     (multiple-value-bind (disposition result)
         (dispatch-event timeline compiled time policy :user)
       (cond ((eq disposition :dropped) (values nil :dropped))

@@ -85,7 +85,7 @@ policy, once everything else due at TIME has happened."
          (compiled (find-compiled-event controller (event-name event))))
     (push (lambda ()
             (dispatch-event timeline compiled time
-                            (event-policy event (spec-of controller)) source))
+                            (compiled-event-policy compiled) source))
           (timeline-deferred timeline))))
 
 (defun start-triggers (timeline)
