@@ -123,12 +123,15 @@ was left to do)."
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
       (when macros
         (setf keep (keep-finished-macros agenda run keep cut-time shown)))
-      ;; Everything else still pending is cancelled.
+      ;; Everything else still pending is cancelled, its :FINISH too if the
+      ;; run has got that far.
       (dolist (item (run-items run))
         (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
-          (unless (eq (agenda-item-kind item) :finish)
-            (resume-at item))
-          (setf (agenda-item-status item) :cancelled))))
+          (resume-at item)
+          (setf (agenda-item-status item) :cancelled)))
+      (let ((finish (run-finish run)))
+        (when finish
+          (setf (agenda-item-status finish) :cancelled))))
     ;; Close the macros the cut falls in, innermost first.
     (unless (timeline-quiet timeline)
       (dolist (item (and macros (cut-macro-starts run)))

@@ -31,13 +31,17 @@ once everything due at its instant has happened)."
 (declaim (inline feed-next-item))
 (defun feed-next-item (agenda run skip-ops)
   "RUN's first pending item comes off AGENDA: drop it, and the items after it
-SKIP-PENDING passes, from RUN's pending items; return the next pending one or NIL."
+SKIP-PENDING passes, from RUN's pending items; return the next pending one or
+NIL.  After its last item, a run that is not over gets its :FINISH."
   (let* ((pending (run-pending run))
          (rest (skip-pending agenda (rest pending) (agenda-item-time (first pending)) skip-ops)))
     ;; A run that is over (cut) owns its pending list: its items list is
-    ;; empty.  Otherwise the list is shared with its items.
-    (when (run-finished run)
+    ;; empty.  Otherwise the list is shared with its items, but for the
+    ;; :FINISH's own cons.
+    (when (or (run-finished run) (eq (first pending) (run-finish run)))
       (give-back-cons agenda pending))
+    (when (and (null rest) (not (run-finished run)) (null (run-finish run)))
+      (setf rest (fresh-item-cons agenda (finish-item agenda run))))
     (setf (run-pending run) rest)
     (first rest)))
 

@@ -28,12 +28,11 @@
 ;; Inline: the recorder takes an item for every op, state change and macro
 ;; span of every event a timed controller plans.
 (declaim (inline fresh-agenda-item))
-(defun fresh-agenda-item (agenda kind time run)
-  "A pending item of KIND due at TIME for RUN, with AGENDA's next sequence
-number: one from AGENDA's pool, every slot set again, or a new one."
-  (declare (agenda agenda) (double-float time))
-  (let ((item (agenda-free agenda))
-        (seq (agenda-next-seq agenda)))
+(defun fresh-agenda-item (agenda kind time run &optional (seq (agenda-next-seq agenda)))
+  "A pending item of KIND due at TIME for RUN, with sequence number SEQ
+(AGENDA's next): one from AGENDA's pool, every slot set again, or a new one."
+  (declare (agenda agenda) (double-float time) (fixnum seq))
+  (let ((item (agenda-free agenda)))
     (when run
       (incf (run-live-items run)))
     (if (null item)
@@ -134,3 +133,10 @@ more, and keep its conses for FRESH-ITEM-CONS."
       (when (agenda-recycle agenda)
         (setf (rest last) (agenda-free-conses agenda)
               (agenda-free-conses agenda) items)))))
+
+(defun finish-item (agenda run)
+  "RUN's :FINISH item, made now that the run has played every other item: due
+at its end, with the sequence number it was given when it was planned (so it
+sorts exactly where a :FINISH recorded then would have)."
+  (setf (run-finish run)
+        (fresh-agenda-item agenda :finish (run-finish-time run) run (run-finish-seq run))))

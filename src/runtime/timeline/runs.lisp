@@ -4,7 +4,7 @@
 
 (in-package #:player)
 
-;; Twelve words with the header, one taken for every event (ITEM-POOL.LISP):
+;; Fourteen words with the header, one taken for every event (ITEM-POOL.LISP):
 ;; its name is its compiled event's (RUN-NAME), not a slot of its own.
 (defstruct (event-run (:conc-name run-) (:constructor make-event-run (compiled policy source)))
   "An event (its COMPILED-EVENT) on a timed controller, from its start to its
@@ -27,7 +27,13 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   (finished nil :type boolean)
   ;; How many of its items are not retired: when none is left of a run that
   ;; is over, nothing reaches it and it is used again (ITEM-POOL.LISP).
-  (live-items 0 :type fixnum))
+  (live-items 0 :type fixnum)
+  ;; When it ends and the sequence number its :FINISH item gets: that item is
+  ;; made only when the run gets there (FINISH-ITEM), so a run that is cut
+  ;; short, or planned on trial and dropped, never makes one.
+  (finish-time 0d0 :type double-float)
+  (finish-seq 0 :type fixnum)
+  (finish nil))
 
 ;; Inline: a run is taken for every event a timed controller plays.
 (declaim (inline fresh-event-run))
@@ -49,7 +55,8 @@ slot set again, or a new one."
                 (run-pending run) '()
                 (run-footprint run) nil
                 (run-finished run) nil
-                (run-live-items run) 0)
+                (run-live-items run) 0
+                (run-finish run) nil)
           run))))
 
 (defun retire-run (agenda run)

@@ -162,9 +162,10 @@ items on the agenda."
                                        (t (list run))))
   (let* ((agenda (timeline-agenda timeline))
          (pending (setf (run-pending run)
-                        (skip-pending agenda (run-pending run) (timeline-now timeline) t))))
-    (when pending
-      (agenda-push agenda (first pending)))))
+                        (or (skip-pending agenda (run-pending run) (timeline-now timeline) t)
+                            ;; Nothing to play (or all played now): it ends.
+                            (fresh-item-cons agenda (finish-item agenda run))))))
+    (agenda-push agenda (first pending))))
 
 (defun planned-footprint (timeline run)
   "The footprint of RUN, planned ahead."
@@ -240,7 +241,10 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
                                  controller))
            (unless (eq result t)
              (record-failure recorder (failure-goal-form result) (controller-schedule controller)))
-           (record-item recorder :finish (controller-span-end controller))
+           ;; Its :FINISH is made when the run gets there (FINISH-ITEM).
+           (setf (run-finish-time run) (controller-span-end controller)
+                 (run-finish-seq run) (agenda-next-seq (timeline-agenda timeline))
+                 (run-finish run) nil)
            (finish-recording recorder))
       (setf (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
@@ -390,7 +394,8 @@ that no running event meets any more, first first."
   ;; Every item of a run that played to its end has come off the agenda (its
   ;; :FINISH is its last), so nothing reaches them now.
   (when (null (run-pending run))
-    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '())))
+    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()))
+    (retire-item (timeline-agenda timeline) (run-finish run)))
   (when (timeline-queue timeline)
     (start-waiting-runs timeline (timeline-now timeline))))
 
