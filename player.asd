@@ -317,7 +317,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "timeline-streams")
                  (:file "timeline-model")
                  (:file "test-timeline-model")
-                 (:file "test-item-pool")
                  (:file "test-c++")
                  (:file "test-dispatch")
                  (:file "test-c++-hostile")
@@ -328,6 +327,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-reachable")
                  (:file "test-timeline")
                  (:file "test-c++-timeline")
+                 ;; after test-c++-timeline: it plays that file's random specs too
+                 (:file "test-item-pool")
                  (:file "test-c++-wide")
                  (:file "test-hostile-input")
                  (:file "test-repl")

@@ -159,7 +159,11 @@ on (RUNNING, which become live ops) nor are KEPT: nothing will reach them.
 Its cancelled items are retired as the agenda passes them (FEED-NEXT-ITEM).
 Give back the conses of RUN's items list that its pending list does not share
 (all of them when that is a sorted copy): the run keeps only its pending list."
-  (let ((pending (run-pending run))
+  (let ((pending (let ((pending (run-pending run)))
+                   ;; A :FINISH made ahead of later items has a cons of its own.
+                   (if (and pending (eq (first pending) (run-finish run)))
+                       (rest pending)
+                       pending)))
         (own t))
     (do* ((cell (run-items run) next)
           (next (rest cell) (rest cell)))

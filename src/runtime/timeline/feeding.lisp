@@ -28,6 +28,17 @@ once everything due at its instant has happened)."
                 (t (return pending))))))
 
 ;; Inline: it runs for every item a timed controller plays.
+(declaim (inline with-finish))
+(defun with-finish (agenda run pending)
+  "PENDING, RUN's pending items, with its :FINISH first if that is due before
+them (or they are none) and not made yet: a :time directive may leave
+changes due after the event's end, and they stay after it."
+  (if (and (null (run-finish run)) (not (run-finished run))
+           (or (null pending) (< (run-finish-time run) (agenda-item-time (first pending)))))
+      (spare-cons agenda (finish-item agenda run) pending)
+      pending))
+
+;; Inline: it runs for every item a timed controller plays.
 (declaim (inline feed-next-item))
 (defun feed-next-item (agenda run skip-ops)
   "RUN's first pending item comes off AGENDA: drop it, and the items after it
@@ -35,15 +46,13 @@ SKIP-PENDING passes, from RUN's pending items; return the next pending one or
 NIL.  After its last item, a run that is not over gets its :FINISH."
   (let* ((pending (run-pending run))
          (rest (skip-pending agenda (rest pending) (agenda-item-time (first pending)) skip-ops)))
-    ;; A run that is over (cut) owns its pending list: its items list is
-    ;; empty.  Otherwise the list is shared with its items, but for the
-    ;; :FINISH's own cons.
-    (when (or (run-finished run) (eq (first pending) (run-finish run)))
+    ;; A cut run owns its pending list (its items list is empty then);
+    ;; otherwise the list is shared with its items, but for the :FINISH's
+    ;; own cons.
+    (when (or (null (run-items run)) (eq (first pending) (run-finish run)))
       (give-back-cons agenda pending))
-    (when (and (null rest) (not (run-finished run)) (null (run-finish run)))
-      (setf rest (fresh-item-cons agenda (finish-item agenda run))))
-    (setf (run-pending run) rest)
-    (first rest)))
+    (setf (run-pending run) (with-finish agenda run rest))
+    (first (run-pending run))))
 
 (declaim (inline run-head-p))
 (defun run-head-p (item)

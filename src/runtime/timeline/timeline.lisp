@@ -162,9 +162,8 @@ items on the agenda."
                                        (t (list run))))
   (let* ((agenda (timeline-agenda timeline))
          (pending (setf (run-pending run)
-                        (or (skip-pending agenda (run-pending run) (timeline-now timeline) t)
-                            ;; Nothing to play (or all played now): it ends.
-                            (fresh-item-cons agenda (finish-item agenda run))))))
+                        (with-finish agenda run
+                          (skip-pending agenda (run-pending run) (timeline-now timeline) t)))))
     (agenda-push agenda (first pending))))
 
 (defun planned-footprint (timeline run)
