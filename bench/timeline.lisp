@@ -61,7 +61,7 @@ only the stream's events play)."
                                       :batches 5 :batch-seconds 0.2d0))))
       (note "the same events sent whole (untimed controller), in the same minute: ~A events/s; the timed controller runs at ~,2F of that"
             (format-count whole) (/ rate whole)))
-    (note "timed stream: ~D events made ~D agenda items (~,1F per event), consing ~D bytes per event; by CPU time (what other processes on the machine take does not count), the best of 7 passes gives ~A events/s"
+    (note "timed stream: ~D events gave ~D sequence numbers (~,1F per event: one per op, state change and macro span planned, and one per event's end, though a run cut short never makes its :finish item), consing ~D bytes per event; by CPU time (what other processes on the machine take does not count), the best of 7 passes gives ~A events/s"
           (length stream) items (/ items (length stream))
           (let ((before (sb-ext:get-bytes-consed)))
             (play-timed-stream (fresh-timed-controller machine) stream)

@@ -1,5 +1,5 @@
-;;;; item-pool.lisp -- agenda items used again.  A timed controller makes four
-;;;; or five items for every event it plans.  Made fresh, they were two thirds
+;;;; item-pool.lisp -- agenda items used again.  A timed controller makes three
+;;;; to five items for every event it plans.  Made fresh, they were two thirds
 ;;;; of what it allocated (about 450 of 675 bytes an event); at a million
 ;;;; events a second that is half a gigabyte a second, and once a garbage
 ;;;; collection has handed pages back to the system, touching fresh ones cost
@@ -9,7 +9,8 @@
 ;;;;
 ;;;; An item is retired (RETIRE-ITEM) only where nothing can reach it again:
 ;;;;  - every item of a run that played to its end, at its :FINISH (FINISH-RUN):
-;;;;    all of them have come off the agenda by then;
+;;;;    all of them have come off the agenda by then (unless a :time directive
+;;;;    left changes due after the end: each of those once it is applied);
 ;;;;  - the items of a run planned on trial and not started (FORGET-PLAN);
 ;;;;  - at a cut, the items of the cut run already played that neither play on
 ;;;;    (as live ops) nor are kept (CUT-RUN);
@@ -80,11 +81,6 @@ The last item of a run that is over retires the run too."
               (agenda-item-owner item) nil)))
   nil)
 
-(defun retire-items (agenda items)
-  "Retire each item of the list ITEMS (see RETIRE-ITEM)."
-  (dolist (item items)
-    (retire-item agenda item)))
-
 ;; Inline: the recorder takes a cons for every item it records.
 (declaim (inline spare-cons))
 (defun spare-cons (agenda first rest)
@@ -135,8 +131,9 @@ more, and keep its conses for FRESH-ITEM-CONS."
               (agenda-free-conses agenda) items)))))
 
 (defun finish-item (agenda run)
-  "RUN's :FINISH item, made now that the run has played every other item: due
-at its end, with the sequence number it was given when it was planned (so it
-sorts exactly where a :FINISH recorded then would have)."
+  "RUN's :FINISH item, made now that the run has played every item due before
+its end (WITH-FINISH): due then, with the sequence number it was given when it
+was planned, so it sorts exactly where a :FINISH recorded then would have.  A
+run cut short, or planned on trial and dropped, never makes one."
   (setf (run-finish run)
         (fresh-agenda-item agenda :finish (run-finish-time run) run (run-finish-seq run))))
