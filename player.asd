@@ -139,6 +139,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "footprints")
                      (:file "recorder")
                      (:file "timeline")
+                     (:file "advance")
                      (:file "arrivals")
                      (:file "cuts")
                      (:file "timers")
