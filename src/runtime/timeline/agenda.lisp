@@ -62,7 +62,7 @@ never used again), so a test can look for one that something still reaches
 
 (defstruct (agenda (:constructor make-agenda ()))
   "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  An event's items are
-not all on it: each run feeds it its next item only (RUNS.LISP).  Cancelled
+not all on it: each run feeds it its next item only (FEEDING.LISP).  Cancelled
 items stay until they reach the top, where AGENDA-NEXT skips them (cancelling
 is O(1))."
   (items (make-array 64) :type simple-vector)
@@ -80,8 +80,8 @@ is O(1))."
   ;; runs' item lists to use again (ITEM-POOL.LISP).
   (free nil :type (or null agenda-item))
   (free-conses '() :type list)
-  ;; Runs that played to their end, to use again, chained through their
-  ;; FOOTPRINT (RUNS.LISP).
+  ;; Runs that are over and reached by nothing, to use again, chained
+  ;; through their FOOTPRINT (RUNS.LISP).
   (free-runs nil))
 
 ;; Inline: the recorder numbers every item it makes.
