@@ -50,13 +50,12 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)
                      (agenda-item-status item) :done)
-               ;; An item of a run already cut is reached by nothing once
+               ;; An item of a run already over is reached by nothing once
                ;; applied.  (Asked before: applying a :FINISH ends its run.)
-               (let ((run (agenda-item-run item)))
-                 (if (and run (run-finished run))
-                     (progn (apply-item timeline item)
-                            (retire-item agenda item))
-                     (apply-item timeline item))))
+               (let ((after (let ((run (agenda-item-run item))) (and run (run-finished run)))))
+                 (apply-item timeline item)
+                 (when after
+                   (retire-item agenda item))))
               ((and dispatch (timeline-deferred timeline))
                (let ((sends (reverse (timeline-deferred timeline))))
                  (setf (timeline-deferred timeline) '())
@@ -129,8 +128,9 @@ that no running event meets any more, first first."
   (unless (timeline-quiet timeline)
     (present-state (timeline-presenter timeline) (timeline-controller timeline)))
   (drop-run timeline run)
-  ;; Every item of a run that played to its end has come off the agenda (its
-  ;; :FINISH is its last), so nothing reaches them now.
+  ;; Every item of a run that played to its end has come off the agenda,
+  ;; so nothing reaches them now -- unless a :time directive left changes due
+  ;; after its end: those are retired as they are applied.
   (when (null (run-pending run))
     (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()))
     (retire-item (timeline-agenda timeline) (run-finish run)))
