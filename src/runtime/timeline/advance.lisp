@@ -5,6 +5,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 (declaim (inline note-instant))
 (defun note-instant (timeline time)
   "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
@@ -12,10 +14,22 @@
   (if (= time (timeline-now timeline))
       (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
         (setf (timeline-instant-count timeline) 0)
-        (error 'timeline-error
-               :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
-                                (format-number time) *max-items-per-instant*)))
+        (stuck-instant-error time))
       (setf (timeline-instant-count timeline) 0)))
+
+;; The errors of ADVANCE-TIMELINE's loop are functions of their own: their
+;; FORMATs inline would make the code that runs for every item much longer.
+(defun stuck-instant-error (time)
+  "Signal that the timeline does not move on at TIME."
+  (error 'timeline-error
+         :message (format nil "the timeline does not move on at time ~A: over ~D things happen at that instant (triggers firing each other, or zero-length ops in a loop)"
+                          (format-number time) *max-items-per-instant*)))
+
+(defun never-idle-error (time)
+  "Signal that events keep coming at TIME, when the timeline was to run until idle."
+  (error 'timeline-error
+         :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
+                          (format-number time) *finish-events-limit*)))
 
 ;; Optional, not keyword, arguments: it is called twice for every event.
 (defun advance-timeline (timeline time &optional (dispatch t) until-idle)
@@ -43,9 +57,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                     (not (and dispatch (timeline-deferred timeline)
                               (> (agenda-item-time item) (timeline-now timeline)))))
                (when (> (incf steps) step-limit)
-                 (error 'timeline-error
-                        :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
-                                         (format-number (timeline-now timeline)) *finish-events-limit*)))
+                 (never-idle-error (timeline-now timeline)))
                (agenda-pop agenda item)
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)

@@ -5,13 +5,28 @@
 
 (in-package #:player)
 
-;; Inline: the recorder makes several items for every event a timed
-;; controller plans.
-(declaim (inline make-agenda-item))
+(eval-when (:compile-toplevel :load-toplevel :execute)
+  (defparameter *timeline-optimize* '(optimize (speed 1) (safety 0) (debug 1))
+    "The optimize form declaimed at the top of each file of the timeline's
+engine (agenda.lisp to cuts.lisp).  Safety 0: the engine only ever handles
+the items, runs and lists it made itself, from arguments that the API
+(api.lisp, compiled safe) has checked, so the type check of every structure
+access is dead weight -- and there are many: checked, the code that plays one
+event did not fit the instruction cache (measured with cachegrind: about 20 %
+more instructions and twice the instruction-cache misses).  What the engine
+hands to code it does not own (a presenter's methods, the closures of the
+compiled events) is checked there.  The timers, footprints and API files keep
+the default policy."))
+
+(declaim #.*timeline-optimize*)
+
 ;; Twelve words with the header: an item is made for every op, state change,
 ;; macro span and end an event plans, and a third of them a cut cancels
 ;; unplayed, so the slots a kind seldom needs share A and B (a :FAIL's goal,
 ;; a :MACRO-END's start) and an :OP or :MACRO-START item's start is its TIME.
+;; Inline: the recorder makes several items for every event a timed
+;; controller plans.
+(declaim (inline make-agenda-item))
 (defstruct (agenda-item (:constructor make-agenda-item (kind time seq run)))
   "One thing due on a timeline.  KIND says what:
   :OP          play OP from TIME (its start) to END, which a cut may bring forward

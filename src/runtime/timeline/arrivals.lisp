@@ -5,6 +5,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 (defun enqueue-run (timeline run)
   "Put RUN last in TIMELINE's queue."
   (let ((cell (list run)))

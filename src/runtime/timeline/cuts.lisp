@@ -7,6 +7,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 (defun resolve-cut-points (timeline)
   "Give each op with (:at POINT...) its points in seconds (doubles), sorted; names are
 asked of the presenter (CRITICAL-TIME), which signals for an unknown one."

@@ -26,6 +26,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 ;; Inline: the recorder takes an item for every op, state change and macro
 ;; span of every event a timed controller plans.
 (declaim (inline fresh-agenda-item))
@@ -81,6 +83,12 @@ The last item of a run that is over retires the run too."
               (agenda-item-owner item) nil)))
   nil)
 
+(defun new-cons (first rest)
+  "(CONS FIRST REST), out of line: SPARE-CONS is inline in many places and
+seldom needs a new cons once the spares are warm, so each copy of it calls
+this instead of carrying the allocation itself."
+  (cons first rest))
+
 ;; Inline: the recorder takes a cons for every item it records.
 (declaim (inline spare-cons))
 (defun spare-cons (agenda first rest)
@@ -90,7 +98,7 @@ would grow without end."
   (declare (agenda agenda))
   (let ((cell (agenda-free-conses agenda)))
     (if (null cell)
-        (cons first rest)
+        (new-cons first rest)
         (progn (setf (agenda-free-conses agenda) (rest cell)
                      (first cell) first
                      (rest cell) rest)

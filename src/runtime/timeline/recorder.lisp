@@ -13,6 +13,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 (defstruct (recorder (:constructor make-recorder (timeline controller)))
   "What a timeline's planning ahead keeps between the closures' calls."
   ;; The TIMELINE (defined after this file), its controller, and its AGENDA,

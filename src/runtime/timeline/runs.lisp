@@ -4,6 +4,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 ;; Fourteen words with the header, one taken for every event (ITEM-POOL.LISP):
 ;; its name is its compiled event's (RUN-NAME), not a slot of its own.
 (defstruct (event-run (:conc-name run-) (:constructor make-event-run (compiled policy source)))

@@ -7,6 +7,8 @@
 
 (in-package #:player)
 
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
 (defstruct (timeline (:constructor %make-timeline (controller presenter)))
   "The timed part of a controller: its current time NOW, the AGENDA of what is
 due, the events running (RUNS: one, or several on disjoint channels) and those
