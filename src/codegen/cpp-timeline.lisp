@@ -17,8 +17,8 @@
 ;;;; of their instant has happened.
 ;;;;
 ;;;; This file: checks, names, the header's declarations and the tables.
-;;;; cpp-timeline-agenda.lisp and cpp-timeline-dispatch.lisp hold the
-;;;; machine-independent C++ text; cpp-timeline-machine.lisp what is
+;;;; cpp-timeline-agenda.lisp, cpp-timeline-dispatch.lisp and
+;;;; cpp-timeline-clock.lisp hold the machine-independent C++ text; cpp-timeline-machine.lisp what is
 ;;;; generated for each machine.
 
 (in-package #:player)
