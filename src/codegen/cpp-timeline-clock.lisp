@@ -137,22 +137,16 @@ void Controller::finish_run_(std::shared_ptr<Run> run, double time) {
   start_waiting_runs_(time);
 }
 
-// Start, at TIME, the first waiting runs while no running event meets the first.
+// Start the waiting runs, first first, each at TIME or when the start gate
+// lets it (gate_run_), until one finds a running event in its way.
 void Controller::start_waiting_runs_(double time) {
   while (!queue_.empty()) {
     const std::shared_ptr<Run> next = queue_.front();
-    if (runs_.empty()) {
-      queue_.pop_front();
-      start_run_(next, time);
-      continue;
-    }
-    const int trial = plan_on_trial_(next, time);
-    if (trial < 0 || meets_running_(*next) || meets_finishing_(*next)) {
-      forget_plan_(*next);
-      return;
-    }
+    double start = time;
+    int result = 0;
+    if (!gate_run_(next, start, result, 0)) return;
     queue_.pop_front();
-    install_run_(next, time);
+    install_run_(next, start);
   }
 }
 

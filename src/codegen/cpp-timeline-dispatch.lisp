@@ -1,11 +1,11 @@
 ;;;; cpp-timeline-dispatch.lisp -- the timed C++ layer's machine-independent
-;;;; text, part two: events arriving (policies, the queue, cuts), the twins
+;;;; text, part two: events arriving (policies, the start gate, cuts), the twins
 ;;;; of src/runtime/timeline/arrivals.lisp, timeline.lisp and cuts.lisp.  The
 ;;;; clock is in cpp-timeline-clock.lisp.
 
 (in-package #:player)
 
-;;;# Dispatch and cuts
+;;;# Dispatch, the start gate and cuts
 
 (defparameter *c++-dispatch*
   "int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
@@ -27,26 +27,75 @@ void Controller::install_run_(const std::shared_ptr<Run>& run, double time) {
   for (const std::shared_ptr<Item>& item : run->items) push_item_(item);
 }
 
-// EVENT arrives at TIME (now) from SOURCE: planned on trial, it starts beside
-// the running events when it meets none of them, else POLICY resolves it
-// against those it meets.  1 accepted, 0 dropped, 2 its plan failed.
+// EVENT arrives at TIME (now) from SOURCE: planned on trial, it starts
+// (start_or_wait_) when it meets none of the running events, else POLICY
+// resolves it against those it meets.  1 accepted, 0 dropped, 2 its plan failed.
 int Controller::dispatch_(int event, double time, int policy, int source) {
   note_event_for_timers_(event, source, time);
   const std::shared_ptr<Run> run = std::make_shared<Run>();
   run->event = event;
   run->policy = policy;
   run->source = source;
-  if (runs_.empty()) return start_run_(run, time);
+  if (runs_.empty()) return start_or_wait_(run, time, 0);
   const int trial = plan_on_trial_(run, time);
   if (trial < 0 || meets_running_(*run)) return resolve_busy_(run, time, policy);
-  if (meets_finishing_(*run)) {
-    // Only the last op of an interrupted event is in its way: start when that is over.
-    const double start = settled_time_(nullptr, time, run->footprint);
+  return start_or_wait_(run, time, trial);
+}
+
+// The start gate (see src/runtime/timeline/timeline.lisp), for every run
+// about to start: RUN, planned from every change due by TIME, starts then
+// only if its plan meets no running event and no op of an interrupted event
+// still playing after TIME; with only such ops in the way, TIME becomes the
+// time they are over and it is planned again.  True with TIME its start and
+// RESULT its planning result; false, RUN holding no plan, when a running
+// event is in its way.  TRIAL, unless 0, is the result of RUN's plan already
+// made from TIME.
+bool Controller::gate_run_(const std::shared_ptr<Run>& run, double& time, int& result, int trial) {
+  if (untried_(*run)) {
+    // Taken to meet everything: planned (once: it may run code) only when
+    // nothing plays, after every op still playing.
+    if (!runs_.empty()) return false;
+    Footprint everything;
+    everything.all = true;
+    time = settled_time_(nullptr, time, everything);
+    result = plan_run_(run, time, true);
+    return true;
+  }
+  result = trial != 0 ? trial : plan_footprint_(run, time, true);
+  for (;;) {
+    if (meets_running_(*run)) {
+      forget_plan_(*run);
+      return false;
+    }
+    const double settled = settled_time_(nullptr, time, run->footprint);
+    if (settled == time) return true;
+    // Ops still playing are in its way: plan again from when they are over.
     forget_plan_(*run);
-    return start_run_(run, start);
+    time = settled;
+    result = plan_footprint_(run, time, true);
+  }
+}
+
+// RUN (planned from TIME on trial with result TRIAL, a plan meeting no running
+// event, unless TRIAL is 0) passes the start gate at TIME: it starts then or
+// later, or waits first in the queue.  Its planning result, or 1 when it waits.
+int Controller::start_or_wait_(const std::shared_ptr<Run>& run, double time, int trial) {
+  bool clear = trial != 0 || runs_.empty();
+  for (const std::shared_ptr<Item>& op : live_ops_)
+    if (op->run->finished && op->end > time) clear = false;
+  if (clear) {
+    // Nothing can be in its way (the usual case): it starts now.
+    if (trial == 0) return start_run_(run, time);
+    install_run_(run, time);
+    return trial;
+  }
+  int result = 1;
+  if (!gate_run_(run, time, result, trial)) {
+    queue_.push_front(run);
+    return 1;
   }
   install_run_(run, time);
-  return trial;
+  return result;
 }
 
 // RUN arrives at TIME while events it meets play: do what POLICY says.
@@ -84,9 +133,12 @@ int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int 
   // A cut falling now leaves its :if-cut state now: apply it before the new
   // event plans from it (sends of timers and triggers wait).
   if (!advance_to_(time, false)) return 0;
-  // The interrupted resume in the order they started, before the queue.
+  // The interrupted resume in the order they started, before the queue --
+  // after RUN, should a running event keep it waiting.
   for (auto again = resumptions.rbegin(); again != resumptions.rend(); ++again) queue_.push_front(*again);
-  return start_run_(run, cut_time);
+  // Its plan from the state the cuts leave is not its trial plan: the start
+  // gate checks it against the runs left.
+  return start_or_wait_(run, cut_time, 0);
 }
 
 // A timer or trigger sends EVENT at TIME by its own policy, once everything
