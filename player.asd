@@ -97,6 +97,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                    (:file "cpp-timeline")
                    (:file "cpp-timeline-agenda")
                    (:file "cpp-timeline-dispatch")
+                   (:file "cpp-timeline-clock")
                    (:file "cpp-timeline-machine")
                    (:file "cpp-source")
                    (:file "cpp-drivers")

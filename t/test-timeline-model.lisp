@@ -120,6 +120,28 @@ agree with the reference model (see the top of this file)."
       (is (zerop failing) "~D of ~D streams disagree with the model; the first:~{~%~%~A~}"
           failing streams problems))))
 
+;;; Streams beyond *TM-SPEC-SEEDS* that once disagreed with the model
+
+(defparameter *tm-start-gate-cases*
+  '((721 2) (1167 1) (1257 1) (1560 4) (1932 4) (2039 4) (2142 4) (2302 4) (1731 3)
+    (3304 1) (6140 4) (11933 2))
+  "(SEED STREAM) pairs that pin down the start gate (TM-GATE): a run starts
+only when the plan it will play -- made at its start, not its trial plan --
+meets no running event and no op still playing.  The first eight broke the
+model's invariants before the gate (a preemptor re-planned after its cuts, or
+an event started after ops still playing, or a resumption leaving the queue,
+meeting a run or an op it was never checked against; 1167/1 and 2039/4 also
+took a cut run to last until its interrupter could start); 1731/3 broke a
+first attempt; the last three broke one that planned a run leaving the queue
+mid-instant from the state before the changes due then.")
+
+(test timeline-start-gate-cases
+  "The streams of *TM-START-GATE-CASES* agree with the model."
+  (dolist (case *tm-start-gate-cases*)
+    (destructuring-bind (seed stream) case
+      (let ((problem (tm-check-stream seed stream)))
+        (is (null problem) "~A" problem)))))
+
 ;;; Examples the model pinned down
 
 (test timeline-cut-examples

@@ -23,15 +23,17 @@
 ;;;;    its declared effects); a directive with no plan gives (:fail EV :goal G
 ;;;;    :time T); the event ends with (:state ...) when its last op ends;
 ;;;;  * busy means an event's run has not finished at T.  :queue waits (FIFO)
-;;;;    and starts the moment the running event ends; :override gives
-;;;;    (:dropped EV :time T :busy-with RUNNING); :preempt and :interleave stop
-;;;;    the op running at T at its next interruption point (:never its end,
-;;;;    :anytime T, (:at P...) the first start+P in [T, end], else its end), with
+;;;;    and starts when the running event ends (if the start gate, below,
+;;;;    lets it); :override gives (:dropped EV :time T :busy-with RUNNING);
+;;;;    :preempt and :interleave stop the op running at T at its next
+;;;;    interruption point (:never its end, :anytime T, (:at P...) the first
+;;;;    start+P in [T, end], else its end), with
 ;;;;    (:cut OP :time STOP :by EV) for an op stopped short -- which then has
 ;;;;    its :if-cut effects at STOP instead of its own -- or one (:cut OP-OR-NIL
 ;;;;    :time TC :by EV) when none is; the rest of the interrupted event never
-;;;;    happens; EV starts at TC, the latest of T, those stops and the ends of
-;;;;    ops of earlier events still finishing; :interleave then resumes the
+;;;;    happens (the interrupted run is over when its own op is); EV starts at
+;;;;    TC, the latest of T, those stops and the ends of ops of earlier events
+;;;;    still finishing (if the start gate lets it); :interleave then resumes the
 ;;;;    interrupted event, (:resume EV0 :time T3), once EV has finished, from
 ;;;;    the top-level directive it was cut in (the first with work left);
 ;;;;  * a cut that falls in a macro-op's sub-op ends the macro-op at TC (its
@@ -50,13 +52,19 @@
 ;;;;    plain ops it plays (:ALL for one declaring none, NIL for no op) and the
 ;;;;    variables of its ops' (macros' too) preconditions, effects and :if-cut
 ;;;;    effects.  Footprints meet when either has channels :ALL or NIL or they
-;;;;    share a channel or a variable.  Meeting no running run it starts at
-;;;;    once beside them -- or, when it meets an op of an interrupted run still
-;;;;    playing out, when those ops end; else its policy applies against the
-;;;;    runs it meets (:busy-with the first).  A queued event starts when a run
-;;;;    ends and nothing running or still playing meets its trial plan then.
-;;;;    A run plans all of itself when it starts, so its later directives see
-;;;;    its own changes only (TM-RUN-STATE);
+;;;;    share a channel or a variable.  Meeting no running run it starts
+;;;;    beside them; else its policy applies against the runs it meets
+;;;;    (:busy-with the first);
+;;;;  * the start gate (TM-GATE): every run about to start at S -- arriving
+;;;;    idle or beside others, a preemptor after its cuts, a queued event or a
+;;;;    resumption when a run ends -- is planned from the state due at S and
+;;;;    starts at S only if that plan meets no running run and no op of an
+;;;;    interrupted run still playing after S; with only such ops in the way,
+;;;;    S becomes the latest of their ends and it is planned again; with a
+;;;;    running run in the way it waits first in the queue (a preemptor ahead
+;;;;    of the runs it interrupted), looked at again when a run ends.  A run
+;;;;    plans all of itself when it starts, so its later directives see its
+;;;;    own changes only (TM-RUN-STATE);
 ;;;;  * a timer's or trigger's line shows when it goes off; its event is
 ;;;;    dispatched once everything else due then has happened, in the order
 ;;;;    they went off.  The generator gives a trigger only an event that cannot
@@ -416,9 +424,8 @@ returns its index in the trace."
   (let* ((index (tm-expect context (list kind name :time time)
                            (format nil "~(~A~) ~A starting at ~A" kind name (float time 1d0))))
          (event (find name (model-events (tmx-model context)) :key #'mevent-name))
-         ;; It plans from the state then: now, what has happened so far; later,
-         ;; with everything due by then.
-         (base (if (> time (tmx-now context)) (tm-state-at context time) (copy-seq (tmx-state context))))
+         ;; It plans from the state due then (TM-GATE's).
+         (base (tm-state-at context time))
          (run (multiple-value-bind (footprint names) (tm-plan context name first-step base)
                 (make-tm-run :name name :kind kind :start time :at time
                              :directives (mevent-directives event)
@@ -718,33 +725,65 @@ running event meets start."
 event arriving is not planned on trial: it meets every running one."
   (some (lambda (run) (member (car (tmr-footprint run)) '(:all nil))) (tmx-active context)))
 
-(defun tm-finishing-ops (context footprint)
-  "The ops of interrupted (or finished) runs still playing after NOW whose
-run's footprint meets FOOTPRINT."
+(defun tm-finishing-ops (context footprint &optional (time (tmx-now context)))
+  "The ops of interrupted (or finished) runs, begun by NOW and still playing
+after TIME, whose run's footprint meets FOOTPRINT."
   (remove-if-not (lambda (op)
                    (let ((run (tmo-run op)))
                      (and (not (member run (tmx-active context)))
                           (<= (tmo-start op) (tmx-now context))
-                          (> (tmo-effective-end op) (tmx-now context))
+                          (> (tmo-effective-end op) time)
                           (tm-meet-p footprint (tmr-footprint run)))))
                  (tmx-ops context)))
 
+(defun tm-gate (context name first-step time)
+  "The start gate for event NAME's run from its top-level directive FIRST-STEP
+at TIME: planned from the state due then, it starts then only if its plan's
+footprint meets no active run and no op of an interrupted run still playing
+after TIME; with only such ops in the way, TIME becomes the latest of their
+ends and it is planned again.  Returns its start time, or NIL when an active
+run is in its way (every plan meets an active run that meets everything)."
+  (loop
+    (when (tm-untried-p context)
+      (return nil))
+    ;; Every change due by TIME: a run leaving the queue when another ends
+    ;; starts in the middle of an instant, before the changes due then that
+    ;; come after that end are applied.
+    (let* ((state (tm-state-at context time))
+           (footprint (tm-plan context name first-step state)))
+      (when (some (lambda (run) (tm-meet-p footprint (tmr-footprint run))) (tmx-active context))
+        (return nil))
+      (let ((finishing (tm-finishing-ops context footprint time)))
+        (unless finishing
+          (return time))
+        (tm-count context :after-finishing)
+        (setf time (reduce #'max finishing :key #'tmo-effective-end))))))
+
+(defun tm-start-or-wait (context name time result)
+  "Event NAME's run, arriving at TIME, starts when the start gate lets it, or
+waits first in the queue (SEND-EVENT then answers T) when an active run is in
+its way."
+  (let ((start (tm-gate context name 0 time)))
+    (cond (start (tm-start-run context name :event 0 start result))
+          (t (unless (member result '(:none (t)) :test #'equal)
+               (tm-fail "send-event of ~A at ~A (waiting at the start gate) returned ~S, not T"
+                        name (float time 1d0) result))
+             (tm-count context :gate-waits)
+             (push (list name :event 0 :none) (tmx-queue context))))))
+
 (defun tm-start-waiting (context time)
-  "Start, at TIME, the first waiting runs while no running event, and no op of
-an interrupted one still playing, meets the first's trial plan (from the state
-now)."
+  "Start the waiting runs, first first, each at TIME or when the start gate
+lets it (TM-GATE), until one finds an active run in its way."
   (loop for next = (first (tmx-queue context))
         while next
         do (destructuring-bind (name kind first-step result) next
-             (cond ((null (tmx-active context)))
-                   ((tm-untried-p context) (return))
-                   (t (let ((trial (tm-plan context name first-step (tmx-state context))))
-                        (when (or (some (lambda (run) (tm-meet-p trial (tmr-footprint run))) (tmx-active context))
-                                  (tm-finishing-ops context trial))
-                          (return))
-                        (tm-count context :queue-beside))))
-             (pop (tmx-queue context))
-             (tm-start-run context name kind first-step time result))))
+             (let ((start (tm-gate context name first-step time)))
+               (unless start
+                 (return))
+               (when (tmx-active context)
+                 (tm-count context :queue-beside))
+               (pop (tmx-queue context))
+               (tm-start-run context name kind first-step start result)))))
 
 (defun tm-stop-time (context line time)
   "When op LINE, running at TIME, stops: its next interruption point."
@@ -826,7 +865,9 @@ the directive RUN would resume from (NIL: nothing left of it)."
                          ((plusp (tmr-remaining run)) (tmr-pos run))
                          (t (tm-first-directive-with-work context run)))))
     (setf (tmr-cut run) t (tmr-macro run) nil
-          (tmr-end run) (max start (if finishing (tmo-effective-end finishing) time))
+          ;; RUN is over when its own op is (not when BY may start: that
+          ;; waits for earlier runs' ops too).
+          (tmr-end run) (reduce #'max own :key #'tmo-effective-end :initial-value time)
           (tmx-active context) (remove run (tmx-active context)))
     (if shown
         (dolist (op shown)
@@ -862,16 +903,10 @@ when no one asked)."
           (tm-arm-timer context timer time))))
     (cond ((null (tmx-active context))
            (tm-count context :idle)
-           (tm-start-run context name :event 0 time result))
+           (tm-start-or-wait context name time result))
           ((null met)
            (tm-count context :parallel)
-           (let ((finishing (tm-finishing-ops context footprint)))
-             ;; Only ops of interrupted events still playing out are in its
-             ;; way: it starts when they are over.
-             (when finishing (tm-count context :after-finishing))
-             (tm-start-run context name :event 0
-                           (reduce #'max finishing :key #'tmo-effective-end :initial-value time)
-                           result)))
+           (tm-start-or-wait context name time result))
           (t
            (when (eq source :user) (tm-count context :busy))
            (tm-count context policy)
@@ -898,7 +933,9 @@ when no one asked)."
                 ;; dispatching that is under way).
                 (tm-advance context time :dispatch nil)
                 (setf (tmx-queue context) (append (nreverse resumptions) (tmx-queue context)))
-                (tm-start-run context name :event 0 start result))))))))
+                ;; Its plan from the state the cuts leave passes the start
+                ;; gate: it may wait, first, ahead of the runs it interrupted.
+                (tm-start-or-wait context name start result))))))))
 
 (defun tm-send (context name time given-policy result)
   "Event NAME sent at TIME with :when-busy GIVEN-POLICY (or none); RESULT is

@@ -120,9 +120,11 @@ void Controller::project_state_(double time) {
 }
 
 // Plan RUN ahead from TIME: its items, then the state put back (labels stay).
-int Controller::plan_run_(const std::shared_ptr<Run>& run, double time) {
+// With ALL_DUE, the changes due at TIME = now_ not applied yet count too (a
+// run starting while the items of the instant are being applied).
+int Controller::plan_run_(const std::shared_ptr<Run>& run, double time, bool all_due) {
   const State saved = state_;
-  if (time > now_) project_state_(time);
+  if (all_due || time > now_) project_state_(time);
   recording_ = run;
   last_op_ = last_macro_end_ = nullptr;
   open_macros_.clear();
@@ -197,13 +199,24 @@ void Controller::forget_plan_(Run& run) const {
   run.planned = false;
 }
 
-// Plan RUN ahead from TIME to learn its footprint: its plan's result, or -1
-// (untried) when its event runs code or a running event meets everything anyway.
-int Controller::plan_on_trial_(const std::shared_ptr<Run>& run, double time) {
-  if (kEventRunsCode[run->event]) return -1;
+// Is RUN taken to meet everything without being planned: its event runs code
+// (planning it would run the code), or a running event meets everything anyway?
+bool Controller::untried_(const Run& run) const {
+  if (kEventRunsCode[run.event]) return true;
   for (const std::shared_ptr<Run>& other : runs_)
-    if (meets_everything_(other->footprint)) return -1;
-  const int result = plan_run_(run, time);
+    if (meets_everything_(other->footprint)) return true;
+  return false;
+}
+
+// Plan RUN ahead from TIME to learn its footprint: its plan's result, or -1
+// (untried, see untried_).
+int Controller::plan_on_trial_(const std::shared_ptr<Run>& run, double time) {
+  return untried_(*run) ? -1 : plan_footprint_(run, time, false);
+}
+
+// Plan RUN ahead from TIME (ALL_DUE: see plan_run_) and note its footprint.
+int Controller::plan_footprint_(const std::shared_ptr<Run>& run, double time, bool all_due) {
+  const int result = plan_run_(run, time, all_due);
   note_footprint_(*run);
   return result;
 }
@@ -212,13 +225,6 @@ int Controller::plan_on_trial_(const std::shared_ptr<Run>& run, double time) {
 bool Controller::meets_running_(const Run& run) const {
   for (const std::shared_ptr<Run>& other : runs_)
     if (footprints_meet_(run.footprint, other->footprint)) return true;
-  return false;
-}
-
-// Does planned RUN meet an op of an interrupted event that still plays out?
-bool Controller::meets_finishing_(const Run& run) const {
-  for (const std::shared_ptr<Item>& op : live_ops_)
-    if (op->run->finished && op->end > now_ && footprints_meet_(run.footprint, op->run->footprint)) return true;
   return false;
 }
 "

@@ -1,11 +1,11 @@
 ;;;; cpp-timeline-dispatch.lisp -- the timed C++ layer's machine-independent
-;;;; text, part two: events arriving (policies, cuts, the queue, timers and
-;;;; triggers) and the clock (the twins of src/runtime/timeline/timeline.lisp,
-;;;; cuts.lisp and timers.lisp).
+;;;; text, part two: events arriving (policies, the start gate, cuts), the twins
+;;;; of src/runtime/timeline/arrivals.lisp, timeline.lisp and cuts.lisp.  The
+;;;; clock is in cpp-timeline-clock.lisp.
 
 (in-package #:player)
 
-;;;# Dispatch, cuts and the clock
+;;;# Dispatch, the start gate and cuts
 
 (defparameter *c++-dispatch*
   "int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
@@ -27,26 +27,75 @@ void Controller::install_run_(const std::shared_ptr<Run>& run, double time) {
   for (const std::shared_ptr<Item>& item : run->items) push_item_(item);
 }
 
-// EVENT arrives at TIME (now) from SOURCE: planned on trial, it starts beside
-// the running events when it meets none of them, else POLICY resolves it
-// against those it meets.  1 accepted, 0 dropped, 2 its plan failed.
+// EVENT arrives at TIME (now) from SOURCE: planned on trial, it starts
+// (start_or_wait_) when it meets none of the running events, else POLICY
+// resolves it against those it meets.  1 accepted, 0 dropped, 2 its plan failed.
 int Controller::dispatch_(int event, double time, int policy, int source) {
   note_event_for_timers_(event, source, time);
   const std::shared_ptr<Run> run = std::make_shared<Run>();
   run->event = event;
   run->policy = policy;
   run->source = source;
-  if (runs_.empty()) return start_run_(run, time);
+  if (runs_.empty()) return start_or_wait_(run, time, 0);
   const int trial = plan_on_trial_(run, time);
   if (trial < 0 || meets_running_(*run)) return resolve_busy_(run, time, policy);
-  if (meets_finishing_(*run)) {
-    // Only the last op of an interrupted event is in its way: start when that is over.
-    const double start = settled_time_(nullptr, time, run->footprint);
+  return start_or_wait_(run, time, trial);
+}
+
+// The start gate (see src/runtime/timeline/timeline.lisp), for every run
+// about to start: RUN, planned from every change due by TIME, starts then
+// only if its plan meets no running event and no op of an interrupted event
+// still playing after TIME; with only such ops in the way, TIME becomes the
+// time they are over and it is planned again.  True with TIME its start and
+// RESULT its planning result; false, RUN holding no plan, when a running
+// event is in its way.  TRIAL, unless 0, is the result of RUN's plan already
+// made from TIME.
+bool Controller::gate_run_(const std::shared_ptr<Run>& run, double& time, int& result, int trial) {
+  if (untried_(*run)) {
+    // Taken to meet everything: planned (once: it may run code) only when
+    // nothing plays, after every op still playing.
+    if (!runs_.empty()) return false;
+    Footprint everything;
+    everything.all = true;
+    time = settled_time_(nullptr, time, everything);
+    result = plan_run_(run, time, true);
+    return true;
+  }
+  result = trial != 0 ? trial : plan_footprint_(run, time, true);
+  for (;;) {
+    if (meets_running_(*run)) {
+      forget_plan_(*run);
+      return false;
+    }
+    const double settled = settled_time_(nullptr, time, run->footprint);
+    if (settled == time) return true;
+    // Ops still playing are in its way: plan again from when they are over.
     forget_plan_(*run);
-    return start_run_(run, start);
+    time = settled;
+    result = plan_footprint_(run, time, true);
+  }
+}
+
+// RUN (planned from TIME on trial with result TRIAL, a plan meeting no running
+// event, unless TRIAL is 0) passes the start gate at TIME: it starts then or
+// later, or waits first in the queue.  Its planning result, or 1 when it waits.
+int Controller::start_or_wait_(const std::shared_ptr<Run>& run, double time, int trial) {
+  bool clear = trial != 0 || runs_.empty();
+  for (const std::shared_ptr<Item>& op : live_ops_)
+    if (op->run->finished && op->end > time) clear = false;
+  if (clear) {
+    // Nothing can be in its way (the usual case): it starts now.
+    if (trial == 0) return start_run_(run, time);
+    install_run_(run, time);
+    return trial;
+  }
+  int result = 1;
+  if (!gate_run_(run, time, result, trial)) {
+    queue_.push_front(run);
+    return 1;
   }
   install_run_(run, time);
-  return trial;
+  return result;
 }
 
 // RUN arrives at TIME while events it meets play: do what POLICY says.
@@ -84,9 +133,12 @@ int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int 
   // A cut falling now leaves its :if-cut state now: apply it before the new
   // event plans from it (sends of timers and triggers wait).
   if (!advance_to_(time, false)) return 0;
-  // The interrupted resume in the order they started, before the queue.
+  // The interrupted resume in the order they started, before the queue --
+  // after RUN, should a running event keep it waiting.
   for (auto again = resumptions.rbegin(); again != resumptions.rend(); ++again) queue_.push_front(*again);
-  return start_run_(run, cut_time);
+  // Its plan from the state the cuts leave is not its trial plan: the start
+  // gate checks it against the runs left.
+  return start_or_wait_(run, cut_time, 0);
 }
 
 // A timer or trigger sends EVENT at TIME by its own policy, once everything
@@ -217,186 +269,3 @@ void Controller::keep_finished_macros_(const Run& run, std::vector<std::shared_p
 }
 "
   "Events arriving: starting beside others, queueing, dropping, cutting.")
-
-(defparameter *c++-clock*
-  "void Controller::start_timeline_() {
-  if (timeline_started_) return;
-  timeline_started_ = true;
-  now_ = clock_;
-  start_timers_();
-  start_triggers_();
-}
-
-Controller::~Controller() {
-  // A playing run and its items hold each other: let go.
-  for (const std::shared_ptr<Run>& run : runs_) run->items.clear();
-}
-
-bool Controller::send_timed(Event e, double at, WhenBusy policy) {
-  start_timeline_();
-  if (!timeline_error_.empty() || !(at >= now_) || !advance_to_(at)) return false;
-  failed_goal_ = \"\";
-  const int event = static_cast<int>(e);
-  const int chosen = policy == WhenBusy::as_declared ? kEventPolicies[event] : static_cast<int>(policy);
-  return dispatch_(event, at, chosen, kFromOutside) == 1 && timeline_error_.empty();
-}
-
-bool Controller::advance(double time) {
-  start_timeline_();
-  if (!timeline_error_.empty() || !(time >= now_)) return false;
-  return advance_to_(time);
-}
-
-double Controller::finish_events() {
-  start_timeline_();
-  while (busy() && timeline_error_.empty()) {
-    const std::shared_ptr<Item> item = next_item_();
-    if (!advance_to_(item ? item->time : now_) || !item) break;
-  }
-  return now_;
-}
-
-// Present and apply, in time order, everything due up to TIME; then now_ is
-// TIME.  The events timers and triggers send at an instant are dispatched
-// once everything else due then has happened (unless DISPATCH is false: then
-// they wait for the advance_to_ that called this one).
-bool Controller::advance_to_(double time, bool dispatch) {
-  for (;;) {
-    const std::shared_ptr<Item> item = next_item_();
-    if (item && item->time <= time && !(dispatch && !deferred_.empty() && item->time > now_)) {
-      pop_item_();
-      if (!note_instant_(item->time)) return false;
-      now_ = item->time;
-      item->status = kDone;
-      apply_item_(item);
-    } else if (dispatch && !deferred_.empty()) {
-      std::vector<Send> sends;
-      sends.swap(deferred_);
-      for (const Send& send : sends) {
-        dispatch_(send.event, send.time, kEventPolicies[send.event], send.source);
-        if (!timeline_error_.empty()) return false;
-      }
-    } else {
-      break;
-    }
-  }
-  now_ = time;
-  live_ops_.erase(std::remove_if(live_ops_.begin(), live_ops_.end(),
-                                 [time](const std::shared_ptr<Item>& op) { return op->end <= time; }),
-                  live_ops_.end());
-  clock_ = time;
-  return true;
-}
-
-// Count the items applied at TIME; stop when they never end.
-bool Controller::note_instant_(double time) {
-  if (time != now_) {
-    instant_count_ = 0;
-    return true;
-  }
-  if (++instant_count_ <= kMaxItemsPerInstant) return true;
-  instant_count_ = 0;
-  timeline_error_ = \"the timeline does not move on at time \" + format_number(time) +
-                    \": over 100000 things happen at that instant (triggers firing each other, \"
-                    \"or zero-length ops in a loop)\";
-  return false;
-}
-
-void Controller::apply_item_(const std::shared_ptr<Item>& item) {
-  const double time = item->time;
-  switch (item->kind) {
-    case kItemOp:
-      live_ops_.push_back(item);
-      if (std::strcmp(kOps[item->op].kind, \"director\") == 0)
-        presenter_.run_director(kOps[item->op], item->start);
-      else
-        presenter_.play(kOps[item->op], item->start);
-      break;
-    case kItemDelta:
-      transition(with_delta(state_.bits, item->mask, item->bits), time);
-      check_triggers_(time);
-      break;
-    case kItemValue:
-      apply_value_(*item, true);
-      check_triggers_(time);
-      break;
-    case kItemMacroStart:
-      presenter_.macro_start(kOps[item->op], item->start);
-      break;
-    case kItemMacroEnd:
-      presenter_.macro_end(kOps[item->op], item->start, time);
-      break;
-    case kItemFail:
-      presenter_.event_failed(kEventNames[item->event], item->goal, time);
-      break;
-    case kItemFinish:
-      finish_run_(item->run, time);
-      break;
-    default:
-      fire_timer_(item, time);
-      break;
-  }
-}
-
-// RUN is over at TIME: show the state, and start the waiting events that no
-// running event meets any more, first first.
-void Controller::finish_run_(std::shared_ptr<Run> run, double time) {
-  run->finished = true;
-  presenter_.event_end(*this);
-  runs_.erase(std::remove(runs_.begin(), runs_.end(), run), runs_.end());
-  run->items.clear();
-  start_waiting_runs_(time);
-}
-
-// Start, at TIME, the first waiting runs while no running event meets the first.
-void Controller::start_waiting_runs_(double time) {
-  while (!queue_.empty()) {
-    const std::shared_ptr<Run> next = queue_.front();
-    if (runs_.empty()) {
-      queue_.pop_front();
-      start_run_(next, time);
-      continue;
-    }
-    const int trial = plan_on_trial_(next, time);
-    if (trial < 0 || meets_running_(*next) || meets_finishing_(*next)) {
-      forget_plan_(*next);
-      return;
-    }
-    queue_.pop_front();
-    install_run_(next, time);
-  }
-}
-
-// Make TIMER go off its :after seconds after TIME.  Re-arming only moves its
-// due time later; its item, when the old time comes, goes back on the agenda
-// for the new one (so a timer restarted by every event keeps one item).
-void Controller::arm_timer_(int timer, double time) {
-  timer_due_[timer] = time + kTimerAfter[timer];
-  timer_seq_[timer] = ++seq_;
-  if (timer_items_[timer]) return;
-  const std::shared_ptr<Item> item = std::make_shared<Item>();
-  item->kind = kItemTimer;
-  item->time = timer_due_[timer];
-  item->seq = timer_seq_[timer];
-  item->timer = timer;
-  timer_items_[timer] = item;
-  push_item_(item);
-}
-
-// A timer's ITEM has come up at TIME: it goes off, unless it was re-armed for later.
-void Controller::fire_timer_(const std::shared_ptr<Item>& item, double time) {
-  const int timer = item->timer;
-  if (!(timer_due_[timer] == time && timer_seq_[timer] == item->seq)) {
-    item->time = timer_due_[timer];
-    item->seq = timer_seq_[timer];
-    item->status = kPending;
-    push_item_(item);
-    return;
-  }
-  timer_items_[timer].reset();
-  presenter_.timer(kTimerNames[timer], time);
-  if (kTimerRepeats[timer]) arm_timer_(timer, time);
-  send_own_(kTimerEvents[timer], time, kFromTimer);
-}
-"
-  "The clock: advancing, applying items, finishing runs, timers.")

@@ -17,8 +17,8 @@
 ;;;; of their instant has happened.
 ;;;;
 ;;;; This file: checks, names, the header's declarations and the tables.
-;;;; cpp-timeline-agenda.lisp and cpp-timeline-dispatch.lisp hold the
-;;;; machine-independent C++ text; cpp-timeline-machine.lisp what is
+;;;; cpp-timeline-agenda.lisp, cpp-timeline-dispatch.lisp and
+;;;; cpp-timeline-clock.lisp hold the machine-independent C++ text; cpp-timeline-machine.lisp what is
 ;;;; generated for each machine.
 
 (in-package #:player)
@@ -192,12 +192,15 @@ critical time needs a script library, which the C++ controller has not."
   int resolve_busy_(const std::shared_ptr<Run>& run, double time, int policy);
   int start_run_(const std::shared_ptr<Run>& run, double time);
   void install_run_(const std::shared_ptr<Run>& run, double time);
-  int plan_run_(const std::shared_ptr<Run>& run, double time);
+  int plan_run_(const std::shared_ptr<Run>& run, double time, bool all_due = false);
+  bool untried_(const Run& run) const;
   int plan_on_trial_(const std::shared_ptr<Run>& run, double time);
+  int plan_footprint_(const std::shared_ptr<Run>& run, double time, bool all_due);
+  bool gate_run_(const std::shared_ptr<Run>& run, double& time, int& result, int trial);
+  int start_or_wait_(const std::shared_ptr<Run>& run, double time, int trial);
   void note_footprint_(Run& run) const;
   void forget_plan_(Run& run) const;
   bool meets_running_(const Run& run) const;
-  bool meets_finishing_(const Run& run) const;
   double settled_time_(const Run* run, double time, const Footprint& footprint) const;
   double cut_run_(Run& run, double time, int by, const Footprint& footprint, int& resume);
   void keep_finished_macros_(const Run& run, std::vector<std::shared_ptr<Item>>& keep, double cut_time);

@@ -150,13 +150,11 @@ that no running event meets any more, first first."
     (start-waiting-runs timeline (timeline-now timeline))))
 
 (defun start-waiting-runs (timeline time)
-  "Start, at TIME, the first waiting runs while no running event meets the first."
+  "Start the waiting runs, first first, each at TIME or when the start gate
+lets it (GATE-RUN), until one finds a running event in its way."
   (loop for next = (first (timeline-queue timeline))
         while next
-        do (if (null (timeline-runs timeline))
-               (start-run timeline (pop-run timeline) time)
-               (let ((trial (plan-on-trial timeline next time)))
-                 (if (and (not (eq trial :untried)) (not (meets-running-p timeline next))
-                          (not (meets-finishing-p timeline next)))
-                     (install-run timeline (pop-run timeline) time)
-                     (progn (forget-plan timeline next) (return)))))))
+        do (let ((start (gate-run timeline next time)))
+             (if start
+                 (install-run timeline (pop-run timeline) start)
+                 (return)))))

@@ -29,26 +29,20 @@
 
 (defun dispatch-event (timeline compiled time policy source)
   "Event COMPILED arrives at TIME (= NOW) from SOURCE.  It is planned
-on trial; if its footprint meets no running event's it starts now, beside any
-others; else POLICY decides against those it meets.  Returns the disposition
-(:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the planning
-result (T or a FAILURE)."
+on trial; if its footprint meets no running event's it starts (START-OR-WAIT:
+now, beside any others, unless ops still playing or a plan made later are in
+its way); else POLICY decides against those it meets.  Returns the
+disposition (:STARTED, :QUEUED, :DROPPED, :PREEMPTED or :INTERLEAVED) and the
+planning result (T or a FAILURE; T when it waits)."
   (when (timeline-timers timeline)
     (note-event-for-timers timeline compiled source time))
   (let ((run (fresh-event-run (timeline-agenda timeline) compiled policy source)))
     (if (null (timeline-runs timeline))
-        (values :started (start-run timeline run time))
+        (start-or-wait timeline run time)
         (let ((trial (plan-on-trial timeline run time)))
-          (cond ((or (eq trial :untried) (meets-running-p timeline run))
-                 (resolve-busy timeline run time policy))
-                ((meets-finishing-p timeline run)
-                 ;; Only the last op of an interrupted event is in its way:
-                 ;; start when that is over.
-                 (let ((start (settled-time timeline nil time (run-footprint run))))
-                   (forget-plan timeline run)
-                   (values :started (start-run timeline run start))))
-                (t (install-run timeline run time)
-                   (values :started trial)))))))
+          (if (or (eq trial :untried) (meets-running-p timeline run))
+              (resolve-busy timeline run time policy)
+              (start-or-wait timeline run time trial))))))
 
 (defun resolve-busy (timeline run time policy)
   "RUN arrives at TIME while events it meets play: do what POLICY says."
@@ -75,14 +69,17 @@ result (T or a FAILURE)."
          ;; A cut falling now leaves its :if-cut state now: apply it
          ;; before the new event plans from it.
          (advance-timeline timeline time nil)
-         ;; The interrupted resume in the order they started, before the queue.
+         ;; The interrupted resume in the order they started, before the
+         ;; queue -- after RUN, should a running event keep it waiting.
          (dolist (again resumptions)
            (push-run-first timeline again))
          (values (if (eq policy :preempt) :preempted :interleaved)
+                 ;; Its plan from the state the cuts leave is not its trial
+                 ;; plan: the start gate checks it against the runs left.
                  ;; TIME itself when no cut runs on: it comes boxed.
-                 (start-run timeline run (if (> (timeline-cuts-end timeline) time)
-                                             (timeline-cuts-end timeline)
-                                             time))))))))
+                 (nth-value 1 (start-or-wait timeline run (if (> (timeline-cuts-end timeline) time)
+                                                              (timeline-cuts-end timeline)
+                                                              time)))))))))
 
 (defun met-runs (timeline run)
   "The running events whose footprints meet planned RUN's, oldest first."

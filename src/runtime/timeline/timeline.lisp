@@ -179,28 +179,31 @@ trims them)."
   (or (run-footprint run)
       (setf (run-footprint run) (planned-footprint timeline run))))
 
+;; Inline: it runs for every event arriving while others play.
+(declaim (inline untried-p))
+(defun untried-p (timeline run)
+  "Is RUN taken to meet everything without being planned: its event runs code
+(planning it would run the code), or a running event meets everything anyway?"
+  (or (compiled-event-runs-code-p (run-compiled run))
+      (some (lambda (other) (meets-everything-p (run-footprint* timeline other))) (timeline-runs timeline))))
+
 (defun plan-on-trial (timeline run time)
-  "Plan RUN ahead from TIME to learn its footprint, unless its event runs code
-or a running event meets everything anyway.  Returns the planning result, or
-:UNTRIED; RUN keeps its items and footprint."
-  (if (or (compiled-event-runs-code-p (run-compiled run))
-          (some (lambda (other) (meets-everything-p (run-footprint* timeline other))) (timeline-runs timeline)))
+  "Plan RUN ahead from TIME to learn its footprint, unless it is UNTRIED-P.
+Returns the planning result, or :UNTRIED; RUN keeps its items and footprint."
+  (if (untried-p timeline run)
       :untried
-      (prog1 (plan-run-ahead timeline run time)
-        (setf (run-footprint run) (planned-footprint timeline run)))))
+      (plan-footprint timeline run time)))
+
+(defun plan-footprint (timeline run time &optional all-due)
+  "Plan RUN ahead from TIME (ALL-DUE: see PLAN-RUN-AHEAD) and note its
+footprint; return the planning result."
+  (prog1 (plan-run-ahead timeline run time all-due)
+    (setf (run-footprint run) (planned-footprint timeline run))))
 
 (defun meets-running-p (timeline run)
   "Does planned RUN (its footprint known) meet a running event?"
   (some (lambda (other) (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))
         (timeline-runs timeline)))
-
-(defun meets-finishing-p (timeline run)
-  "Does planned RUN meet an op of an interrupted event that still plays out?"
-  (some (lambda (item)
-          (let ((other (agenda-item-run item)))
-            (and (run-finished other) (> (agenda-item-end item) (timeline-now timeline))
-                 (footprints-meet-p (run-footprint run) (run-footprint* timeline other)))))
-        (timeline-live-ops timeline)))
 
 (defun forget-plan (timeline run)
   "Drop what RUN planned on trial (it will be planned again when it starts):
@@ -209,10 +212,78 @@ its items were never on the agenda, so they are retired."
   (setf (run-pending run) '()
         (run-footprint run) nil))
 
-(defun plan-run-ahead (timeline run time)
+;;;# The start gate
+;;;
+;;; Every run about to start -- an event arriving while nothing plays or beside
+;;; the events playing, a preempting or interleaving event after its cuts, a
+;;; waiting run or a resumption leaving the queue -- passes one gate, at the
+;;; time S it would start: it is planned from the state due at S, and it starts
+;;; at S only if that plan's footprint meets no running event and no op of an
+;;; interrupted event still playing after S.  When only such ops are in the
+;;; way, S becomes the time they are over and it is planned again (S only
+;;; grows, over the ends of finitely many ops, so this ends).  When a running
+;;; event is in the way, it waits first in the queue (a preemptor ahead of the
+;;; runs it interrupted), looked at again when a run finishes; its policy is
+;;; not applied again.  A plan made later than the trial that resolved the
+;;; event's arrival (a preemptor's, from the state its cuts leave; one made
+;;; after ops still playing) may meet what the trial plan did not -- a plan
+;;; with no op meets everything -- so the gate checks exactly the plan that
+;;; will play.  "The state due at S" counts every change due by S, those due
+;;; at S = NOW and not applied yet too: a run leaving the queue when another
+;;; finishes starts in the middle of an instant.
+
+(defun gate-run (timeline run time &optional trial)
+  "The start gate (above) for RUN at TIME (at or after NOW).  TRIAL, if given,
+is the result of RUN's plan already made from TIME (its plan on trial).
+Returns the time RUN may start, RUN planned from then, and its planning result
+(two values); or NIL, RUN holding no plan, when a running event is in its way."
+  (declare (double-float time)
+           ;; Defined (inline, for CUT-RUN) in cuts.lisp, compiled after this file.
+           (notinline settled-time))
+  (when (untried-p timeline run)
+    ;; Taken to meet everything: planned (once: it may run code) only when
+    ;; nothing plays, after every op still playing.
+    (return-from gate-run
+      (unless (timeline-runs timeline)
+        (let ((start (settled-time timeline nil time *everything-footprint*)))
+          (values start (plan-run-ahead timeline run start t))))))
+  (let ((result (or trial (plan-footprint timeline run time t))))
+    (loop
+      (when (meets-running-p timeline run)
+        (forget-plan timeline run)
+        (return nil))
+      (let ((settled (settled-time timeline nil time (run-footprint run))))
+        (declare (double-float settled))
+        (when (= settled time)
+          (return (values time result)))
+        ;; Ops still playing are in its way: plan again from when they are over.
+        (forget-plan timeline run)
+        (setf time settled
+              result (plan-footprint timeline run time t))))))
+
+(defun start-or-wait (timeline run time &optional trial)
+  "RUN passes the start gate at TIME: it starts then or later, or it waits
+first in the queue.  TRIAL, if given, is the result of RUN's plan on trial
+from TIME, which meets no running event.  Returns :STARTED and its planning
+result, or :QUEUED and T."
+  (declare (double-float time))
+  (if (and (null (timeline-live-ops timeline)) (or trial (null (timeline-runs timeline))))
+      ;; Nothing can be in its way (the usual case): it starts now.
+      (if trial
+          (progn (install-run timeline run time) (values :started trial))
+          (values :started (start-run timeline run time)))
+      (multiple-value-bind (start result) (gate-run timeline run time trial)
+        (cond (start (install-run timeline run start)
+                     (values :started result))
+              (t (push-run-first timeline run)
+                 (values :queued t))))))
+
+(defun plan-run-ahead (timeline run time &optional all-due)
   "Run RUN's compiled event on the controller with the recorder as presenter,
 from the state due at TIME, then put the controller's state back.  The
-recorded items end with a :FAIL (if the plan failed) and the :FINISH."
+recorded items end with a :FAIL (if the plan failed) and the :FINISH.  With
+ALL-DUE, the changes due at TIME = NOW not applied yet count too (a run
+starting while the items of the instant are being applied)."
   (declare (double-float time))
   (let* ((controller (timeline-controller timeline))
          (recorder (timeline-recorder timeline))
@@ -226,7 +297,7 @@ recorded items end with a :FAIL (if the plan failed) and the :FINISH."
              (setf (controller-values controller)
                    (replace (the simple-vector (timeline-scratch-values timeline))
                             (the simple-vector values))))
-           (when (> time (timeline-now timeline))
+           (when (or all-due (> time (timeline-now timeline)))
              (project-state timeline time))
            (start-recording recorder run)
            (setf (controller-presenter controller) (timeline-recording-presenter timeline)
