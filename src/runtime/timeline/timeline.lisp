@@ -261,14 +261,24 @@ Returns the time RUN may start, RUN planned from then, and its planning result
         (setf time settled
               result (plan-footprint timeline run time t))))))
 
+(declaim (inline live-ops-over-p))
+(defun live-ops-over-p (timeline time)
+  "Are the ops of interrupted events still playing all over by TIME?"
+  (declare (double-float time))
+  (loop for item in (timeline-live-ops timeline)
+        never (> (agenda-item-end item) time)))
+
 (defun start-or-wait (timeline run time &optional trial)
   "RUN passes the start gate at TIME: it starts then or later, or it waits
 first in the queue.  TRIAL, if given, is the result of RUN's plan on trial
 from TIME, which meets no running event.  Returns :STARTED and its planning
 result, or :QUEUED and T."
   (declare (double-float time))
-  (if (and (null (timeline-live-ops timeline)) (or trial (null (timeline-runs timeline))))
-      ;; Nothing can be in its way (the usual case): it starts now.
+  (if (and (or trial (null (timeline-runs timeline))) (live-ops-over-p timeline time))
+      ;; Nothing can be in its way (the usual case, a preemptor after its
+      ;; cuts included: the ops it cut end when it starts): it starts now.
+      ;; Nothing due by TIME is left unapplied here either, so the plan from
+      ;; the state due at TIME is the gate's.
       (if trial
           (progn (install-run timeline run time) (values :started trial))
           (values :started (start-run timeline run time)))
