@@ -32,7 +32,7 @@ if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the s
 (defun send-timed-event (controller event at when-busy)
   "SEND-EVENT on a timed controller (see there)."
   (let* ((timeline (controller-timeline controller))
-         (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
+         (time (if at (check-time-from-now 'send-event :at at timeline) (boxed-now timeline)))
          (compiled (find-compiled-event controller event))
          (policy (timed-event-policy compiled when-busy)))
     (advance-timeline timeline time)
@@ -84,7 +84,7 @@ that repeats faster than its event plays, say): ADVANCE to a time instead."
 next event would start (the end of the last one)."
   (check-argument 'controller-time 'controller controller #'controller-p "a controller (from make-controller)")
   (if (controller-timeline controller)
-      (timeline-now (controller-timeline controller))
+      (boxed-now (controller-timeline controller))
       (controller-clock controller)))
 
 ;;;# A scenario of events

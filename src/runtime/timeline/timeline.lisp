@@ -59,7 +59,9 @@ waiting (QUEUE), and its timers and triggers."
   (instant-count 0 :type fixnum)
   ;; The runtime values an event planned ahead works on (the controller's are
   ;; copied in, and put back after), so planning allocates no vector.
-  (scratch-values #() :type simple-vector))
+  (scratch-values #() :type simple-vector)
+  ;; The last NOW handed out boxed (BOXED-NOW), or NIL.
+  (now-box nil))
 
 (defun controller-presenter* (timeline)
   "The presenter TIMELINE's controller presents to."
@@ -103,6 +105,16 @@ triggers noting whether their conditions hold now."
     (start-triggers timeline)
     timeline))
 
+(declaim (inline boxed-now))
+(defun boxed-now (timeline)
+  "TIMELINE's NOW as a boxed double, the same box for as long as NOW stays:
+FINISH-EVENTS answers it, and a send at the current time after it passes it
+on, so the pair conses one box, not two."
+  (let ((box (timeline-now-box timeline)))
+    (if (and box (= (the double-float box) (timeline-now timeline)))
+        box
+        (setf (timeline-now-box timeline) (timeline-now timeline)))))
+
 (declaim (inline timeline-busy-p))
 (defun timeline-busy-p (timeline)
   "Is an event running (or waiting) on TIMELINE?"
@@ -129,10 +141,13 @@ pending state changes due by then, applied without telling anyone."
     (map-agenda (lambda (item)
                   (when (and (member (agenda-item-kind item) '(:delta :value))
                              (<= (agenda-item-time item) time))
-                    (push item due)))
+                    (setf due (spare-cons agenda item due))))
                 agenda)
-    (dolist (item (if (rest due) (sort due #'item-before-p) due))
-      (apply-change controller item))))
+    (setf due (if (rest due) (sort due #'item-before-p) due))
+    (dolist (item due)
+      (apply-change controller item))
+    ;; SORT reuses the conses it was given: all of them are the list's.
+    (give-back-list agenda due)))
 
 (defun apply-change (controller item)
   "Apply state change ITEM to CONTROLLER's state, silently."
