@@ -74,7 +74,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                  (mapc #'funcall sends)))
               (t (return)))))
     (setf (timeline-now timeline) time)
-    (when (timeline-live-ops timeline)
+    (when (and (timeline-live-ops timeline) (<= (timeline-live-ops-end timeline) time))
       (forget-ended-ops timeline))
     (setf (controller-clock (timeline-controller timeline)) time)
     ;; No value: a double returned would be boxed, twice per event.
@@ -95,7 +95,9 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
             do (loop while (and (rest cell) (ended-p (second cell)))
                      do (retire-item agenda (second cell))
                         (give-back-cons agenda (shiftf (rest cell) (cddr cell)))))
-      (setf (timeline-live-ops timeline) live-ops))))
+      (setf (timeline-live-ops timeline) live-ops
+            (timeline-live-ops-end timeline)
+            (loop for item in live-ops minimize (agenda-item-end item) of-type double-float)))))
 
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."

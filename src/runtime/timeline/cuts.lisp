@@ -121,7 +121,10 @@ was left to do)."
                        (when (eq (agenda-item-owner other) item)
                          (setf keep (spare-cons agenda other keep))))))
           ;; Cut short or not, it plays out after RUN is over.
-          (setf (timeline-live-ops timeline) (spare-cons agenda item (timeline-live-ops timeline)))))
+          (setf (timeline-live-ops-end timeline) (if (timeline-live-ops timeline)
+                                                      (min (timeline-live-ops-end timeline) (agenda-item-end item))
+                                                      (agenda-item-end item))
+                (timeline-live-ops timeline) (spare-cons agenda item (timeline-live-ops timeline)))))
       ;; A macro whose sub-ops all finish by the cut ends as it would have.
       (when macros
         (setf keep (keep-finished-macros agenda run keep cut-time shown)))

@@ -37,7 +37,11 @@
   (open-macros '() :type list)
   ;; Does the real presenter answer PLANNED-OP-DURATION with the declared
   ;; :duration (the default method)?  Then it is not asked for every op.
-  (declared-durations nil :type boolean))
+  (declared-durations nil :type boolean)
+  ;; Does it give an op its declared channels, :ALL when it has none
+  ;; (DECLARED-CHANNELS-P)?  Then a run that plays an op without :channels
+  ;; meets everything, and is marked so as the op is recorded.
+  (declared-channels nil :type boolean))
 
 ;; Inline: it runs for every event a timed controller plays.
 (declaim (inline start-recording))
@@ -105,6 +109,10 @@ last to its items."
     (setf (agenda-item-op item) op
           (agenda-item-end item) (+ start duration)
           (recorder-last-op recorder) item)
+    ;; What RUN-FOOTPRINT-FROM-ITEMS would find, known now: an event arriving
+    ;; while this run plays asks, and need not walk its items.
+    (when (and (recorder-declared-channels recorder) (null (op-channels op)))
+      (setf (run-footprint (recorder-run recorder)) *everything-footprint*))
     duration))
 
 (defun record-macro-start (recorder op start)

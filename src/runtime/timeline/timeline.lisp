@@ -40,6 +40,9 @@ waiting (QUEUE), and its timers and triggers."
   ;; cut end is still to come): what a new event may have to wait for.  Only
   ;; a cut adds to it; an event that is not cut has no op left at its end.
   (live-ops '() :type list)
+  ;; The earliest end among the live ops (meaningless when there are none):
+  ;; ADVANCE-TIMELINE looks for ended ones only once that has come.
+  (live-ops-end 0d0 :type double-float)
   ;; Op -> its interruption points in seconds, sorted.
   (cut-points (make-hash-table :test 'eq) :type hash-table)
   (recorder nil)
@@ -97,6 +100,7 @@ triggers noting whether their conditions hold now."
           (recorder-agenda (timeline-recorder timeline)) (timeline-agenda timeline)
           (recorder-declared-durations (timeline-recorder timeline))
           (declared-durations-p (timeline-presenter timeline))
+          (recorder-declared-channels (timeline-recorder timeline)) (timeline-declared-channels timeline)
           (timeline-recording-presenter timeline)
           (make-instance 'recording-presenter :recorder (timeline-recorder timeline))
           (timeline-scratch-values timeline) (copy-seq (controller-values controller)))
