@@ -181,8 +181,21 @@ resumptions), and the four traces at 1.8 s are the ones TEST-TIMELINE expects."
     (autoscript c true (glow))
     (event ev-m :op m)
     (event ev-n :op n :op s1)
-    (event ev-x :state (not a)))
-  "Macros cut inside, and one whose last sub-op finishes through the cut.")
+    (event ev-x :state (not a))
+    ;; Two macros on disjoint channels and variables: played side by side,
+    ;; the one opened first ends first.
+    (state-variable p boolean false)
+    (state-variable q boolean false)
+    (op p1 :duration 1 :channels (wings))
+    (op p2 :add p :duration 1 :channels (wings))
+    (op q1 :duration 1 :channels (head))
+    (op q2 :add q :duration 1 :channels (head))
+    (macro-op mp :precond (not p) :add p :seq (:op p1 :op p2))
+    (macro-op mq :precond (not q) :add q :seq (:op q1 :op q2))
+    (event ev-mp :op mp)
+    (event ev-mq :op mq))
+  "Macros cut inside, one whose last sub-op finishes through the cut, and two
+macros of events playing side by side whose spans cross.")
 
 (test c++-cut-inside-a-macro
   "A cut inside a macro-op, and a macro whose last sub-op finishes through the
@@ -195,6 +208,19 @@ cut, print as in Lisp."
             (let ((problem (compare-timed-backends machine '() `((,first . 0) (ev-x . ,time))
                                                    :when-busy policy :runner runner)))
               (is (null problem) "macro cut: ~A" problem))))))))
+
+(test c++-crossing-macros-of-events-side-by-side
+  "Two events beside each other on disjoint channels, their macros' spans
+crossing (the first opened ends first): each macro line gets its own :end, in
+C++ as in Lisp."
+  (destructuring-bind (&optional machine . runner) (batch-runner-or-fail :macro-cut)
+    (when machine
+      (let ((lines (funcall runner '() '((ev-mp . 0) (ev-mq . 1)) nil nil)))
+        (is (member "(:op mp :script mp :start 0 :end 2)" lines :test #'string=) "lines: ~S" lines)
+        (is (member "(:op mq :script mq :start 1 :end 3)" lines :test #'string=) "lines: ~S" lines))
+      (dolist (scenario '(((ev-mp . 0) (ev-mq . 1)) ((ev-mq . 0) (ev-mp . 0.5)) ((ev-mp . 0) (ev-mq . 0))))
+        (let ((problem (compare-timed-backends machine '() scenario :runner runner)))
+          (is (null problem) "crossing macros: ~A" problem))))))
 
 ;;; Peedy: timers, a trigger, a glance beside his lap
 
