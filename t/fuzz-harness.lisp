@@ -137,6 +137,19 @@ deleting one event from a spec leaves the others sent as before."
       (append (subseq names 0 (min 16 (length names)))
               (loop repeat 2 collect (fz-pick prng names))))))
 
+(defun fz-play-timed (machine prng)
+  "Play MACHINE's events on a timed controller (null presenter), each arriving
+a random eighth-second multiple after the one before, most while another
+plays, under a random :when-busy policy; then advance a minute (its timers
+and triggers go off).  The timeline's engine runs without type checks, so a
+hostile spec that loads must not reach it with anything it cannot take."
+  (let ((controller (make-controller machine :timed t :presenter (make-null-presenter)))
+        (time 0))
+    (dolist (event (fz-events-to-send machine prng))
+      (incf time (/ (fz-below prng 12) 8))
+      (send-event controller event :at time :when-busy (fz-pick prng *when-busy-policies*)))
+    (advance controller (+ time 60))))
+
 (defun fz-emit-p (case run)
   "Does CASE get emitted as C++? Every EMIT-EVERYth case, and every case with a hostile rename."
   (and (fzrun-emit-every run)
@@ -163,6 +176,8 @@ deleting one event from a spec leaves the others sent as before."
                  (setf *fz-phase* :send-event)
                  (dolist (event (fz-events-to-send machine prng))
                    (send-event controller event)))
+               (setf *fz-phase* :timed)
+               (fz-play-timed machine prng)
                (setf *fz-phase* :check-spec)
                (check-spec machine)
                (when (fz-emit-p case run)
