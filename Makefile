@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle demo-dialogue test bench bench-instructions fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-dialogue test bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -64,6 +64,11 @@ bench: deps
 # unlike times on a shared machine, the same on every run of one build.
 bench-instructions: deps
 	SBCL=$(SBCL) sh bench/instructions.sh
+
+# The same count for the timed controller, per function (valgrind's callgrind):
+# where to look first.
+bench-profile: deps
+	SBCL=$(SBCL) sh bench/instructions-profile.sh
 
 # The fuzzer's long run (t/fuzz-main.lisp): 50,000 mutated specs and script libraries
 # through the Lisp API, 400 through bin/player, g++ on the C++ of hostile names.
