@@ -6,23 +6,13 @@
 # addresses are named with a map of the core's code written by a native run
 # (under valgrind the heap is moved by a constant, found from one function).
 set -e
-SBCL=${SBCL:-sbcl}
-for tool in valgrind callgrind_control python3; do
-  if ! command -v $tool >/dev/null 2>&1; then
-    echo "player: error: $tool is not installed (Debian package $( [ $tool = python3 ] && echo python3 || echo valgrind ))" >&2
-    exit 1
-  fi
-done
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$SBCL" --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
-  --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)' \
-  --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
-  --load bench/run.lisp --load bench/instructions.lisp \
-  --eval "(sb-ext:save-lisp-and-die \"$work/player.core\")" >/dev/null
-lisp="$SBCL --core $work/player.core --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive"
+. bench/player-core.sh
+require_tool valgrind valgrind
+require_tool callgrind_control valgrind
+require_tool python3 python3
+make_core
 $lisp --eval "(player-bench::write-code-map \"$work/native.map\")" \
-      --eval "(with-open-file (o \"$work/native-anchor\" :direction :output) (format o \"~X\" (sb-kernel:get-lisp-obj-address #'player::advance-timeline)))"
+      --eval "(player-bench::write-anchor \"$work/native-anchor\")"
 valgrind --tool=callgrind --instr-atstart=no --dump-instr=yes --callgrind-out-file="$work/callgrind.out" \
   $lisp --eval "(player-bench::profiled-workload \"$work/\")" >"$work/valgrind.log" 2>&1 &
 while [ ! -f "$work/ready" ]; do sleep 1; done

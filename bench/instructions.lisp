@@ -45,6 +45,12 @@ code saved in a core are the same in every process started from it."
                        (substitute #\_ #\Space (princ-to-string (sb-kernel:%simple-fun-name fun)))))))))
      :all)))
 
+(defun write-anchor (path)
+  "Write to PATH where ADVANCE-TIMELINE's code is in this process, in hex: the
+same function's address in two processes tells how far the heap moved."
+  (with-open-file (out path :direction :output :if-exists :supersede)
+    (format out "~X" (sb-kernel:get-lisp-obj-address #'player::advance-timeline))))
+
 (defun profiled-workload (directory)
   "The timed workload for callgrind, which starts with counting off: warm up,
 write DIRECTORY/anchor (where ADVANCE-TIMELINE is in this process: under
@@ -57,7 +63,7 @@ counting on, play one pass, write DIRECTORY/done, and wait to be dumped."
              (with-open-file (out (merge-pathnames name directory) :direction :output :if-exists :supersede)
                (write-string text out))))
       (play-timed-stream (fresh-timed-controller machine) stream)
-      (touch "anchor" (format nil "~X" (sb-kernel:get-lisp-obj-address #'player::advance-timeline)))
+      (write-anchor (merge-pathnames "anchor" directory))
       (touch "ready")
       (sleep 20)
       (play-timed-stream (fresh-timed-controller machine) stream)

@@ -7,25 +7,14 @@
 # Also shows the level-1 instruction-cache misses per event: the timed
 # controller's code once did not fit the cache.  Run by `make bench-instructions`.
 set -e
-SBCL=${SBCL:-sbcl}
-if ! command -v valgrind >/dev/null 2>&1; then
-  echo "player: error: valgrind is not installed (Debian package valgrind: apt-get install valgrind)" >&2
-  exit 1
-fi
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# A core with Player and the benchmarks loaded: valgrind then runs only the events.
-"$SBCL" --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
-  --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)' \
-  --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
-  --load bench/run.lisp --load bench/instructions.lisp \
-  --eval "(sb-ext:save-lisp-and-die \"$work/player.core\")" >/dev/null
+. bench/player-core.sh
+require_tool valgrind valgrind
+make_core
 # cachegrind's totals for KIND (timed or whole) and PASSES passes after the warm-up:
 # instructions, I1 misses, D1 misses.
 count () {
   valgrind --tool=cachegrind --cache-sim=yes --cachegrind-out-file=/dev/null \
-    "$SBCL" --core "$work/player.core" --noinform --no-sysinit --no-userinit --disable-debugger \
-    --non-interactive --eval "(player-bench::instructions-workload :$1 $2)" 2>&1 |
+    $lisp --eval "(player-bench::instructions-workload :$1 $2)" 2>&1 |
     awk '/I   refs:/ {gsub(",", "", $4); i = $4} /I1  misses:/ {gsub(",", "", $4); i1 = $4}
          /D1  misses:/ {gsub(",", "", $4); d1 = $4} END {print i, i1, d1}'
 }
