@@ -140,6 +140,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                      (:file "footprints")
                      (:file "recorder")
                      (:file "timeline")
+                     ;; Plans taped the first time, replayed after.
+                     (:file "tapes")
                      (:file "advance")
                      (:file "arrivals")
                      (:file "cuts")
@@ -334,6 +336,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-c++-timeline")
                  ;; after test-c++-timeline: it plays that file's random specs too
                  (:file "test-item-pool")
+                 ;; after test-c++-timeline too
+                 (:file "test-plan-tapes")
                  (:file "test-c++-wide")
                  (:file "test-hostile-input")
                  (:file "test-repl")

@@ -85,7 +85,12 @@ makes, so the closures see them typed."
 ;;;     scheduling clock, which moves to its end, where the plannable fields
 ;;;     of MASK become BITS: what an op's procedure does, recorded.
 ;;;   (RECORD-MACRO-START RECORDER OP START), (RECORD-MACRO-END RECORDER OP START END)
+;;;   (RECORD-STATE-CHANGE RECORDER CONTROLLER TIME MASK BITS OP) a :DELTA
+;;;     change a step or a macro's end makes (not an op's own end).
+;;;   (RECORD-VALUE-CHANGE RECORDER CONTROLLER TIME VAR VALUE) a :VALUE change.
 (declaim (ftype (function (t keyword t t t t t) t) record-change)
+         (ftype (function (t t t t t t) t) record-state-change)
+         (ftype (function (t t t t t) t) record-value-change)
          (ftype (function (t t t t t) t) record-op-played)
          (ftype (function (t t t) t) record-macro-start)
          (ftype (function (t t t t) t) record-macro-end))
@@ -192,7 +197,7 @@ records the change for its timeline instead of telling autoscripts now; one
 whose presenter is silent tells nobody."
   (let ((recorder (controller-recorder controller)))
     (cond (recorder
-           (record-change recorder :delta controller time mask bits op)
+           (record-state-change recorder controller time mask bits op)
            (setf (controller-bits controller) new))
           ((silent-p controller) (setf (controller-bits controller) new))
           (t (transition-state controller new time)))))
@@ -232,7 +237,7 @@ as CHANGE-STATE does.  FIELD-MASKS are the spec's PLANNABLE-FIELD-MASKS."
 (a controller planning ahead records the change instead)."
   (when (or (controller-recorder controller) (silent-p controller))
     (when (controller-recorder controller)
-      (record-change (controller-recorder controller) :value controller time var value nil))
+      (record-value-change (controller-recorder controller) controller time var value))
     (setf (svref (controller-values controller) (var-slot var)) value)
     (return-from set-runtime-value value))
   (let ((old (svref (controller-values controller) (var-slot var))))

@@ -86,7 +86,12 @@ from them the first time."
   (policy :queue :type keyword)
   ;; Does the event run :code of its own: T, NIL, or :UNKNOWN until a timed
   ;; controller asks (EVENT-RUNS-CODE-P, src/runtime/timeline/footprints.lisp).
-  (runs-code :unknown :type (member t nil :unknown)))
+  (runs-code :unknown :type (member t nil :unknown))
+  ;; Is its plan decided by the plannable state alone (T, NIL, or :UNKNOWN
+  ;; until a timed controller asks), and its plans taped so far, by start
+  ;; state: see src/runtime/timeline/tapes.lisp.
+  (tapeable :unknown :type (member t nil :unknown))
+  (tapes nil))
 
 (defun compile-event-suffixes (steps machine)
   "For each top-level step K of STEPS, a closure running the event from K on

@@ -41,7 +41,20 @@
   ;; Does it give an op its declared channels, :ALL when it has none
   ;; (DECLARED-CHANNELS-P)?  Then a run that plays an op without :channels
   ;; meets everything, and is marked so as the op is recorded.
-  (declared-channels nil :type boolean))
+  (declared-channels nil :type boolean)
+  ;; Is the plan being recorded also taped (TAPES.LISP)?  Then TAPE holds
+  ;; what the closures did so far, newest first, or :SPOILED when they did
+  ;; something a tape cannot replay.
+  (taping nil :type boolean)
+  (tape '() :type (or list (eql :spoiled))))
+
+(defun note-taped (recorder code op mask bits)
+  "Put on RECORDER's tape what the closures just did: CODE (see REPLAY-TAPE)
+with OP, MASK and BITS, at the controller's current step."
+  (let ((tape (recorder-tape recorder)))
+    (unless (eq tape :spoiled)
+      (setf (recorder-tape recorder)
+            (list* (controller-step (recorder-controller recorder)) bits mask op code tape)))))
 
 ;; Inline: it runs for every event a timed controller plays.
 (declaim (inline start-recording))
@@ -117,6 +130,8 @@ last to its items."
 
 (defun record-macro-start (recorder op start)
   "Record macro-op OP beginning at START."
+  (when (recorder-taping recorder)
+    (note-taped recorder 1 op 0 0))
   (let ((item (record-item recorder :macro-start start)))
     (setf (agenda-item-op item) op)
     (push item (recorder-open-macros recorder))
@@ -124,6 +139,8 @@ last to its items."
 
 (defun record-macro-end (recorder op start end)
   "Record macro-op OP, begun at START, ending at END."
+  (when (recorder-taping recorder)
+    (note-taped recorder 2 op 0 0))
   (let ((opening (pop (recorder-open-macros recorder)))
         (item (record-item recorder :macro-end end)))
     (setf (agenda-item-op item) op (agenda-item-a item) (to-double start)
@@ -159,6 +176,8 @@ whose end this is, or NIL (see CONTROLLER-STATE.LISP)."
 CONTROLLER's scheduling clock, the clock moves to its end, and there the
 plannable fields of MASK (unless 0) become BITS.  In one function, so no time
 is boxed between the steps."
+  (when (recorder-taping recorder)
+    (note-taped recorder 0 op mask bits))
   (let* ((start (controller-schedule controller))
          (end (+ start (record-op recorder op start))))
     (note-op-end controller end)
@@ -166,6 +185,23 @@ is boxed between the steps."
       (record-change recorder :delta controller end mask bits op)
       (setf (controller-bits controller)
             (state-with-fields (controller-bits controller) mask bits)))))
+
+(defun record-state-change (recorder controller time mask bits op)
+  "Record a :DELTA change of a step or a macro's end (SET-STATE): the fields
+of MASK become BITS at TIME (the scheduling clock), at the end of OP or NIL."
+  (when (recorder-taping recorder)
+    ;; A replay records it at the clock: a change due at any other time spoils the tape.
+    (if (eql time (controller-schedule controller))
+        (note-taped recorder 3 op mask bits)
+        (setf (recorder-tape recorder) :spoiled)))
+  (record-change recorder :delta controller time mask bits op))
+
+(defun record-value-change (recorder controller time var value)
+  "Record runtime variable VAR becoming VALUE at TIME.  A value depends on
+more than the plannable state, so a plan that sets one is not taped."
+  (when (recorder-taping recorder)
+    (setf (recorder-tape recorder) :spoiled))
+  (record-change recorder :value controller time var value nil))
 
 (defun default-method-only-p (function presenter &rest more-arguments)
   "Does only FUNCTION's default method (on PRESENTER) apply to PRESENTER, with

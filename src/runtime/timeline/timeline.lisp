@@ -64,7 +64,10 @@ waiting (QUEUE), and its timers and triggers."
   ;; copied in, and put back after), so planning allocates no vector.
   (scratch-values #() :type simple-vector)
   ;; The last NOW handed out boxed (BOXED-NOW), or NIL.
-  (now-box nil))
+  (now-box nil)
+  ;; Does it tape and replay its events' plans (*REPLAY-PLAN-TAPES* when it
+  ;; was made)?  See TAPES.LISP.
+  (replay-tapes nil :type boolean))
 
 (defun controller-presenter* (timeline)
   "The presenter TIMELINE's controller presents to."
@@ -86,6 +89,11 @@ triggers or zero-length ops loop, and signals a TIMELINE-ERROR.")
   (:report (lambda (condition stream) (write-string (timeline-error-message condition) stream)))
   (:documentation "A timed controller cannot go on (e.g. triggers firing each other for ever)."))
 
+(defvar *replay-plan-tapes* t
+  "Do the timed controllers made while it is true tape and replay the plans of
+their events (TAPES.LISP)?  Off, every plan runs the compiled closures: a
+test compares the two.")
+
 (defun make-timeline (controller)
   "A timeline for CONTROLLER from its clock on: interruption points resolved
 (a SPEC-ERROR for a critical time the presenter cannot give), timers armed,
@@ -103,7 +111,8 @@ triggers noting whether their conditions hold now."
           (recorder-declared-channels (timeline-recorder timeline)) (timeline-declared-channels timeline)
           (timeline-recording-presenter timeline)
           (make-instance 'recording-presenter :recorder (timeline-recorder timeline))
-          (timeline-scratch-values timeline) (copy-seq (controller-values controller)))
+          (timeline-scratch-values timeline) (copy-seq (controller-values controller))
+          (timeline-replay-tapes timeline) *replay-plan-tapes*)
     (resolve-cut-points timeline)
     (start-timers timeline)
     (start-triggers timeline)
@@ -337,10 +346,7 @@ starting while the items of the instant are being applied)."
                  (controller-span-end controller) time)
            (dolist (var (event-time-variables (run-event run)))
              (set-runtime-value controller var time time))
-           (setf result (funcall (the function (svref (event-suffixes (run-compiled run)
-                                                                      (controller-machine controller))
-                                                      (run-first-step run)))
-                                 controller))
+           (setf result (run-event-plan timeline run controller))
            (unless (eq result t)
              (record-failure recorder (failure-goal-form result) (controller-schedule controller)))
            ;; Its :FINISH is made when the run gets there (FINISH-ITEM).
@@ -348,7 +354,8 @@ starting while the items of the instant are being applied)."
                  (run-finish-seq run) (agenda-next-seq (timeline-agenda timeline))
                  (run-finish run) nil)
            (finish-recording recorder))
-      (setf (controller-presenter controller) (timeline-presenter timeline)
+      (setf (recorder-taping recorder) nil
+            (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
             (controller-bits controller) bits
             (controller-values controller) values))

@@ -1,0 +1,133 @@
+;;;; test-plan-tapes.lisp -- a timed controller tapes an event's plan the first
+;;;; time it plans it from a state and replays the tape after
+;;;; (src/runtime/timeline/tapes.lisp).  A replay must make exactly what the
+;;;; closures would: the random specs and streams of the model-based test and
+;;;; the random specs of the C++ comparison (macros, :time directives,
+;;;; runtime values) are played with tapes off, then twice with them on (the
+;;;; first play tapes, the second replays), and the three plays must agree to
+;;;; the last line and digit.
+
+(in-package #:player-tests)
+
+(def-suite* plan-tapes :in player-tests)
+
+(defun machine-tape-count (machine)
+  "How many plans MACHINE's events have taped."
+  (loop for compiled being the hash-values of (player::compiled-machine-events machine)
+        for table = (player::compiled-event-tapes compiled)
+        sum (if table (player::tape-table-count table) 0)))
+
+(defun plan-tape-problem (seed stream)
+  "How playing stream STREAM of random spec SEED with taped plans differs from
+playing it without, or NIL.  Returns a second value: the plans taped."
+  (call-with-random-stream
+   seed stream
+   (lambda (machine spec actions initial)
+     (flet ((summary (tapes)
+              (let ((player::*replay-plan-tapes* tapes))
+                (tm-play-summary (tm-play-stream machine spec actions initial)))))
+       (let* ((closures (summary nil))
+              (taping (summary t))
+              (replaying (summary t)))
+         (values (cond ((not (equal taping closures))
+                        "the play that tapes differs from the one without tapes")
+                       ((not (equal replaying closures))
+                        "the play that replays tapes differs from the one without tapes"))
+                 (machine-tape-count machine)))))))
+
+(test timeline-taped-plans-replay-what-the-closures-did
+  "On random timed specs and streams (cuts, parallel channels, timers,
+triggers, every policy), a timed controller replaying its taped plans plays
+exactly what planning with the closures plays."
+  (let ((problems '()) (taped 0))
+    (dolist (seed (subseq *tm-spec-seeds* 0 100))
+      (loop for stream from 1 to 2
+            do (multiple-value-bind (problem count)
+                   (handler-case (plan-tape-problem seed stream)
+                     (error (e) (format nil "error: ~A" e)))
+                 (incf taped (or count 0))
+                 (when problem
+                   (push (format nil "spec seed ~D, stream ~D: ~A" seed stream problem) problems)))))
+    (is (null problems) "~{~A~^~%~}" (reverse problems))
+    ;; Fewer would mean the streams hardly replayed anything.
+    (is (> taped 500) "only ~D plans taped" taped)))
+
+(defun c++-spec-plan-tape-problem (seed)
+  "Where the Lisp traces of random timed spec SEED of the C++ comparison differ
+with taped plans and without, or NIL.  Returns a second value: the number of
+scenarios played, and a third, the plans taped."
+  (multiple-value-bind (forms model extras) (c++-timeline-spec seed)
+    (let ((machine (machine-of-forms (rs-symbol "plan-tapes-~D" seed) forms (find-package '#:player-user)))
+          (prng (make-rs-prng (+ 500000 seed)))
+          (*package* (find-package '#:player-user)))
+      (loop for i below 16
+            for initial = (if (zerop i) '() (random-initial-state prng model extras))
+            for (events until when-busy) = (handler-case (let ((player::*replay-plan-tapes* nil))
+                                                           (random-timed-scenario prng machine initial))
+                                             (player::timeline-error () (return (values nil i (machine-tape-count machine)))))
+            for traces = (loop for tapes in '(nil t t)
+                               collect (let ((player::*replay-plan-tapes* tapes))
+                                         (handler-case (lisp-timed-trace machine initial events
+                                                                         :until until :when-busy when-busy)
+                                           (player::timeline-error (e) (list :error (princ-to-string e))))))
+            unless (and (equal (first traces) (second traces)) (equal (first traces) (third traces)))
+              do (return (values (format nil "scenario ~D ~S: the trace with taped plans differs" i events)
+                                 (1+ i) (machine-tape-count machine)))
+            finally (return (values nil i (machine-tape-count machine)))))))
+
+(test timeline-taped-plans-on-the-c++-comparison-specs
+  "The random specs of the C++ comparison (macro-ops, :time directives,
+runtime values, every policy) play the same with taped plans as without."
+  (let ((problems '()) (played 0) (taped 0))
+    (dolist (seed (loop for seed from 1 to 20 collect seed))
+      (multiple-value-bind (problem count tapes)
+          (handler-case (c++-spec-plan-tape-problem seed)
+            (error (e) (format nil "error: ~A" e)))
+        (incf played (or count 0))
+        (incf taped (or tapes 0))
+        (when problem (push (format nil "seed ~D: ~A" seed problem) problems))))
+    (is (null problems) "~{~A~^~%~}" (reverse problems))
+    (is (>= played 250) "only ~D scenarios" played)
+    (is (> taped 100) "only ~D plans taped" taped)))
+
+(defun peedy-compiled-event (machine name)
+  "The compiled event NAME (a string) of Peedy's MACHINE."
+  (player::find-compiled-event (make-controller machine) name))
+
+(test plan-tapes-only-for-events-the-state-alone-decides
+  "An event is taped only when the plannable state alone decides its plan: not
+one with :if, :time or :label, nor any event of a spec with a :code op."
+  (let ((machine (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp"))))))
+    (flet ((tapeable (name) (player::event-tapeable-p (peedy-compiled-event machine name) machine)))
+      (is-true (tapeable "ev-sit"))
+      (is-true (tapeable "ev-wake"))            ; a goal whose plan runs a macro-op
+      (is-false (tapeable "ev-thanks"))         ; :label and :time
+      (is-false (tapeable "ev-idle"))))         ; :if on a runtime value
+  (let ((machine (machine-of-forms 'tapes-code-op
+                                   '((state-variable up boolean false)
+                                     (op lift :add up :duration 1)
+                                     (op shout :code (print "hi") :duration 1)
+                                     (event ev-lift :op lift))
+                                   (find-package '#:player-user))))
+    (is-false (player::event-tapeable-p (player::find-compiled-event (make-controller machine) "ev-lift") machine))))
+
+(test plan-tapes-stop-at-their-limit
+  "An event keeps at most *PLAN-TAPES-PER-EVENT* tapes; past that it is planned
+by its closures, and plays the same."
+  (let* ((machine (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp")))))
+         (names (coerce (event-names machine) 'simple-vector))
+         (*random-state* (sb-ext:seed-random-state 3))
+         (stream (loop repeat 400 collect (svref names (random (length names))))))
+    (flet ((play ()
+             (let ((controller (make-controller machine :timed t :presenter (make-trace-presenter))))
+               (dolist (name stream)
+                 (send-event controller name :at (+ (controller-time controller) 0.5d0) :when-busy :preempt))
+               (finish-events controller)
+               (trace-lines (player::controller-presenter* (player::controller-timeline controller))))))
+      (let ((unlimited (let ((player::*replay-plan-tapes* nil)) (play)))
+            (limited (let ((player::*plan-tapes-per-event* 2)) (play) (play))))
+        (is (equal unlimited limited))
+        (is (<= (loop for compiled being the hash-values of (player::compiled-machine-events machine)
+                      maximize (let ((table (player::compiled-event-tapes compiled)))
+                                 (if table (player::tape-table-count table) 0)))
+                2))))))
