@@ -96,7 +96,9 @@ empty; at most half the pairs full, so every probe ends."
       (loop for i of-type fixnum = (logand (tape-key-hash key) mask) then (logand (1+ i) mask)
             for stored = (svref slots (* 2 i))
             do (cond ((null stored) (return nil))
-                     ((eql stored key) (return (svref slots (1+ (* 2 i))))))))))
+                     ;; A fixnum state (the usual one) compares without a call.
+                     ((if (typep key 'fixnum) (eq stored key) (eql stored key))
+                      (return (svref slots (1+ (* 2 i))))))))))
 
 (defun table-with-tape (table key tape)
   "A new tape table: TABLE's pairs (none when TABLE is NIL) and KEY -> TAPE."
@@ -166,7 +168,8 @@ CLOSURE returns."
   (let ((key (controller-bits controller)))
     (setf (recorder-taping recorder) t
           (recorder-tape recorder) '())
-    (let ((result (funcall (the function closure) controller))
+    (let ((result (let ((*controller* controller))
+                    (funcall (the function closure) controller)))
           (tape (recorder-tape recorder))
           (table (compiled-event-tapes compiled)))
       (setf (recorder-taping recorder) nil
@@ -181,16 +184,20 @@ CLOSURE returns."
 (defun run-event-plan (timeline run controller)
   "Plan RUN on CONTROLLER (its recorder recording, the clocks set): replay
 the tape of RUN's event from the current plannable state if there is one,
-else run the event's closures (taping them when the event may be taped).
-Return the plan's result, T or a FAILURE."
+else run the event's closures (taping them when the event may be taped),
+with *CONTROLLER* bound for their :code and presenters (a replay runs
+neither).  Return the plan's result, T or a FAILURE."
   (let* ((compiled (run-compiled run))
          (machine (controller-machine controller))
-         (recorder (timeline-recorder timeline))
-         (closure (svref (event-suffixes compiled machine) (run-first-step run))))
-    (if (and (zerop (run-first-step run)) (timeline-replay-tapes timeline)
-             (recorder-declared-durations recorder) (event-tapeable-p compiled machine))
-        (let ((tape (find-plan-tape (compiled-event-tapes compiled) (controller-bits controller))))
-          (if tape
-              (replay-tape recorder controller tape)
-              (tape-plan recorder controller compiled closure)))
-        (funcall (the function closure) controller))))
+         (recorder (timeline-recorder timeline)))
+    (flet ((closure ()
+             (svref (event-suffixes compiled machine) (run-first-step run))))
+      (declare (inline closure))
+      (if (and (zerop (run-first-step run)) (timeline-replay-tapes timeline)
+               (recorder-declared-durations recorder) (event-tapeable-p compiled machine))
+          (let ((tape (find-plan-tape (compiled-event-tapes compiled) (controller-bits controller))))
+            (if tape
+                (replay-tape recorder controller tape)
+                (tape-plan recorder controller compiled (closure))))
+          (let ((*controller* controller))
+            (funcall (the function (closure)) controller))))))

@@ -327,7 +327,6 @@ starting while the items of the instant are being applied)."
          (recorder (timeline-recorder timeline))
          (bits (controller-bits controller))
          (values (controller-values controller))
-         (*controller* controller)
          (result nil))
     (unwind-protect
          (progn
