@@ -9,6 +9,15 @@
 
 (declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
 
+;; Inline: MEMBER on a list not known at compile time is a full call (to
+;; %MEMBER-EQ), for each item of a cut run, though the lists are short and
+;; mostly empty.
+(declaim (inline memq))
+(defun memq (item list)
+  "Is ITEM in LIST (by EQ)?  True as MEMBER is: the tail that starts with it."
+  (loop for tail on list
+        when (eq (first tail) item) return tail))
+
 (defun resolve-cut-points (timeline)
   "Give each op with (:at POINT...) its points in seconds (doubles), sorted; names are
 asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
@@ -97,9 +106,14 @@ was left to do)."
         (finishing nil)
         (running '())
         (macros nil))
-    (declare (double-float time cut-time))
+    ;; RESUME typed, and RESUME-AT inline: the steps compare as fixnums, not
+    ;; by a generic MIN in a local call, for each item the cut cancels.
+    (declare (double-float time cut-time) (type (or null fixnum) resume))
     (flet ((resume-at (item)
-             (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
+             (let ((step (agenda-item-step item)))
+               (when (or (null resume) (< step resume))
+                 (setf resume step)))))
+      (declare (inline resume-at))
       ;; Running ops: cut short, or let finish, newest first.
       (multiple-value-setq (running macros) (running-ops agenda run time))
       (dolist (item running)
@@ -131,7 +145,7 @@ was left to do)."
       ;; Everything else still pending is cancelled, its :FINISH too if the
       ;; run has got that far.
       (dolist (item (run-items run))
-        (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
+        (when (and (eq (agenda-item-status item) :pending) (not (memq item keep)))
           (resume-at item)
           (setf (agenda-item-status item) :cancelled)))
       (let ((finish (run-finish run)))
@@ -177,8 +191,8 @@ Give back the conses of RUN's items list that its pending list does not share
         (when (eq cell pending)
           (setf own nil))
         (when (and (eq (agenda-item-status item) :done)
-                   (not (member item running :test #'eq))
-                   (not (member item keep :test #'eq)))
+                   (not (memq item running))
+                   (not (memq item keep)))
           (retire-item agenda item))
         (when own
           (give-back-cons agenda cell))))))
