@@ -79,6 +79,13 @@ in the past."
       (install-pending-machine controller))
     time))
 
+(declaim (inline controller-time*))
+(defun controller-time* (controller)
+  "CONTROLLER-TIME of CONTROLLER, known to be a controller."
+  (if (controller-timeline controller)
+      (boxed-now (controller-timeline controller))
+      (controller-clock controller)))
+
 (defun finish-events (controller)
   "Advance timed CONTROLLER until no event runs or waits (timers that are
 still armed stay pending), then make a pending redefinition happen. Returns
@@ -89,7 +96,8 @@ that repeats faster than its event plays, say): ADVANCE to a time instead."
     (advance-timeline timeline most-positive-double-float t t)
     (when (controller-pending controller)
       (install-pending-machine controller))
-    (controller-time controller)))
+    ;; CONTROLLER-TIME without checking CONTROLLER again.
+    (controller-time* controller)))
 
 (defun controller-busy-p (controller)
   "Is an event running on timed CONTROLLER now (or waiting to)?"
@@ -99,9 +107,7 @@ that repeats faster than its event plays, say): ADVANCE to a time instead."
   "CONTROLLER's current time: a timed controller's clock, or else when the
 next event would start (the end of the last one)."
   (check-argument 'controller-time 'controller controller #'controller-p "a controller (from make-controller)")
-  (if (controller-timeline controller)
-      (boxed-now (controller-timeline controller))
-      (controller-clock controller)))
+  (controller-time* controller))
 
 ;;;# A scenario of events
 
