@@ -99,6 +99,16 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
             (timeline-live-ops-end timeline)
             (loop for item in live-ops minimize (agenda-item-end item) of-type double-float)))))
 
+;; Inline: it is asked for every state change while a trigger is armed.
+(declaim (inline check-triggers-if-turned))
+(defun check-triggers-if-turned (timeline controller changed)
+  "CHECK-TRIGGERS, after a change of the plannable fields CHANGED (0 for a
+runtime value), unless no trigger reads those fields: then only what it does
+besides, CONTROLLER's scheduling clock set to NOW."
+  (if (triggers-may-turn-p (timeline-agenda timeline) changed)
+      (check-triggers timeline changed)
+      (setf (controller-schedule controller) (timeline-now timeline))))
+
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."
   ;; ITEM's time is read where it is passed on, never bound: a double variable
@@ -116,13 +126,13 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
              (setf (controller-bits controller) bits)
              (transition-state controller bits (agenda-item-time item))))
        (when (timeline-triggers timeline)
-         (check-triggers timeline (agenda-item-a item))))
+         (check-triggers-if-turned timeline controller (agenda-item-a item))))
       (:value
        (if (timeline-quiet-autoscripts timeline)
            (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
            (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) (agenda-item-time item)))
        (when (timeline-triggers timeline)
-         (check-triggers timeline 0)))
+         (check-triggers-if-turned timeline controller 0)))
       (:macro-start
        (unless (timeline-quiet timeline)
          (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
