@@ -86,7 +86,7 @@ whether RUN has a macro-op."
     (dolist (item (run-items run) (values running macros))
       (case (agenda-item-kind item)
         (:macro-end (setf macros t))
-        (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
+        (:op (when (and (item-status-p item :done) (> (agenda-item-end item) time))
                (setf running (spare-cons agenda item running))))))))
 
 (defun cut-run (timeline run time by footprint)
@@ -145,7 +145,7 @@ was left to do)."
       ;; Everything else still pending is cancelled, its :FINISH too if the
       ;; run has got that far.
       (dolist (item (run-items run))
-        (when (and (eq (agenda-item-status item) :pending) (not (memq item keep)))
+        (when (and (item-status-p item :pending) (not (memq item keep)))
           (resume-at item)
           (setf (agenda-item-status item) :cancelled)))
       (let ((finish (run-finish run)))
@@ -190,7 +190,7 @@ Give back the conses of RUN's items list that its pending list does not share
       (let ((item (first cell)))
         (when (eq cell pending)
           (setf own nil))
-        (when (and (eq (agenda-item-status item) :done)
+        (when (and (item-status-p item :done)
                    (not (memq item running))
                    (not (memq item keep)))
           (retire-item agenda item))
@@ -205,9 +205,9 @@ innermost (newest) first."
   (let ((starts '()))
     (dolist (item (run-items run) starts)
       (when (and (eq (agenda-item-kind item) :macro-start)
-                 (eq (agenda-item-status item) :done)
+                 (item-status-p item :done)
                  (agenda-item-owner item)
-                 (eq (agenda-item-status (agenda-item-owner item)) :cancelled))
+                 (item-status-p (agenda-item-owner item) :cancelled))
         (push item starts)))))
 
 (defun keep-finished-macros (agenda run keep cut-time cut-ops)
@@ -218,7 +218,7 @@ cut, so the macro ends then, declared effects and all."
   ;; A run's items are in SEQ order (the order they were recorded).
   (let ((items (run-items run)))
     (dolist (item items keep)
-      (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)
+      (when (and (eq (agenda-item-kind item) :macro-end) (item-status-p item :pending)
                  (<= (agenda-item-time item) cut-time))
         (let ((opening (find item items :key #'agenda-item-owner)))
           (when (and opening
@@ -226,7 +226,7 @@ cut, so the macro ends then, declared effects and all."
                               (or (<= (agenda-item-seq inner) (agenda-item-seq opening))
                                   (>= (agenda-item-seq inner) (agenda-item-seq item))
                                   (and (not (member inner cut-ops))
-                                       (or (not (eq (agenda-item-status inner) :pending))
+                                       (or (not (item-status-p inner :pending))
                                            (member inner keep)))))
                             items))
             (setf keep (spare-cons agenda item keep))

@@ -19,7 +19,7 @@ once everything due at its instant has happened)."
   (declare (agenda agenda) (list pending) (double-float time))
   (loop (let ((item (first pending)))
           (cond ((null item) (return pending))
-                ((eq (agenda-item-status item) :cancelled)
+                ((item-status-p item :cancelled)
                  ;; Only a cut cancels, and a cut run's pending list is its own.
                  (retire-item agenda item)
                  (give-back-cons agenda (shiftf pending (rest pending))))
@@ -91,7 +91,7 @@ is a cut run's (a cancelled timer item is still its timer's)."
   (declare (agenda agenda))
   (loop while (plusp (agenda-count agenda))
         do (let ((top (svref (agenda-items agenda) 0)))
-             (if (eq (agenda-item-status top) :cancelled)
+             (if (item-status-p top :cancelled)
                  (discard-top agenda top)
                  (return top)))))
 
@@ -104,5 +104,5 @@ fed it yet included), in no particular order."
     (let ((item (svref (agenda-items agenda) i)))
       (if (run-head-p item)
           (dolist (pending (run-pending (agenda-item-run item)))
-            (when (eq (agenda-item-status pending) :pending) (funcall function pending)))
-          (when (eq (agenda-item-status item) :pending) (funcall function item))))))
+            (when (item-status-p pending :pending) (funcall function pending)))
+          (when (item-status-p item :pending) (funcall function item))))))

@@ -63,7 +63,7 @@ an agenda that does not recycle (*RECYCLE-AGENDA-ITEMS*) poisons it instead,
 KIND :FREE and nothing referred to.  An item already retired is left alone.
 The last item of a run that is over retires the run too."
   (declare (agenda agenda) (agenda-item item))
-  (unless (eq (agenda-item-status item) :free)
+  (unless (item-status-p item :free)
     (let ((run (agenda-item-run item)))
       (when (and run (zerop (decf (run-live-items run))) (run-finished run))
         (retire-run agenda run)))
