@@ -107,7 +107,9 @@ runtime value), unless no trigger reads those fields: then only what it does
 besides, CONTROLLER's scheduling clock set to NOW."
   (if (triggers-may-turn-p (timeline-agenda timeline) changed)
       (check-triggers timeline changed)
-      (setf (controller-schedule controller) (timeline-now timeline))))
+      ;; NIL: the double just set, returned, would be boxed.
+      (progn (setf (controller-schedule controller) (timeline-now timeline))
+             nil)))
 
 (defun apply-item (timeline item)
   "Do what ITEM says, now that its time has come."
