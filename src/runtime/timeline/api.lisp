@@ -22,8 +22,17 @@ more: finite, below 2^49 in magnitude, and *MAX-SECONDS* at least that?"
        (let ((limit *max-seconds*))
          (and (typep limit 'double-float) (>= limit #.(expt 2d0 49))))))
 
+;; Inline, its usual case: a double from now on, taken as it is.  The rest,
+;; and the error, are CHECK-TIME-FROM-NOW-SLOWLY's.
+(declaim (inline check-time-from-now))
 (defun check-time-from-now (function argument time timeline)
   "TIME as seconds, at or after TIMELINE's NOW; else an ARGUMENT-ERROR."
+  (if (and (plain-seconds-p time) (>= time (timeline-now timeline)))
+      time
+      (check-time-from-now-slowly function argument time timeline)))
+
+(defun check-time-from-now-slowly (function argument time timeline)
+  "CHECK-TIME-FROM-NOW for any TIME."
   ;; CHECK-SECONDS returns a double or signals: compared as doubles.
   (let ((seconds (if (plain-seconds-p time)
                      time
@@ -34,16 +43,23 @@ more: finite, below 2^49 in magnitude, and *MAX-SECONDS* at least that?"
                              (format-number (timeline-now timeline)))))
     seconds))
 
+;; Inline, its usual case: no policy given, or one of *WHEN-BUSY-POLICIES*.
+(declaim (inline timed-event-policy))
 (defun timed-event-policy (compiled when-busy)
   "The :when-busy policy of compiled event COMPILED: WHEN-BUSY
 if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the spec's."
   (if when-busy
       ;; The keyword itself, looked for inline (no string compare, no call).
-      (or (and (loop for policy in *when-busy-policies* thereis (eq policy when-busy)) when-busy)
-          (and (symbolp when-busy) (when-busy-policy when-busy))
-          (argument-fail 'send-event :when-busy when-busy
-                         (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
+      (if (loop for policy in *when-busy-policies* thereis (eq policy when-busy))
+          when-busy
+          (named-when-busy-policy when-busy))
       (compiled-event-policy compiled)))
+
+(defun named-when-busy-policy (when-busy)
+  "The policy WHEN-BUSY, not a keyword of *WHEN-BUSY-POLICIES*, names; else an ARGUMENT-ERROR."
+  (or (and (symbolp when-busy) (when-busy-policy when-busy))
+      (argument-fail 'send-event :when-busy when-busy
+                     (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*)))))
 
 (defun send-timed-event (controller event at when-busy)
   "SEND-EVENT on a timed controller (see there)."
