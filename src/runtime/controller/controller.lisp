@@ -88,6 +88,9 @@ table is never changed in place, so readers need no lock); return COMPILED."
           (compiled-machine-event-symbols machine) table)
     compiled))
 
+;; Inline, the usual case: a symbol remembered in the machine's index.  The
+;; rest is FIND-COMPILED-EVENT-SLOWLY's.
+(declaim (inline find-compiled-event))
 (defun find-compiled-event (controller name &optional (function 'send-event))
   "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none, an
 ARGUMENT-ERROR of FUNCTION when NAME is neither a symbol nor a string.
@@ -95,18 +98,23 @@ Interned symbols are remembered in an EQ table so the usual lookup allocates
 nothing; the table holds only interned symbols that name events, so it stays
 as small as the spec's events (an uninterned symbol is looked up by name each
 time)."
-  (let ((machine (controller-machine controller)))
-    (or (and (symbolp name) (symbol-index-value (compiled-machine-symbol-index machine) name))
-        (let ((compiled (gethash (if (stringp name)
-                                     (string-upcase name)
-                                     (name-key (check-argument function 'event name #'name-designator-p
-                                                               "an event name (a symbol or string)")))
-                                 (compiled-machine-events machine))))
-          (cond ((null compiled)
-                 (error 'unknown-event :name name :known (event-names controller)))
-                ((and (symbolp name) (symbol-package name))
-                 (remember-event-symbol machine name compiled))
-                (t compiled))))))
+  (or (and (symbolp name)
+           (symbol-index-value (compiled-machine-symbol-index (controller-machine controller)) name))
+      (find-compiled-event-slowly controller name function)))
+
+(defun find-compiled-event-slowly (controller name function)
+  "FIND-COMPILED-EVENT of a NAME not in the symbol index (yet)."
+  (let* ((machine (controller-machine controller))
+         (compiled (gethash (if (stringp name)
+                                (string-upcase name)
+                                (name-key (check-argument function 'event name #'name-designator-p
+                                                          "an event name (a symbol or string)")))
+                            (compiled-machine-events machine))))
+    (cond ((null compiled)
+           (error 'unknown-event :name name :known (event-names controller)))
+          ((and (symbolp name) (symbol-package name))
+           (remember-event-symbol machine name compiled))
+          (t compiled))))
 
 ;;; Something that is not a controller but takes events for one, a viewer
 ;;; session on another thread say, subclasses EVENT-TARGET: SEND-EVENT hands
