@@ -107,9 +107,10 @@ never used again), so a test can look for one that something still reaches
 
 (defstruct (agenda (:constructor make-agenda ()))
   "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  An event's items are
-not all on it: each run feeds it its next item only (FEEDING.LISP).  Cancelled
-items stay until they reach the top, where AGENDA-NEXT skips them (cancelling
-is O(1))."
+not all on it: each run feeds it its next item only (FEEDING.LISP).  A
+cancelled timer item stays until it reaches the top, where AGENDA-NEXT skips
+it (cancelling is O(1)); a cut takes its run's cancelled items off at once
+(RETIRE-CANCELLED-ITEMS)."
   (items (make-array 64) :type simple-vector)
   (count 0 :type fixnum)
   ;; The last sequence number given to an item made for it (AGENDA-NEXT-SEQ).
@@ -204,6 +205,28 @@ at equal times."
 first and pushing ITEM would take two."
   (declare (agenda agenda) (agenda-item item))
   (sift-down (agenda-items agenda) (agenda-count agenda) 0 item))
+
+(defun agenda-swap-out (agenda item next)
+  "Take ITEM off AGENDA, putting NEXT, when not NIL, in its place: NEXT must
+not be due before ITEM (the next item of ITEM's run, say)."
+  (declare (agenda agenda) (agenda-item item))
+  (let* ((items (agenda-items agenda))
+         (i (loop for i of-type fixnum below (agenda-count agenda)
+                  when (eq (svref items i) item) return i)))
+    (cond (next (sift-down items (agenda-count agenda) i next))
+          (t (let* ((count (decf (agenda-count agenda)))
+                    (last (svref items count)))
+               (declare (fixnum count))
+               (setf (svref items count) nil)
+               (when (< i count)
+                 ;; LAST, from the bottom, may belong above I or below it.
+                 (loop while (plusp i)
+                       do (let ((parent (ash (1- i) -1)))
+                            (if (item-before-p last (svref items parent))
+                                (setf (svref items i) (svref items parent) i parent)
+                                (return))))
+                 (sift-down items count i last)))))
+    nil))
 
 (defun agenda-clear (agenda)
   "Forget every item of AGENDA."

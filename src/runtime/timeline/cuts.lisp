@@ -172,10 +172,45 @@ was left to do)."
     (setf (timeline-cuts-end timeline) (max (timeline-cuts-end timeline) cut-time))
     resume))
 
+(defun retire-cancelled-items (timeline run)
+  "Take the items of RUN, just cut, that the cut cancelled off its pending
+list (and its first off TIMELINE's agenda, if that is one) and retire them
+at once: nothing else reaches them.  The items the cut kept stay pending,
+the first of them on the agenda in place of the one cancelled.  Call it once
+nothing reads RUN's policy any more: the last of its items retired may
+retire RUN too."
+  ;; At once, not as the agenda would have passed them one by one (AGENDA-NEXT
+  ;; discarding the cancelled first, FEED-NEXT-ITEM the rest): the pool takes
+  ;; them in one splice, and nothing cancelled is left on the agenda.
+  (let* ((agenda (timeline-agenda timeline))
+         (pending (run-pending run))
+         (first (first pending))
+         (kept '()) (kept-last nil)
+         (cancelled '()) (cancelled-last nil))
+    (if (loop for item in pending always (item-status-p item :cancelled))
+        ;; The usual case: the cut kept none of them.
+        (setf cancelled pending)
+        ;; Split the pending conses (RUN's own since the cut) in two lists, in order.
+        (loop while pending
+              do (let ((cell pending))
+                   (setf pending (rest cell)
+                         (rest cell) '())
+                   (if (item-status-p (first cell) :cancelled)
+                       (if cancelled-last
+                           (setf (rest cancelled-last) cell cancelled-last cell)
+                           (setf cancelled cell cancelled-last cell))
+                       (if kept-last
+                           (setf (rest kept-last) cell kept-last cell)
+                           (setf kept cell kept-last cell))))))
+    (when (and first (item-status-p first :cancelled))
+      (agenda-swap-out agenda first (first kept)))
+    (setf (run-pending run) kept)
+    (retire-cancelled-list agenda run cancelled)))
+
 (defun retire-played-items (agenda run running keep)
   "Retire the items of RUN, being cut, that have been played and neither play
 on (RUNNING, which become live ops) nor are KEPT: nothing will reach them.
-Its cancelled items are retired as the agenda passes them (FEED-NEXT-ITEM).
+Its cancelled items are retired once the cut is made (RETIRE-CANCELLED-ITEMS).
 Give back the conses of RUN's items list that its pending list does not share
 (all of them when that is a sorted copy): the run keeps only its pending list."
   (let ((pending (let ((pending (run-pending run)))

@@ -20,7 +20,9 @@ once everything due at its instant has happened)."
   (loop (let ((item (first pending)))
           (cond ((null item) (return pending))
                 ((item-status-p item :cancelled)
-                 ;; Only a cut cancels, and a cut run's pending list is its own.
+                 ;; Only a cut cancels, and a cut run's pending list is its
+                 ;; own.  (None is left there: RETIRE-CANCELLED-ITEMS takes
+                 ;; them off when the cut is made.)
                  (retire-item agenda item)
                  (give-back-cons agenda (shiftf pending (rest pending))))
                 ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)

@@ -14,8 +14,9 @@
 ;;;;  - the items of a run planned on trial and not started (FORGET-PLAN);
 ;;;;  - at a cut, the items of the cut run already played that neither play on
 ;;;;    (as live ops) nor are kept (CUT-RUN);
-;;;;  - a cancelled item, when the agenda discards it or its run's pending
-;;;;    list passes it (AGENDA-NEXT, FEED-NEXT-ITEM);
+;;;;  - the items a cut cancelled, all at once once the cut is made
+;;;;    (RETIRE-CANCELLED-ITEMS), and a cancelled timer's item when the agenda
+;;;;    discards it (AGENDA-NEXT);
 ;;;;  - an item of a run already over (cut) once it is applied (ADVANCE-TIMELINE);
 ;;;;  - a live op when it leaves the live ops (FORGET-ENDED-OPS).
 ;;;; A run counts its items not retired; the last one of a run that is over
@@ -162,6 +163,31 @@ more, and keep its conses for FRESH-ITEM-CONS."
                 (if (rest last)
                     (setf last (rest last))
                     (return)))))))
+
+(defun retire-cancelled-list (agenda run items)
+  "RETIRE-ITEM-LIST of ITEMS, RUN's own cancelled items: none is retired yet,
+so they are counted off RUN all at once."
+  (declare (agenda agenda) (list items))
+  (if (and items (agenda-recycle agenda))
+      (let ((free (agenda-free agenda))
+            (count 0)
+            (last items))
+        (declare (fixnum count))
+        (loop (let ((item (first last)))
+                (setf (agenda-item-status item) :free
+                      (agenda-item-owner item) free
+                      free item)
+                (incf count))
+              (if (rest last)
+                  (setf last (rest last))
+                  (return)))
+        (setf (agenda-free agenda) free
+              (rest last) (agenda-free-conses agenda)
+              (agenda-free-conses agenda) items)
+        ;; RETIRE-ITEM would retire RUN at its last item: the same, once.
+        (when (and (zerop (decf (run-live-items run) count)) (run-finished run))
+          (retire-run agenda run)))
+      (retire-item-list agenda items)))
 
 (defun finish-item (agenda run)
   "RUN's :FINISH item, made now that the run has played every item due before
