@@ -174,10 +174,13 @@ FORM, left to SEND-EVENT."
 (defun send-event* (controller event at when-busy)
   "SEND-EVENT with its keyword arguments AT and WHEN-BUSY passed by position."
   ;; A controller is asked about first: the class test for a target costs
-  ;; more than the structure test, and controllers are the usual case.
-  (when (and (not (controller-p controller)) (typep controller 'event-target))
-    (return-from send-event* (target-send-event controller event at when-busy)))
-  (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")
+  ;; more than the structure test, and controllers are the usual case.  Asked
+  ;; once: below it, CONTROLLER is known to be one.
+  (unless (controller-p controller)
+    (return-from send-event*
+      (if (typep controller 'event-target)
+          (target-send-event controller event at when-busy)
+          (argument-fail 'send-event 'controller controller "a controller (from make-controller)"))))
   (when (controller-timeline controller)
     (return-from send-event* (send-timed-event controller event at when-busy)))
   (when (controller-pending controller)
