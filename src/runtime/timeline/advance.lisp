@@ -138,6 +138,7 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
         (time (timeline-now timeline))
         (agenda (timeline-agenda timeline)))
     (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+      (declare (inline ended-p))              ; not a local call per op
       (loop while (and live-ops (ended-p (first live-ops)))
             do (retire-item agenda (first live-ops))
                (give-back-cons agenda (shiftf live-ops (rest live-ops))))
