@@ -205,7 +205,7 @@ retire RUN too."
     (when (and first (item-status-p first :cancelled))
       (agenda-swap-out agenda first (first kept)))
     (setf (run-pending run) kept)
-    (retire-cancelled-list agenda run cancelled)))
+    (retire-run-item-list agenda run cancelled)))
 
 (defun retire-played-items (agenda run running keep)
   "Retire the items of RUN, being cut, that have been played and neither play

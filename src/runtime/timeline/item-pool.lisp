@@ -164,9 +164,9 @@ more, and keep its conses for FRESH-ITEM-CONS."
                     (setf last (rest last))
                     (return)))))))
 
-(defun retire-cancelled-list (agenda run items)
-  "RETIRE-ITEM-LIST of ITEMS, RUN's own cancelled items: none is retired yet,
-so they are counted off RUN all at once."
+(defun retire-run-item-list (agenda run items)
+  "RETIRE-ITEM-LIST of ITEMS, all of them RUN's: those not retired yet are
+counted off RUN all at once."
   (declare (agenda agenda) (list items))
   (if (and items (agenda-recycle agenda))
       (let ((free (agenda-free agenda))
@@ -174,10 +174,11 @@ so they are counted off RUN all at once."
             (last items))
         (declare (fixnum count))
         (loop (let ((item (first last)))
-                (setf (agenda-item-status item) :free
-                      (agenda-item-owner item) free
-                      free item)
-                (incf count))
+                (unless (item-status-p item :free)
+                  (setf (agenda-item-status item) :free
+                        (agenda-item-owner item) free
+                        free item)
+                  (incf count)))
               (if (rest last)
                   (setf last (rest last))
                   (return)))
