@@ -218,19 +218,22 @@ Give back the conses of RUN's items list that its pending list does not share
                    (if (and pending (eq (first pending) (run-finish run)))
                        (rest pending)
                        pending)))
-        (own t))
-    (do* ((cell (run-items run) next)
-          (next (rest cell) (rest cell)))
-         ((null cell))
-      (let ((item (first cell)))
-        (when (eq cell pending)
-          (setf own nil))
-        (when (and (item-status-p item :done)
-                   (not (memq item running))
-                   (not (memq item keep)))
-          (retire-item agenda item))
-        (when own
-          (give-back-cons agenda cell))))))
+        (cell (run-items run))
+        (last nil))
+    ;; Up to the pending list: the items after it are pending still, none
+    ;; played (an item leaves the pending list before it is played).
+    (loop until (or (null cell) (eq cell pending))
+          do (let ((item (first cell)))
+               (when (and (item-status-p item :done)
+                          (not (memq item running))
+                          (not (memq item keep)))
+                 (retire-item agenda item)))
+             (setf last cell
+                   cell (rest cell)))
+    ;; The conses passed, RUN's own, go back in one splice.
+    (when (and last (agenda-recycle agenda))
+      (setf (rest last) (agenda-free-conses agenda)
+            (agenda-free-conses agenda) (run-items run)))))
 
 ;; RUN's items are in SEQ order (the order they were recorded), so pushing
 ;; them as they come leaves the newest, innermost macro first without a sort.
