@@ -190,6 +190,8 @@ counted off RUN all at once."
           (retire-run agenda run)))
       (retire-item-list agenda items)))
 
+;; Inline: a run that plays to its end makes one, as its last item comes up.
+(declaim (inline finish-item))
 (defun finish-item (agenda run)
   "RUN's :FINISH item, made now that the run has played every item due before
 its end (WITH-FINISH): due then, with the sequence number it was given when it
