@@ -11,20 +11,15 @@
 (declaim (inline skip-pending))
 (defun skip-pending (agenda pending time skip-ops)
   "PENDING (a run's pending items) from the first item the agenda must still
-take.  Cancelled items are retired (nothing else reaches them).  With SKIP-OPS,
-when AGENDA's ops are silent, an :OP item due at TIME, the instant the run
-reaches it, is played there and then (marked :DONE): telling nobody, it need
-not wait its turn on the agenda, and no cut can fall before it (a cut comes
-once everything due at its instant has happened)."
+take.  (A cut's cancelled items are never among them: RETIRE-CANCELLED-ITEMS
+takes them off at the cut.)  With SKIP-OPS, when AGENDA's ops are silent, an
+:OP item due at TIME, the instant the run reaches it, is played there and
+then (marked :DONE): telling nobody, it need not wait its turn on the agenda,
+and no cut can fall before it (a cut comes once everything due at its instant
+has happened)."
   (declare (agenda agenda) (list pending) (double-float time))
   (loop (let ((item (first pending)))
           (cond ((null item) (return pending))
-                ((item-status-p item :cancelled)
-                 ;; Only a cut cancels, and a cut run's pending list is its
-                 ;; own.  (None is left there: RETIRE-CANCELLED-ITEMS takes
-                 ;; them off when the cut is made.)
-                 (retire-item agenda item)
-                 (give-back-cons agenda (shiftf pending (rest pending))))
                 ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)
                       (= (agenda-item-time item) time))
                  (setf (agenda-item-status item) :done
