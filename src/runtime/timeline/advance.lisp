@@ -81,7 +81,6 @@ besides, CONTROLLER's scheduling clock set to NOW."
       (:finish (finish-run timeline (agenda-item-run item)))
       (:timer (fire-timer timeline (agenda-item-a item) item (agenda-item-time item))))))
 
-;; Optional, not keyword, arguments: it is called twice for every event.
 (defun advance-timeline (timeline time &optional (dispatch t) until-idle)
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
 then NOW is TIME.  Events that timers and triggers send at an instant are
@@ -90,6 +89,13 @@ false: then they wait for the ADVANCE-TIMELINE that called this one).  With
 UNTIL-IDLE, stop instead at the first instant after which no event runs or
 waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 *FINISH-EVENTS-LIMIT* items if that never comes."
+  (advance-timeline* timeline time dispatch until-idle))
+
+;; Every argument required: it is called twice for every event, and an
+;; &optional entry sorts its arguments out on each call.  The engine calls
+;; it; ADVANCE-TIMELINE is the same with the defaults.
+(defun advance-timeline* (timeline time dispatch until-idle)
+  "ADVANCE-TIMELINE with all its arguments given."
   (let ((agenda (timeline-agenda timeline))
         (time (if (typep time 'double-float) time (to-double time)))
         (steps 0)

@@ -69,7 +69,7 @@ if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the s
          (time (if at (check-time-from-now 'send-event :at at timeline) (boxed-now timeline)))
          (compiled (find-compiled-event controller event))
          (policy (timed-event-policy compiled when-busy)))
-    (advance-timeline timeline time)
+    (advance-timeline* timeline time t nil)
     ;; A redefinition waiting for the controller to be idle happens now, and
     ;; the event is the new machine's (the switch made a new timeline).
     (when (and (controller-pending controller) (install-pending-machine controller))
@@ -92,7 +92,7 @@ Returns TIME. Signals an ARGUMENT-ERROR for an untimed controller or a time
 in the past."
   (let* ((timeline (check-timed-controller 'advance controller))
          (time (check-time-from-now 'advance 'time time timeline)))
-    (advance-timeline timeline time)
+    (advance-timeline* timeline time t nil)
     (when (controller-pending controller)
       (install-pending-machine controller))
     time))
@@ -111,7 +111,7 @@ the time it stopped at. Signals a
 TIMELINE-ERROR, at the time reached, when events never stop coming (a timer
 that repeats faster than its event plays, say): ADVANCE to a time instead."
   (let ((timeline (check-timed-controller 'finish-events controller)))
-    (advance-timeline timeline most-positive-double-float t t)
+    (advance-timeline* timeline most-positive-double-float t t)
     (when (controller-pending controller)
       (install-pending-machine controller))
     ;; CONTROLLER-TIME without checking CONTROLLER again.

@@ -71,7 +71,7 @@ planning result (T or a FAILURE; T when it waits)."
              (retire-cancelled-items timeline other)))
          ;; A cut falling now leaves its :if-cut state now: apply it
          ;; before the new event plans from it.
-         (advance-timeline timeline time nil)
+         (advance-timeline* timeline time nil nil)
          ;; The interrupted resume in the order they started, before the
          ;; queue -- after RUN, should a running event keep it waiting.
          (dolist (again resumptions)
