@@ -88,6 +88,9 @@ table is never changed in place, so readers need no lock); return COMPILED."
           (compiled-machine-event-symbols machine) table)
     compiled))
 
+;; Inline, the usual case: a symbol remembered in the machine's index.  The
+;; rest is FIND-COMPILED-EVENT-SLOWLY's.
+(declaim (inline find-compiled-event))
 (defun find-compiled-event (controller name &optional (function 'send-event))
   "The compiled event NAME of CONTROLLER's machine; UNKNOWN-EVENT if none, an
 ARGUMENT-ERROR of FUNCTION when NAME is neither a symbol nor a string.
@@ -95,18 +98,23 @@ Interned symbols are remembered in an EQ table so the usual lookup allocates
 nothing; the table holds only interned symbols that name events, so it stays
 as small as the spec's events (an uninterned symbol is looked up by name each
 time)."
-  (let ((machine (controller-machine controller)))
-    (or (and (symbolp name) (symbol-index-value (compiled-machine-symbol-index machine) name))
-        (let ((compiled (gethash (if (stringp name)
-                                     (string-upcase name)
-                                     (name-key (check-argument function 'event name #'name-designator-p
-                                                               "an event name (a symbol or string)")))
-                                 (compiled-machine-events machine))))
-          (cond ((null compiled)
-                 (error 'unknown-event :name name :known (event-names controller)))
-                ((and (symbolp name) (symbol-package name))
-                 (remember-event-symbol machine name compiled))
-                (t compiled))))))
+  (or (and (symbolp name)
+           (symbol-index-value (compiled-machine-symbol-index (controller-machine controller)) name))
+      (find-compiled-event-slowly controller name function)))
+
+(defun find-compiled-event-slowly (controller name function)
+  "FIND-COMPILED-EVENT of a NAME not in the symbol index (yet)."
+  (let* ((machine (controller-machine controller))
+         (compiled (gethash (if (stringp name)
+                                (string-upcase name)
+                                (name-key (check-argument function 'event name #'name-designator-p
+                                                          "an event name (a symbol or string)")))
+                            (compiled-machine-events machine))))
+    (cond ((null compiled)
+           (error 'unknown-event :name name :known (event-names controller)))
+          ((and (symbolp name) (symbol-package name))
+           (remember-event-symbol machine name compiled))
+          (t compiled))))
 
 ;;; Something that is not a controller but takes events for one, a viewer
 ;;; session on another thread say, subclasses EVENT-TARGET: SEND-EVENT hands
@@ -138,13 +146,43 @@ NIL GOAL) when it started at once and its plan failed.
 CONTROLLER may also be an EVENT-TARGET, such as the VIEWER-SESSION of VIEW:
 the event is then sent to the controller it stands for, at the viewer's
 playback time unless AT is given."
+  (send-event* controller event at when-busy))
+
+;; A call with its keywords written out goes straight to SEND-EVENT*: parsing
+;; the keywords was over half of SEND-EVENT's own work, on every event.
+(define-compiler-macro send-event (&whole form controller event &rest keys)
+  "(SEND-EVENT* CONTROLLER EVENT AT WHEN-BUSY), the arguments evaluated in
+the order written, when KEYS are :AT and :WHEN-BUSY at most once each; else
+FORM, left to SEND-EVENT."
+  (if (and (evenp (length keys))
+           (loop for (key) on keys by #'cddr always (member key '(:at :when-busy)))
+           (= (length (remove-duplicates (loop for (key) on keys by #'cddr collect key)))
+              (floor (length keys) 2)))
+      (let ((bindings (list* (list (gensym "CONTROLLER") controller)
+                             (list (gensym "EVENT") event)
+                             (loop for (key value) on keys by #'cddr
+                                   collect (list (gensym (symbol-name key)) value)))))
+        (flet ((keyword-variable (key)
+                 (loop for (variable) in (cddr bindings)
+                       for (k) on keys by #'cddr
+                       when (eq k key) return variable)))
+          `(let ,bindings
+             (send-event* ,(first (first bindings)) ,(first (second bindings))
+                          ,(keyword-variable :at) ,(keyword-variable :when-busy)))))
+      form))
+
+(defun send-event* (controller event at when-busy)
+  "SEND-EVENT with its keyword arguments AT and WHEN-BUSY passed by position."
   ;; A controller is asked about first: the class test for a target costs
-  ;; more than the structure test, and controllers are the usual case.
-  (when (and (not (controller-p controller)) (typep controller 'event-target))
-    (return-from send-event (target-send-event controller event at when-busy)))
-  (check-argument 'send-event 'controller controller #'controller-p "a controller (from make-controller)")
+  ;; more than the structure test, and controllers are the usual case.  Asked
+  ;; once: below it, CONTROLLER is known to be one.
+  (unless (controller-p controller)
+    (return-from send-event*
+      (if (typep controller 'event-target)
+          (target-send-event controller event at when-busy)
+          (argument-fail 'send-event 'controller controller "a controller (from make-controller)"))))
   (when (controller-timeline controller)
-    (return-from send-event (send-timed-event controller event at when-busy)))
+    (return-from send-event* (send-timed-event controller event at when-busy)))
   (when (controller-pending controller)
     (install-pending-machine controller))
   (when when-busy

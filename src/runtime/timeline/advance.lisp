@@ -31,7 +31,56 @@
          :message (format nil "events never stop coming: still busy at time ~A after ~:D steps (timers or triggers keep sending events); advance to a time instead"
                           (format-number time) *finish-events-limit*)))
 
-;; Optional, not keyword, arguments: it is called twice for every event.
+;; Inline: it is asked for every state change while a trigger is armed.
+(declaim (inline check-triggers-if-turned))
+(defun check-triggers-if-turned (timeline controller changed)
+  "CHECK-TRIGGERS, after a change of the plannable fields CHANGED (0 for a
+runtime value), unless no trigger reads those fields: then only what it does
+besides, CONTROLLER's scheduling clock set to NOW."
+  (if (triggers-may-turn-p (timeline-agenda timeline) changed)
+      (check-triggers timeline changed)
+      ;; NIL: the double just set, returned, would be boxed.
+      (progn (setf (controller-schedule controller) (timeline-now timeline))
+             nil)))
+
+;; Inline: ADVANCE-TIMELINE, its one caller, applies every item with it.
+(declaim (inline apply-item))
+(defun apply-item (timeline item)
+  "Do what ITEM says, now that its time has come."
+  ;; ITEM's time is read where it is passed on, never bound: a double variable
+  ;; that several calls take boxed is boxed where it is bound, on every item.
+  (let ((controller (timeline-controller timeline))
+        (presenter (timeline-presenter timeline)))
+    (ecase (agenda-item-kind item)
+      (:op
+       (unless (timeline-quiet timeline)
+         (present-op presenter (agenda-item-op item) (agenda-item-start item))))
+      (:delta
+       (let ((bits (state-with-fields (controller-bits controller) (agenda-item-a item)
+                                      (agenda-item-b item))))
+         (if (timeline-quiet-autoscripts timeline)
+             (setf (controller-bits controller) bits)
+             (transition-state controller bits (agenda-item-time item))))
+       (when (timeline-triggers timeline)
+         (check-triggers-if-turned timeline controller (agenda-item-a item))))
+      (:value
+       (if (timeline-quiet-autoscripts timeline)
+           (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
+           (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) (agenda-item-time item)))
+       (when (timeline-triggers timeline)
+         (check-triggers-if-turned timeline controller 0)))
+      (:macro-start
+       (unless (timeline-quiet timeline)
+         (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
+      (:macro-end
+       (unless (timeline-quiet timeline)
+         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-time item))))
+      (:fail
+       (unless (timeline-quiet timeline)
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) (agenda-item-time item))))
+      (:finish (finish-run timeline (agenda-item-run item)))
+      (:timer (fire-timer timeline (agenda-item-a item) item (agenda-item-time item))))))
+
 (defun advance-timeline (timeline time &optional (dispatch t) until-idle)
   "Present and apply, in time order, everything due on TIMELINE up to TIME;
 then NOW is TIME.  Events that timers and triggers send at an instant are
@@ -40,6 +89,13 @@ false: then they wait for the ADVANCE-TIMELINE that called this one).  With
 UNTIL-IDLE, stop instead at the first instant after which no event runs or
 waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 *FINISH-EVENTS-LIMIT* items if that never comes."
+  (advance-timeline* timeline time dispatch until-idle))
+
+;; Every argument required: it is called twice for every event, and an
+;; &optional entry sorts its arguments out on each call.  The engine calls
+;; it; ADVANCE-TIMELINE is the same with the defaults.
+(defun advance-timeline* (timeline time dispatch until-idle)
+  "ADVANCE-TIMELINE with all its arguments given."
   (let ((agenda (timeline-agenda timeline))
         (time (if (typep time 'double-float) time (to-double time)))
         (steps 0)
@@ -88,6 +144,7 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
         (time (timeline-now timeline))
         (agenda (timeline-agenda timeline)))
     (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+      (declare (inline ended-p))              ; not a local call per op
       (loop while (and live-ops (ended-p (first live-ops)))
             do (retire-item agenda (first live-ops))
                (give-back-cons agenda (shiftf live-ops (rest live-ops))))
@@ -98,42 +155,6 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
       (setf (timeline-live-ops timeline) live-ops
             (timeline-live-ops-end timeline)
             (loop for item in live-ops minimize (agenda-item-end item) of-type double-float)))))
-
-(defun apply-item (timeline item)
-  "Do what ITEM says, now that its time has come."
-  ;; ITEM's time is read where it is passed on, never bound: a double variable
-  ;; that several calls take boxed is boxed where it is bound, on every item.
-  (let ((controller (timeline-controller timeline))
-        (presenter (timeline-presenter timeline)))
-    (ecase (agenda-item-kind item)
-      (:op
-       (unless (timeline-quiet timeline)
-         (present-op presenter (agenda-item-op item) (agenda-item-start item))))
-      (:delta
-       (let ((bits (state-with-fields (controller-bits controller) (agenda-item-a item)
-                                      (agenda-item-b item))))
-         (if (timeline-quiet-autoscripts timeline)
-             (setf (controller-bits controller) bits)
-             (transition-state controller bits (agenda-item-time item))))
-       (when (timeline-triggers timeline)
-         (check-triggers timeline (agenda-item-a item))))
-      (:value
-       (if (timeline-quiet-autoscripts timeline)
-           (setf (svref (controller-values controller) (var-slot (agenda-item-a item))) (agenda-item-b item))
-           (set-runtime-value controller (agenda-item-a item) (agenda-item-b item) (agenda-item-time item)))
-       (when (timeline-triggers timeline)
-         (check-triggers timeline 0)))
-      (:macro-start
-       (unless (timeline-quiet timeline)
-         (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
-      (:macro-end
-       (unless (timeline-quiet timeline)
-         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-time item))))
-      (:fail
-       (unless (timeline-quiet timeline)
-         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) (agenda-item-time item))))
-      (:finish (finish-run timeline (agenda-item-run item)))
-      (:timer (fire-timer timeline (agenda-item-a item) item (agenda-item-time item))))))
 
 (defun finish-run (timeline run)
   "RUN is over at TIMELINE's NOW: show the state, and start the waiting events
@@ -146,7 +167,7 @@ that no running event meets any more, first first."
   ;; so nothing reaches them now -- unless a :time directive left changes due
   ;; after its end: those are retired as they are applied.
   (when (null (run-pending run))
-    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()))
+    (retire-run-item-list (timeline-agenda timeline) run (shiftf (run-items run) '()))
     (retire-item (timeline-agenda timeline) (run-finish run)))
   (when (timeline-queue timeline)
     (start-waiting-runs timeline (timeline-now timeline))))

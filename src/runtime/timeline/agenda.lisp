@@ -55,7 +55,34 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   (owner nil)
   ;; The top-level directive of the event that produced the item.
   (step 0 :type fixnum)
-  (status :pending :type (member :pending :done :cancelled :free)))
+  ;; Its AGENDA-ITEM-STATUS, as a number (ITEM-STATUS-CODE).
+  (status-code 0 :type (integer 0 3)))
+
+;;; An item's status is a keyword to its readers, a small integer in the
+;;; item: a keyword stored in a structure is a pointer store, marked for the
+;;; garbage collector (three instructions more), and the status is set two
+;;; or three times in every item's life.
+
+(declaim (inline item-status-code))
+(defun item-status-code (status)
+  "The number an item holds for STATUS, one of :PENDING (not yet applied),
+:DONE (applied), :CANCELLED (by a cut) and :FREE (retired, ITEM-POOL.LISP)."
+  ;; Inline, so a constant STATUS folds to its number.
+  (ecase status (:pending 0) (:done 1) (:cancelled 2) (:free 3)))
+
+(declaim (inline agenda-item-status (setf agenda-item-status) item-status-p))
+(defun agenda-item-status (item)
+  "ITEM's status: :PENDING, :DONE, :CANCELLED or :FREE (ITEM-STATUS-CODE)."
+  (svref #(:pending :done :cancelled :free) (agenda-item-status-code item)))
+
+(defun (setf agenda-item-status) (status item)
+  "Make STATUS ITEM's status."
+  (setf (agenda-item-status-code item) (item-status-code status))
+  status)
+
+(defun item-status-p (item status)
+  "Is STATUS (a constant, in the engine) ITEM's status?"
+  (= (agenda-item-status-code item) (item-status-code status)))
 
 (declaim (inline agenda-item-start))
 (defun agenda-item-start (item)
@@ -80,9 +107,10 @@ never used again), so a test can look for one that something still reaches
 
 (defstruct (agenda (:constructor make-agenda ()))
   "A binary min-heap of AGENDA-ITEMs by ITEM-BEFORE-P.  An event's items are
-not all on it: each run feeds it its next item only (FEEDING.LISP).  Cancelled
-items stay until they reach the top, where AGENDA-NEXT skips them (cancelling
-is O(1))."
+not all on it: each run feeds it its next item only (FEEDING.LISP).  A
+cancelled timer item stays until it reaches the top, where AGENDA-NEXT skips
+it (cancelling is O(1)); a cut takes its run's cancelled items off at once
+(RETIRE-CANCELLED-ITEMS)."
   (items (make-array 64) :type simple-vector)
   (count 0 :type fixnum)
   ;; The last sequence number given to an item made for it (AGENDA-NEXT-SEQ).
@@ -100,7 +128,23 @@ is O(1))."
   (free-conses '() :type list)
   ;; Runs that are over and reached by nothing, to use again, chained
   ;; through their FOOTPRINT (RUNS.LISP).
-  (free-runs nil))
+  (free-runs nil)
+  ;; The plannable fields the timeline's triggers read, or T when one of them
+  ;; compares numbers (START-TRIGGERS): a change of no field of these cannot
+  ;; fire a trigger, so it is not asked (TRIGGERS-MAY-TURN-P).
+  (trigger-fields 0 :type (or (eql t) integer)))
+
+(declaim (inline triggers-may-turn-p))
+(defun triggers-may-turn-p (agenda changed)
+  "Can a trigger of AGENDA's timeline fire when the plannable fields CHANGED
+(a mask, 0 for a runtime value) do (see TRIGGER-MAY-TURN-P, for one)?"
+  (declare (agenda agenda))
+  (let ((reads (agenda-trigger-fields agenda)))
+    (or (eq reads t)
+        ;; Fixnum masks (the usual states) test in a machine instruction.
+        (if (and (typep reads 'fixnum) (typep changed 'fixnum))
+            (logtest reads changed)
+            (logtest reads changed)))))
 
 ;; Inline: the recorder numbers every item it makes.
 (declaim (inline agenda-next-seq))
@@ -161,6 +205,28 @@ at equal times."
 first and pushing ITEM would take two."
   (declare (agenda agenda) (agenda-item item))
   (sift-down (agenda-items agenda) (agenda-count agenda) 0 item))
+
+(defun agenda-swap-out (agenda item next)
+  "Take ITEM off AGENDA, putting NEXT, when not NIL, in its place: NEXT must
+not be due before ITEM (the next item of ITEM's run, say)."
+  (declare (agenda agenda) (agenda-item item))
+  (let* ((items (agenda-items agenda))
+         (i (loop for i of-type fixnum below (agenda-count agenda)
+                  when (eq (svref items i) item) return i)))
+    (cond (next (sift-down items (agenda-count agenda) i next))
+          (t (let* ((count (decf (agenda-count agenda)))
+                    (last (svref items count)))
+               (declare (fixnum count))
+               (setf (svref items count) nil)
+               (when (< i count)
+                 ;; LAST, from the bottom, may belong above I or below it.
+                 (loop while (plusp i)
+                       do (let ((parent (ash (1- i) -1)))
+                            (if (item-before-p last (svref items parent))
+                                (setf (svref items i) (svref items parent) i parent)
+                                (return))))
+                 (sift-down items count i last)))))
+    nil))
 
 (defun agenda-clear (agenda)
   "Forget every item of AGENDA."

@@ -3,32 +3,65 @@
 
 (in-package #:player)
 
+;; Inline: FINISH-EVENTS asks it for every other event of a stream.
+(declaim (inline check-timed-controller))
 (defun check-timed-controller (function controller)
   "CONTROLLER's timeline; an ARGUMENT-ERROR of FUNCTION when it has none."
   (check-argument function 'controller controller #'controller-p "a controller (from make-controller)")
   (or (controller-timeline controller)
       (argument-fail function 'controller controller "a timed controller (make-controller ... :timed t)")))
 
+(declaim (inline plain-seconds-p))
+(defun plain-seconds-p (x)
+  "Is X a double-float that CHECK-SECONDS would take as it is, without asking
+more: finite, below 2^49 in magnitude, and *MAX-SECONDS* at least that?"
+  ;; CHECK-SECONDS's own first test, inline: a full call with keyword
+  ;; arguments, and its generic compare of *MAX-SECONDS*, cost more than
+  ;; the check (every timed send).  The exponent's bits exclude NaNs and
+  ;; infinities without comparing them, which would trap.
+  (and (typep x 'double-float)
+       (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) (+ 1023 49))
+       (let ((limit *max-seconds*))
+         (and (typep limit 'double-float) (>= limit #.(expt 2d0 49))))))
+
+;; Inline, its usual case: a double from now on, taken as it is.  The rest,
+;; and the error, are CHECK-TIME-FROM-NOW-SLOWLY's.
+(declaim (inline check-time-from-now))
 (defun check-time-from-now (function argument time timeline)
   "TIME as seconds, at or after TIMELINE's NOW; else an ARGUMENT-ERROR."
+  (if (and (plain-seconds-p time) (>= time (timeline-now timeline)))
+      time
+      (check-time-from-now-slowly function argument time timeline)))
+
+(defun check-time-from-now-slowly (function argument time timeline)
+  "CHECK-TIME-FROM-NOW for any TIME."
   ;; CHECK-SECONDS returns a double or signals: compared as doubles.
-  (let ((seconds (the double-float (check-seconds function argument time))))
+  (let ((seconds (if (plain-seconds-p time)
+                     time
+                     (the double-float (check-seconds function argument time)))))
     (when (< seconds (timeline-now timeline))
       (argument-fail function argument time
                      (format nil "a time no earlier than now (~A s): a timed controller cannot go back"
                              (format-number (timeline-now timeline)))))
     seconds))
 
+;; Inline, its usual case: no policy given, or one of *WHEN-BUSY-POLICIES*.
+(declaim (inline timed-event-policy))
 (defun timed-event-policy (compiled when-busy)
   "The :when-busy policy of compiled event COMPILED: WHEN-BUSY
 if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the spec's."
   (if when-busy
       ;; The keyword itself, looked for inline (no string compare, no call).
-      (or (and (loop for policy in *when-busy-policies* thereis (eq policy when-busy)) when-busy)
-          (and (symbolp when-busy) (when-busy-policy when-busy))
-          (argument-fail 'send-event :when-busy when-busy
-                         (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*))))
+      (if (loop for policy in *when-busy-policies* thereis (eq policy when-busy))
+          when-busy
+          (named-when-busy-policy when-busy))
       (compiled-event-policy compiled)))
+
+(defun named-when-busy-policy (when-busy)
+  "The policy WHEN-BUSY, not a keyword of *WHEN-BUSY-POLICIES*, names; else an ARGUMENT-ERROR."
+  (or (and (symbolp when-busy) (when-busy-policy when-busy))
+      (argument-fail 'send-event :when-busy when-busy
+                     (format nil "one of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*)))))
 
 (defun send-timed-event (controller event at when-busy)
   "SEND-EVENT on a timed controller (see there)."
@@ -36,7 +69,7 @@ if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the s
          (time (if at (check-time-from-now 'send-event :at at timeline) (boxed-now timeline)))
          (compiled (find-compiled-event controller event))
          (policy (timed-event-policy compiled when-busy)))
-    (advance-timeline timeline time)
+    (advance-timeline* timeline time t nil)
     ;; A redefinition waiting for the controller to be idle happens now, and
     ;; the event is the new machine's (the switch made a new timeline).
     (when (and (controller-pending controller) (install-pending-machine controller))
@@ -59,10 +92,17 @@ Returns TIME. Signals an ARGUMENT-ERROR for an untimed controller or a time
 in the past."
   (let* ((timeline (check-timed-controller 'advance controller))
          (time (check-time-from-now 'advance 'time time timeline)))
-    (advance-timeline timeline time)
+    (advance-timeline* timeline time t nil)
     (when (controller-pending controller)
       (install-pending-machine controller))
     time))
+
+(declaim (inline controller-time*))
+(defun controller-time* (controller)
+  "CONTROLLER-TIME of CONTROLLER, known to be a controller."
+  (if (controller-timeline controller)
+      (boxed-now (controller-timeline controller))
+      (controller-clock controller)))
 
 (defun finish-events (controller)
   "Advance timed CONTROLLER until no event runs or waits (timers that are
@@ -71,10 +111,11 @@ the time it stopped at. Signals a
 TIMELINE-ERROR, at the time reached, when events never stop coming (a timer
 that repeats faster than its event plays, say): ADVANCE to a time instead."
   (let ((timeline (check-timed-controller 'finish-events controller)))
-    (advance-timeline timeline most-positive-double-float t t)
+    (advance-timeline* timeline most-positive-double-float t t)
     (when (controller-pending controller)
       (install-pending-machine controller))
-    (controller-time controller)))
+    ;; CONTROLLER-TIME without checking CONTROLLER again.
+    (controller-time* controller)))
 
 (defun controller-busy-p (controller)
   "Is an event running on timed CONTROLLER now (or waiting to)?"
@@ -84,9 +125,7 @@ that repeats faster than its event plays, say): ADVANCE to a time instead."
   "CONTROLLER's current time: a timed controller's clock, or else when the
 next event would start (the end of the last one)."
   (check-argument 'controller-time 'controller controller #'controller-p "a controller (from make-controller)")
-  (if (controller-timeline controller)
-      (boxed-now (controller-timeline controller))
-      (controller-clock controller)))
+  (controller-time* controller))
 
 ;;;# A scenario of events
 

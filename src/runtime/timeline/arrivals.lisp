@@ -65,10 +65,13 @@ planning result (T or a FAILURE; T when it waits)."
          (dolist (other met)
            (let ((resume-step (cut-run timeline other time name footprint)))
              (when (and (eq policy :interleave) resume-step)
-               (push (resumption other resume-step) resumptions))))
+               (push (resumption other resume-step) resumptions))
+             ;; After RESUMPTION has read OTHER's policy: retiring the items
+             ;; it cancelled may retire OTHER.
+             (retire-cancelled-items timeline other)))
          ;; A cut falling now leaves its :if-cut state now: apply it
          ;; before the new event plans from it.
-         (advance-timeline timeline time nil)
+         (advance-timeline* timeline time nil nil)
          ;; The interrupted resume in the order they started, before the
          ;; queue -- after RUN, should a running event keep it waiting.
          (dolist (again resumptions)

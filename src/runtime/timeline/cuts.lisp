@@ -9,6 +9,15 @@
 
 (declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
 
+;; Inline: MEMBER on a list not known at compile time is a full call (to
+;; %MEMBER-EQ), for each item of a cut run, though the lists are short and
+;; mostly empty.
+(declaim (inline memq))
+(defun memq (item list)
+  "Is ITEM in LIST (by EQ)?  True as MEMBER is: the tail that starts with it."
+  (loop for tail on list
+        when (eq (first tail) item) return tail))
+
 (defun resolve-cut-points (timeline)
   "Give each op with (:at POINT...) its points in seconds (doubles), sorted; names are
 asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
@@ -77,7 +86,7 @@ whether RUN has a macro-op."
     (dolist (item (run-items run) (values running macros))
       (case (agenda-item-kind item)
         (:macro-end (setf macros t))
-        (:op (when (and (eq (agenda-item-status item) :done) (> (agenda-item-end item) time))
+        (:op (when (and (item-status-p item :done) (> (agenda-item-end item) time))
                (setf running (spare-cons agenda item running))))))))
 
 (defun cut-run (timeline run time by footprint)
@@ -97,9 +106,14 @@ was left to do)."
         (finishing nil)
         (running '())
         (macros nil))
-    (declare (double-float time cut-time))
+    ;; RESUME typed, and RESUME-AT inline: the steps compare as fixnums, not
+    ;; by a generic MIN in a local call, for each item the cut cancels.
+    (declare (double-float time cut-time) (type (or null fixnum) resume))
     (flet ((resume-at (item)
-             (setf resume (min (or resume most-positive-fixnum) (agenda-item-step item)))))
+             (let ((step (agenda-item-step item)))
+               (when (or (null resume) (< step resume))
+                 (setf resume step)))))
+      (declare (inline resume-at))
       ;; Running ops: cut short, or let finish, newest first.
       (multiple-value-setq (running macros) (running-ops agenda run time))
       (dolist (item running)
@@ -131,7 +145,7 @@ was left to do)."
       ;; Everything else still pending is cancelled, its :FINISH too if the
       ;; run has got that far.
       (dolist (item (run-items run))
-        (when (and (eq (agenda-item-status item) :pending) (not (member item keep)))
+        (when (and (item-status-p item :pending) (not (memq item keep)))
           (resume-at item)
           (setf (agenda-item-status item) :cancelled)))
       (let ((finish (run-finish run)))
@@ -158,10 +172,45 @@ was left to do)."
     (setf (timeline-cuts-end timeline) (max (timeline-cuts-end timeline) cut-time))
     resume))
 
+(defun retire-cancelled-items (timeline run)
+  "Take the items of RUN, just cut, that the cut cancelled off its pending
+list (and its first off TIMELINE's agenda, if that is one) and retire them
+at once: nothing else reaches them.  The items the cut kept stay pending,
+the first of them on the agenda in place of the one cancelled.  Call it once
+nothing reads RUN's policy any more: the last of its items retired may
+retire RUN too."
+  ;; At once, not as the agenda would have passed them one by one (AGENDA-NEXT
+  ;; discarding the cancelled first, FEED-NEXT-ITEM the rest): the pool takes
+  ;; them in one splice, and nothing cancelled is left on the agenda.
+  (let* ((agenda (timeline-agenda timeline))
+         (pending (run-pending run))
+         (first (first pending))
+         (kept '()) (kept-last nil)
+         (cancelled '()) (cancelled-last nil))
+    (if (loop for item in pending always (item-status-p item :cancelled))
+        ;; The usual case: the cut kept none of them.
+        (setf cancelled pending)
+        ;; Split the pending conses (RUN's own since the cut) in two lists, in order.
+        (loop while pending
+              do (let ((cell pending))
+                   (setf pending (rest cell)
+                         (rest cell) '())
+                   (if (item-status-p (first cell) :cancelled)
+                       (if cancelled-last
+                           (setf (rest cancelled-last) cell cancelled-last cell)
+                           (setf cancelled cell cancelled-last cell))
+                       (if kept-last
+                           (setf (rest kept-last) cell kept-last cell)
+                           (setf kept cell kept-last cell))))))
+    (when (and first (item-status-p first :cancelled))
+      (agenda-swap-out agenda first (first kept)))
+    (setf (run-pending run) kept)
+    (retire-run-item-list agenda run cancelled)))
+
 (defun retire-played-items (agenda run running keep)
   "Retire the items of RUN, being cut, that have been played and neither play
 on (RUNNING, which become live ops) nor are KEPT: nothing will reach them.
-Its cancelled items are retired as the agenda passes them (FEED-NEXT-ITEM).
+Its cancelled items are retired once the cut is made (RETIRE-CANCELLED-ITEMS).
 Give back the conses of RUN's items list that its pending list does not share
 (all of them when that is a sorted copy): the run keeps only its pending list."
   (let ((pending (let ((pending (run-pending run)))
@@ -169,19 +218,22 @@ Give back the conses of RUN's items list that its pending list does not share
                    (if (and pending (eq (first pending) (run-finish run)))
                        (rest pending)
                        pending)))
-        (own t))
-    (do* ((cell (run-items run) next)
-          (next (rest cell) (rest cell)))
-         ((null cell))
-      (let ((item (first cell)))
-        (when (eq cell pending)
-          (setf own nil))
-        (when (and (eq (agenda-item-status item) :done)
-                   (not (member item running :test #'eq))
-                   (not (member item keep :test #'eq)))
-          (retire-item agenda item))
-        (when own
-          (give-back-cons agenda cell))))))
+        (cell (run-items run))
+        (last nil))
+    ;; Up to the pending list: the items after it are pending still, none
+    ;; played (an item leaves the pending list before it is played).
+    (loop until (or (null cell) (eq cell pending))
+          do (let ((item (first cell)))
+               (when (and (item-status-p item :done)
+                          (not (memq item running))
+                          (not (memq item keep)))
+                 (retire-item agenda item)))
+             (setf last cell
+                   cell (rest cell)))
+    ;; The conses passed, RUN's own, go back in one splice.
+    (when (and last (agenda-recycle agenda))
+      (setf (rest last) (agenda-free-conses agenda)
+            (agenda-free-conses agenda) (run-items run)))))
 
 ;; RUN's items are in SEQ order (the order they were recorded), so pushing
 ;; them as they come leaves the newest, innermost macro first without a sort.
@@ -191,9 +243,9 @@ innermost (newest) first."
   (let ((starts '()))
     (dolist (item (run-items run) starts)
       (when (and (eq (agenda-item-kind item) :macro-start)
-                 (eq (agenda-item-status item) :done)
+                 (item-status-p item :done)
                  (agenda-item-owner item)
-                 (eq (agenda-item-status (agenda-item-owner item)) :cancelled))
+                 (item-status-p (agenda-item-owner item) :cancelled))
         (push item starts)))))
 
 (defun keep-finished-macros (agenda run keep cut-time cut-ops)
@@ -204,7 +256,7 @@ cut, so the macro ends then, declared effects and all."
   ;; A run's items are in SEQ order (the order they were recorded).
   (let ((items (run-items run)))
     (dolist (item items keep)
-      (when (and (eq (agenda-item-kind item) :macro-end) (eq (agenda-item-status item) :pending)
+      (when (and (eq (agenda-item-kind item) :macro-end) (item-status-p item :pending)
                  (<= (agenda-item-time item) cut-time))
         (let ((opening (find item items :key #'agenda-item-owner)))
           (when (and opening
@@ -212,7 +264,7 @@ cut, so the macro ends then, declared effects and all."
                               (or (<= (agenda-item-seq inner) (agenda-item-seq opening))
                                   (>= (agenda-item-seq inner) (agenda-item-seq item))
                                   (and (not (member inner cut-ops))
-                                       (or (not (eq (agenda-item-status inner) :pending))
+                                       (or (not (item-status-p inner :pending))
                                            (member inner keep)))))
                             items))
             (setf keep (spare-cons agenda item keep))

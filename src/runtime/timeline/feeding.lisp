@@ -11,18 +11,15 @@
 (declaim (inline skip-pending))
 (defun skip-pending (agenda pending time skip-ops)
   "PENDING (a run's pending items) from the first item the agenda must still
-take.  Cancelled items are retired (nothing else reaches them).  With SKIP-OPS,
-when AGENDA's ops are silent, an :OP item due at TIME, the instant the run
-reaches it, is played there and then (marked :DONE): telling nobody, it need
-not wait its turn on the agenda, and no cut can fall before it (a cut comes
-once everything due at its instant has happened)."
+take.  (A cut's cancelled items are never among them: RETIRE-CANCELLED-ITEMS
+takes them off at the cut.)  With SKIP-OPS, when AGENDA's ops are silent, an
+:OP item due at TIME, the instant the run reaches it, is played there and
+then (marked :DONE): telling nobody, it need not wait its turn on the agenda,
+and no cut can fall before it (a cut comes once everything due at its instant
+has happened)."
   (declare (agenda agenda) (list pending) (double-float time))
   (loop (let ((item (first pending)))
           (cond ((null item) (return pending))
-                ((eq (agenda-item-status item) :cancelled)
-                 ;; Only a cut cancels, and a cut run's pending list is its own.
-                 (retire-item agenda item)
-                 (give-back-cons agenda (shiftf pending (rest pending))))
                 ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)
                       (= (agenda-item-time item) time))
                  (setf (agenda-item-status item) :done
@@ -91,7 +88,7 @@ is a cut run's (a cancelled timer item is still its timer's)."
   (declare (agenda agenda))
   (loop while (plusp (agenda-count agenda))
         do (let ((top (svref (agenda-items agenda) 0)))
-             (if (eq (agenda-item-status top) :cancelled)
+             (if (item-status-p top :cancelled)
                  (discard-top agenda top)
                  (return top)))))
 
@@ -104,5 +101,5 @@ fed it yet included), in no particular order."
     (let ((item (svref (agenda-items agenda) i)))
       (if (run-head-p item)
           (dolist (pending (run-pending (agenda-item-run item)))
-            (when (eq (agenda-item-status pending) :pending) (funcall function pending)))
-          (when (eq (agenda-item-status item) :pending) (funcall function item))))))
+            (when (item-status-p pending :pending) (funcall function pending)))
+          (when (item-status-p item :pending) (funcall function item))))))

@@ -100,7 +100,15 @@ condition true from the start is not a rising edge)."
                                                          (and (state-only-p ast)
                                                               (expression-fields ast (spec-of controller))))))
                           (setf (trigger-state-held state) (and (funcall condition controller) t))
-                          state)))))
+                          state)))
+    ;; What they read together, for TRIGGERS-MAY-TURN-P.
+    (setf (agenda-trigger-fields (timeline-agenda timeline))
+          (let ((reads 0))
+            (dolist (state (timeline-triggers timeline) reads)
+              (let ((fields (trigger-state-fields state)))
+                (if fields
+                    (setf reads (logior reads fields))
+                    (return t))))))))
 
 (declaim (inline trigger-may-turn-p))
 (defun trigger-may-turn-p (state changed)
