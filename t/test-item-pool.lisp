@@ -75,8 +75,7 @@ NIL.  Returns a second value: how many times the items were checked."
    seed stream
    (lambda (machine spec actions initial)
      (flet ((summary (recycle)
-              (let ((player::*recycle-agenda-items* recycle))
-                (tm-play-summary (tm-play-stream machine spec actions initial)))))
+              (tm-play-summary-with 'player::*recycle-agenda-items* recycle machine spec actions initial)))
        (multiple-value-bind (reached checks)
            (let ((player::*recycle-agenda-items* nil))
              (play-stream-checking-items machine spec actions initial))
@@ -90,16 +89,8 @@ NIL.  Returns a second value: how many times the items were checked."
   "On random timed specs and streams (cuts, macros, parallel channels, timers,
 triggers, every policy), no item a timeline retired is reached again, and
 playing with items used again gives the trace of playing with fresh ones."
-  (let ((problems '()) (checks 0))
-    (dolist (seed (subseq *tm-spec-seeds* 0 100))
-      (loop for stream from 1 to 2
-            do (multiple-value-bind (problem checked)
-                   (handler-case (item-pool-problem seed stream)
-                     (error (e) (format nil "error: ~A" e)))
-                 (incf checks (or checked 0))
-                 (when problem
-                   (push (format nil "spec seed ~D, stream ~D: ~A" seed stream problem) problems)))))
-    (is (null problems) "~{~A~^~%~}" (reverse problems))
+  (multiple-value-bind (problems checks) (tm-stream-problems #'item-pool-problem)
+    (is (null problems) "~{~A~^~%~}" problems)
     ;; About seven checks a stream: fewer means the streams played nothing.
     (is (> checks 1000) "only ~D checks" checks)))
 
@@ -142,31 +133,36 @@ fresh items give."
         (is (equal (trace-lines recycled) (trace-lines fresh)))
         (is (> (length (trace-lines fresh)) 4000))))))
 
-(defun c++-spec-item-pool-problem (seed)
+(defun c++-spec-variant-problem (seed label variable values)
   "Where the Lisp traces of random timed spec SEED of the C++ comparison (its
-:time directives leave changes due after an event's end) differ with items
-used again and with fresh ones, or NIL.  Returns a second value: the number
-of scenarios played."
+:time directives leave changes due after an event's end) differ as special
+VARIABLE takes each of VALUES, or NIL.  Each of 16 scenarios is drawn with
+the first value (a spec whose timers keep it busy for ever gives none) and
+played with each.  LABEL (a string) names the throwaway spec.  Returns the
+number of scenarios played, and the machine, as more values."
   (multiple-value-bind (forms model extras) (c++-timeline-spec seed)
-    (let ((machine (machine-of-forms (rs-symbol "item-pool-~D" seed) forms (find-package '#:player-user)))
+    (let ((machine (machine-of-forms (rs-symbol "~A-~D" label seed) forms (find-package '#:player-user)))
           (prng (make-rs-prng (+ 400000 seed)))
           (*package* (find-package '#:player-user)))
-      (loop for i below 16
-            for initial = (if (zerop i) '() (random-initial-state prng model extras))
-            ;; Drawn with fresh items (the reference); a spec whose timers keep
-            ;; it busy for ever gives no scenarios.
-            for (events until when-busy) = (handler-case (let ((player::*recycle-agenda-items* nil))
-                                                           (random-timed-scenario prng machine initial))
-                                             (player::timeline-error () (return (values nil i))))
-            for traces = (loop for recycle in '(t nil)
-                               collect (let ((player::*recycle-agenda-items* recycle))
-                                         (handler-case (lisp-timed-trace machine initial events
-                                                                         :until until :when-busy when-busy)
-                                           (player::timeline-error (e) (list :error (princ-to-string e))))))
-            unless (equal (first traces) (second traces))
-              do (return (values (format nil "scenario ~D ~S: the trace with items used again differs" i events)
-                                 (1+ i)))
-            finally (return (values nil i))))))
+      (flet ((with-value (value thunk)
+               (progv (list variable) (list value) (funcall thunk))))
+        (loop for i below 16
+              for initial = (if (zerop i) '() (random-initial-state prng model extras))
+              for (events until when-busy) = (handler-case
+                                                  (with-value (first values)
+                                                    (lambda () (random-timed-scenario prng machine initial)))
+                                                (player::timeline-error () (return (values nil i machine))))
+              for traces = (loop for value in values
+                                 collect (with-value value
+                                           (lambda ()
+                                             (handler-case (lisp-timed-trace machine initial events
+                                                                             :until until :when-busy when-busy)
+                                               (player::timeline-error (e) (list :error (princ-to-string e)))))))
+              unless (every (lambda (trace) (equal trace (first traces))) (rest traces))
+                do (return (values (format nil "scenario ~D ~S: the traces differ as ~(~A~) changes"
+                                           i events variable)
+                                   (1+ i) machine))
+              finally (return (values nil i machine)))))))
 
 (test timeline-items-used-again-on-the-c++-comparison-specs
   "The random specs of the C++ comparison (macros, :time directives, runtime
@@ -174,7 +170,7 @@ values, every policy) play the same with items used again as with fresh ones."
   (let ((problems '()) (played 0))
     (dolist (seed (loop for seed from 1 to 20 collect seed))
       (multiple-value-bind (problem count)
-          (handler-case (c++-spec-item-pool-problem seed)
+          (handler-case (c++-spec-variant-problem seed "item-pool" 'player::*recycle-agenda-items* '(nil t))
             (error (e) (format nil "error: ~A" e)))
         (incf played (or count 0))
         (when problem (push (format nil "seed ~D: ~A" seed problem) problems))))

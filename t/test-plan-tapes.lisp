@@ -24,8 +24,7 @@ playing it without, or NIL.  Returns a second value: the plans taped."
    seed stream
    (lambda (machine spec actions initial)
      (flet ((summary (tapes)
-              (let ((player::*replay-plan-tapes* tapes))
-                (tm-play-summary (tm-play-stream machine spec actions initial)))))
+              (tm-play-summary-with 'player::*replay-plan-tapes* tapes machine spec actions initial)))
        (let* ((closures (summary nil))
               (taping (summary t))
               (replaying (summary t)))
@@ -39,52 +38,22 @@ playing it without, or NIL.  Returns a second value: the plans taped."
   "On random timed specs and streams (cuts, parallel channels, timers,
 triggers, every policy), a timed controller replaying its taped plans plays
 exactly what planning with the closures plays."
-  (let ((problems '()) (taped 0))
-    (dolist (seed (subseq *tm-spec-seeds* 0 100))
-      (loop for stream from 1 to 2
-            do (multiple-value-bind (problem count)
-                   (handler-case (plan-tape-problem seed stream)
-                     (error (e) (format nil "error: ~A" e)))
-                 (incf taped (or count 0))
-                 (when problem
-                   (push (format nil "spec seed ~D, stream ~D: ~A" seed stream problem) problems)))))
-    (is (null problems) "~{~A~^~%~}" (reverse problems))
+  (multiple-value-bind (problems taped) (tm-stream-problems #'plan-tape-problem)
+    (is (null problems) "~{~A~^~%~}" problems)
     ;; Fewer would mean the streams hardly replayed anything.
     (is (> taped 500) "only ~D plans taped" taped)))
-
-(defun c++-spec-plan-tape-problem (seed)
-  "Where the Lisp traces of random timed spec SEED of the C++ comparison differ
-with taped plans and without, or NIL.  Returns a second value: the number of
-scenarios played, and a third, the plans taped."
-  (multiple-value-bind (forms model extras) (c++-timeline-spec seed)
-    (let ((machine (machine-of-forms (rs-symbol "plan-tapes-~D" seed) forms (find-package '#:player-user)))
-          (prng (make-rs-prng (+ 500000 seed)))
-          (*package* (find-package '#:player-user)))
-      (loop for i below 16
-            for initial = (if (zerop i) '() (random-initial-state prng model extras))
-            for (events until when-busy) = (handler-case (let ((player::*replay-plan-tapes* nil))
-                                                           (random-timed-scenario prng machine initial))
-                                             (player::timeline-error () (return (values nil i (machine-tape-count machine)))))
-            for traces = (loop for tapes in '(nil t t)
-                               collect (let ((player::*replay-plan-tapes* tapes))
-                                         (handler-case (lisp-timed-trace machine initial events
-                                                                         :until until :when-busy when-busy)
-                                           (player::timeline-error (e) (list :error (princ-to-string e))))))
-            unless (and (equal (first traces) (second traces)) (equal (first traces) (third traces)))
-              do (return (values (format nil "scenario ~D ~S: the trace with taped plans differs" i events)
-                                 (1+ i) (machine-tape-count machine)))
-            finally (return (values nil i (machine-tape-count machine)))))))
 
 (test timeline-taped-plans-on-the-c++-comparison-specs
   "The random specs of the C++ comparison (macro-ops, :time directives,
 runtime values, every policy) play the same with taped plans as without."
   (let ((problems '()) (played 0) (taped 0))
     (dolist (seed (loop for seed from 1 to 20 collect seed))
-      (multiple-value-bind (problem count tapes)
-          (handler-case (c++-spec-plan-tape-problem seed)
+      (multiple-value-bind (problem count machine)
+          ;; Off, taping, replaying.
+          (handler-case (c++-spec-variant-problem seed "plan-tapes" 'player::*replay-plan-tapes* '(nil t t))
             (error (e) (format nil "error: ~A" e)))
         (incf played (or count 0))
-        (incf taped (or tapes 0))
+        (incf taped (if machine (machine-tape-count machine) 0))
         (when problem (push (format nil "seed ~D: ~A" seed problem) problems))))
     (is (null problems) "~{~A~^~%~}" (reverse problems))
     (is (>= played 250) "only ~D scenarios" played)

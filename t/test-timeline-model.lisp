@@ -311,6 +311,12 @@ nothing): not quiet, so a timed controller tells it everything."))
         (mapcar (lambda (check) (list (first check) (and (second check) t))) (tmp-checks play))
         (tmp-settle-times play) (tmp-final-state play) (and (tmp-final-busy play) t) (tmp-abandoned play)))
 
+(defun tm-play-summary-with (variable value machine spec actions initial)
+  "TM-PLAY-SUMMARY of ACTIONS played on MACHINE from INITIAL, with special
+VARIABLE bound to VALUE."
+  (progv (list variable) (list value)
+    (tm-play-summary (tm-play-stream machine spec actions initial))))
+
 (defun tm-fast-path-problem (seed stream)
   "How the fast and general paths differ on stream STREAM of spec SEED, or NIL.
 Returns a second value: the number of lines the quiet log holds."

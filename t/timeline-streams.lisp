@@ -363,3 +363,19 @@ play's lines are PRESENTER's trace lines (none unless it is a trace presenter)."
                   :final-state (controller-state controller)
                   :final-busy (controller-busy-p controller)
                   :abandoned abandoned)))
+
+(defun tm-stream-problems (function &key (specs 100) (streams 2))
+  "Call FUNCTION on (SEED STREAM) for the first SPECS spec seeds and STREAMS
+streams each; FUNCTION returns a problem (a string) or NIL, and a count.
+Returns the problems, each naming its seed and stream (an error is one), and
+the sum of the counts."
+  (let ((problems '()) (total 0))
+    (dolist (seed (subseq *tm-spec-seeds* 0 specs))
+      (loop for stream from 1 to streams
+            do (multiple-value-bind (problem count)
+                   (handler-case (funcall function seed stream)
+                     (error (e) (format nil "error: ~A" e)))
+                 (incf total (or count 0))
+                 (when problem
+                   (push (format nil "spec seed ~D, stream ~D: ~A" seed stream problem) problems)))))
+    (values (reverse problems) total)))
