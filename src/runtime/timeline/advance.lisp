@@ -37,7 +37,7 @@
   "CHECK-TRIGGERS, after a change of the plannable fields CHANGED (0 for a
 runtime value), unless no trigger reads those fields: then only what it does
 besides, CONTROLLER's scheduling clock set to NOW."
-  (if (triggers-may-turn-p (timeline-agenda timeline) changed)
+  (if (triggers-may-turn-p timeline changed)
       (check-triggers timeline changed)
       ;; NIL: the double just set, returned, would be boxed.
       (progn (setf (controller-schedule controller) (timeline-now timeline))

@@ -128,23 +128,7 @@ it (cancelling is O(1)); a cut takes its run's cancelled items off at once
   (free-conses '() :type list)
   ;; Runs that are over and reached by nothing, to use again, chained
   ;; through their FOOTPRINT (RUNS.LISP).
-  (free-runs nil)
-  ;; The plannable fields the timeline's triggers read, or T when one of them
-  ;; compares numbers (START-TRIGGERS): a change of no field of these cannot
-  ;; fire a trigger, so it is not asked (TRIGGERS-MAY-TURN-P).
-  (trigger-fields 0 :type (or (eql t) integer)))
-
-(declaim (inline triggers-may-turn-p))
-(defun triggers-may-turn-p (agenda changed)
-  "Can a trigger of AGENDA's timeline fire when the plannable fields CHANGED
-(a mask, 0 for a runtime value) do (see TRIGGER-MAY-TURN-P, for one)?"
-  (declare (agenda agenda))
-  (let ((reads (agenda-trigger-fields agenda)))
-    (or (eq reads t)
-        ;; Fixnum masks (the usual states) test in a machine instruction.
-        (if (and (typep reads 'fixnum) (typep changed 'fixnum))
-            (logtest reads changed)
-            (logtest reads changed)))))
+  (free-runs nil))
 
 ;; Inline: the recorder numbers every item it makes.
 (declaim (inline agenda-next-seq))

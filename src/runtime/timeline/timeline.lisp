@@ -50,6 +50,10 @@ waiting (QUEUE), and its timers and triggers."
   (recording-presenter nil)
   (timers '() :type list)
   (triggers '() :type list)
+  ;; The plannable fields the triggers read, or T when one of them compares
+  ;; numbers (START-TRIGGERS): a change of no field of these cannot fire a
+  ;; trigger, so it is not asked (TRIGGERS-MAY-TURN-P).
+  (trigger-fields 0 :type (or (eql t) integer))
   ;; Sends of timers and triggers that went off at NOW, newest first: they are
   ;; dispatched once everything else due at NOW has happened, as a send from
   ;; outside at that time would be.
@@ -127,6 +131,17 @@ on, so the pair conses one box, not two."
     (if (and box (= (the double-float box) (timeline-now timeline)))
         box
         (setf (timeline-now-box timeline) (timeline-now timeline)))))
+
+(declaim (inline triggers-may-turn-p))
+(defun triggers-may-turn-p (timeline changed)
+  "Can a trigger of TIMELINE fire when the plannable fields CHANGED (a mask, 0
+for a runtime value) do (see TRIGGER-MAY-TURN-P, for one)?"
+  (let ((reads (timeline-trigger-fields timeline)))
+    (or (eq reads t)
+        ;; Fixnum masks (the usual states) test in a machine instruction.
+        (if (and (typep reads 'fixnum) (typep changed 'fixnum))
+            (logtest reads changed)
+            (logtest reads changed)))))
 
 (declaim (inline timeline-busy-p))
 (defun timeline-busy-p (timeline)

@@ -102,7 +102,7 @@ condition true from the start is not a rising edge)."
                           (setf (trigger-state-held state) (and (funcall condition controller) t))
                           state)))
     ;; What they read together, for TRIGGERS-MAY-TURN-P.
-    (setf (agenda-trigger-fields (timeline-agenda timeline))
+    (setf (timeline-trigger-fields timeline)
           (let ((reads 0))
             (dolist (state (timeline-triggers timeline) reads)
               (let ((fields (trigger-state-fields state)))
