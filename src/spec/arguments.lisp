@@ -93,16 +93,25 @@ NaN is recognised without comparing it, which would trap."
   (format nil "a finite number of seconds from ~A to ~A"
           (number-text (or minimum (- *max-seconds*))) (number-text (or maximum *max-seconds*))))
 
+(declaim (inline plain-seconds-p))
+(defun plain-seconds-p (x)
+  "Is X a double-float that CHECK-SECONDS takes as it is, without asking more:
+finite, below 2^49 in magnitude, and *MAX-SECONDS* at least that?"
+  ;; Inline where a double is checked on every call (a timed send): a full
+  ;; call of CHECK-SECONDS, with keyword arguments and a generic compare of
+  ;; *MAX-SECONDS*, costs more than the check.  The exponent's bits exclude
+  ;; NaNs and infinities without comparing them, which would trap.
+  (and (typep x 'double-float)
+       (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) (+ 1023 49))
+       (let ((limit *max-seconds*))
+         (and (typep limit 'double-float) (>= limit #.(expt 2d0 49))))))
+
 (defun check-seconds (function argument value &key minimum maximum (class 'argument-error))
   "VALUE, a finite number of seconds from MINIMUM to MAXIMUM (by default
 +-*MAX-SECONDS*), as a double-float (see TO-DOUBLE); else an ARGUMENT-ERROR (or
 CLASS).  Conses nothing for a double-float in range."
-  ;; The usual case first: a double, no bounds of the caller's, and an
-  ;; exponent (its bits: NaNs and infinities excluded without comparing
-  ;; them, which would trap) below 2^49, inside +-*MAX-SECONDS* (1e15).
-  (when (and (typep value 'double-float) (null minimum) (null maximum)
-             (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits value)) (+ 1023 49))
-             (>= *max-seconds* #.(expt 2d0 49)))
+  ;; The usual case first: a plain double and no bounds of the caller's.
+  (when (and (null minimum) (null maximum) (plain-seconds-p value))
     (return-from check-seconds value))
   (if (and (seconds-p value)
            (or (null minimum) (>= value minimum))

@@ -11,19 +11,6 @@
   (or (controller-timeline controller)
       (argument-fail function 'controller controller "a timed controller (make-controller ... :timed t)")))
 
-(declaim (inline plain-seconds-p))
-(defun plain-seconds-p (x)
-  "Is X a double-float that CHECK-SECONDS would take as it is, without asking
-more: finite, below 2^49 in magnitude, and *MAX-SECONDS* at least that?"
-  ;; CHECK-SECONDS's own first test, inline: a full call with keyword
-  ;; arguments, and its generic compare of *MAX-SECONDS*, cost more than
-  ;; the check (every timed send).  The exponent's bits exclude NaNs and
-  ;; infinities without comparing them, which would trap.
-  (and (typep x 'double-float)
-       (< (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) (+ 1023 49))
-       (let ((limit *max-seconds*))
-         (and (typep limit 'double-float) (>= limit #.(expt 2d0 49))))))
-
 ;; Inline, its usual case: a double from now on, taken as it is.  The rest,
 ;; and the error, are CHECK-TIME-FROM-NOW-SLOWLY's.
 (declaim (inline check-time-from-now))
