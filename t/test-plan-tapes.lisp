@@ -100,3 +100,34 @@ by its closures, and plays the same."
                       maximize (let ((table (player::compiled-event-tapes compiled)))
                                  (if table (player::tape-table-count table) 0)))
                 2))))))
+
+(test plan-tapes-replay-macros-nested-deep
+  "Macro-ops nested six deep (deeper than the replay's first span stack) play
+the same replayed as planned by the closures."
+  (let* ((forms (append '((state-variable lit boolean false)
+                          (state-variable blocked boolean false)
+                          (op leaf :duration 0.5)
+                          (op light :add lit :duration 0.25)
+                          (macro-op m1 :precond (not blocked) :seq (:op leaf :op light)))
+                        (loop for k from 2 to 6
+                              collect `(macro-op ,(intern (format nil "M~D" k)) :precond (not blocked)
+                                         :seq (:op leaf :op ,(intern (format nil "M~D" (1- k))) :op leaf)))
+                        '((event ev :op m6))))
+         (machine (machine-of-forms 'tapes-nested forms (find-package '#:player-user))))
+    (flet ((play (tapes)
+             (let ((player::*replay-plan-tapes* tapes))
+               (let* ((presenter (make-trace-presenter))
+                      (controller (make-controller machine :timed t :presenter presenter)))
+                 ;; Once to its end, then cut by itself and resumed.
+                 (send-event controller "ev")
+                 (finish-events controller)
+                 (send-event controller "ev")
+                 (send-event controller "ev" :at (+ (controller-time controller) 3.3d0)
+                                             :when-busy :interleave)
+                 (finish-events controller)
+                 (trace-lines presenter)))))
+      (let ((closures (play nil)))
+        (play t)                          ; tapes
+        (is (equal closures (play t)))
+        (is (>= (machine-tape-count machine) 1))
+        (is (>= (count-if (lambda (line) (and (symbolp (second line)) (string= (second line) "M6"))) closures) 3))))))

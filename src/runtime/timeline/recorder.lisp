@@ -46,7 +46,13 @@
   ;; what the closures did so far, newest first, or :SPOILED when they did
   ;; something a tape cannot replay.
   (taping nil :type boolean)
-  (tape '() :type (or list (eql :spoiled))))
+  (tape '() :type (or list (eql :spoiled)))
+  ;; Where a replay keeps the spans of the MACRO-DEPTH macros open (three
+  ;; doubles a macro, grown as macros nest deeper), so it conses none
+  ;; (REPLAY-MACRO-START).
+  (macro-spans (make-array 12 :element-type 'double-float :initial-element 0d0)
+   :type (simple-array double-float (*)))
+  (macro-depth 0 :type fixnum))
 
 (defun note-taped (recorder code op mask bits)
   "Put on RECORDER's tape what the closures just did: CODE (see REPLAY-TAPE)

@@ -120,6 +120,39 @@ empty; at most half the pairs full, so every probe ends."
 
 ;;;# Taping and replaying
 
+(defun replay-macro-start (recorder controller op)
+  "What COMPILE-MACRO-EXECUTOR does as macro-op OP begins, in the same order:
+its span, and the outer one, are kept in RECORDER's MACRO-SPANS (unboxed
+doubles, three a macro open: START, OUTER-START, OUTER-END)."
+  (let* ((spans (recorder-macro-spans recorder))
+         (at (* 3 (recorder-macro-depth recorder)))
+         (start (controller-schedule controller)))
+    (declare (type (simple-array double-float (*)) spans) (fixnum at))
+    (when (> (+ at 3) (length spans))
+      (setf spans (replace (make-array (* 2 (length spans)) :element-type 'double-float) spans)
+            (recorder-macro-spans recorder) spans))
+    (setf (aref spans at) start
+          (aref spans (+ at 1)) (controller-span-start controller)
+          (aref spans (+ at 2)) (controller-span-end controller))
+    (incf (recorder-macro-depth recorder))
+    (record-macro-start recorder op start)
+    (setf (controller-span-start controller) start
+          (controller-span-end controller) start)))
+
+(defun replay-macro-end (recorder controller op)
+  "What COMPILE-MACRO-EXECUTOR does as the innermost macro-op open, OP, ends:
+its span closes, the clock moves to its end."
+  (let* ((spans (recorder-macro-spans recorder))
+         (at (* 3 (decf (recorder-macro-depth recorder))))
+         (start (aref spans at))
+         (outer-end (aref spans (+ at 2)))
+         (end (controller-span-end controller)))
+    (declare (type (simple-array double-float (*)) spans) (fixnum at))
+    (setf (controller-span-start controller) (aref spans (+ at 1))
+          (controller-span-end controller) (max outer-end end)
+          (controller-schedule controller) end)
+    (record-macro-end recorder op start end)))
+
 (defun replay-tape (recorder controller tape)
   "Do to RECORDER what the closures did when TAPE was made, with CONTROLLER's
 clock where they found theirs; return what they returned.  Each entry is a
@@ -129,10 +162,9 @@ code, an op, a mask, bits and the step it was made in:
   2  the macro-op ended: its span closes, the clock moves to its end
   3  the fields of MASK became BITS at the clock, at the end of the op or NIL."
   (let* ((entries (plan-tape-entries tape))
-         (count (length entries))
-         ;; (START OUTER-START . OUTER-END) of each macro open, innermost first.
-         (macros '()))
+         (count (length entries)))
     (declare (simple-vector entries) (fixnum count))
+    (setf (recorder-macro-depth recorder) 0)
     (do ((i 0 (+ i 5)))
         ((>= i count))
       (declare (fixnum i))
@@ -140,21 +172,8 @@ code, an op, a mask, bits and the step it was made in:
         (setf (controller-step controller) (the fixnum (svref entries (+ i 4))))
         (case (svref entries i)
           (0 (record-op-played recorder controller op (svref entries (+ i 2)) (svref entries (+ i 3))))
-          (1 (let ((start (controller-schedule controller)))
-               ;; What COMPILE-MACRO-EXECUTOR does, in the same order.
-               (push (list* start (controller-span-start controller) (controller-span-end controller))
-                     macros)
-               (record-macro-start recorder op start)
-               (setf (controller-span-start controller) start
-                     (controller-span-end controller) start)))
-          (2 (let* ((span (pop macros))
-                    (start (first span))
-                    (outer-end (the double-float (cddr span)))
-                    (end (controller-span-end controller)))
-               (setf (controller-span-start controller) (the double-float (second span))
-                     (controller-span-end controller) (max outer-end end)
-                     (controller-schedule controller) end)
-               (record-macro-end recorder op start end)))
+          (1 (replay-macro-start recorder controller op))
+          (2 (replay-macro-end recorder controller op))
           (3 (record-change recorder :delta controller (controller-schedule controller)
                             (svref entries (+ i 2)) (svref entries (+ i 3)) op)))))
     (setf (controller-step controller) (plan-tape-step tape))
