@@ -50,14 +50,14 @@ demo-dialogue: deps
 	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/dialogue/conversation.mp4)
 
 test: deps
-	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
+	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --eval '(asdf:test-system "player")' \
 	  --eval '(sb-ext:exit :code (if (symbol-value (find-symbol "*LAST-RUN-FAILED*" "PLAYER-TESTS")) 1 0))'
 
 # A bigger heap than SBCL's default 1 GB: (newton-cradle 8)'s merge has 20 M edges
 # (bench/cradle.lisp skips a build the machine's free memory cannot hold).
 bench: deps
-	$(SBCL) --dynamic-space-size 20000 $(wordlist 2,100,$(LISP)) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
+	$(SBCL) --dynamic-space-size 20000 $(wordlist 2,100,$(LISP)) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player") (uiop:quit 1))' \
 	  --load bench/run.lisp --eval '(player-bench:run-benchmarks)'
 
 # Instructions per Peedy event (timed and whole-event), counted by valgrind:
@@ -75,7 +75,7 @@ bench-profile: deps
 # FUZZ_SEED=N picks other cases; FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_GXX_CASES size the run.
 fuzz: deps
 	FUZZ_SEED='$(FUZZ_SEED)' FUZZ_CASES='$(FUZZ_CASES)' FUZZ_CLI_CASES='$(FUZZ_CLI_CASES)' FUZZ_GXX_CASES='$(FUZZ_GXX_CASES)' \
-	$(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
+	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --load t/fuzz-main.lisp --eval '(player-tests::fuzz-main)'
 
 # Generate Peedy's controller as C++ and run examples/embed-cpp/main.cpp on it.
@@ -94,5 +94,5 @@ embed-scene-example: deps
 
 # Regenerate t/golden/*.png after an intended change of the look; look at them before committing.
 golden: deps
-	PLAYER_REGENERATE_GOLDEN=1 $(LISP) --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player/tests"))' \
+	PLAYER_REGENERATE_GOLDEN=1 $(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --eval "(fiveam:run! 'player-tests::render)"

@@ -1,7 +1,12 @@
-;;;; player.asd -- the system definition; read in order, it is the pipeline:
-;;;; spec language -> planner -> code generators (Lisp closures, C++) ->
-;;;; runtime (controller -> anim -> body -> scripts -> performance -> render) -> CLI.
-;;;; Every module is one folder.
+;;;; player.asd -- the system definition; read in order, it is the architecture.
+;;;; Each module is one layer: one folder of src/ and one package, PLAYER.<module>,
+;;;; which uses exactly the modules it :DEPENDS-ON (t/test-layers.lisp checks it):
+;;;;
+;;;;   base -> spec -> planner -> ir -> inspect, compose -> control, cpp
+;;;;        -> speech, body -> performance -> render -> cast, dialogue, traces -> cli
+;;;;
+;;;; and last the facade, PLAYER, that users, spec files and the docs see.
+;;;; doc/internals/architecture.md is the map.
 
 (defsystem "player"
   :description "Planning-based animation controllers: declare operators with
@@ -10,288 +15,304 @@ run the resulting state machine as Lisp closures or embedded C++."
   :version "0.1.0"
   :license "MIT"
   :depends-on ("alexandria" "sb-md5" "cffi" "salza2" "bordeaux-threads")
-  :serial t
+  :pathname "src"
   :components
-  ((:module "src"
+  (;; Helpers every layer shares: the condition tree, the printer, argument checks, the limits on data.
+   (:module "base"
     :serial t
-    :components
-    ((:file "package")
-     (:file "utilities")
-     (:module "spec"
-      :serial t
-      :components ((:file "conditions")
-                   (:file "printing")
-                   (:file "structure")
-                   (:file "arguments")
-                   (:file "model")
-                   (:file "syntax")
-                   (:file "expressions")
-                   (:file "canonical")
-                   (:file "classes")
-                   (:file "variables")
-                   (:file "state-space")
-                   (:file "spec-options")
-                   (:file "parse")
-                   (:file "directives")
-                   (:file "interruption")
-                   (:file "timers")
-                   (:file "validate")
-                   (:file "initial-values")
-                   (:file "code-sites")
-                   (:file "registry")
-                   (:file "data-files")
-                   (:file "spec-files")))
-     (:module "planner"
-      :serial t
-      :components ((:file "encoding")
-                   (:file "solved-states")
-                   ;; Past the full space: plans for the reachable states only.
-                   (:file "reachable")
-                   (:file "regression")
-                   (:file "uniform-cost")
-                   (:file "goal-identity")
-                   (:file "goals")
-                   (:file "macro-exactness")
-                   (:file "plan-memo")
-                   (:file "machine")
-                   (:file "diagnostics")))
-     ;; Looking at a planned machine: its state graph as Graphviz, explanations.
-     (:module "inspect"
-      :serial t
-      :components ((:file "state-graph")
-                   (:file "dot")
-                   (:file "explanation-steps")
-                   (:file "unreachable-goals")
-                   (:file "explain")))
-     (:module "compose"
-      :serial t
-      :components ((:file "conditions")
-                   (:file "nodes")
-                   (:file "graphs")
-                   (:file "patterns")
-                   (:file "restriction")
-                   (:file "products")
-                   (:file "trees")
-                   (:file "merge")
-                   (:file "traces")
-                   (:file "cradle")
-                   (:file "graph-spec")
-                   (:file "cradle-spec")
-                   (:file "cradle-scripts")
-                   (:file "spec-graph")
-                   (:file "graph-expressions")
-                   (:file "graph-option")))
-     (:module "codegen"
-      :serial t
-      :components ((:file "ir")
-                   ;; Lisp: closures running on a controller struct.
-                   (:file "controller-state")
-                   (:file "lisp-closures")
-                   (:file "lisp-steps")
-                   ;; C++: a standalone controller to embed.
-                   (:file "cpp-names")
-                   ;; The one-hot state in 64-bit words: one for most specs, more for wide ones.
-                   (:file "cpp-words")
-                   (:file "cpp")
-                   (:file "cpp-steps")
-                   (:file "cpp-timeline")
-                   (:file "cpp-timeline-agenda")
-                   (:file "cpp-timeline-dispatch")
-                   (:file "cpp-timeline-clock")
-                   (:file "cpp-timeline-machine")
-                   (:file "cpp-source")
-                   (:file "cpp-drivers")
-                   (:file "cpp-build")
-                   (:file "cpp-batch")))
-     ;; Speech: sound files, espeak-ng synthesis with its phoneme timeline as
-     ;; visemes, pocketsphinx recognition; libraries loaded on first use.
-     (:module "speech"
-      :serial t
-      :components ((:file "libraries")
-                   (:file "wav")
-                   (:file "espeak")
-                   (:file "synthesis")
-                   (:file "visemes")
-                   (:file "mix")
-                   (:file "pocketsphinx")
-                   (:file "pronunciation")
-                   (:file "recognition")
-                   (:file "playback")))
-     (:module "runtime"
-      :serial t
-      :components
-      ((:module "controller"
-        :serial t
-        :components ((:file "presenter")
-                     (:file "presenter-silence")
-                     (:file "controller")
-                     ;; States the reachable regime has no plans from.
-                     (:file "unplanned-states")
-                     ;; Live authoring: a running controller switched to its redefined spec.
-                     (:file "redefinition")
-                     (:file "following")))
-       ;; The timed controller: events meeting while the character moves.
-       (:module "timeline"
-        :serial t
-        :components ((:file "agenda")
-                     (:file "runs")
-                     (:file "item-pool")
-                     (:file "feeding")
-                     (:file "footprints")
-                     (:file "recorder")
-                     (:file "timeline")
-                     ;; Plans taped the first time, replayed after.
-                     (:file "tapes")
-                     (:file "advance")
-                     (:file "arrivals")
-                     (:file "cuts")
-                     (:file "timers")
-                     (:file "api")))
-       (:module "anim"
-        :serial t
-        :components ((:file "vectors")
-                     (:file "quaternions")
-                     (:file "transforms")
-                     (:file "controls")
-                     (:file "keyframes")
-                     (:file "noise")
-                     (:file "control-forms")
-                     (:file "scene")))
-       (:module "body"
-        :serial t
-        :components ((:file "skeleton")
-                     (:file "arbitration")
-                     (:file "pose")
-                     (:file "pose-library")
-                     (:file "bvh")
-                     (:file "motor-functions")
-                     (:file "driver")
-                     (:file "body")
-                     (:file "ik")
-                     (:file "ik-search")
-                     (:module "drivers"
-                      :serial t
-                      :components ((:file "direct")
-                                   (:file "keyframe")
-                                   (:file "lips")
-                                   (:file "beat")
-                                   (:file "idle")
-                                   (:file "aim")
-                                   (:file "head")
-                                   (:file "gaze")
-                                   (:file "blink")
-                                   (:file "facing")
-                                   (:file "eyebrows")
-                                   (:file "reach")))))
-       (:module "scripts"
-        :serial t
-        :components ((:file "scripts")
-                     (:file "audio-items")
-                     (:file "directors")
-                     (:file "script-library")
-                     (:file "pose-when")))
-       (:module "performance"
-        :serial t
-        :components ((:file "performance")
-                     (:file "captions")
-                     (:file "starting-pose")
-                     (:file "placeholders")
-                     (:file "speech")
-                     (:file "body-presenter")
-                     (:file "op-channels")
-                     (:file "script-check")
-                     (:file "simulation")
-                     (:file "library-reload")))
-       ;; Live authoring's plumbing: work posted between threads, watched files.
-       (:module "live"
-        :serial t
-        :components ((:file "inbox")
-                     (:file "watch")
-                     (:file "reports")
-                     (:file "swank")))
-       (:module "render"
-        :serial t
-        :components ((:file "mesh")
-                     (:file "appearance")
-                     (:file "body-mesh")
-                     (:file "scene-mesh")
-                     (:file "libraries")
-                     (:file "gl")
-                     (:file "osmesa")
-                     (:file "framebuffer")
-                     (:file "png")
-                     (:file "camera")
-                     (:file "antialias")
-                     (:file "shaders")
-                     (:file "caption-font")
-                     (:file "captions")
-                     (:file "renderer")
-                     (:file "render-simulation")
-                     (:file "glfw")
-                     (:file "viewer")
-                     (:file "live-viewer")
-                     (:file "view-session")))))
-     ;; Several characters in one scene: DEFSCENE, event addresses, one
-     ;; controller per member over a shared machine, a scene simulated and drawn.
-     (:module "cast"
-      :serial t
-      :components ((:file "conditions")
-                   (:file "defscene")
-                   (:file "addresses")
-                   (:file "scene-files")
-                   (:file "ensemble")
-                   (:file "scene-simulation")
-                   (:file "scene-viewer")))
-     ;; Persona's dialogue manager: a sentence -> an input event -> a transition
-     ;; -> Player events and spoken templates, with context and episodic memory.
-     (:module "dialogue"
-      :serial t
-      :components ((:file "names")
-                   (:file "conditions")
-                   (:file "model")
-                   (:file "catalogue")
-                   (:file "memory")
-                   (:file "conversation")
-                   (:file "expressions")
-                   (:file "templates")
-                   (:file "actions")
-                   (:file "catalogue-actions")
-                   (:file "matcher")
-                   (:file "jsgf")
-                   (:file "parse")
-                   (:file "files")
-                   (:file "turns")
-                   ;; The loop closed: replies spoken on the performance, beak in sync.
-                   (:file "speaking")))
-     ;; Recorded traces as regression tests: record a scenario, verify a replay.
-     (:module "regression"
-      :serial t
-      :components ((:file "conditions")
-                   (:file "recording")
-                   (:file "scenario")
-                   (:file "files")
-                   (:file "differences")
-                   (:file "api")))
-     (:module "cli"
-      :serial t
-      :components ((:file "options")
-                   (:file "commands")
-                   (:file "help")
-                   (:file "main")
-                   (:file "cast")
-                   (:file "run")
-                   (:file "plans")
-                   (:file "dot")
-                   (:file "check")
-                   (:file "explain")
-                   (:file "emit-c++")
-                   (:file "simulate")
-                   (:file "render")
-                   (:file "view")
-                   (:file "record")
-                   (:file "verify")
-                   (:file "chat")
-                   (:file "speak"))))))
+    :components ((:file "package")
+                 (:file "utilities")
+                 (:file "conditions")
+                 (:file "printing")
+                 (:file "structure")
+                 (:file "arguments")))
+   ;; The spec language: the model of a spec, its parser and checks, the registry, data files.
+   (:module "spec" :depends-on ("base")
+    :serial t
+    :components ((:file "package")
+                 (:file "model")
+                 (:file "syntax")
+                 (:file "expressions")
+                 (:file "canonical")
+                 (:file "classes")
+                 (:file "variables")
+                 (:file "state-space")
+                 (:file "spec-options")
+                 (:file "parse")
+                 (:file "directives")
+                 (:file "interruption")
+                 (:file "timers")
+                 (:file "validate")
+                 (:file "initial-values")
+                 (:file "code-sites")
+                 (:file "registry")
+                 (:file "data-files")
+                 (:file "spec-files")
+                 (:file "scenarios")))
+   ;; Goal regression: plans from every state (or every reachable one) to every goal, the machine.
+   (:module "planner" :depends-on ("base" "spec")
+    :serial t
+    :components ((:file "package")
+                 (:file "encoding")
+                 (:file "solved-states")
+                 (:file "reachable")
+                 (:file "regression")
+                 (:file "uniform-cost")
+                 (:file "goal-identity")
+                 (:file "goals")
+                 (:file "macro-exactness")
+                 (:file "plan-memo")
+                 (:file "machine")
+                 (:file "diagnostics")))
+   ;; The steps an event's directives compile to, which both back ends (Lisp closures, C++) read.
+   (:module "ir" :depends-on ("base" "spec" "planner")
+    :serial t
+    :components ((:file "package")
+                 (:file "steps")))
+   ;; Looking at a planned machine: its state graph as Graphviz, explanations of plans.
+   (:module "inspect" :depends-on ("base" "spec" "planner")
+    :serial t
+    :components ((:file "package")
+                 (:file "state-graph")
+                 (:file "dot")
+                 (:file "explanation-steps")
+                 (:file "unreachable-goals")
+                 (:file "explain")))
+   ;; Clark & Palmer's algebra of transition systems: graphs, products, merges, the cradle, graphs as specs.
+   (:module "compose" :depends-on ("base" "spec" "planner")
+    :serial t
+    :components ((:file "package")
+                 (:file "conditions")
+                 (:file "nodes")
+                 (:file "graphs")
+                 (:file "patterns")
+                 (:file "restriction")
+                 (:file "products")
+                 (:file "trees")
+                 (:file "merge")
+                 (:file "traces")
+                 (:file "cradle")
+                 (:file "graph-spec")
+                 (:file "cradle-spec")
+                 (:file "cradle-scripts")
+                 (:file "spec-graph")
+                 (:file "graph-expressions")
+                 (:file "graph-option")))
+   ;; Running a machine: the controller, the presenter and recorder protocol, the Lisp closures, the timed controller.
+   (:module "control" :depends-on ("base" "spec" "planner" "ir")
+    :serial t
+    :components ((:file "package")
+                 (:file "controller-state")
+                 (:file "lisp-closures")
+                 (:file "lisp-steps")
+                 (:module "controller"
+                  :serial t
+                  :components ((:file "presenter")
+                               (:file "presenter-silence")
+                               (:file "controller")
+                               (:file "unplanned-states")
+                               (:file "redefinition")
+                               (:file "following")))
+                 (:module "timeline"
+                  :serial t
+                  :components ((:file "agenda")
+                               (:file "runs")
+                               (:file "item-pool")
+                               (:file "feeding")
+                               (:file "footprints")
+                               (:file "recorder")
+                               (:file "timeline")
+                               (:file "tapes")
+                               (:file "advance")
+                               (:file "arrivals")
+                               (:file "cuts")
+                               (:file "timers")
+                               (:file "api")))))
+   ;; The C++ back end: a standalone controller to embed, built and run for the comparison tests.
+   (:module "cpp" :depends-on ("base" "spec" "planner" "ir")
+    :serial t
+    :components ((:file "package")
+                 (:file "cpp-names")
+                 (:file "cpp-words")
+                 (:file "cpp")
+                 (:file "cpp-steps")
+                 (:file "cpp-timeline")
+                 (:file "cpp-timeline-agenda")
+                 (:file "cpp-timeline-dispatch")
+                 (:file "cpp-timeline-clock")
+                 (:file "cpp-timeline-machine")
+                 (:file "cpp-source")
+                 (:file "cpp-drivers")
+                 (:file "cpp-build")
+                 (:file "cpp-batch")))
+   ;; Sound files, espeak-ng synthesis with its phonemes as visemes, pocketsphinx recognition, playback.
+   (:module "speech" :depends-on ("base" "spec")
+    :serial t
+    :components ((:file "package")
+                 (:file "libraries")
+                 (:file "wav")
+                 (:file "espeak")
+                 (:file "synthesis")
+                 (:file "visemes")
+                 (:file "mix")
+                 (:file "pocketsphinx")
+                 (:file "pronunciation")
+                 (:file "recognition")
+                 (:file "playback")))
+   ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
+   (:module "body" :depends-on ("base" "spec")
+    :serial t
+    :components ((:file "package")
+                 (:module "anim"
+                  :serial t
+                  :components ((:file "vectors")
+                               (:file "quaternions")
+                               (:file "transforms")
+                               (:file "controls")
+                               (:file "keyframes")
+                               (:file "noise")
+                               (:file "control-forms")
+                               (:file "scene")))
+                 (:file "skeleton")
+                 (:file "arbitration")
+                 (:file "pose")
+                 (:file "pose-library")
+                 (:file "bvh")
+                 (:file "motor-functions")
+                 (:file "driver")
+                 (:file "body")
+                 (:file "ik")
+                 (:file "ik-search")
+                 (:module "drivers"
+                  :serial t
+                  :components ((:file "direct")
+                               (:file "keyframe")
+                               (:file "lips")
+                               (:file "beat")
+                               (:file "idle")
+                               (:file "aim")
+                               (:file "head")
+                               (:file "gaze")
+                               (:file "blink")
+                               (:file "facing")
+                               (:file "eyebrows")
+                               (:file "reach")))))
+   ;; Scripts played on a body: script libraries, directors, the performance, the body presenter, simulation.
+   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "body")
+    :serial t
+    :components ((:file "package")
+                 (:module "scripts"
+                  :serial t
+                  :components ((:file "scripts")
+                               (:file "audio-items")
+                               (:file "directors")
+                               (:file "script-library")
+                               (:file "pose-when")))
+                 (:file "performance")
+                 (:file "captions")
+                 (:file "starting-pose")
+                 (:file "placeholders")
+                 (:file "speech")
+                 (:file "body-presenter")
+                 (:file "op-channels")
+                 (:file "script-check")
+                 (:file "simulation")
+                 (:file "library-reload")))
+   ;; Pictures: meshes, OpenGL through OSMesa and GLFW, PNG, the viewer and live authoring.
+   (:module "render" :depends-on ("base" "spec" "planner" "inspect" "control" "speech" "body" "performance")
+    :serial t
+    :components ((:file "package")
+                 (:module "live"
+                  :serial t
+                  :components ((:file "inbox")
+                               (:file "watch")
+                               (:file "reports")
+                               (:file "swank")))
+                 (:file "mesh")
+                 (:file "appearance")
+                 (:file "body-mesh")
+                 (:file "scene-mesh")
+                 (:file "libraries")
+                 (:file "gl")
+                 (:file "osmesa")
+                 (:file "framebuffer")
+                 (:file "png")
+                 (:file "camera")
+                 (:file "antialias")
+                 (:file "shaders")
+                 (:file "caption-font")
+                 (:file "captions")
+                 (:file "renderer")
+                 (:file "render-simulation")
+                 (:file "glfw")
+                 (:file "viewer")
+                 (:file "live-viewer")
+                 (:file "view-session")))
+   ;; Several characters in one scene: DEFSCENE, event addresses, ensembles, scenes simulated and drawn.
+   (:module "cast" :depends-on ("base" "spec" "control" "speech" "body" "performance" "render")
+    :serial t
+    :components ((:file "package")
+                 (:file "conditions")
+                 (:file "defscene")
+                 (:file "addresses")
+                 (:file "scene-files")
+                 (:file "ensemble")
+                 (:file "scene-simulation")
+                 (:file "scene-viewer")))
+   ;; Persona's dialogue manager: sentences to input events, transitions, templates, memory, speaking.
+   (:module "dialogue" :depends-on ("base" "spec" "control" "speech" "body" "performance")
+    :serial t
+    :components ((:file "package")
+                 (:file "names")
+                 (:file "conditions")
+                 (:file "model")
+                 (:file "catalogue")
+                 (:file "memory")
+                 (:file "conversation")
+                 (:file "expressions")
+                 (:file "templates")
+                 (:file "actions")
+                 (:file "catalogue-actions")
+                 (:file "matcher")
+                 (:file "jsgf")
+                 (:file "parse")
+                 (:file "files")
+                 (:file "turns")
+                 (:file "speaking")))
+   ;; Recorded traces as regression tests: record a scenario, verify a replay.
+   (:module "traces" :depends-on ("base" "spec" "control" "body" "performance")
+    :serial t
+    :components ((:file "package")
+                 (:file "conditions")
+                 (:file "recording")
+                 (:file "scenario")
+                 (:file "files")
+                 (:file "differences")
+                 (:file "api")))
+   ;; The command line: one table of commands that parsing, help and the docs read.
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "body" "performance" "render" "cast" "dialogue" "traces")
+    :serial t
+    :components ((:file "package")
+                 (:file "options")
+                 (:file "commands")
+                 (:file "help")
+                 (:file "main")
+                 (:file "cast")
+                 (:file "run")
+                 (:file "plans")
+                 (:file "dot")
+                 (:file "check")
+                 (:file "explain")
+                 (:file "emit-c++")
+                 (:file "simulate")
+                 (:file "render")
+                 (:file "view")
+                 (:file "record")
+                 (:file "verify")
+                 (:file "chat")
+                 (:file "speak")))
+   ;; The facade: the PLAYER package users, spec files and the docs see.
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "body" "performance" "render" "cast" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -364,6 +385,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-speech")
                  (:file "test-speech-recognition")
                  (:file "test-readme")
+                 (:file "test-layers")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")
                  (:file "fuzz-text-mutations")

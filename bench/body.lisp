@@ -37,12 +37,12 @@ blink, head turn, facing, eyebrows (the parrot's crest), reach, beats, lips, idl
   (let* ((scene (make-instance 'player:scene))
          (ball (player:add-object scene (make-instance 'player:scene-object
                                                        :name 'ball :kind :prop
-                                                       :position (player::make-vec3 0.3 1.2 1.0))))
+                                                       :position (player.body::make-vec3 0.3 1.2 1.0))))
          (skeleton (player:load-skeleton skeleton-name))
          (bodies (loop for i below count
                        collect (player:make-body (intern (format nil "BODY-~D" i) '#:player-bench)
                                                  skeleton :scene scene
-                                                 :position (player::make-vec3 (* 0.8 i) 0 0)))))
+                                                 :position (player.body::make-vec3 (* 0.8 i) 0 0)))))
     (dolist (body bodies)
       (dolist (frame (all-driver-frames skeleton-name))
         (when (or (not (eq (first frame) :eyebrows))
@@ -59,7 +59,7 @@ blink, head turn, facing, eyebrows (the parrot's crest), reach, beats, lips, idl
            (thunk (lambda ()
                     (incf time *frame-step*)
                     (setf (player:property-value ball 'position)
-                          (player::make-vec3 (* 0.4 (sin time)) 1.2 1.0))
+                          (player.body::make-vec3 (* 0.4 (sin time)) 1.2 1.0))
                     (dolist (body bodies)
                       (player:body-evaluate body time)))))
       ;; Ten simulated seconds past the starts (the first saccades, turns and

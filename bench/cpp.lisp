@@ -67,7 +67,7 @@ compile it: (VALUES EXECUTABLE FILES), or NIL when g++ fails."
   "Peedy (SPEC) with a variable of BITS values declared before his own, which
 no op or event touches: his fields then lie across a 64-bit word boundary.
 Defined as the spec PEEDY-WIDE."
-  (let* ((forms (player::spec-forms spec))
+  (let* ((forms (player.spec::spec-forms spec))
          (at (position-if (lambda (form) (and (consp form) (string= (symbol-name (first form)) "STATE-VARIABLE")))
                           forms))
          (values (loop for i below bits collect (intern (format nil "W~D" i) :player-user)))
@@ -75,13 +75,13 @@ Defined as the spec PEEDY-WIDE."
                     ,(intern "STRING" :player-user) ,(first values) ,values)))
     (player:define-spec 'peedy-wide (append (subseq forms 0 at) (list padding) (subseq forms at))
                         :source-file (player::spec-source-file spec)
-                        :package (player::spec-package spec))))
+                        :package (player.spec::spec-package spec))))
 
 (defun bench-c++-wide (spec directory one-word-rate)
   "The row of Peedy's events on a state of two words, next to ONE-WORD-RATE."
   (let* ((wide (wide-peedy spec 58))
          (machine (player:compile-spec wide))
-         (bits (player::spec-bit-count wide))
+         (bits (player.spec::spec-bit-count wide))
          (executable (build-c++-bench machine directory "peedy_wide")))
     (if (null executable)
         (row "5. events/s, generated C++, Peedy in two words" "build failed" "" "")

@@ -33,7 +33,7 @@ heap's size where /proc/meminfo cannot say."
 (defun build-cradle (n)
   "Build the N-sphere cradle from nothing (the stage cache emptied first):
 seconds taken."
-  (clrhash player::*cradle-stages*)
+  (clrhash player.compose::*cradle-stages*)
   (sb-ext:gc :full t)
   (let ((start (now)))
     (player:newton-cradle n)
@@ -50,9 +50,9 @@ stopping before a build predicted to take more than *CRADLE-BUDGET* seconds."
                   (and bytes (> bytes (min (* 3/4 (sb-ext:dynamic-space-size)) (available-memory)))))
           (note "(newton-cradle ~D) not built: predicted ~D s (~,1Fx the last build; budget ~D s) and ~
                  ~,1F GB of heap (~,1Fx the last merge's edges; heap ~,1F GB, ~,1F GB free); graph expressions in ~
-                 spec files stop at n = ~D (player::*max-cradle-spheres*)"
+                 spec files stop at n = ~D (player.compose::*max-cradle-spheres*)"
                 n (round predicted) growth *cradle-budget* (/ bytes 1d9) edge-growth
-                (/ (sb-ext:dynamic-space-size) 1d9) (/ (available-memory) 1d9) player::*max-cradle-spheres*)
+                (/ (sb-ext:dynamic-space-size) 1d9) (/ (available-memory) 1d9) player.compose::*max-cradle-spheres*)
           (return))
         (format t "~&  newton-cradle ~D...~%" n) (finish-output)
         (let* ((seconds (build-cradle n))
@@ -66,5 +66,5 @@ stopping before a build predicted to take more than *CRADLE-BUDGET* seconds."
                        n (player:graph-node-count merged) (player:graph-edge-count merged)
                        n (player:graph-node-count cradle) (player:graph-edge-count cradle))
                (format-seconds seconds) "-" t))))
-    (clrhash player::*cradle-stages*)
+    (clrhash player.compose::*cradle-stages*)
     (sb-ext:gc :full t)))

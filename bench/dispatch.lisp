@@ -26,7 +26,7 @@ planning, the events sent, and how many of them left both in the same state."
                (incf elapsed (- (now) t0)))
              (player:send-event compiled name)
              (incf sent)
-             (when (= (player::controller-bits compiled) (player::controller-bits planned))
+             (when (= (player.control::controller-bits compiled) (player.control::controller-bits planned))
                (incf same)))
     (values (/ sent elapsed) sent same)))
 

@@ -49,7 +49,7 @@ code saved in a core are the same in every process started from it."
   "Write to PATH where ADVANCE-TIMELINE's code is in this process, in hex: the
 same function's address in two processes tells how far the heap moved."
   (with-open-file (out path :direction :output :if-exists :supersede)
-    (format out "~X" (sb-kernel:get-lisp-obj-address #'player::advance-timeline))))
+    (format out "~X" (sb-kernel:get-lisp-obj-address #'player.control::advance-timeline))))
 
 (defun profiled-workload (directory)
   "The timed workload for callgrind, which starts with counting off: warm up,

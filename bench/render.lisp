@@ -29,11 +29,11 @@
 posed, drawn, antialiased and read back."
   (let ((scene (render-bench-scene skeleton-name)))
     (player::with-offscreen-context ((context) width height)
-      (let ((renderer (player::make-renderer width height :antialias antialias)))
+      (let ((renderer (player.render::make-renderer width height :antialias antialias)))
         (prog1 (frames-per-second (lambda ()
-                                    (player::render-scene renderer scene)
-                                    (player::renderer-pixels renderer)))
-          (player::delete-renderer renderer))))))
+                                    (player.render::render-scene renderer scene)
+                                    (player.render::renderer-pixels renderer)))
+          (player.render::delete-renderer renderer))))))
 
 (defun png-rate (skeleton-name width height)
   "PNG frames written per second at WIDTH x HEIGHT: drawn, read back, encoded
@@ -42,12 +42,12 @@ and written to a file, as the render command does."
         (path (format nil "/tmp/player-bench-~D.png" (sb-unix:unix-getpid))))
     (unwind-protect
          (player::with-offscreen-context ((context) width height)
-           (let ((renderer (player::make-renderer width height)))
+           (let ((renderer (player.render::make-renderer width height)))
              (prog1 (frames-per-second (lambda ()
-                                         (player::render-scene renderer scene)
+                                         (player.render::render-scene renderer scene)
                                          (player::write-png path width height
-                                                            (player::renderer-pixels renderer))))
-               (player::delete-renderer renderer))))
+                                                            (player.render::renderer-pixels renderer))))
+               (player.render::delete-renderer renderer))))
       (ignore-errors (delete-file path)))))
 
 (defun bench-render ()

@@ -158,9 +158,9 @@ batches after MAX-SECONDS (at least 3 batches)."
 
 (defun player-plan-length (goal state-bits)
   "Length of the first plan of Player GOAL whose condition holds in STATE-BITS, or :NONE."
-  (let ((plan (find-if (lambda (p) (player::state-in-cube-p state-bits (player::plan-condition p)))
-                       (player::goal-plans goal))))
-    (if plan (length (player::plan-ops plan)) :none)))
+  (let ((plan (find-if (lambda (p) (player.spec::state-in-cube-p state-bits (player.planner::plan-condition p)))
+                       (player.planner::goal-plans goal))))
+    (if plan (length (player.planner::plan-ops plan)) :none)))
 
 (defun bench-synthetic (n)
   (let* ((family (make-synthetic-family n))
@@ -175,10 +175,10 @@ batches after MAX-SECONDS (at least 3 batches)."
                                 (- (now) t0))
                       while (< (now) budget-end)))
          (ours (median times))
-         (goals (player::machine-goal-table machine))
-         (plans (reduce #'+ goals :key (lambda (g) (length (player::goal-plans g)))))
-         (longest (reduce #'max goals :key (lambda (g) (reduce #'max (player::goal-plans g)
-                                                              :key (lambda (p) (length (player::plan-ops p)))
+         (goals (player.planner::machine-goal-table machine))
+         (plans (reduce #'+ goals :key (lambda (g) (length (player.planner::goal-plans g)))))
+         (longest (reduce #'max goals :key (lambda (g) (reduce #'max (player.planner::goal-plans g)
+                                                              :key (lambda (p) (length (player.planner::plan-ops p)))
                                                               :initial-value 0))))
          (states (ash 1 n))
          (naive (make-naive-synth family))
@@ -201,10 +201,10 @@ batches after MAX-SECONDS (at least 3 batches)."
       ;; check the two planners agree on the sampled starts: same shortest plan lengths
       (loop for k below (min done 200)
             for start = (aref order k)
-            for bits = (player::dense-to-state start (player::machine-layout machine))
+            for bits = (player.planner::dense-to-state start (player.planner::machine-layout machine))
             do (loop for goal-cube in (synth-family-goals family)
                      for goal = (find (list (onehot-goal-cube n (first goal-cube))) goals
-                                      :key #'player::goal-cubes :test #'equal)
+                                      :key #'player.planner::goal-cubes :test #'equal)
                      when goal
                        do (incf compared)
                           (let ((mine (naive-synth-plan naive start goal-cube))
@@ -239,14 +239,14 @@ when they pass BUDGET seconds, at least one) and the last machine."
 
 (defun machine-plan-count (machine)
   "How many plans MACHINE's goals have in all."
-  (reduce #'+ (player::machine-goal-table machine) :key (lambda (g) (length (player::goal-plans g)))))
+  (reduce #'+ (player.planner::machine-goal-table machine) :key (lambda (g) (length (player.planner::goal-plans g)))))
 
 (defun bench-large-synthetic (n)
   "Compile the synthetic spec of N variables (no naive comparison)."
   (let ((spec (define-synthetic-spec (make-synthetic-family n))))
     (multiple-value-bind (times machine) (compile-times spec)
       (row (format nil "2. synthetic n=~2D: ~D states, ~D goals, ~D plans, compile only"
-                   n (ash 1 n) (length (player::machine-goal-table machine)) (machine-plan-count machine))
+                   n (ash 1 n) (length (player.planner::machine-goal-table machine)) (machine-plan-count machine))
            (format-seconds (median times))
            (case n (24 "< 1 s (issue 13)") (26 "< 5 s (issue 13)") (t ""))
            (case n (24 (< (median times) 1)) (26 (< (median times) 5)) (t "")))
@@ -258,7 +258,7 @@ when they pass BUDGET seconds, at least one) and the last machine."
   (let ((spec (define-random-wide-spec n :seed seed)))
     (multiple-value-bind (times machine) (compile-times spec :budget 60)
       (row (format nil "2. random wide n=~2D (seed ~D): ~D states, ~D goals, ~D plans"
-                   n seed (ash 1 n) (length (player::machine-goal-table machine)) (machine-plan-count machine))
+                   n seed (ash 1 n) (length (player.planner::machine-goal-table machine)) (machine-plan-count machine))
            (format-seconds (median times)) (if (= n 26) "< 10 s (issue 13: 49 s)" "")
            (if (= n 26) (< (median times) 10) ""))
       (note "random wide n=~D seed ~D: compile ~{~A~^, ~}" n seed (mapcar #'format-seconds times)))
@@ -286,8 +286,8 @@ when they pass BUDGET seconds, at least one) and the last machine."
 (defun event-defs (machine names)
   "The EVENT-DEFs of NAMES (a vector), for the run-time planner."
   (map 'simple-vector
-       (lambda (name) (find name (player::spec-events (player:machine-spec machine))
-                            :key #'player::event-name))
+       (lambda (name) (find name (player.spec::spec-events (player:machine-spec machine))
+                            :key #'player.spec::event-name))
        names))
 
 (defun random-event-sequence (machine length)
@@ -314,7 +314,7 @@ closures and through run-time planning; add the rows; return the ratio."
       (let ((ok (player:send-event compiled (svref events i))))
         (naive-send-event runner planned (svref defs i))
         (unless ok (incf failures))
-        (when (= (player::controller-bits compiled) (player::controller-bits planned)) (incf same))))
+        (when (= (player.control::controller-bits compiled) (player.control::controller-bits planned)) (incf same))))
     (let* ((compiled-rate (/ count (seconds-per-call (lambda ()
                                                       (dotimes (i count)
                                                         (player:send-event compiled (svref events i))))
@@ -380,7 +380,7 @@ closures and through run-time planning; add the rows; return the ratio."
 (defun run-benchmarks ()
   "Run every benchmark and print the table."
   ;; Planning from scratch each time: reused plan rows would time a table lookup.
-  (let ((*rows* '()) (*notes* '()) (start (now)) (player::*reuse-plans* nil))
+  (let ((*rows* '()) (*notes* '()) (start (now)) (player.planner::*reuse-plans* nil))
     (format t "~&Player benchmarks (~A ~A)~%" (lisp-implementation-type) (lisp-implementation-version))
     (multiple-value-bind (spec realp) (load-peedy)
       (unless realp

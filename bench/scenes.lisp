@@ -28,7 +28,7 @@ every member's performance evaluated and gathered, frame after frame."
          (frames (player::simulation-frame-count simulation))
          (start (now)))
     (dotimes (index frames)
-      (player:simulation-scene-at simulation (player::simulation-frame-time simulation index)))
+      (player:simulation-scene-at simulation (player.performance::simulation-frame-time simulation index)))
     (/ (- (now) start) frames)))
 
 (defun bench-scenes (spec)

@@ -19,7 +19,7 @@
              (synthesis (seconds-per-call
                          (lambda ()
                            ;; A fresh cache each time, or nothing would be synthesised.
-                           (let ((player::*utterances* (make-hash-table :test #'equal)))
+                           (let ((player.speech::*utterances* (make-hash-table :test #'equal)))
                              (mapc #'player:synthesize-speech *bench-sentences*)))
                          :batches 5 :batch-seconds 0.1d0 :max-seconds 10))
              (sounds (mapcar (lambda (text) (player:utterance-sound (player:synthesize-speech text)))

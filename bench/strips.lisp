@@ -40,7 +40,7 @@ STATE-SPACE), its compile time (CPU seconds) and the heap its machine holds."
 
 (defun space-text (machine)
   "MACHINE's product space as 2^N when it is a power of two, else N."
-  (let ((size (player::layout-space-size (player::machine-layout machine))))
+  (let ((size (player.planner::layout-space-size (player.planner::machine-layout machine))))
     (if (= size (ash 1 (1- (integer-length size))))
         (format nil "2^~D" (1- (integer-length size)))
         (format nil "~,1E" (float size 1d0)))))
@@ -53,7 +53,7 @@ STATE-SPACE), its compile time (CPU seconds) and the heap its machine holds."
         (dotimes (i 2) (push (nth-value 1 (compile-strips problem :state-space state-space :max-depth max-depth)) times)))
       (row (format nil "2. ~A ~(~A~): ~D of ~A states, ~D vars, ~D plans, ~A held"
                    label state-space (player:machine-state-count machine) (space-text machine)
-                   (length (player::plannable-variables (player:machine-spec machine)))
+                   (length (player.spec::plannable-variables (player:machine-spec machine)))
                    (machine-plan-count machine) (format-bytes bytes))
            (format-seconds (median times))
            (if target (format nil "< ~A" (format-seconds target)) "")
@@ -95,7 +95,7 @@ planned states, plans, compile time and heap held, as Markdown rows."
         do (multiple-value-bind (machine seconds bytes)
                (compile-strips (funcall thunk) :state-space state-space :max-depth (or max-depth 40))
              (format t "| ~A | ~(~A~) | ~D | ~A | ~:D | ~:D | ~A | ~A |~%"
-                     label state-space (length (player::plannable-variables (player:machine-spec machine)))
+                     label state-space (length (player.spec::plannable-variables (player:machine-spec machine)))
                      (space-text machine) (player:machine-state-count machine) (machine-plan-count machine)
                      (format-seconds seconds) (format-bytes bytes))
              (finish-output))))

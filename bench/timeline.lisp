@@ -17,10 +17,10 @@ about half arrive while the previous event plays and preempt it."
   "Send STREAM to timed CONTROLLER: an interrupting event 0.3 s after now, by
 :preempt; the others once everything before has finished."
   (declare (simple-vector stream))
-  (let ((timeline (player::controller-timeline controller)))
+  (let ((timeline (player.control::controller-timeline controller)))
     (loop for (name . interrupts) across stream
           do (if interrupts
-                 (player:send-event controller name :at (+ (player::timeline-now timeline) 0.3d0)
+                 (player:send-event controller name :at (+ (player.control::timeline-now timeline) 0.3d0)
                                                     :when-busy :preempt)
                  (progn (player:finish-events controller)
                         (player:send-event controller name))))
@@ -30,11 +30,11 @@ about half arrive while the previous event plays and preempt it."
   "A timed controller of MACHINE on a null presenter, its timers disarmed (so
 only the stream's events play)."
   (let* ((controller (player:make-controller machine :timed t :presenter (player:make-null-presenter)))
-         (timeline (player::controller-timeline controller)))
-    (dolist (state (player::timeline-timers timeline))
-      (let ((item (player::timer-state-item state)))
-        (when item (setf (player::agenda-item-status item) :cancelled))))
-    (setf (player::timeline-timers timeline) '())
+         (timeline (player.control::controller-timeline controller)))
+    (dolist (state (player.control::timeline-timers timeline))
+      (let ((item (player.control::timer-state-item state)))
+        (when item (setf (player.control::agenda-item-status item) :cancelled))))
+    (setf (player.control::timeline-timers timeline) '())
     controller))
 
 (defun bench-timeline (machine)
@@ -45,7 +45,7 @@ only the stream's events play)."
                    (lambda ()
                      (let ((controller (fresh-timed-controller machine)))
                        (play-timed-stream controller stream)
-                       (setf items (player::timeline-seq (player::controller-timeline controller)))))
+                       (setf items (player.control::timeline-seq (player.control::controller-timeline controller)))))
                    :batches 5 :batch-seconds 0.2d0))
          (rate (/ (length stream) seconds)))
     (row "12. events/s, timed controller, null presenter, half the events preempt"
@@ -80,8 +80,8 @@ only the stream's events play)."
                     (player:send-event controller 'long)
                     ;; Every item due, those the run has not fed the heap yet included.
                     (let ((count 0))
-                      (player::map-agenda (lambda (item) (declare (ignore item)) (incf count))
-                                          (player::timeline-agenda (player::controller-timeline controller)))
+                      (player.control::map-agenda (lambda (item) (declare (ignore item)) (incf count))
+                                          (player.control::timeline-agenda (player.control::controller-timeline controller)))
                       count))))
       ;; Planning happens in SEND-EVENT; FINISH-EVENTS only presents.
       (let ((per-item (/ (median (loop repeat 7

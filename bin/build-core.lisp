@@ -8,12 +8,13 @@
 (let ((log (make-string-output-stream)))
   (handler-case
       (let ((*standard-output* log) (*error-output* log))
-        (handler-bind ((warning #'muffle-warning))
-          (asdf:load-system "player")))
+        (load (merge-pathnames "load-system.lisp" *load-truename*))
+        (unless (uiop:symbol-call '#:player-build '#:load-checked "player" :stream log)
+          (error "compiling Player gave full warnings")))
     (error (e)
       (format *error-output* "player: error: cannot build Player: ~A~%~A"
               (substitute #\Space #\Newline (princ-to-string e))
               (get-output-stream-string log))
       (sb-ext:exit :code 1 :abort t))))
 ;; SBCL leaves only the program name and the arguments after --end-toplevel-options.
-(funcall (intern "SAVE-CORE" "PLAYER") (second sb-ext:*posix-argv*))
+(funcall (intern "SAVE-CORE" "PLAYER.CLI") (second sb-ext:*posix-argv*))

@@ -2,7 +2,7 @@
 ;;;; names this file with its (poses ...) form), kept beside his spec.
 ;;;; Data for PLAYER::LOAD-POSE-LIBRARY; read with *READ-EVAL* NIL, never loaded.
 ;;;;
-;;;; Degrees; signs as in src/runtime/body/skeletons/parrot.lisp: +x pitches the
+;;;; Degrees; signs as in src/body/skeletons/parrot.lisp: +x pitches the
 ;;;; root, neck and head forward (down), +y turns the head to his left, +z tilts
 ;;;; its top to his right; +z raises the left wing, -z the right; -x on a
 ;;;; shoulder swings the wing forward, +x back; the elbows and wrists unfold

@@ -1,7 +1,7 @@
 ;;;; peedy-scripts.lisp -- the script library of specs/peedy.lisp: a motion for
 ;;;; every op, autoscript and director Peedy's controller plays, on the parrot
-;;;; skeleton (src/runtime/body/skeletons/parrot.lisp), with his scene.
-;;;; The language is described at the top of src/runtime/anim/scripts.lisp.
+;;;; skeleton (src/body/skeletons/parrot.lisp), with his scene.
+;;;; The language is described at the top of src/performance/scripts/scripts.lisp.
 ;;;;
 ;;;; The scene: the world origin is the table top Peedy stands on (feet at
 ;;;; y = 0, his front +z, his left +x).  The camera looks at him along -z.

@@ -34,7 +34,7 @@
     "#(1 2 3)" "#()" "#*1011" "#*2" "#2A((1 2) (3 4))" "#0Anil" "#c(1 2)" "#c(1)" "#x-FF" "#b102"
     "#36rZZZZ" "#o777" "#1000000000r1" "#:uninterned" "#\\Nul" "#\\Newline" "#\\no-such-char"
     "#<unreadable>" "#)" "#|unterminated" "#|nested #| |# |#" "#" "#A" "#=" "#?" "#{" "#[" "#$"
-    "cl-user::fz" "no-such-package::fz" "player::*specs*" "sb-impl::fz" ":" "::x" "a:b:c"
+    "cl-user::fz" "no-such-package::fz" "player.spec::*specs*" "sb-impl::fz" ":" "::x" "a:b:c"
     "player-user:::x" "keyword::" "\\(" "\"unterminated" "\\" "'" "''" "#.")
   "Reader syntax to splice into a file: legal, illegal and odd.")
 
@@ -126,7 +126,7 @@ cannot hold: NaN, infinities, unprintable objects, circular lists."
       (8 nil) (9 '(a . b)) (10 (list* 1 2 3)) (11 (fz-pick prng (fz-numbers prng)))
       (12 (fz-pick prng (fz-numbers prng))) (13 (fz-pick prng (fz-numbers prng)))
       (14 (pathname "/tmp/fuzz.lisp")) (15 (make-symbol "UNINTERNED"))
-      (16 (fz-pick prng '(car cl:list sb-ext:*posix-argv* player::*specs*)))
+      (16 (fz-pick prng '(car cl:list sb-ext:*posix-argv* player.spec::*specs*)))
       (17 (make-array 3 :element-type 'bit :initial-contents '(1 0 1)))
       (18 (make-array '(2 2) :initial-contents '((1 2) (3 4))))
       (19 (list 'quote (intern "X" '#:player-user))) (20 (list 'function 'car))

@@ -219,11 +219,11 @@ written anywhere else, then empty the directory."
   (setf *fz-phase* :load)
   (let ((library (ecase (fzc-mode case)
                    ((:text :form-file) (load-script-library file))
-                   (:memory (player::parse-script-library-forms (fzc-forms case) :source (fz-case-file case run))))))
+                   (:memory (player.performance::parse-script-library-forms (fzc-forms case) :source (fz-case-file case run))))))
     (when (fzc-companion case)
       (let ((spec (fz-companion-spec (fzc-companion case))))
         (setf *fz-phase* :check-scripts)
-        (player::check-spec-scripts spec library)
+        (player.performance::check-spec-scripts spec library)
         (when (and (fzrun-play-every run) (zerop (mod (fzc-index case) (fzrun-play-every run))))
           (setf *fz-phase* :play)
           (let* ((presenter (make-body-presenter spec :scripts library))
@@ -259,8 +259,8 @@ back any spec they replaced; return the violations."
                           (fz-bounded-text (spec-name spec) :limit 80))
                   violations)))
         (remove-spec (spec-name spec))))
-    (let ((table (symbol-value (find-symbol "*SPECS*" '#:player)))
-          (key (fdefinition (find-symbol "NAME-KEY" '#:player))))
+    (let ((table (symbol-value (find-symbol "*SPECS*" '#:player.spec)))
+          (key (fdefinition (find-symbol "NAME-KEY" '#:player.spec))))
       (dolist (spec before)
         (unless (eq (find-spec (spec-name spec) nil) spec)
           (unless (find (spec-name spec) after :key #'spec-name :test #'string-equal)
@@ -386,8 +386,9 @@ package, files in the run directory that do not belong there. Each is undone."
     (:hung "HUNG (the process stopped answering)")))
 
 (defun fz-type-name (type)
-  "TYPE (a symbol) with its package unless it is PLAYER's or CL's."
-  (if (and (symbolp type) (member (symbol-package type) (list (find-package '#:player) (find-package '#:cl))))
+  "TYPE (a symbol) with its package unless it is Player's (any layer's) or CL's."
+  (if (and (symbolp type) (or (eq (symbol-package type) (find-package '#:cl))
+                              (eql 0 (search "PLAYER" (package-name (symbol-package type))))))
       (symbol-name type)
       (let ((*package* (find-package '#:keyword))) (prin1-to-string type))))
 

@@ -64,12 +64,12 @@ START-EXPRESSIONS holds, as a hash table whose keys they are."
 (defun model-one-hot (model machine state)
   "The one-hot state of MACHINE for model STATE (variables matched by position;
 value index K of a variable is bit K of its field)."
-  (loop for var in (player::plannable-variables (machine-spec machine))
+  (loop for var in (player.spec::plannable-variables (machine-spec machine))
         for k across state
         for i from 0
-        do (assert (string= (symbol-name (player::var-name var))
+        do (assert (string= (symbol-name (player.spec::var-name var))
                             (symbol-name (mvar-name (svref (model-variables model) i)))))
-        sum (ash 1 (+ (player::var-bit-offset var) k))))
+        sum (ash 1 (+ (player.spec::var-bit-offset var) k))))
 
 ;;; STRIPS problems: a state is an integer, bit I for the Ith fact.
 

@@ -167,18 +167,18 @@ precondition; NIL for an op without one (nothing to plan)."
 
 (defun player-goal-of-event (machine event-name)
   "The goal MACHINE planned for the event named EVENT-NAME's only directive, or NIL."
-  (let* ((event (find (symbol-name event-name) (player::spec-events (machine-spec machine))
-                      :key (lambda (e) (symbol-name (player::event-name e))) :test #'string=))
-         (directive (first (player::event-directives event))))
+  (let* ((event (find (symbol-name event-name) (player.spec::spec-events (machine-spec machine))
+                      :key (lambda (e) (symbol-name (player.spec::event-name e))) :test #'string=))
+         (directive (first (player.spec::event-directives event))))
     (ecase (first directive)
-      (:achieve (player::machine-goal-for machine (second directive)))
+      (:achieve (player.planner::machine-goal-for machine (second directive)))
       (:op (let ((op (second directive)))
-             (and (player::op-precond op) (player::machine-goal-for machine (player::op-precond op))))))))
+             (and (player.spec::op-precond op) (player.planner::machine-goal-for machine (player.spec::op-precond op))))))))
 
 (defun first-plan-for (goal state-bits)
   "The first plan of Player GOAL whose condition holds in one-hot STATE-BITS, or NIL."
-  (find-if (lambda (plan) (player::state-in-cube-p state-bits (player::plan-condition plan)))
-           (player::goal-plans goal)))
+  (find-if (lambda (plan) (player.spec::state-in-cube-p state-bits (player.planner::plan-condition plan)))
+           (player.planner::goal-plans goal)))
 
 (defun check-timed-plan (model durations goal start ops)
   "NIL when OPS (op names, first to run first) is a valid plan from START to
@@ -220,7 +220,7 @@ absent when it says unreachable). Returns (VALUES PROBLEMS STATISTICS)."
         (unwind-protect
              (let* ((machine (plan-spec (define-spec name (timed-spec-forms forms durations :duration)
                                                      :package (find-package '#:player-user))))
-                    (layout (player::machine-layout machine))
+                    (layout (player.planner::machine-layout machine))
                     (predecessors (reference-timed-predecessors model durations))
                     (untimed-predecessors (reference-predecessors model)))
                (dolist (event (model-events model))
@@ -232,8 +232,8 @@ absent when it says unreachable). Returns (VALUES PROBLEMS STATISTICS)."
                        (dotimes (index (model-state-count model))
                          (let* ((start (model-index-state model index))
                                 (expected (svref costs index))
-                                (plan (first-plan-for player-goal (player::dense-to-state index layout)))
-                                (ops (and plan (mapcar #'player::op-name (player::plan-ops plan)))))
+                                (plan (first-plan-for player-goal (player.planner::dense-to-state index layout)))
+                                (ops (and plan (mapcar #'player::op-name (player.planner::plan-ops plan)))))
                            (incf checked)
                            (cond ((null expected)
                                   (incf unreachable)
@@ -356,7 +356,7 @@ loses to one 1.5 s op, and wins against a 3 s one."
     (is (equal '(:optimize :speed) (spec-error-form e)))
     (is (search "unknown :optimize criterion :speed (allowed: :steps or :duration)" (princ-to-string e))))
   (dolist (criterion '(:steps :duration player-user::duration))
-    (is (player::spec-p (define-spec 'good-optimize `((:optimize ,criterion)) :package (find-package '#:player-tests)))))
+    (is (player.spec::spec-p (define-spec 'good-optimize `((:optimize ,criterion)) :package (find-package '#:player-tests)))))
   (remove-spec 'good-optimize)
   (remove-spec 'bad-optimize))
 

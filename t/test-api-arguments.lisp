@@ -61,11 +61,11 @@ ARGUMENT-ERROR, that it names FUNCTION and ARGUMENT, and that its report reads
                  (and c (ignore-errors (report-text c))) class))
           ((typep c 'argument-error)
            (let ((text (report-text c))
-                 (head (format nil "~A: ~A must be " (player::lisp-text function) (player::lisp-text argument))))
+                 (head (format nil "~A: ~A must be " (player.base::lisp-text function) (player.base::lisp-text argument))))
              ;; Argument names are PLAYER's symbols: compare them by name.
-             (is (string= (player::lisp-text function) (player::lisp-text (argument-error-function c)))
+             (is (string= (player.base::lisp-text function) (player.base::lisp-text (argument-error-function c)))
                  "~S names ~S, not ~S" form (argument-error-function c) function)
-             (is (string= (player::lisp-text argument) (player::lisp-text (argument-error-argument c)))
+             (is (string= (player.base::lisp-text argument) (player.base::lisp-text (argument-error-argument c)))
                  "~S names ~S, not ~S" form (argument-error-argument c) argument)
              (is (eql 0 (search head text)) "~S: ~S should start with ~S" form text head)
              (is (< (length text) 600) "~S: the report is bounded" form)))
@@ -213,7 +213,7 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
   (let* ((machine (peedy-machine))
          (events (length (event-names machine)))
          (c (make-controller machine :presenter (make-null-presenter))))
-    (flet ((cached () (hash-table-count (player::compiled-machine-event-symbols machine))))
+    (flet ((cached () (hash-table-count (player.control::compiled-machine-event-symbols machine))))
       (dotimes (i 100000)
         (send-event c (make-symbol "EV-SEARCH")))
       (is (<= (cached) events) "~D entries for ~D events" (cached) events)
@@ -229,16 +229,16 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
   (let* ((machine (peedy-machine))
          (c (make-controller machine :presenter (make-null-presenter))))
     (send-event c 'player-user::ev-search)
-    (let ((cache (player::compiled-machine-event-symbols machine)))
+    (let ((cache (player.control::compiled-machine-event-symbols machine)))
       (let ((before (sb-ext:get-bytes-consed)))
-        (dotimes (i 1000) (player::find-compiled-event c 'player-user::ev-search))
+        (dotimes (i 1000) (player.control::find-compiled-event c 'player-user::ev-search))
         (is (< (- (sb-ext:get-bytes-consed) before) 1024) "the cached lookup allocates nothing"))
       (is (= 1 (hash-table-count cache))))))
 
 ;;;# Animation engine
 
 (test anim-rejects-bad-arguments
-  (let ((control (player::make-constant-control 1))
+  (let ((control (player.body::make-constant-control 1))
         (q (player::quat))
         (nan-quat (player::quat (nan) 0d0 0d0 0d0)))
     (rejects
@@ -268,11 +268,11 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
       (qsquad u (qsquad q q q q #c(0 1)))
       (world-transforms parents (world-transforms 42 #()))
       (world-transforms locals (world-transforms #(nil) #(42)))
-      (world-transforms locals (world-transforms #(nil nil) (vector (player::identity-transform))))
-      (world-transforms worlds (world-transforms #(nil) (vector (player::identity-transform)) #(42))))
+      (world-transforms locals (world-transforms #(nil nil) (vector (player.body::identity-transform))))
+      (world-transforms worlds (world-transforms #(nil) (vector (player.body::identity-transform)) #(42))))
     (is (typep (condition-of (lambda () (control-value control "x"))) 'player::anim-control-error)
         "a bad time is still an ANIM-CONTROL-ERROR too")
-    (is (player::quat-p (qslerp q q 1/2)) "a rational U is fine")))
+    (is (player.body::quat-p (qslerp q q 1/2)) "a rational U is fine")))
 
 (test scenes-reject-bad-arguments
   (let* ((scene (make-instance 'player::scene))
@@ -371,7 +371,7 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
       (add-slave slave (add-slave arbitrator 'a nil))
       (:class player::arbitration-error "cycle" (add-slave arbitrator 'a 'a)))
     (is (eq 'a (channel-owner arbitrator 0)) "the rejected calls changed nothing")
-    (is (equal '(0 1) (player::channels-of arbitrator 'a)))))
+    (is (equal '(0 1) (player.body::channels-of arbitrator 'a)))))
 
 (defun api-body (&optional scene)
   "A humanoid body called BOB, in SCENE when given."
@@ -424,7 +424,7 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
       (:class player::motor-error "a motor call is written" (player::parse-motor-frame (circular-list)))
       (:class player::motor-error "a motor call is written" (player::parse-motor-frame (list :gaze :speed (circular-list))))
       (:class player::motor-error "must be" (player::parse-motor-frame (list :gaze :target (list :point 0 (nan) 1)))))
-    (is (= 1 (player::body-time body)) "the rejected calls changed nothing")
+    (is (= 1 (player.body::body-time body)) "the rejected calls changed nothing")
     (is (< (abs (- -90 (aref (body-pose body) (dof-index (body-skeleton body) 'l_elbow :x)))) 1d-9))))
 
 (test bvh-rejects-bad-arguments
@@ -446,7 +446,7 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
       (write-bvh-file path (write-bvh-file 42 skeleton (list pose)))
       (write-bvh-file path (write-bvh-file "/tmp/*.bvh" skeleton (list pose)))
       (write-bvh-file frames (write-bvh-file "/tmp/player-never-written.bvh" skeleton (list 42))))
-    (is (typep (condition-of (lambda () (write-bvh out skeleton 42))) 'player::bvh-error)
+    (is (typep (condition-of (lambda () (write-bvh out skeleton 42))) 'player.body::bvh-error)
         "still a BVH-ERROR too")
     (is (not (probe-file "/tmp/player-never-written.bvh")))))
 
@@ -500,12 +500,12 @@ Here 100k, with a null presenter: the cache stays within the spec's events.
       (performance-frame time (performance-frame performance sb-ext:double-float-positive-infinity))
       (performance-body performance (performance-body 42))
       (performance-body name (performance-body performance 42)))
-    (is (= 1 (length (player::performance-runs performance))) "the rejected calls started nothing")
+    (is (= 1 (length (player.performance::performance-runs performance))) "the rejected calls started nothing")
     (is (eq (find-object (performance-scene performance) 'bob) (performance-body performance)))))
 
 (test presenters-and-simulations-reject-bad-arguments
   (with-elbow-spec (spec)
-    (let* ((library (player::parse-script-library-forms
+    (let* ((library (player.performance::parse-script-library-forms
                      (append *elbow-library-forms* '((defscript drop (:duration 0.5))))))
            (simulation (simulate spec :scripts library :events '(ev-flex) :fps 10)))
       (rejects
@@ -597,11 +597,11 @@ returns is the same after each rejected call as before it.  NAME is for messages
                     (c (condition-of (lambda () (apply function arguments)))))
                (when (and snapshot c)
                  (is (equal before (funcall snapshot)) "~A, argument ~D = ~A: the rejected call changed the state"
-                     name position (player::bounded-lisp-text value 40)))
+                     name position (player.base::bounded-lisp-text value 40)))
                (when (raw-condition-p c)
                  (fail "~A, argument ~D = ~A: a raw ~A: ~A" name position
-                       (player::bounded-lisp-text value 40) (type-of c)
-                       (ignore-errors (player::bounded-lisp-text (princ-to-string c) 200))))
+                       (player.base::bounded-lisp-text value 40) (type-of c)
+                       (ignore-errors (player.base::bounded-lisp-text (princ-to-string c) 200))))
                (when (typep c 'player-error)
                  (is (stringp (ignore-errors (report-text c))) "~A: the report of ~A prints" name (type-of c)))))))
 
@@ -631,7 +631,7 @@ returns is the same after each rejected call as before it.  NAME is for messages
 (test no-raw-conditions-from-the-animation-and-body-api
   (let* ((skeleton (api-humanoid))
          (pose (make-pose skeleton))
-         (control (player::make-constant-control 1))
+         (control (player.body::make-constant-control 1))
          (arbitrator (make-arbitrator))
          (library (elbow-library))
          (performance (elbow-performance)))

@@ -28,14 +28,14 @@
 (test placeholder-library-has-a-script-per-op
   (with-spec (spec door . #.*door-forms*)
     (let* ((presenter (player::make-body-presenter spec))
-           (library (player::presenter-library presenter)))
-      (is (player::presenter-placeholder-p presenter))
+           (library (player.performance::presenter-library presenter)))
+      (is (player.performance::presenter-placeholder-p presenter))
       ;; Each op's script lasts the op's :duration.
       (is (= 1 (player::script-duration (player::find-script library 'unlock t))))
       (is (= 1.5 (player::script-duration (player::find-script library 'open-door t))))
       ;; A library given is played as before: no placeholders, no captions.
-      (is (not (player::presenter-placeholder-p
-                (player::make-body-presenter spec :scripts (player::parse-script-library-forms
+      (is (not (player.performance::presenter-placeholder-p
+                (player::make-body-presenter spec :scripts (player.performance::parse-script-library-forms
                                                             '((defscript unlock (:duration 1))
                                                               (defscript open-door (:duration 1)))))))))))
 
@@ -44,29 +44,29 @@
         (parrot (player::load-skeleton 'parrot))
         (names '(unlock open-door search sit standup bow huh snort exhale focus drop-note raise-wing)))
     ;; The same name always makes the same gesture.
-    (is (eq (player::placeholder-gesture 'search humanoid) (player::placeholder-gesture "SEARCH" humanoid)))
+    (is (eq (player.performance::placeholder-gesture 'search humanoid) (player.performance::placeholder-gesture "SEARCH" humanoid)))
     (dolist (skeleton (list humanoid parrot))
-      (let ((gestures (remove-duplicates (mapcar (lambda (n) (first (player::placeholder-gesture n skeleton)))
+      (let ((gestures (remove-duplicates (mapcar (lambda (n) (first (player.performance::placeholder-gesture n skeleton)))
                                                  names))))
-        (is (<= 4 (length gestures)) "only ~A on ~A" gestures (player::skeleton-name skeleton))))
+        (is (<= 4 (length gestures)) "only ~A on ~A" gestures (player.body::skeleton-name skeleton))))
     ;; Every gesture plays on both bodies: the library checks as playing would.
     (dolist (skeleton (list humanoid parrot))
-      (let ((library (player::parse-script-library-forms
-                      (loop for gesture in player::*placeholder-gestures*
+      (let ((library (player.performance::parse-script-library-forms
+                      (loop for gesture in player.performance::*placeholder-gestures*
                             for k from 0
                             collect `(defscript ,(intern (format nil "G~D" k)) (:duration 1.2)
-                                       (:at 0 :motor ,(player::gesture-motor-frame gesture skeleton 1.2)))))))
-        (is (null (player::check-library-scripts
-                   library skeleton (loop for k below (length player::*placeholder-gestures*)
+                                       (:at 0 :motor ,(player.performance::gesture-motor-frame gesture skeleton 1.2)))))))
+        (is (null (player.performance::check-library-scripts
+                   library skeleton (loop for k below (length player.performance::*placeholder-gestures*)
                                           collect (intern (format nil "G~D" k)))
                    :characters '(figure))))))))
 
 (test placeholder-ops-move-the-body-and-caption-their-names
   (with-spec (spec door . #.*door-forms*)
     (let* ((simulation (door-simulation))
-           (performance (player::simulation-performance simulation)))
-      (is (= 2.5 (player::simulation-end simulation)))
-      (flet ((caption (time) (player::scene-caption (player::performance-frame performance time)))
+           (performance (player.performance::simulation-performance simulation)))
+      (is (= 2.5 (player.performance::simulation-end simulation)))
+      (flet ((caption (time) (player.body::scene-caption (player::performance-frame performance time)))
              (pose (time) (copy-seq (player::body-pose (player::performance-body performance)))))
         (is (equal "unlock" (caption 0.5)))
         (is (equal "open-door" (caption 1.2)))
@@ -91,8 +91,8 @@
               (event ev-fly :op take-off :op fly-loop :op land)
               (event ev-sit (:when-busy :preempt) :state posture.sit))
     (let* ((simulation (player::simulate spec :events '((ev-fly . 0) (ev-sit . 1.8)) :body 'parrot))
-           (performance (player::simulation-performance simulation)))
-      (flet ((caption (time) (player::scene-caption (player::performance-frame performance time))))
+           (performance (player.performance::simulation-performance simulation)))
+      (flet ((caption (time) (player.body::scene-caption (player::performance-frame performance time))))
         (is (equal "take-off" (caption 1)))
         (is (equal "fly-loop" (caption 1.9)))
         ;; The loop is cut at 2 s; landing follows.
@@ -128,7 +128,7 @@ its number of distinct colours (three values)."
 (test placeholder-frames-are-not-blank-and-captions-differ
   (with-spec (spec door . #.*door-forms*)
     (dolist (body '(humanoid parrot))
-      (let* ((performance (player::simulation-performance (door-simulation :body body)))
+      (let* ((performance (player.performance::simulation-performance (door-simulation :body body)))
              (width 320) (height 240)
              (frames (call-with-renderer
                       width height
@@ -143,8 +143,8 @@ its number of distinct colours (three values)."
               (is (< 8 deviation) "~A: luminance deviation ~,1F: a blank frame" body deviation)
               (is (< 200 colours) "~A: only ~D colours" body colours))
             (is (< 0.03 (body-pixel-share frame width height)) "~A: no figure in the middle" body))
-          (let ((unlock-box (player::caption-layout-box (player::layout-caption "unlock" width height)))
-                (door-box (player::caption-layout-box (player::layout-caption "open-door" width height))))
+          (let ((unlock-box (player.render::caption-layout-box (player.render::layout-caption "unlock" width height)))
+                (door-box (player.render::caption-layout-box (player.render::layout-caption "open-door" width height))))
             ;; The caption's letters differ between two ops with different names ...
             (is (< 40 (region-difference unlock open-door width unlock-box)) "~A: same caption" body)
             ;; ... and it is gone when nothing plays.
@@ -153,31 +153,31 @@ its number of distinct colours (three values)."
 ;;;# The caption font
 
 (test caption-font-has-every-glyph-it-promises
-  (dolist (entry player::*caption-glyphs*)
-    (is (= player::+glyph-rows+ (length (rest entry))) "~S" (first entry))
-    (is (every (lambda (row) (and (= player::+glyph-columns+ (length row)) (every (lambda (c) (find c "#.")) row)))
+  (dolist (entry player.render::*caption-glyphs*)
+    (is (= player.render::+glyph-rows+ (length (rest entry))) "~S" (first entry))
+    (is (every (lambda (row) (and (= player.render::+glyph-columns+ (length row)) (every (lambda (c) (find c "#.")) row)))
                (rest entry))
         "~S" (first entry)))
-  (is (every (lambda (char) (assoc char player::*caption-glyphs*))
+  (is (every (lambda (char) (assoc char player.render::*caption-glyphs*))
              "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-._?!"))
   ;; Runs cover exactly the lit dots; lower case draws as upper case, the unknown as ?.
-  (flet ((dots (text) (reduce #'+ (player::caption-text-runs text) :key #'third)))
-    (is (= (count #\# (apply #'concatenate 'string (player::caption-glyph #\W))) (dots "W")))
-    (is (equal (player::caption-text-runs "open-door") (player::caption-text-runs "OPEN-DOOR")))
-    (is (equal (player::caption-text-runs "?") (player::caption-text-runs "%")))
+  (flet ((dots (text) (reduce #'+ (player.render::caption-text-runs text) :key #'third)))
+    (is (= (count #\# (apply #'concatenate 'string (player.render::caption-glyph #\W))) (dots "W")))
+    (is (equal (player.render::caption-text-runs "open-door") (player.render::caption-text-runs "OPEN-DOOR")))
+    (is (equal (player.render::caption-text-runs "?") (player.render::caption-text-runs "%")))
     (is (/= (dots "unlock") (dots "open-door"))))
   ;; A long caption shrinks, then is cut, to fit the frame.
-  (let ((layout (player::layout-caption (make-string 200 :initial-element #\M) 160 120)))
-    (is (= 1 (player::caption-layout-scale layout)))
-    (is (<= (third (player::caption-layout-box layout)) 160)))
-  (is (null (player::layout-caption "x" 4 4))))
+  (let ((layout (player.render::layout-caption (make-string 200 :initial-element #\M) 160 120)))
+    (is (= 1 (player.render::caption-layout-scale layout)))
+    (is (<= (third (player.render::caption-layout-box layout)) 160)))
+  (is (null (player.render::layout-caption "x" 4 4))))
 
 ;;;# Starting poses
 
 (defun peedy-start (initial)
   "Peedy's body at time 0 from INITIAL, before any event: its pose (a copy) and position."
   (let* ((simulation (player::simulate 'player-user::peedy :initial initial :events '()))
-         (body (player::find-object (player::performance-frame (player::simulation-performance simulation) 0)
+         (body (player::find-object (player::performance-frame (player.performance::simulation-performance simulation) 0)
                                     'player-user::peedy)))
     (values (copy-seq (player::body-pose body)) (player::property-value body 'position)
             (player::body-skeleton body))))
@@ -191,12 +191,12 @@ its number of distinct colours (three values)."
         (loop for (joint dof degrees) in '((l_knee x 45) (r_knee x 45) (l_ankle x -50) (l_hip x -15) (neck x 8))
               do (is (< (abs (- degrees (angle sit joint dof))) 1d-6) "~A ~A: ~A sitting" joint dof (angle sit joint dof))
                  (is (< 5 (abs (- degrees (angle stand joint dof)))) "~A ~A: ~A standing" joint dof (angle stand joint dof)))
-        (is (< (abs (- -0.026 (player::vec3-y sit-position))) 1d-9))
-        (is (zerop (player::vec3-y stand-position)))
+        (is (< (abs (- -0.026 (player.body::vec3-y sit-position))) 1d-9))
+        (is (zerop (player.body::vec3-y stand-position)))
         ;; Flying, he starts in the air.
         (multiple-value-bind (fly fly-position) (peedy-start '((posture . fly)))
           (is (= 90 (angle fly 'l_knee 'x)))
-          (is (< (abs (- 0.25 (player::vec3-y fly-position))) 1d-9)))))))
+          (is (< (abs (- 0.25 (player.body::vec3-y fly-position))) 1d-9)))))))
 
 (defun pose-when-files (line)
   "Write a spec and a script library whose third line is LINE; the spec file's path."
@@ -219,7 +219,7 @@ its number of distinct colours (three values)."
   (load-spec (pose-when-files "(:pose-when (and posture.sit tired) arms-raised) (:pose-when posture.sit bow-down)"))
   (flet ((start-angle (initial)
            (let* ((simulation (player::simulate 'player-user::pw :initial initial :events '()))
-                  (body (player::find-object (player::performance-frame (player::simulation-performance simulation) 0)
+                  (body (player::find-object (player::performance-frame (player.performance::simulation-performance simulation) 0)
                                              'player-user::pw))
                   (skeleton (player::body-skeleton body)))
              (list (aref (player::body-pose body) (player::dof-index skeleton 'vl5 'x))
@@ -273,10 +273,10 @@ its number of distinct colours (three values)."
                (declare (ignore depth colour-type))
                (when (eql width 320)
                  (let ((pixels (car (last more)))
-                       (layout (player::layout-caption "unlock" width height)))
+                       (layout (player.render::layout-caption "unlock" width height)))
                    (is (< 0.03 (body-pixel-share pixels width height)))
                    ;; The caption box is there, dark, with light letters in it.
-                   (destructuring-bind (left top w h) (player::caption-layout-box layout)
+                   (destructuring-bind (left top w h) (player.render::caption-layout-box layout)
                      (let ((levels (loop for y from top below (+ top h)
                                          append (loop for x from left below (+ left w)
                                                       collect (aref pixels (* 4 (+ x (* y width))))))))

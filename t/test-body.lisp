@@ -32,7 +32,7 @@
 
 (defun skeleton-from (&rest clauses)
   "A skeleton parsed from CLAUSES, a tiny valid body (root, child) prepended."
-  (player::parse-skeleton
+  (player.body::parse-skeleton
    `(skeleton test
       (:joint root :parent nil :center (0 0 0) :dofs ((:x -10 10)))
       (:joint child :parent root :center (0 1 0))
@@ -41,9 +41,9 @@
 (test shipped-skeletons-load
   (dolist (name '(humanoid parrot))
     (let ((skeleton (player::load-skeleton name)))
-      (is (typep skeleton 'player::skeleton))
-      (is (string-equal (string name) (string (player::skeleton-name skeleton))))))
-  (is (string-equal "PARROT" (player::skeleton-name (player::load-skeleton "parrot")))))
+      (is (typep skeleton 'player.body::skeleton))
+      (is (string-equal (string name) (string (player.body::skeleton-name skeleton))))))
+  (is (string-equal "PARROT" (player.body::skeleton-name (player::load-skeleton "parrot")))))
 
 (test humanoid-h-anim-centres-and-hierarchy
   (let ((skeleton (player::load-skeleton 'humanoid)))
@@ -53,28 +53,28 @@
              (when joint
                ;; Exact to the 0.1 mm of the table: the file is read as double-floats.
                (is (every (lambda (x y) (< (abs (- (rational x) (rational y))) 1/1000000))
-                          centre (coerce (player::body-joint-center joint) 'list))
+                          centre (coerce (player.body::body-joint-center joint) 'list))
                    "joint ~A's centre" name)
                (is (string-equal (string (or parent ""))
-                                 (string (or (player::body-joint-parent-name joint) "")))
+                                 (string (or (player.body::body-joint-parent-name joint) "")))
                    "joint ~A's parent" name)))
     (is (string-equal "HUMANOID-ROOT"
-                      (player::body-joint-name (player::skeleton-root skeleton))))
+                      (player.body::body-joint-name (player.body::skeleton-root skeleton))))
     ;; Five finger curls a hand, and eyes, lids, brows and jaw.
     (dolist (role '(:left-fingers :right-fingers))
       (let ((fingers (player::skeleton-role skeleton role)))
         (is (= 5 (length fingers)))
-        (is (every (lambda (finger) (player::body-joint-dof finger 'curl)) fingers))))))
+        (is (every (lambda (finger) (player.body::body-joint-dof finger 'curl)) fingers))))))
 
 (test skeleton-joints-parent-before-child
   (dolist (name '(humanoid parrot))
     (let ((joints (player::skeleton-joints (player::load-skeleton name))))
-      (is (null (player::body-joint-parent (svref joints 0))))
+      (is (null (player.body::body-joint-parent (svref joints 0))))
       (is (loop for joint across joints
                 for index from 0
-                always (and (= index (player::body-joint-index joint))
+                always (and (= index (player.body::body-joint-index joint))
                             (or (zerop index)
-                                (< (player::body-joint-index (player::body-joint-parent joint))
+                                (< (player.body::body-joint-index (player.body::body-joint-parent joint))
                                    index))))))))
 
 (test skeleton-roles-resolve
@@ -89,34 +89,34 @@
                     :left-leg :right-leg :spine))
       (is-true (player::skeleton-role parrot role) "parrot role ~A" role))
     (is (equal '("L_SHOULDER" "L_ELBOW" "L_WRIST")
-               (mapcar (lambda (j) (symbol-name (player::body-joint-name j)))
+               (mapcar (lambda (j) (symbol-name (player.body::body-joint-name j)))
                        (player::skeleton-role humanoid :left-arm))))
     (is (string-equal "SKULLBASE"
-                      (player::body-joint-name (player::skeleton-role humanoid :head))))
-    (is (string-equal "BEAK" (player::body-joint-name (player::skeleton-role parrot :jaw))))))
+                      (player.body::body-joint-name (player::skeleton-role humanoid :head))))
+    (is (string-equal "BEAK" (player.body::body-joint-name (player::skeleton-role parrot :jaw))))))
 
 (test skeleton-limits-sane
   (dolist (name '(humanoid parrot))
     (let ((skeleton (player::load-skeleton name)))
       (is (every (lambda (joint)
                    (every (lambda (dof)
-                            (<= -180 (player::body-dof-min dof) (player::body-dof-max dof) 180))
-                          (player::body-joint-dofs joint)))
+                            (<= -180 (player.body::body-dof-min dof) (player.body::body-dof-max dof) 180))
+                          (player.body::body-joint-dofs joint)))
                  (player::skeleton-joints skeleton)))
-      (is (every (lambda (joint) (plusp (player::body-joint-radius joint)))
+      (is (every (lambda (joint) (plusp (player.body::body-joint-radius joint)))
                  (player::skeleton-joints skeleton)))))
   (let* ((humanoid (player::load-skeleton 'humanoid))
          (knee (player::find-joint humanoid "l_knee"))
-         (flexion (player::body-joint-dof knee :x)))
-    (is (= 0 (player::body-dof-min flexion)))
-    (is (= 135 (player::body-dof-max flexion))))
+         (flexion (player.body::body-joint-dof knee :x)))
+    (is (= 0 (player.body::body-dof-min flexion)))
+    (is (= 135 (player.body::body-dof-max flexion))))
   ;; The parrot is about 0.35 m tall.
-  (let ((heights (map 'list (lambda (joint) (svref (player::body-joint-center joint) 1))
+  (let ((heights (map 'list (lambda (joint) (svref (player.body::body-joint-center joint) 1))
                       (player::skeleton-joints (player::load-skeleton 'parrot)))))
     (is (< 0.25 (- (reduce #'max heights) (reduce #'min heights)) 0.4))))
 
 (test skeleton-channels
-  (let ((channels (player::skeleton-channels (skeleton-from))))
+  (let ((channels (player.body::skeleton-channels (skeleton-from))))
     (is (= 1 (length channels)))
     (is (string-equal "ROOT" (car (first channels))))
     (is (eq :x (cdr (first channels))))))
@@ -159,7 +159,7 @@
   (signals-skeleton-error ("exactly one root")
     (skeleton-from '(:joint other-root :parent nil :center (0 0 0))))
   (signals-skeleton-error ("(skeleton NAME")
-    (player::parse-skeleton '(skeletn test)))
+    (player.body::parse-skeleton '(skeletn test)))
   (signals-skeleton-error (":center")
     (skeleton-from '(:joint a :parent root :center (0 0))))
   (signals-skeleton-error ("unknown option")
@@ -181,7 +181,7 @@
   (uiop:with-temporary-file (:pathname path :stream out :type "lisp")
     (write-string "(skeleton a (:joint r :parent nil :center (0 0 0)) (:role :head r))" out)
     :close-stream
-    (is (string-equal "R" (player::body-joint-name
+    (is (string-equal "R" (player.body::body-joint-name
                            (player::skeleton-role (player::load-skeleton path) :head))))))
 
 ;;; ---------------------------------------------------------------------------
@@ -308,10 +308,10 @@ or a description of the first disagreement."
       (dolist (driver drivers)
         (player::release-driver arbitrator driver))
       (cond ((some (lambda (c) (or (player::channel-owner arbitrator c)
-                                   (player::channel-waiting arbitrator c)))
+                                   (player.body::channel-waiting arbitrator c)))
                    channels)
              "a channel is still held after releasing every driver")
-            ((player::known-drivers arbitrator)
+            ((player.body::known-drivers arbitrator)
              "the arbitrator still refers to a driver after releasing them all")))))
 
 (test arbitration-matches-the-rule
@@ -331,8 +331,8 @@ or a description of the first disagreement."
     (is (equal '(:head) (player::request-channels arbitrator high :head :priority 5)))
     (is (eq high (player::channel-owner arbitrator :head)))
     (is (equal (list (list :loss low :head high)) *notifications*))
-    (is (equal '(:head :jaw) (player::channels-of arbitrator low)))
-    (is (equal '(:jaw) (player::channels-of arbitrator low :owned-only t)))
+    (is (equal '(:head :jaw) (player.body::channels-of arbitrator low)))
+    (is (equal '(:jaw) (player.body::channels-of arbitrator low :owned-only t)))
     (setf *notifications* '())
     (player::release-driver arbitrator high)
     (is (eq low (player::channel-owner arbitrator :head)))
@@ -340,7 +340,7 @@ or a description of the first disagreement."
     ;; An equal priority never usurps: the earlier request keeps the channel.
     (is (null (player::request-channels arbitrator high :head :priority 1)))
     (is (eq low (player::channel-owner arbitrator :head)))
-    (is (equal (list high) (player::channel-waiting arbitrator :head)))))
+    (is (equal (list high) (player.body::channel-waiting arbitrator :head)))))
 
 (defvar *test-arbitrator* nil
   "The arbitrator QUITTING-DRIVERs release themselves from.")
@@ -364,9 +364,9 @@ or a description of the first disagreement."
     ;; Told once per lost channel (the second loss finds it already gone).
     (is (= 1 (count :loss *notifications* :key #'first)))
     (is (null (player::channel-owner arbitrator :c)))
-    (is (null (player::channels-of arbitrator quitter)))
+    (is (null (player.body::channels-of arbitrator quitter)))
     (player::release-driver arbitrator boss)
-    (is (null (player::known-drivers arbitrator)))))
+    (is (null (player.body::known-drivers arbitrator)))))
 
 (test arbitration-master-slave
   (let ((arbitrator (player::make-arbitrator))
@@ -378,8 +378,8 @@ or a description of the first disagreement."
     (player::request-channels arbitrator master :head :priority 3)
     (player::add-slave arbitrator master slave)
     (player::add-slave arbitrator slave grandslave)
-    (is (eq master (player::driver-master arbitrator slave)))
-    (is (equal (list slave) (player::driver-slaves arbitrator master)))
+    (is (eq master (player.body::driver-master arbitrator slave)))
+    (is (equal (list slave) (player.body::driver-slaves arbitrator master)))
     ;; Slaves request at the master's priority ...
     (player::request-channels arbitrator slave :jaw)
     (player::request-channels arbitrator grandslave :l-arm)
@@ -404,8 +404,8 @@ or a description of the first disagreement."
     (is (eq rival (player::channel-owner arbitrator :jaw)))
     (is (eq rival (player::channel-owner arbitrator :l-arm)))
     (is (null (player::channel-owner arbitrator :head)))
-    (is (null (player::channels-of arbitrator slave)))
-    (is (equal (list rival) (player::known-drivers arbitrator)))))
+    (is (null (player.body::channels-of arbitrator slave)))
+    (is (equal (list rival) (player.body::known-drivers arbitrator)))))
 
 (test arbitration-blend-weight
   (let ((arbitrator (player::make-arbitrator :blend-time 0.5))
@@ -418,11 +418,11 @@ or a description of the first disagreement."
     (is (= 1 (player::channel-blend-weight arbitrator :head 2)))
     (is (= 0 (player::channel-blend-weight arbitrator :head 0)))
     (player::request-channels arbitrator b :head :priority 2 :time 3 :blend 2)
-    (is (equal '(3 2) (multiple-value-list (player::channel-handover arbitrator :head))))
+    (is (equal '(3 2) (multiple-value-list (player.body::channel-handover arbitrator :head))))
     (is (= 1/4 (player::channel-blend-weight arbitrator :head 7/2)))
     ;; No change of owner, no new handover.
     (player::request-channels arbitrator a :head :priority 1 :time 4)
-    (is (= 3 (player::channel-handover arbitrator :head)))
+    (is (= 3 (player.body::channel-handover arbitrator :head)))
     (player::release-channels arbitrator b :head :time 10 :blend 0)
     (is (eq a (player::channel-owner arbitrator :head)))
     (is (= 1 (player::channel-blend-weight arbitrator :head 10)))

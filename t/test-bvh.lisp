@@ -93,7 +93,7 @@ FRAMES): NODES in file order, FRAMES a list of vectors of channel values."
           for axis = (cdr (assoc name '(("Xrotation" 1 0 0) ("Yrotation" 0 1 0) ("Zrotation" 0 0 1))
                                  :test #'string=))
           when axis
-            do (setf q (player::q* q (player::quat-from-axis-angle
+            do (setf q (player.body::q* q (player.body::quat-from-axis-angle
                                       (bvh-vec3 axis) (* value (/ pi 180))))))
     q))
 
@@ -102,31 +102,31 @@ FRAMES): NODES in file order, FRAMES a list of vectors of channel values."
 
 (defun bvh-random-quat (state)
   "A random unit quaternion drawn from STATE (normalized from the cube, rejecting short ones)."
-  (loop for q = (player::make-quat (- (random 2d0 state) 1) (- (random 2d0 state) 1)
+  (loop for q = (player.body::make-quat (- (random 2d0 state) 1) (- (random 2d0 state) 1)
                                    (- (random 2d0 state) 1) (- (random 2d0 state) 1))
-        when (< 0.1d0 (player::qnorm q) 1d0) return (player::qnormalize q)))
+        when (< 0.1d0 (player.body::qnorm q) 1d0) return (player.body::qnormalize q)))
 
 (defun bvh-random-pose (skeleton state)
   "A pose of SKELETON with every angle uniform within its limits."
   (let ((pose (player::make-pose skeleton)))
     (loop for joint across (player::skeleton-joints skeleton)
-          do (loop for dof in (player::body-joint-dofs joint)
-                   for i from (player::body-joint-dof-start joint)
-                   for low = (float (player::body-dof-min dof) 1d0)
-                   for high = (float (player::body-dof-max dof) 1d0)
+          do (loop for dof in (player.body::body-joint-dofs joint)
+                   for i from (player.body::body-joint-dof-start joint)
+                   for low = (float (player.body::body-dof-min dof) 1d0)
+                   for high = (float (player.body::body-dof-max dof) 1d0)
                    do (setf (aref pose i) (+ low (random (max 1d-9 (- high low)) state)))))
     pose))
 
 (defun bvh-random-placement (state)
   "A random rigid MAT4: any rotation, a translation within 5 m."
-  (player::make-transform :rotation (bvh-random-quat state)
+  (player.body::make-transform :rotation (bvh-random-quat state)
                           :translation (player::vec3 (- (random 10d0 state) 5)
                                                      (random 2d0 state)
                                                      (- (random 10d0 state) 5))))
 
 (defun bvh-degrees-between (a b)
   "The angle between the rotations of unit quaternions A and B, in degrees."
-  (* (player::quat-angle a b) (/ 180 pi)))
+  (* (player.body::quat-angle a b) (/ 180 pi)))
 
 ;;; ---------------------------------------------------------------------------
 ;;; The writer, read back
@@ -137,15 +137,15 @@ read the text back and check it against what was written."
   (let* ((state (sb-ext:seed-random-state seed))
          (skeleton (player::load-skeleton skeleton-name))
          (joints (player::skeleton-joints skeleton))
-         (root (player::skeleton-root skeleton))
+         (root (player.body::skeleton-root skeleton))
          (poses (loop repeat frames collect (bvh-random-pose skeleton state)))
          (placements (loop repeat frames collect (bvh-random-placement state))))
     ;; One frame at gimbal lock: the root's second DOF axis turned a right angle.
     (setf (first poses) (player::make-pose skeleton)
           (first placements)
-          (player::make-transform
-           :rotation (player::quat-from-axis-angle
-                      (bvh-vec3 (player::dof-axis-vector (second (player::body-joint-dofs root))))
+          (player.body::make-transform
+           :rotation (player.body::quat-from-axis-angle
+                      (bvh-vec3 (player.body::dof-axis-vector (second (player.body::body-joint-dofs root))))
                       (/ pi 2))))
     (let* ((text (with-output-to-string (out)
                    (player::write-bvh out skeleton poses :placements placements
@@ -173,20 +173,20 @@ read the text back and check it against what was written."
 
 (defun check-bvh-hierarchy (joints nodes)
   "Check the BVH NODES against the skeleton's JOINTS: names, parents, offsets, channels, ends."
-  (flet ((file-name (joint) (string-downcase (string (player::body-joint-name joint)))))
+  (flet ((file-name (joint) (string-downcase (string (player.body::body-joint-name joint)))))
     (loop for joint across joints
           for node in nodes
           for name = (file-name joint)
-          for parent = (player::body-joint-parent joint)
-          for offset = (player::joint-offset joint)
-          for dofs = (player::body-joint-dofs joint)
+          for parent = (player.body::body-joint-parent joint)
+          for offset = (player.body::joint-offset joint)
+          for dofs = (player.body::body-joint-dofs joint)
           for channels = (bvh-node-channels node)
           for end = (bvh-node-end-site node)
           do (is (string= name (bvh-node-name node)))
              (is (equal (and parent (file-name parent)) (bvh-node-parent node)))
              (is (every (lambda (a b) (< (abs (- a b)) 1d-6))
-                        (list (player::vec3-x offset) (player::vec3-y offset)
-                              (player::vec3-z offset))
+                        (list (player.body::vec3-x offset) (player.body::vec3-y offset)
+                              (player.body::vec3-z offset))
                         (bvh-node-offset node))
                  "offset of ~A" name)
              ;; Position channels for the root, the DOF axes first, three rotations.
@@ -194,11 +194,11 @@ read the text back and check it against what was written."
              (is (equal (append (if parent '() '("Xposition" "Yposition" "Zposition"))
                                 (mapcar (lambda (dof)
                                           (format nil "~:@(~A~)rotation"
-                                                  (player::dof-axis-line dof)))
+                                                  (player.body::dof-axis-line dof)))
                                         dofs))
                         (subseq channels 0 (+ (if parent 0 3) (length dofs))))
                  "channels of ~A" name)
-             (if (player::body-joint-children joint)
+             (if (player.body::body-joint-children joint)
                  (is (null end))
                  (is (< 0.001d0 (sqrt (reduce #'+ (mapcar #'* end end))))
                      "the End Site of ~A has no length" name)))))
@@ -217,22 +217,22 @@ as four values, each error followed by the name of the joint where it occurs."
           for values = (coerce (subseq frame start (+ start (length (bvh-node-channels node))))
                                'list)
           for rotation = (bvh-channel-rotation (bvh-node-channels node) values)
-          for parent = (player::body-joint-parent joint)
+          for parent = (player.body::body-joint-parent joint)
           for expected = (if parent
-                             (player::joint-local-rotation joint pose)
-                             (player::q* (player::transform-rotation placement)
-                                         (player::joint-local-rotation joint pose)))
+                             (player.body::joint-local-rotation joint pose)
+                             (player.body::q* (player.body::transform-rotation placement)
+                                         (player.body::joint-local-rotation joint pose)))
           do ;; Rebuild the world transforms from the file alone, BVH's way.
              (setf (aref worlds index)
                    (if parent
-                       (player::transform-compose
-                        (aref worlds (player::body-joint-index parent))
-                        (player::make-transform :rotation rotation
+                       (player.body::transform-compose
+                        (aref worlds (player.body::body-joint-index parent))
+                        (player.body::make-transform :rotation rotation
                                                 :translation (bvh-vec3 (bvh-node-offset node))))
-                       (player::make-transform :rotation rotation
+                       (player.body::make-transform :rotation rotation
                                                :translation (bvh-vec3 (subseq values 0 3)))))
              (let ((turn (bvh-degrees-between rotation expected))
-                   (shift (player::vdistance (player::transform-translation (aref worlds index))
+                   (shift (player.body::vdistance (player.body::transform-translation (aref worlds index))
                                              (player::joint-world-position transforms joint))))
                (when (> turn worst-turn)
                  (setf worst-turn turn turn-joint (bvh-node-name node)))
@@ -259,7 +259,7 @@ as four values, each error followed by the name of the joint where it occurs."
 
 (defun euler-recomposition-error (q axes)
   "The angle in radians between Q and its QUAT-TO-EULER angles recomposed."
-  (player::quat-angle q (bvh-euler-quat axes (multiple-value-list (player::quat-to-euler q axes)))))
+  (player.body::quat-angle q (bvh-euler-quat axes (multiple-value-list (player.body::quat-to-euler q axes)))))
 
 (test quat-to-euler-recomposes-random-rotations
   (let ((state (sb-ext:seed-random-state 42)))
@@ -275,7 +275,7 @@ as four values, each error followed by the name of the joint where it occurs."
                          for angles = (list (- (random 358d0 state) 179) (- (random 178d0 state) 89)
                                             (- (random 358d0 state) 179))
                          for got = (multiple-value-list
-                                    (player::quat-to-euler (bvh-euler-quat axes angles) axes))
+                                    (player.body::quat-to-euler (bvh-euler-quat axes angles) axes))
                          unless (every (lambda (a b) (< (abs (- a b)) 1d-7)) angles got)
                            collect (list angles got))))
         (is (null wrong) "order ~A: angles not recovered (given, got): ~A" axes wrong)))))
@@ -291,8 +291,8 @@ as four values, each error followed by the name of the joint where it occurs."
           (is (< worst 1d-9) "order ~A, middle angle ~A: off by ~A rad" axes middle worst))))))
 
 (test quat-to-euler-rejects-bad-orders
-  (signals error (player::quat-to-euler (player::quat) '(:x :x :z)))
-  (signals error (player::quat-to-euler (player::quat) '(:x :y))))
+  (signals error (player.body::quat-to-euler (player::quat) '(:x :x :z)))
+  (signals error (player.body::quat-to-euler (player::quat) '(:x :y))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Files and errors
@@ -322,7 +322,7 @@ as four values, each error followed by the name of the joint where it occurs."
       (delete-file blocker))
     (signals player-error (player::write-bvh (make-broadcast-stream) skeleton (list #(1 2 3))))
     (signals player-error (player::write-bvh (make-broadcast-stream) skeleton (list pose)
-                                             :placements (list (player::identity-transform)
-                                                               (player::identity-transform))))
+                                             :placements (list (player.body::identity-transform)
+                                                               (player.body::identity-transform))))
     (signals player-error (player::write-bvh (make-broadcast-stream) skeleton (list pose)
                                              :frame-time 0))))

@@ -81,10 +81,10 @@ INITIAL-STATES, over every event in order and over seeded random sequences."
   "C++-COMMENT-TEXT leaves no line break, control or bidirectional character,
 trigraph, comment delimiter or final backslash, and keeps ordinary text."
   (dolist (text *hostile-texts*)
-    (let ((comment (player::c++-comment-text text)))
+    (let ((comment (player.cpp::c++-comment-text text)))
       (is (comment-text-safe-p comment) "~S became the comment text ~S" text comment)))
-  (is (equal "ev-search (and a b)" (player::c++-comment-text "ev-search (and a b)")))
-  (is (equal "trailing\\." (player::c++-comment-text (format nil "trailing\\~%")))))
+  (is (equal "ev-search (and a b)" (player.cpp::c++-comment-text "ev-search (and a b)")))
+  (is (equal "trailing\\." (player.cpp::c++-comment-text (format nil "trailing\\~%")))))
 
 (defun utf-8 (text)
   "TEXT's UTF-8 octets, as a list."
@@ -108,7 +108,7 @@ quotes, ?? (no trigraph), octal escapes followed by digits, Unicode."
       (loop for text in *hostile-texts*
             for i from 0
             do (format out "  { static const char s~D[] = ~A; std::fwrite(s~D, 1, sizeof s~D - 1, stdout); }~%"
-                       i (player::c++-string text) i i))
+                       i (player.cpp::c++-string text) i i))
       (format out "  return 0;~%}~%"))
     (multiple-value-bind (code errors) (run-g++ directory '("strings.cpp" "-o" "strings"))
       (is (eql 0 code) "g++ failed: ~A" errors)
@@ -122,11 +122,11 @@ quotes, ?? (no trigraph), octal escapes followed by digits, Unicode."
 (test c++-identifier-text-p-accepts-only-identifiers
   "C++-IDENTIFIER-TEXT-P: ASCII identifiers that are neither keywords nor reserved."
   (dolist (good '("peedy" "x" "_x" "a1" "A_b" "Peedy2" "wing_at_ear" "_"))
-    (is (player::c++-identifier-text-p good) "~S should be accepted" good))
+    (is (player.cpp::c++-identifier-text-p good) "~S should be accepted" good))
   (dolist (bad (list "" "1a" "a::b;int x" "../escape" "a/b" "a.b" "a b" "a-b" "int" "namespace"
                      "class" "main" "std" "__x" "_X" "a__b" "x__" (format nil "a~%b")
                      (coerce (list #\c #\a #\f (code-char #xe9)) 'string) nil 'peedy 42))
-    (is (not (player::c++-identifier-text-p bad)) "~S should be refused" bad)))
+    (is (not (player.cpp::c++-identifier-text-p bad)) "~S should be refused" bad)))
 
 (defun emit-c++-error (machine directory &rest arguments)
   "The PLAYER-ERROR EMIT-C++ signals for ARGUMENTS, or NIL."
@@ -148,7 +148,7 @@ PLAYER-ERROR naming the argument and the value, writing nothing anywhere."
                      (when e
                        (let ((message (princ-to-string e)))
                          (is (search (string-downcase (symbol-name argument)) message) "message: ~A" message)
-                         (is (search (player::c++-string value) message) "message: ~A" message)))))
+                         (is (search (player.cpp::c++-string value) message) "message: ~A" message)))))
           (is (null (directory (merge-pathnames "**/*.*" parent))) "files were written")
           ;; Good names write exactly NAME.hpp and NAME.cpp inside --out.
           (let ((files (emit-c++ machine out :name "Ctl_1" :namespace "ns_1")))
@@ -193,27 +193,27 @@ the spec, the variable and the value."
                        (is (search (if (search "gear" what) "gear" "count") message) "~A: ~A" what message)
                        (is (search value-text message) "~A: ~A" what message)
                        (is (search "64-bit signed integer" message) "~A: ~A" what message)))))))
-             (var (spec name) (find name (player::spec-variables spec) :key #'player::var-name
+             (var (spec name) (find name (player.spec::spec-variables spec) :key #'player.spec::var-name
                                                                           :test #'string-equal)))
-      (check (lambda (spec) (setf (aref (player::var-domain (var spec "gear")) 2) big)) "gear value")
-      (check (lambda (spec) (setf (player::var-initial (var spec "count")) big)) "count initial")
-      (check (lambda (spec) (setf (player::autoscript-value-index (first (player::spec-autoscripts spec))) big))
+      (check (lambda (spec) (setf (aref (player.spec::var-domain (var spec "gear")) 2) big)) "gear value")
+      (check (lambda (spec) (setf (player.spec::var-initial (var spec "count")) big)) "count initial")
+      (check (lambda (spec) (setf (player.spec::autoscript-value-index (first (player.spec::spec-autoscripts spec))) big))
              "count watched")
       (check (lambda (spec)
-               (let ((event (first (player::spec-events spec))))
-                 (setf (player::event-directives event)
+               (let ((event (first (player.spec::spec-events spec))))
+                 (setf (player.spec::event-directives event)
                        (subst-if (list :increment (var spec "count") (1+ big))
                                  (lambda (d) (and (consp d) (eq (first d) :increment) (eql (third d) 1)))
-                                 (player::event-directives event)))))
+                                 (player.spec::event-directives event)))))
              "count delta" "9223372036854775809")
       (check (lambda (spec)
-               (let ((event (first (player::spec-events spec))))
-                 (setf (player::event-directives event)
+               (let ((event (first (player.spec::spec-events spec))))
+                 (setf (player.spec::event-directives event)
                        (subst-if (list :increment (var spec "count") (- (1+ big)))
                                  (lambda (d) (and (consp d) (eq (first d) :increment) (eql (third d) -1)))
-                                 (player::event-directives event)))))
+                                 (player.spec::event-directives event)))))
              "count delta in :if" "-9223372036854775809")
-      (check (lambda (spec) (setf (player::var-initial (var spec "count")) (- (1+ big))))
+      (check (lambda (spec) (setf (player.spec::var-initial (var spec "count")) (- (1+ big))))
              "count initial, negative" "-9223372036854775809"))))
 
 ;;; Runtime overflow: (:overflow VAR)
@@ -310,7 +310,7 @@ prints them."
                   collect (* (if (zerop (rs-below prng 2)) 1 -1)
                              (/ (float (rs-below prng 1000000000) 1d0) 1d9)
                              (expt 10d0 (- (rs-below prng 40) 12))))
-            (remove-if-not (lambda (x) (ignore-errors (player::format-number x))) special))))
+            (remove-if-not (lambda (x) (ignore-errors (player.base::format-number x))) special))))
 
 (test c++-format-number-matches-lisp
   "The generated format_number prints every sample double as FORMAT-NUMBER does
@@ -320,7 +320,7 @@ prints them."
     (is (= (length numbers) (length lines)))
     (loop for x in numbers
           for line in lines
-          for expected = (player::format-number x)
+          for expected = (player.base::format-number x)
           unless (equal expected line)
             do (fail "format_number(~S) printed ~S; Lisp prints ~S" x line expected))))
 

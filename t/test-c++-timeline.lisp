@@ -69,7 +69,7 @@ in C++ (see TIMED-RUNNER); else RUN-C++-TRACE builds MACHINE's driver."
 (defun timed-runner (executable index machine)
   "A function (INITIAL EVENTS UNTIL WHEN-BUSY) playing on controller INDEX of EXECUTABLE."
   (lambda (initial events until when-busy)
-    (player::run-timed-c++-batch executable index machine :initial-state initial :events events
+    (player.cpp::run-timed-c++-batch executable index machine :initial-state initial :events events
                                                           :until until :when-busy when-busy)))
 
 (defun build-batches-in-parallel (batches &key (threads 2))
@@ -81,7 +81,7 @@ in C++ (see TIMED-RUNNER); else RUN-C++-TRACE builds MACHINE's driver."
              (loop (let ((batch (sb-thread:with-mutex (lock) (pop queue))))
                      (unless batch (return))
                      (handler-case
-                         (let ((executable (player::build-timed-c++-batch (mapcar #'cdr batch))))
+                         (let ((executable (player.cpp::build-timed-c++-batch (mapcar #'cdr batch))))
                            (sb-thread:with-mutex (lock)
                              (loop for (key . machine) in batch
                                    for i from 0
@@ -464,7 +464,7 @@ TIMED timed entries arrive while another event plays, PARALLEL of them start
 beside the events playing."
   (let* ((controller (make-controller machine :timed t :initial-state initial-state
                                               :presenter (make-null-presenter)))
-         (timeline (player::controller-timeline controller))
+         (timeline (player.control::controller-timeline controller))
          (events (event-names machine))
          (when-busy (when (rs-chance prng 0.3) (rs-pick prng *when-busy-policies*)))
          (busy 0) (timed 0) (parallel 0)
@@ -478,11 +478,11 @@ beside the events playing."
                                                    (rs-pick prng '(0 0.25 0.25 0.5 0.5 1 1.5 3)))))
                                       (advance controller time)
                                       (incf timed)
-                                      (let ((running (length (player::timeline-runs timeline))))
+                                      (let ((running (length (player.control::timeline-runs timeline))))
                                         (when (controller-busy-p controller) (incf busy))
                                         (send-event controller event :at time :when-busy when-busy)
                                         (when (and (plusp running)
-                                                   (> (length (player::timeline-runs timeline)) running))
+                                                   (> (length (player.control::timeline-runs timeline)) running))
                                           (incf parallel)))
                                       (cons event time))))))
     (list entries

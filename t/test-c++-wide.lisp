@@ -1,6 +1,6 @@
 ;;;; test-c++-wide.lisp -- issue 13's generated C++: lean compiled events, and
 ;;;; states wider than 64 bits: the one-hot state held in several 64-bit words
-;;;; (src/codegen/cpp-words.lisp) must print the Lisp traces, whole-event and
+;;;; (src/cpp/cpp-words.lisp) must print the Lisp traces, whole-event and
 ;;;; timed, line for line. Two fixed specs put a 70-value field across the
 ;;;; boundary of two words, with autoscripts, :if tests and goals on both
 ;;;; sides, and fill three words; random specs with large enumerations
@@ -119,17 +119,17 @@ the RUNNER functions of its controller in a built program."
 (defun build-wide-batch (cases)
   "Build CASES into one program and give each its runners; NIL, or the error text."
   (handler-case
-      (let ((executable (player::build-timed-c++-batch (mapcar #'wide-machine cases))))
+      (let ((executable (player.cpp::build-timed-c++-batch (mapcar #'wide-machine cases))))
         (loop for case in cases
               for index from 0
               do (let ((index index) (machine (wide-machine case)))
                    (setf (wide-whole case)
                          (lambda (initial events)
-                           (player::run-whole-c++-batch executable index machine
+                           (player.cpp::run-whole-c++-batch executable index machine
                                                         :initial-state initial :events events))
                          (wide-timed case)
                          (lambda (initial events until when-busy)
-                           (player::run-timed-c++-batch executable index machine
+                           (player.cpp::run-timed-c++-batch executable index machine
                                                         :initial-state initial :events events
                                                         :until until :when-busy when-busy)))))
         nil)
@@ -202,9 +202,9 @@ the RUNNER functions of its controller in a built program."
 (std::array); one of at most 64, Peedy's, keeps one std::uint64_t."
   (flet ((header (forms)
            (let ((machine (machine-of-forms 'c++-wide-layout forms (find-package '#:player-tests))))
-             (player::c++-sources machine "w" "w"))))
+             (player.cpp::c++-sources machine "w" "w"))))
     (let ((wide (header (wide-three-word-forms)))
-          (peedy (player::c++-sources (plan-spec (peedy-spec)) "peedy" "peedy")))
+          (peedy (player.cpp::c++-sources (plan-spec (peedy-spec)) "peedy" "peedy")))
       (is (search "constexpr int kStateWords = 3;" wide))
       (is (search "using StateBits = std::array<std::uint64_t, kStateWords>;" wide))
       (is (search "constexpr int kStateWords = 1;" peedy))
@@ -228,7 +228,7 @@ and random timed scenarios alike."
     (is (null problems) "~D comparisons differ; the first:~{~%~%~A~}"
         (length problems) (subseq problems 0 (min 3 (length problems))))
     (is (<= 4 (count-if (lambda (case)
-                          (> (player::state-word-count (machine-spec (wide-machine case))) 1))
+                          (> (player.cpp::state-word-count (machine-spec (wide-machine case))) 1))
                         cases)))))
 
 ;;; Lean events
@@ -245,7 +245,7 @@ and random timed scenarios alike."
   "Peedy's whole-event procedures (events, goals, ops) allocate nothing and
 touch no string: an event is mask tests, stores and the presenter's calls.
 An op whose effects no autoscript watches changes the state with one store."
-  (let* ((source (nth-value 1 (player::c++-sources (plan-spec (peedy-spec)) "peedy" "peedy")))
+  (let* ((source (nth-value 1 (player.cpp::c++-sources (plan-spec (peedy-spec)) "peedy" "peedy")))
          (procedures (mapcan (lambda (prefix) (c++-procedures source prefix)) '("ev_" "achieve_" "op_"))))
     (is (< 60 (length procedures)))
     (let ((offenders (loop for procedure in procedures

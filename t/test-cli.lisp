@@ -117,19 +117,19 @@ progress line on its stderr."
 ;;; The command table: per-command help, consistent exit codes, quiet pipes.
 
 (test every-command-has-help
-  (dolist (command player::*commands*)
-    (let ((name (player::command-name command)))
+  (dolist (command player.cli::*commands*)
+    (let ((name (player.cli::command-name command)))
       (multiple-value-bind (out err code) (player-command name "--help")
         (is (= 0 code) "~A --help exits ~A" name code)
         (is (string= "" err))
         (is (eql 0 (search (format nil "usage: player ~A" name) out)) "~A --help: ~S" name out)
         (is (search "output: " out) "~A's help says where its output goes" name)
-        (dolist (option (player::command-options command))
-          (is (search (player::option-name option) out) "~A's help lacks ~A" name
-              (player::option-name option))))
+        (dolist (option (player.cli::command-options command))
+          (is (search (player.cli::option-name option) out) "~A's help lacks ~A" name
+              (player.cli::option-name option))))
       (is (string= (player-command name "--help") (player-command "help" name))
           "help ~A and ~A --help differ" name name)
-      (is (search (player::command-summary command) (player-command "help"))
+      (is (search (player.cli::command-summary command) (player-command "help"))
           "the global help lacks ~A" name)))
   (multiple-value-bind (out err code) (player-command "render" "-h")
     (declare (ignore err))

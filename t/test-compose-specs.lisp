@@ -10,46 +10,46 @@
 
 (defun goal-form-of-state (state spec)
   "The state expression that holds exactly in the one-hot STATE of SPEC."
-  (cons 'and (loop for (var . index) in (player::state-assignments state spec)
-                   collect (if (eq (player::var-kind var) :boolean)
-                               (if (= index 1) (player::var-name var) (list 'not (player::var-name var)))
-                               (intern (format nil "~A.~A" (symbol-name (player::var-name var))
-                                               (symbol-name (svref (player::var-domain var) index)))
+  (cons 'and (loop for (var . index) in (player.spec::state-assignments state spec)
+                   collect (if (eq (player.spec::var-kind var) :boolean)
+                               (if (= index 1) (player.spec::var-name var) (list 'not (player.spec::var-name var)))
+                               (intern (format nil "~A.~A" (symbol-name (player.spec::var-name var))
+                                               (symbol-name (svref (player.spec::var-domain var) index)))
                                        '#:player-user)))))
 
 (defun plan-length (machine goal-form state)
   "How many ops MACHINE's plan for GOAL-FORM runs from the one-hot STATE, or NIL."
-  (let ((plan (player::state-plan (player::find-or-plan-goal machine goal-form) state)))
-    (and plan (length (player::plan-ops plan)))))
+  (let ((plan (player.inspect::state-plan (player.inspect::find-or-plan-goal machine goal-form) state)))
+    (and plan (length (player.planner::plan-ops plan)))))
 
 (defun node-state (spec variable node-name)
   "The one-hot state of SPEC (made by GRAPH->SPEC) whose VARIABLE holds NODE-NAME."
-  (let ((var (find variable (player::spec-variables spec) :key #'player::var-name :test #'string-equal)))
-    (player::var-value-bit var (position node-name (player::var-domain var) :test #'string-equal))))
+  (let ((var (find variable (player.spec::spec-variables spec) :key #'player.spec::var-name :test #'string-equal)))
+    (player.spec::var-value-bit var (position node-name (player.spec::var-domain var) :test #'string-equal))))
 
 (defun check-round-trip (spec)
   "GRAPH->SPEC of SPEC->GRAPH of SPEC plans, between every two states reachable
 from the initial state, plans as long as SPEC's (none where SPEC has none)."
   (let* ((graph (spec->graph spec))
          (machine (compile-spec spec))
-         (layout (player::make-layout spec))
-         (states (loop for dense below (player::layout-state-count layout)
-                       for state = (player::dense-to-state dense layout)
-                       when (graph-has-node-p graph (player::state-node state spec)) collect state))
-         (copy (graph->spec graph 'compose-round-trip :start (player::state-node (player::initial-state spec) spec)))
+         (layout (player.planner::make-layout spec))
+         (states (loop for dense below (player.planner::layout-state-count layout)
+                       for state = (player.planner::dense-to-state dense layout)
+                       when (graph-has-node-p graph (player.compose::state-node state spec)) collect state))
+         (copy (graph->spec graph 'compose-round-trip :start (player.compose::state-node (player.planner::initial-state spec) spec)))
          (copy-machine (compile-spec copy)))
     (unwind-protect
          (progn
            (is (= (graph-node-count graph) (length states)))
            (dolist (to states)
              (let ((goal (goal-form-of-state to spec))
-                   (copy-goal (intern (format nil "NODE.~A" (player::default-node-name (player::state-node to spec)))
+                   (copy-goal (intern (format nil "NODE.~A" (player.compose::default-node-name (player.compose::state-node to spec)))
                                       '#:player-user)))
                (dolist (from states)
                  (is (eql (plan-length machine goal from)
                           (plan-length copy-machine copy-goal
-                                       (node-state copy "NODE" (player::default-node-name (player::state-node from spec)))))
-                     "~A: from ~S to ~S" (spec-name spec) (player::state-node from spec) (player::state-node to spec))))))
+                                       (node-state copy "NODE" (player.compose::default-node-name (player.compose::state-node from spec)))))
+                     "~A: from ~S to ~S" (spec-name spec) (player.compose::state-node from spec) (player.compose::state-node to spec))))))
       (remove-spec 'compose-round-trip))))
 
 (defspec compose-lamp
@@ -149,7 +149,7 @@ from the initial state, plans as long as SPEC's (none where SPEC has none)."
                         ops)))
            (is (string= "CS-CS-RS" (symbol-name (state-value controller 'cradle))))
            ;; the ops are exactly GRAPH->SPEC's: one per edge of G^3
-           (is (= (graph-edge-count (newton-cradle 3)) (length (player::spec-ops spec))))
+           (is (= (graph-edge-count (newton-cradle 3)) (length (player.spec::spec-ops spec))))
            (is (= (1- (graph-node-count (newton-cradle 3))) (player::spec-max-depth spec))))
       (remove-spec 'cradle-3))))
 
@@ -162,23 +162,23 @@ from the initial state, plans as long as SPEC's (none where SPEC has none)."
                                    (=> (0 . _) (_ . 'a)))
                            :start (0 . a))
                          '(event ev-go :state node.<m1_b>))))
-      (is (= 6 (length (player::var-domain (first (player::spec-variables spec))))))
+      (is (= 6 (length (player.spec::var-domain (first (player.spec::spec-variables spec))))))
       (is (= 5 (player::spec-max-depth spec))))
     ;; a registered graph, sums and merges, :eval with -
     (register-graph 'compose-line (make-graph '() '(((0 . 1) . (1 . 2)) ((1 . 2) . (2 . 3)))))
     (let ((spec (spec-of '(:graph (merge compose-line compose-line) :go-events false))))
-      (is (= 1 (length (player::spec-ops spec)))))
+      (is (= 1 (length (player.spec::spec-ops spec)))))
     (let ((spec (spec-of '(:graph (restrict (complete (-1 0 1)) (then x (:eval - x))) :go-events false))))
-      (is (= 3 (length (player::spec-ops spec)))))
+      (is (= 3 (length (player.spec::spec-ops spec)))))
     (let ((spec (spec-of '(:graph (sum (graph (a) ()) (graph () ((a . b)))) :variable v) '(:max-depth 3))))
       (is (= 3 (player::spec-max-depth spec)))
-      (is (string-equal "V" (player::var-name (first (player::spec-variables spec))))))
+      (is (string-equal "V" (player.spec::var-name (first (player.spec::spec-variables spec))))))
     ;; specs defined before, combined: the door and the lamp at once
     (let ((spec (spec-of '(:graph (product (spec compose-door) (spec compose-lamp))))))
       (is (= (* (graph-node-count (spec->graph 'compose-door)) (graph-node-count (spec->graph 'compose-lamp)))
-             (length (player::var-domain (first (player::spec-variables spec)))))))
+             (length (player.spec::var-domain (first (player.spec::spec-variables spec)))))))
     ;; graphs too large are refused before they are built
-    (let ((player::*graph-expression-edge-limit* 1000)
+    (let ((player.compose::*graph-expression-edge-limit* 1000)
           (lefts (loop for i from 1 to 20 collect (cons i 0)))
           (rights (loop for i from 1 to 20 collect (cons 0 i))))
       (signals graph-expression-error (spec-of `(:graph (merge (complete ,lefts) (complete ,rights)))))
@@ -214,7 +214,7 @@ from the initial state, plans as long as SPEC's (none where SPEC has none)."
     (graph-option-error option))
   (is (null *graph-option-ran*))
   ;; a spec file with (:graph ...) loads with code refused
-  (is (player::spec-p (first (load-spec (checkout-file "t/fixtures/cradle-graph.lisp") :allow-code nil))))
+  (is (player.spec::spec-p (first (load-spec (checkout-file "t/fixtures/cradle-graph.lisp") :allow-code nil))))
   (remove-spec 'cradle-3))
 
 (defun note-ran (&rest arguments)

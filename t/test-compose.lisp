@@ -33,7 +33,7 @@ ordered pair an edge with probability DENSITY; some nodes may be isolated."
 
 (defun edge-ends (graph)
   "The ends of GRAPH's edges, sorted."
-  (player::sort-nodes (remove-duplicates (loop for (s . e) in (graph-edges graph) collect s collect e)
+  (player.compose::sort-nodes (remove-duplicates (loop for (s . e) in (graph-edges graph) collect s collect e)
                                          :test #'equal)))
 
 ;;; Laws
@@ -107,10 +107,10 @@ ordered pair an edge with probability DENSITY; some nodes may be isolated."
              (let ((g (random-graph prng :max-nodes 5 :universe 9)))
                (graph-map g (lambda (n) (cons (floor n 3) (mod n 3)))))))
       (let ((a (pairs-graph)) (b (pairs-graph)))
-        (is (graph-equal (graph-merge a b) (player::graph-merge-by-definition a b))))))
+        (is (graph-equal (graph-merge a b) (player.compose::graph-merge-by-definition a b))))))
   (let ((g17 (cradle-stage 2 :g17)))
     (is (graph-equal (graph-merge g17 g17 :leafp #'sphere-state-p)
-                     (player::graph-merge-by-definition g17 g17 :leafp #'sphere-state-p)))))
+                     (player.compose::graph-merge-by-definition g17 g17 :leafp #'sphere-state-p)))))
 
 ;;; Patterns, trees, traces: the paper's examples
 
@@ -327,7 +327,7 @@ exchanges velocities with it on the side it was hit from."
            (symbols (rs-chance prng 0.5))
            (g (if symbols (graph-map g (lambda (n) (value-symbol (format nil "S~D" n)))) g)))
       (unless (graph-empty-p g)
-        (let* ((name (player::default-node-name (first (graph-nodes g))))
+        (let* ((name (player.compose::default-node-name (first (graph-nodes g))))
                (spec (graph->spec g 'compose-random :start (first (graph-nodes g))))
                (machine (compile-spec spec)))
           (declare (ignore name))
@@ -337,8 +337,8 @@ exchanges velocities with it on the side it was hit from."
                    (dolist (to (graph-nodes g))
                      (let* ((controller (make-controller machine :initial-state
                                                          (list (cons (value-symbol "NODE")
-                                                                     (value-symbol (player::default-node-name from))))))
-                            (ok (send-event controller (value-symbol (format nil "GO-~A" (player::default-node-name to)))))
+                                                                     (value-symbol (player.compose::default-node-name from))))))
+                            (ok (send-event controller (value-symbol (format nil "GO-~A" (player.compose::default-node-name to)))))
                             (ops (loop for line in (trace-lines (controller-presenter controller))
                                        when (eq (first line) :op) collect (second line))))
                        (if (gethash to distances)
@@ -350,12 +350,12 @@ exchanges velocities with it on the side it was hit from."
                                (dolist (op ops)
                                  (let ((next (find-if (lambda (n)
                                                         (string= (symbol-name op)
-                                                                 (format nil "FROM-~A-TO-~A" (player::default-node-name at)
-                                                                         (player::default-node-name n))))
+                                                                 (format nil "FROM-~A-TO-~A" (player.compose::default-node-name at)
+                                                                         (player.compose::default-node-name n))))
                                                       (graph-successors g at))))
                                    (is-true next "~A is not an edge from ~S" op at)
                                    (setf at next))))
-                             (is (string= (player::default-node-name to)
+                             (is (string= (player.compose::default-node-name to)
                                           (symbol-name (state-value controller (value-symbol "NODE"))))))
                            (is (null ok)))))))
             (remove-spec 'compose-random)))))))
@@ -370,7 +370,7 @@ exchanges velocities with it on the side it was hit from."
          (machine (compile-spec spec))
          (controller (make-controller machine)))
     ;; the committed file is what the algebra generates
-    (is (equal (player::cradle-spec-forms) (player::spec-forms spec)))
+    (is (equal (player.compose::cradle-spec-forms) (player.spec::spec-forms spec)))
     (is (eq t (send-event controller 'ev-lift-two-left)))
     (let* ((ops (loop for line in (trace-lines (controller-presenter controller))
                       when (eq (first line) :op) collect (symbol-name (second line))))

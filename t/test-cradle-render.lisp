@@ -18,7 +18,7 @@
   "(TIME . POSITIONS) for the start and the end of each op SIMULATION ran:
 the spheres' positions (-1, 0, 1, leftmost first) the trace says."
   (cons (cons 0 '(0 0 0 0 0))
-        (loop for line in (trace-lines (player::simulation-presenter simulation))
+        (loop for line in (trace-lines (player.performance::simulation-presenter simulation))
               when (eq (first line) :op)
                 collect (let ((name (symbol-name (second line))))
                           (cons (round (getf line :end))
@@ -28,13 +28,13 @@ the spheres' positions (-1, 0, 1, leftmost first) the trace says."
 
 (defun ball-x (scene k)
   "The world x of ball K (from 1) in SCENE."
-  (player::vec3-x (player::object-world-position (player::find-object scene (format nil "BALL-~D" k)))))
+  (player.body::vec3-x (player::object-world-position (player::find-object scene (format nil "BALL-~D" k)))))
 
 (defun expected-ball-x (k position)
   "Where the script library puts ball K (from 1) of 5 at POSITION: its pivot's
 x plus the string's length times the sine of the swing."
-  (+ (player::cradle-pivot-x (1- k) 5)
-     (* (player::cradle-geometry :string) (sin (player::cradle-angle position)))))
+  (+ (player.compose::cradle-pivot-x (1- k) 5)
+     (* (player.compose::cradle-geometry :string) (sin (player.compose::cradle-angle position)))))
 
 (defun ball-pixel-p (pixels index)
   "Is pixel INDEX of the RGBA PIXELS the balls' red?"
@@ -60,17 +60,17 @@ x plus the string's length times the sine of the swing."
     (sqrt (/ (reduce #'+ values :key (lambda (v) (expt (- v mean) 2))) n))))
 
 (test cradle-scripts-file-is-generated
-  (is (string= (player::cradle-scripts-text)
+  (is (string= (player.compose::cradle-scripts-text)
                (alexandria:read-file-into-string (checkout-file "specs/newtons-cradle-scripts.lisp")
                                                  :external-format :utf-8)))
   ;; a script per op, nothing missing, nothing that cannot play
   (let ((spec (first (load-spec (checkout-file "specs/newtons-cradle.lisp")))))
-    (is (null (remove :warning (player::script-diagnostics spec) :key #'player::diagnostic-severity)))
-    (is (null (player::missing-scripts (player::spec-script-library spec) (player::spec-script-names spec))))))
+    (is (null (remove :warning (player.performance::script-diagnostics spec) :key #'player.performance::diagnostic-severity)))
+    (is (null (player.performance::missing-scripts (player.performance::spec-script-library spec) (player.performance::spec-script-names spec))))))
 
 (test cradle-scene-follows-trace
   (let* ((simulation (cradle-simulation))
-         (performance (player::simulation-performance simulation))
+         (performance (player.performance::simulation-performance simulation))
          (states (trace-states simulation)))
     ;; lift, swing down, collide, swing out on the right: six steps of a second
     (is (= 7 (length states)))
@@ -93,12 +93,12 @@ x plus the string's length times the sine of the swing."
                               (is (< (+ (min x0 x1) 1d-3) x (- (max x0 x1) 1d-3))
                                   "at ~A s ball ~D jumps: ~,3F not between ~,3F and ~,3F" (+ time 0.5) k x x0 x1))))))
     ;; the character is a hidden stand-in: nothing but props is drawn
-    (is (notany (lambda (object) (and (typep object 'player::body) (player::drawable-p object)))
+    (is (notany (lambda (object) (and (typep object 'player::body) (player.render::drawable-p object)))
                 (player::scene-objects (player::performance-frame performance 0))))))
 
 (test cradle-frames-follow-trace
   (let* ((simulation (cradle-simulation))
-         (performance (player::simulation-performance simulation))
+         (performance (player.performance::simulation-performance simulation))
          (states (trace-states simulation))
          (centroids '()))
     (destructuring-bind (width height) *cradle-size*
@@ -116,7 +116,7 @@ x plus the string's length times the sine of the swing."
                       ;; each ball's centre, projected, is drawn in the balls' colour
                       (loop for k from 1 to 5
                             do (multiple-value-bind (column row)
-                                   (player::project-point view (player::object-world-position
+                                   (player.render::project-point view (player::object-world-position
                                                                 (player::find-object scene (format nil "BALL-~D" k)))
                                                           width height)
                                  (is (ball-pixel-p pixels (+ (floor column) (* width (floor row))))

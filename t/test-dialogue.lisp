@@ -35,8 +35,8 @@ it.  Returns the turn."
         "~S: events ~S, not ~S" input (turn-events turn) events)
     (when utterance
       (is (equal (list utterance) (turn-utterances turn)) "~S: said ~S, not ~S" input (turn-utterances turn) utterance))
-    (when (player::turn-transition turn)
-      (push (player::transition-form (player::turn-transition turn)) *taken-transitions*))
+    (when (player.dialogue::turn-transition turn)
+      (push (player.dialogue::transition-form (player.dialogue::turn-transition turn)) *taken-transitions*))
     turn))
 
 (defun no-failures-p (conversation)
@@ -76,12 +76,12 @@ it.  Returns the turn."
       (turn! c "have you got anything by madonna" "stGotCD" "stGotCD" '("ev-search")
              "Madonna again? I still have Summer Radio, would you like to hear something from that?")
       (is (no-failures-p c)))
-    (let* ((all (player::dialogue-transitions (jukebox)))
+    (let* ((all (player.dialogue::dialogue-transitions (jukebox)))
            (missed (remove-if (lambda (transition)
-                                (find (player::transition-form transition) *taken-transitions* :test #'equal))
+                                (find (player.dialogue::transition-form transition) *taken-transitions* :test #'equal))
                               all)))
       (is (= 20 (length all)))
-      (is (null missed) "transitions never taken: ~S" (mapcar #'player::transition-form missed)))))
+      (is (null missed) "transitions never taken: ~S" (mapcar #'player.dialogue::transition-form missed)))))
 
 (test figure-7-sends-pe-pick-track-gen-tracks-do-select-say
   ;; stGotCD + evOK: pePickTrack (ev-think), genTracks, doSelect, Say.
@@ -95,8 +95,8 @@ it.  Returns the turn."
       (is (member track tracks))
       (is (eq track (context-value c "lastRef")))
       (is (member (first (turn-utterances turn))
-                  (list (format nil "How about ~A?" (player::track-title track))
-                        (format nil "Would you like to hear ~A?" (player::track-title track)))
+                  (list (format nil "How about ~A?" (player.dialogue::track-title track))
+                        (format nil "Would you like to hear ~A?" (player.dialogue::track-title track)))
                   :test #'string=)))))
 
 (test template-cascade-gives-equal-shares
@@ -105,15 +105,15 @@ it.  Returns the turn."
          (counts (make-array 5 :initial-element 0))
          (draws 10000))
     (dotimes (i draws)
-      (incf (aref counts (player::template-index (choose-template c 'haveCD)))))
+      (incf (aref counts (player.dialogue::template-index (choose-template c 'haveCD)))))
     (loop for index from 1 to 4
           do (is (< (abs (- (/ (aref counts index) draws) 1/4)) 0.02)
                  "template ~D drawn ~D times in ~D" index (aref counts index) draws))
     ;; The same seed draws the same sequence.
     (let ((a (jukebox-conversation :seed 3 :controller nil))
           (b (jukebox-conversation :seed 3 :controller nil)))
-      (is (equal (loop repeat 50 collect (player::template-index (choose-template a 'haveCD)))
-                 (loop repeat 50 collect (player::template-index (choose-template b 'haveCD))))))))
+      (is (equal (loop repeat 50 collect (player.dialogue::template-index (choose-template a 'haveCD)))
+                 (loop repeat 50 collect (player.dialogue::template-index (choose-template b 'haveCD))))))))
 
 (test template-expansion-substitutes-context-variables
   (let ((c (jukebox-conversation :controller nil)))
@@ -123,7 +123,7 @@ it.  Returns the turn."
                  "I've got The Bonnie Raitt Collection, would you like to hear something from that?"
                  "I have The Bonnie Raitt Collection from 1990, would you like to hear something from that?")
                (mapcar (lambda (template) (expand-template template c))
-                       (player::dialogue-category-templates (jukebox) 'haveCD))))))
+                       (player.dialogue::dialogue-category-templates (jukebox) 'haveCD))))))
 
 (test a-template-limited-to-once-per-conversation-is-said-once
   ;; "crank it up!" (p 0.25, :limit :conversation): over many plays, once.
@@ -146,8 +146,8 @@ it.  Returns the turn."
     ;; Then a track Peedy suggests: its composer.
     (conversation-hear c "sure")
     (let ((track (context-value c "lastRef")))
-      (is (typep track 'player::track))
-      (is (equal (list (player::track-composer track)) (turn-utterances (conversation-hear c "who wrote that")))))
+      (is (typep track 'player.dialogue::track))
+      (is (equal (list (player.dialogue::track-composer track)) (turn-utterances (conversation-hear c "who wrote that")))))
     ;; A title named: that track, which becomes the object "that" refers to.
     (is (equal '("Bo Diddley") (turn-utterances (conversation-hear c "who wrote before you accuse me"))))
     (is (equal '("Bo Diddley") (turn-utterances (conversation-hear c "who wrote that"))))
@@ -313,21 +313,21 @@ it.  Returns the turn."
       (list '())
       (let* ((element (first elements))
              (rests (pattern-sentences (rest elements)))
-             (heads (append (if (player::pattern-words-p element)
-                                (list (player::pattern-words-words element))
-                                (mapcar #'car (player::pattern-slot-alternatives element)))
-                            (and (player::pattern-optional-p element) (list '())))))
+             (heads (append (if (player.dialogue::pattern-words-p element)
+                                (list (player.dialogue::pattern-words-words element))
+                                (mapcar #'car (player.dialogue::pattern-slot-alternatives element)))
+                            (and (player.dialogue::pattern-optional-p element) (list '())))))
         (loop for head in heads append (loop for rest in rests collect (append head rest))))))
 
 (test every-sentence-of-the-grammar-is-matched
   ;; The JSGF grammar and the matcher come from the same patterns: whatever
   ;; the recogniser can return, the matcher understands, as the same event.
   (let ((d (jukebox)) (sentences 0))
-    (dolist (utterance (player::dialogue-utterances d))
-      (dolist (words (pattern-sentences (player::utterance-pattern-elements utterance)))
+    (dolist (utterance (player.dialogue::dialogue-utterances d))
+      (dolist (words (pattern-sentences (player.dialogue::utterance-pattern-elements utterance)))
         (incf sentences)
         (multiple-value-bind (event slots understood) (match-utterance d (format nil "~{~A~^ ~}" words))
           (declare (ignore slots))
           (is-true understood "~{~A~^ ~} is not understood" words)
-          (is (eq (player::utterance-pattern-event utterance) event) "~{~A~^ ~}: ~A" words event))))
+          (is (eq (player.dialogue::utterance-pattern-event utterance) event) "~{~A~^ ~}: ~A" words event))))
     (is (< 100 sentences))))

@@ -47,9 +47,9 @@ machine and each (INITIAL EVENTS) run of C++-RANDOM-RUNS; the spec is removed af
   "A null presenter is silent, a null presenter with a method of its own is
 not; on random specs both leave the controller with the same results, clock
 and state after every event."
-  (is (player::silent-presenter-p (make-null-presenter)))
-  (is (not (player::silent-presenter-p (make-instance 'told-presenter))))
-  (is (not (player::silent-presenter-p (make-trace-presenter))))
+  (is (player.control::silent-presenter-p (make-null-presenter)))
+  (is (not (player.control::silent-presenter-p (make-instance 'told-presenter))))
+  (is (not (player.control::silent-presenter-p (make-trace-presenter))))
   (dolist (seed *dispatch-seeds*)
     (check-random-runs
      seed (lambda (forms machine initial events)
@@ -79,8 +79,8 @@ pad) as the spec itself, whose states are fixnums."
                 (unwind-protect
                      (let ((padded (compile-spec (define-spec name (padded-forms forms pad)
                                                    :package (find-package '#:player-user)))))
-                       (is (player::fixnum-state-p machine))
-                       (is (not (player::fixnum-state-p padded)))
+                       (is (player.control::fixnum-state-p machine))
+                       (is (not (player.control::fixnum-state-p padded)))
                        (is (equal (controller-after-events machine initial events (make-null-presenter))
                                   (controller-after-events padded initial events (make-null-presenter)
                                                            :ignore (list pad)))
@@ -155,14 +155,14 @@ general path (every trap masked) answers."
                                   (eq operator '/=)
                                   (sb-int:with-float-traps-masked (:invalid :overflow :inexact)
                                     (funcall operator a b))))
-                      (answer (funcall (player::compile-binary-comparison operator (symbol-function operator)
+                      (answer (funcall (player.control::compile-binary-comparison operator (symbol-function operator)
                                                                           (constant a) (constant b))
                                        nil)))
                   "(~A ~S ~S)" operator a b))
             (dolist (operator '(+ - *))
               (is (same-number-p (answer (and a b (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
                                                     (funcall operator a b))))
-                                 (answer (funcall (player::compile-binary-arithmetic (symbol-function operator)
+                                 (answer (funcall (player.control::compile-binary-arithmetic (symbol-function operator)
                                                                                      (constant a) (constant b))
                                                   nil)))
                   "(~A ~S ~S)" operator a b))))))))

@@ -39,7 +39,7 @@ DOT text named by PREFIX (\"s\": the op graph, \"p\": the plan tree): lines
 
 (defun dot-installed-p ()
   "Is Graphviz's dot program on PATH?"
-  (player::find-executable "dot"))
+  (player.base::find-executable "dot"))
 
 (defun render-svg (dot)
   "The SVG `dot -Tsvg` draws from the DOT text, and its exit code."
@@ -54,33 +54,33 @@ DOT text named by PREFIX (\"s\": the op graph, \"p\": the plan tree): lines
   "Every assignment of values to SPEC's plannable variables, each a list of
 value indices in declaration order."
   (let ((assignments (list '())))
-    (dolist (var (reverse (player::plannable-variables spec)) assignments)
-      (setf assignments (loop for index below (length (player::var-domain var))
+    (dolist (var (reverse (player.spec::plannable-variables spec)) assignments)
+      (setf assignments (loop for index below (length (player.spec::var-domain var))
                               nconc (mapcar (lambda (rest) (cons index rest)) assignments))))))
 
 (defun assignment-state (spec assignment)
   "ASSIGNMENT as the one-hot state the planner uses."
-  (loop for var in (player::plannable-variables spec)
+  (loop for var in (player.spec::plannable-variables spec)
         for index in assignment
-        sum (ash 1 (+ (player::var-bit-offset var) index))))
+        sum (ash 1 (+ (player.spec::var-bit-offset var) index))))
 
 (defun holds-in-p (ast spec assignment)
   "Does the parsed state expression AST (NIL: no condition) hold in ASSIGNMENT?"
   (or (null ast)
       (let ((state (assignment-state spec assignment)))
-        (some (lambda (cube) (zerop (logandc2 state cube))) (player::expression-cubes ast spec)))))
+        (some (lambda (cube) (zerop (logandc2 state cube))) (player.spec::expression-cubes ast spec)))))
 
 (defun apply-op (spec op assignment)
   "ASSIGNMENT with OP's effects set."
-  (let ((vars (player::plannable-variables spec)))
+  (let ((vars (player.spec::plannable-variables spec)))
     (loop for var in vars
           for index in assignment
-          collect (let ((effect (assoc var (player::op-effects op))))
+          collect (let ((effect (assoc var (player.spec::op-effects op))))
                     (if effect (cdr effect) index)))))
 
 (defun spec-ops-with-effects (spec)
   "SPEC's ops that set some variable."
-  (remove nil (player::spec-ops spec) :key #'player::op-effects))
+  (remove nil (player.spec::spec-ops spec) :key #'player.spec::op-effects))
 
 (defun counted-op-edges (spec)
   "(VALUES EDGES MUST-ASK-EDGES): how many (assignment, op) pairs of SPEC have
@@ -88,24 +88,24 @@ the op's precondition hold and its effects change the assignment."
   (let ((edges 0) (must-ask 0))
     (dolist (assignment (enumerate-assignments spec))
       (dolist (op (spec-ops-with-effects spec))
-        (when (and (holds-in-p (player::op-precond op) spec assignment)
+        (when (and (holds-in-p (player.spec::op-precond op) spec assignment)
                    (not (equal assignment (apply-op spec op assignment))))
           (incf edges)
-          (when (player::op-must-ask op) (incf must-ask)))))
+          (when (player.spec::op-must-ask op) (incf must-ask)))))
     (values edges must-ask)))
 
 (defun counted-goal-states (spec goal-form)
   "How many assignments of SPEC satisfy GOAL-FORM."
-  (let ((ast (let ((player::*spec* spec)) (player::parse-expression goal-form))))
+  (let ((ast (let ((player.spec::*spec* spec)) (player.spec::parse-expression goal-form))))
     (count-if (lambda (assignment) (holds-in-p ast spec assignment)) (enumerate-assignments spec))))
 
 (defun goal-distances (spec goal-form)
   "A hash table from each assignment (a list) of SPEC to the fewest plan
 operators (ops not must-ask, macro-ops) leading it into GOAL-FORM; absent
 when none do.  Breadth first, backwards from the goal's assignments."
-  (let* ((ast (let ((player::*spec* spec)) (player::parse-expression goal-form)))
+  (let* ((ast (let ((player.spec::*spec* spec)) (player.spec::parse-expression goal-form)))
          (assignments (enumerate-assignments spec))
-         (ops (remove-if #'player::op-must-ask (spec-ops-with-effects spec)))
+         (ops (remove-if #'player.spec::op-must-ask (spec-ops-with-effects spec)))
          (distance (make-hash-table :test 'equal))
          (frontier (remove-if-not (lambda (a) (holds-in-p ast spec a)) assignments)))
     (dolist (a frontier) (setf (gethash a distance) 0))
@@ -115,7 +115,7 @@ when none do.  Breadth first, backwards from the goal's assignments."
                    (loop for a in assignments
                          unless (gethash a distance)
                            when (some (lambda (op)
-                                        (and (holds-in-p (player::op-precond op) spec a)
+                                        (and (holds-in-p (player.spec::op-precond op) spec a)
                                              (eql (gethash (apply-op spec op a) distance) (1- d))))
                                       ops)
                              collect a))
@@ -235,10 +235,10 @@ shuts->open (3), must-ask slam open->shut (3): 12 edges, 3 dashed."
 (defun assignment-dense (spec assignment)
   "The dense number of ASSIGNMENT: mixed radix, the first variable lowest."
   (loop with stride = 1
-        for var in (player::plannable-variables spec)
+        for var in (player.spec::plannable-variables spec)
         for index in assignment
         sum (* index stride)
-        do (setf stride (* stride (length (player::var-domain var))))))
+        do (setf stride (* stride (length (player.spec::var-domain var))))))
 
 (defun split-sequence-blank (text)
   "TEXT split at its blanks."
@@ -287,8 +287,8 @@ initial state (all false) the 64 states with LOCKED false are reachable."
 
 (test large-specs-draw-the-reachable-states
   (with-switch-spec (spec)
-    (let ((player::*graph-all-states-limit* 100)
-          (player::*graph-state-limit* 100))
+    (let ((player.inspect::*graph-all-states-limit* 100)
+          (player.inspect::*graph-state-limit* 100))
       (let ((dot (graph-text spec)))
         (is (= 64 (count-dot dot "s")))
         (is (= (* 64 6) (count-dot dot "s" :edges t)) "each state: one switch op per switch")
@@ -297,9 +297,9 @@ initial state (all false) the 64 states with LOCKED false are reachable."
 
 (test too-large-specs-are-refused
   (with-switch-spec (spec)
-    (let ((player::*graph-all-states-limit* 50)
-          (player::*graph-state-limit* 50)
-          (player::*plan-tree-state-limit* 100))
+    (let ((player.inspect::*graph-all-states-limit* 50)
+          (player.inspect::*graph-state-limit* 50)
+          (player.inspect::*plan-tree-state-limit* 100))
       (let ((condition (handler-case (progn (graph-text spec) nil)
                          (state-graph-error (c) c))))
         (is (typep condition 'state-graph-error))
@@ -311,7 +311,7 @@ initial state (all false) the 64 states with LOCKED false are reachable."
         (is (= 64 (count-dot dot "p")))
         (is (= 16 (count-if (lambda (s) (search "fillcolor" s)) (dot-statements dot "p"))))
         (is (search "only the plan tree is drawn" dot)))
-      (let ((player::*plan-tree-state-limit* 60))
+      (let ((player.inspect::*plan-tree-state-limit* 60))
         (signals state-graph-error (graph-text spec :goal '(and a b)))))))
 
 ;;;# Errors
@@ -343,13 +343,13 @@ initial state (all false) the 64 states with LOCKED false are reachable."
           (is (typep condition 'graphviz-error))
           (is (search "install the Debian package graphviz" (princ-to-string condition))))
         ;; the command line says the same, as its one error line
-        (let ((condition (handler-case (progn (player::run-command-line
+        (let ((condition (handler-case (progn (player.cli::run-command-line
                                                (list "dot" (fixture "mini.lisp") "--out" (namestring path)))
                                               nil)
                            (error (c) c))))
           (is (typep condition 'graphviz-error))
           (is (search "no-such-graphviz-dot program, which is not installed: install the Debian package graphviz"
-                      (player::condition-line condition))))))))
+                      (player.base::condition-line condition))))))))
 
 ;;;# The command line
 
@@ -402,7 +402,7 @@ error line containing FRAGMENT."
   (let* ((machine (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp")))))
          (controller (make-controller machine :initial-state '((posture . sit) (alert . sleep))))
          (text (with-output-to-string (out)
-                 (write-state-graph machine out :current (player::controller-bits controller))))
+                 (write-state-graph machine out :current (player.control::controller-bits controller))))
          (marked (remove-if-not (lambda (line) (search "penwidth=3" line)) (lines text))))
     (is (= 1 (length marked)))
     (is (search "posture=sit" (first marked)))

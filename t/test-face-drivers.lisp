@@ -10,9 +10,9 @@
 within limits and calling CHECK with each time after evaluating."
   (dolist (time times)
     (player::body-evaluate body time)
-    (when (>= time (player::driver-start driver))
+    (when (>= time (player.body::driver-start driver))
       (is-true (driver-output-within-limits-p body driver time)
-               "~A: a DOF beyond its limits at ~,3F s" (player::motor-call-frame (player::driver-call driver)) time))
+               "~A: a DOF beyond its limits at ~,3F s" (player.body::motor-call-frame (player.body::driver-call driver)) time))
     (funcall check time)))
 
 (defun frame-times (from to &optional (step 1/30))
@@ -23,24 +23,24 @@ within limits and calling CHECK with each time after evaluating."
   "Degrees between ROLE's +z and the direction from ROLE's joint to POINT; with
 HORIZONTAL, both projected on the ground plane."
   (multiple-value-bind (origin front) (joint-front body role)
-    (let ((to (player::v- point origin)))
+    (let ((to (player.body::v- point origin)))
       (when horizontal
-        (setf (player::vec3-y to) 0d0 (player::vec3-y front) 0d0))
-      (player::angle-between front to))))
+        (setf (player.body::vec3-y to) 0d0 (player.body::vec3-y front) 0d0))
+      (player.body::angle-between front to))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Blink
 
 (test blink-intervals-are-exponential-and-seeded
   (dolist (mean '(4.0 1.5))
-    (let* ((intervals (player::blink-intervals 10000 :seed 3 :mean-interval mean))
+    (let* ((intervals (player.body::blink-intervals 10000 :seed 3 :mean-interval mean))
            (average (/ (reduce #'+ intervals) 10000)))
       (is (< (abs (- average mean)) (* 0.05 mean)) "mean ~,3F, wanted ~A" average mean)
       (is (every #'plusp intervals))
       ;; Exponential: about 1 - 1/e of the intervals are below the mean.
       (is (< 0.6 (/ (count-if (lambda (x) (< x mean)) intervals) 10000) 0.66))))
-  (is (equal (player::blink-intervals 50 :seed 9) (player::blink-intervals 50 :seed 9)))
-  (is (not (equal (player::blink-intervals 50 :seed 9) (player::blink-intervals 50 :seed 10)))))
+  (is (equal (player.body::blink-intervals 50 :seed 9) (player.body::blink-intervals 50 :seed 9)))
+  (is (not (equal (player.body::blink-intervals 50 :seed 9) (player.body::blink-intervals 50 :seed 10)))))
 
 (defun lid-angles (body)
   "BODY's two upper-lid close angles."
@@ -49,7 +49,7 @@ HORIZONTAL, both projected on the ground plane."
 (test blink-shuts-the-lids-mid-blink-and-opens-between
   (let* ((body (driver-body-in-scene 'humanoid))
          (driver (start-driver-on body '(:blink :mean-interval 1.0 :seed 5 :blend 0)))
-         (blinks (progn (player::body-evaluate body 0) (player::blink-times driver 20d0)))
+         (blinks (progn (player::body-evaluate body 0) (player.body::blink-times driver 20d0)))
          (duration 0.15d0)
          (shut (loop for b in blinks collect (+ b (/ duration 2))))
          (open (loop for (a b) on blinks
@@ -95,7 +95,7 @@ HORIZONTAL, both projected on the ground plane."
                            (is (= 0 (dof-value body 'skullbase still)))))
              (is (< 14 peak 15.001) "~A peak ~,2F" action peak)
              (is (= 1.1d0 (player::driver-end-time driver)))
-             (is (not (member driver (player::body-active body))) "~A did not end" action)
+             (is (not (member driver (player.body::body-active body))) "~A did not end" action)
              (is (< (abs (dof-value body 'skullbase moving)) 1d-9) "~A did not return" action))))
 
 (test parrot-nod-shares-neck-and-head
@@ -111,10 +111,10 @@ HORIZONTAL, both projected on the ground plane."
         do (let* ((body (driver-body-in-scene skeleton))
                   (driver (start-driver-on body `(:head :action :turn-to :target (:point ,@point)))))
              (run-frames body driver (frame-times 0 1.5 1/20))
-             (is (< (front-angle body :head (apply #'player::make-vec3 point)) 1)
+             (is (< (front-angle body :head (apply #'player.body::make-vec3 point)) 1)
                  "~A's head is ~,2F degrees off ~A" skeleton
-                 (front-angle body :head (apply #'player::make-vec3 point)) point)
-             (is (member driver (player::body-active body)) "turn-to should hold until stopped"))))
+                 (front-angle body :head (apply #'player.body::make-vec3 point)) point)
+             (is (member driver (player.body::body-active body)) "turn-to should hold until stopped"))))
 
 (test head-turn-away-turns-to-the-other-side
   (let* ((body (driver-body-in-scene 'humanoid))
@@ -137,16 +137,16 @@ HORIZONTAL, both projected on the ground plane."
 (test facing-turns-the-body-to-the-target
   (loop for (point position yaw) in '(((2 0 1) (0 0 0) 0) ((-1 0 -2) (0 0 0) 0)
                                       ((0 1 -3) (1 0 0) 90) ((-2 0 2) (0.5 0 -1) -135))
-        do (let* ((rotation (player::quat-from-axis-angle (player::vec3 0d0 1d0 0d0) (/ (* yaw pi) 180)))
-                  (body (driver-body-in-scene 'humanoid :position (apply #'player::make-vec3 position)
+        do (let* ((rotation (player.body::quat-from-axis-angle (player::vec3 0d0 1d0 0d0) (/ (* yaw pi) 180)))
+                  (body (driver-body-in-scene 'humanoid :position (apply #'player.body::make-vec3 position)
                                                         :rotation rotation))
-                  (target (apply #'player::make-vec3 point))
+                  (target (apply #'player.body::make-vec3 point))
                   (driver (start-driver-on body `(:facing :target (:point ,@point) :duration 1))))
              (run-frames body driver (frame-times 0 1.5 1/10))
-             (let* ((root (player::body-joint-name (player::skeleton-root (player::body-skeleton body))))
+             (let* ((root (player.body::body-joint-name (player.body::skeleton-root (player::body-skeleton body))))
                     (off (front-angle body root target :horizontal t)))
                (is (< off 1) "facing ~A from ~A: ~,2F degrees off" point position off))
-             (is (not (member driver (player::body-active body))) "facing should end"))))
+             (is (not (member driver (player.body::body-active body))) "facing should end"))))
 
 (test facing-needs-a-target
   (signals player::motor-error (player::parse-motor-frame '(:facing))))
@@ -163,7 +163,7 @@ HORIZONTAL, both projected on the ground plane."
                         (right (dof-value body 'r_eyebrow_joint 'raise)))
                     (cond ((<= 0.3d0 time 1.3d0) (is (= 20 left right) "brows ~A ~A at ~A" left right time))
                           ((>= time 1.6d0) (is (= 0 left right)))))))
-    (is (not (member driver (player::body-active body))))))
+    (is (not (member driver (player.body::body-active body))))))
 
 (test eyebrows-lower-one-side
   (let* ((body (driver-body-in-scene 'humanoid))
@@ -171,7 +171,7 @@ HORIZONTAL, both projected on the ground plane."
     (run-frames body driver (frame-times 0 3 1/10))
     (is (= -5 (dof-value body 'l_eyebrow_joint 'raise)))
     (is (= 0 (dof-value body 'r_eyebrow_joint 'raise)))
-    (is (member driver (player::body-active body)) ":hold nil holds until stopped")))
+    (is (member driver (player.body::body-active body)) ":hold nil holds until stopped")))
 
 (test parrot-raises-its-crest
   (let* ((body (driver-body-in-scene 'parrot))
@@ -184,7 +184,7 @@ HORIZONTAL, both projected on the ground plane."
     (player::make-driver (player::parse-motor-frame '(:eyebrows :raise 2.0)) (driver-body-in-scene 'humanoid) 0))
   (signals player::motor-error (player::parse-motor-frame '(:eyebrows :side :middle)))
   (let ((browless (player::make-body
-                   'stick (player::parse-skeleton
+                   'stick (player.body::parse-skeleton
                            '(skeleton stick (:joint root :parent nil :center (0 0 0) :dofs ((:y -90 90))))))))
     (signals player::motor-error
       (player::make-driver (player::parse-motor-frame '(:eyebrows)) browless 0))))
@@ -201,7 +201,7 @@ HORIZONTAL, both projected on the ground plane."
          (times (frame-times 0.6 1.8 1/10))
          (first-pass '()))
     (flet ((drive-all (time)
-             (let ((pose (player::copy-pose (player::body-pose body))))
+             (let ((pose (player.body::copy-pose (player::body-pose body))))
                (dolist (d drivers pose)
                  (dolist (s (append (player::slave-drivers d) (list d)))
                    (player::driver-drive s time pose))))))

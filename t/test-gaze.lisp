@@ -23,7 +23,7 @@
 (defun driver-output-within-limits-p (body driver time)
   "Do DRIVER (and its slaves) write only angles within BODY's limits at TIME, on
 a copy of BODY's pose?"
-  (let ((pose (player::copy-pose (player::body-pose body))))
+  (let ((pose (player.body::copy-pose (player::body-pose body))))
     (dolist (d (append (player::slave-drivers driver) (list driver)))
       (player::driver-drive d (float time 1d0) pose))
     (player::pose-within-limits-p (player::body-skeleton body) pose 1d-6)))
@@ -31,33 +31,33 @@ a copy of BODY's pose?"
 (defun joint-frame (body role)
   "The world transform of BODY's joint filling ROLE (a keyword) or called ROLE,
 at its last evaluation."
-  (player::object-joint-transform
+  (player.body::object-joint-transform
    body (if (keywordp role)
-            (player::body-joint-name (player::skeleton-role (player::body-skeleton body) role))
+            (player.body::body-joint-name (player::skeleton-role (player::body-skeleton body) role))
             role)))
 
 (defun joint-front (body role)
   "Where BODY's ROLE joint is and its +z axis, in the world (two values)."
   (let ((frame (joint-frame body role)))
-    (values (player::transform-translation frame)
-            (player::transform-vector frame (player::vec3 0d0 0d0 1d0)))))
+    (values (player.body::transform-translation frame)
+            (player.body::transform-vector frame (player::vec3 0d0 0d0 1d0)))))
 
 (defun line-miss (origin direction point)
   "How far POINT is from the line through ORIGIN along the unit DIRECTION."
-  (let ((w (player::v- point origin)))
-    (player::vnorm (player::v- w (player::v* direction (player::vdot w direction))))))
+  (let ((w (player.body::v- point origin)))
+    (player.body::vnorm (player.body::v- w (player.body::v* direction (player.body::vdot w direction))))))
 
 (defun lines-meeting-point (p1 d1 p2 d2)
   "The midpoint of the closest approach of lines P1 + s D1 and P2 + t D2."
-  (let* ((w (player::v- p1 p2))
-         (a (player::vdot d1 d1)) (b (player::vdot d1 d2)) (c (player::vdot d2 d2))
-         (d (player::vdot d1 w)) (e (player::vdot d2 w))
+  (let* ((w (player.body::v- p1 p2))
+         (a (player.body::vdot d1 d1)) (b (player.body::vdot d1 d2)) (c (player.body::vdot d2 d2))
+         (d (player.body::vdot d1 w)) (e (player.body::vdot d2 w))
          (denominator (- (* a c) (* b b))))
     (if (< (abs denominator) 1d-14)
-        (player::v* d1 1d6)             ; parallel lines meet at infinity
+        (player.body::v* d1 1d6)             ; parallel lines meet at infinity
         (let ((s (/ (- (* b e) (* c d)) denominator))
               (u (/ (- (* a e) (* b d)) denominator)))
-          (player::v* (player::v+ (player::v+ p1 (player::v* d1 s)) (player::v+ p2 (player::v* d2 u)))
+          (player.body::v* (player.body::v+ (player.body::v+ p1 (player.body::v* d1 s)) (player.body::v+ p2 (player.body::v* d2 u)))
                       0.5d0)))))
 
 (defun gaze-errors (body point)
@@ -66,22 +66,22 @@ where the lines meet, in metres (three values)."
   (multiple-value-bind (pl dl) (joint-front body :left-eye)
     (multiple-value-bind (pr dr) (joint-front body :right-eye)
       (values (line-miss pl dl point) (line-miss pr dr point)
-              (player::vdistance point (lines-meeting-point pl dl pr dr))))))
+              (player.body::vdistance point (lines-meeting-point pl dl pr dr))))))
 
 (defun eyes-midpoint (body)
   "The midpoint of BODY's eyes in its rest pose, as a vec3."
   (player::body-evaluate body 0)
-  (player::vlerp (joint-front body :left-eye) (joint-front body :right-eye) 0.5d0))
+  (player.body::vlerp (joint-front body :left-eye) (joint-front body :right-eye) 0.5d0))
 
 (defun point-target (v)
   "The motor target (:point X Y Z) at the vec3 V."
-  (list :point (player::vec3-x v) (player::vec3-y v) (player::vec3-z v)))
+  (list :point (player.body::vec3-x v) (player.body::vec3-y v) (player.body::vec3-z v)))
 
 (defun gaze-and-check (skeleton offset &key (tolerance 0.01d0) (settle 1.5d0) (samples 30))
   "Gaze from a fresh SKELETON body at its eyes' midpoint plus OFFSET (a vec3);
 check the limits on SAMPLES frames up to SETTLE, then the fixation.  Returns the body."
   (let* ((body (driver-body-in-scene skeleton))
-         (point (player::v+ (eyes-midpoint body) offset))
+         (point (player.body::v+ (eyes-midpoint body) offset))
          (driver (start-driver-on body `(:gaze :target ,(point-target point)) :start 0.1d0)))
     (loop for i from 1 to samples
           for time = (* settle (/ i samples))
@@ -140,14 +140,14 @@ by the eyes alone near the front and with the head from far to the side."
   (loop for (from to) in '(((-0.3 0 1.2) (0.4 -0.1 1.2)) ((-1.5 0.2 0.8) (-0.2 -0.2 1.2)))
         do (let* ((body (driver-body-in-scene 'humanoid))
                   (mid (eyes-midpoint body))
-                  (from (player::v+ mid (apply #'player::make-vec3 from)))
-                  (to (player::v+ mid (apply #'player::make-vec3 to)))
-                  (ball (player::add-object (player::body-scene body)
+                  (from (player.body::v+ mid (apply #'player.body::make-vec3 from)))
+                  (to (player.body::v+ mid (apply #'player.body::make-vec3 to)))
+                  (ball (player::add-object (player.body::body-scene body)
                                             (make-instance 'player::scene-object :name 'ball :kind :prop
                                                                                  :position from))))
              (flet ((place (time)
                       (setf (player::property-value ball 'position)
-                            (player::vlerp from to (min 1d0 (/ time 3d0))))))
+                            (player.body::vlerp from to (min 1d0 (/ time 3d0))))))
                (let ((driver (start-driver-on body '(:gaze :target (:object ball)))))
                  (loop for frame from 0 to 90
                        for time = (/ frame 30d0)
@@ -163,29 +163,29 @@ by the eyes alone near the front and with the head from far to the side."
 (test gaze-without-tracking-holds-the-first-point
   (let* ((body (driver-body-in-scene 'humanoid))
          (mid (eyes-midpoint body))
-         (ball (player::add-object (player::body-scene body)
+         (ball (player::add-object (player.body::body-scene body)
                                    (make-instance 'player::scene-object :name 'ball :kind :prop
-                                                                        :position (player::v+ mid (player::vec3 0d0 0d0 1d0))))))
+                                                                        :position (player.body::v+ mid (player::vec3 0d0 0d0 1d0))))))
     (start-driver-on body '(:gaze :target (:object ball) :track nil))
     (player::body-evaluate body 0.5d0)
-    (setf (player::property-value ball 'position) (player::v+ mid (player::vec3 0.3d0 0d0 1d0)))
+    (setf (player::property-value ball 'position) (player.body::v+ mid (player::vec3 0.3d0 0d0 1d0)))
     (player::body-evaluate body 1d0)
-    (is (< (multiple-value-call #'max (gaze-errors body (player::v+ mid (player::vec3 0d0 0d0 1d0))))
+    (is (< (multiple-value-call #'max (gaze-errors body (player.body::v+ mid (player::vec3 0d0 0d0 1d0))))
            0.01d0))))
 
 (test saccade-duration-grows-with-amplitude
   "Durations follow the main sequence, 21 ms + 2.2 ms per degree, divided by :speed."
-  (is (< (abs (- (player::saccade-duration 20) 0.065d0)) 1d-9))
-  (is (< (abs (- (player::saccade-duration 20 2) 0.0325d0)) 1d-9))
+  (is (< (abs (- (player.body::saccade-duration 20) 0.065d0)) 1d-9))
+  (is (< (abs (- (player.body::saccade-duration 20 2) 0.0325d0)) 1d-9))
   (let ((durations
           (loop for degrees in '(2 8 14)
                 collect (let* ((body (driver-body-in-scene 'humanoid))
                                (radians (/ (* degrees pi) 180))
-                               (point (player::v+ (eyes-midpoint body)
+                               (point (player.body::v+ (eyes-midpoint body)
                                                   (player::vec3 (sin radians) 0d0 (cos radians))))
                                (driver (start-driver-on body `(:gaze :target ,(point-target point)))))
                           (player::body-evaluate body 0.01d0)
-                          (player::gaze-saccade driver)))))
+                          (player.body::gaze-saccade driver)))))
     (is (apply #'< durations) "durations ~A do not grow" durations)))
 
 (test parrot-gaze-fixates
@@ -201,7 +201,7 @@ by the eyes alone near the front and with the head from far to the side."
   (signals player::motor-error (player::parse-motor-frame '(:gaze :target (:point 0 1) :speed 1)))
   (signals player::motor-error (player::parse-motor-frame '(:gaze :target (:point 0 1 2) :speed 0)))
   (let ((eyeless (player::make-body
-                  'stick (player::parse-skeleton
+                  'stick (player.body::parse-skeleton
                           '(skeleton stick (:joint root :parent nil :center (0 0 0) :dofs ((:y -90 90))))))))
     (signals player::motor-error
       (player::make-driver (player::parse-motor-frame '(:gaze :target (:point 0 1 2))) eyeless 0))))

@@ -55,8 +55,8 @@
 
 (defun player-cubes (spec model ast)
   "Player's canonical cubes of model expression AST in SPEC."
-  (let ((player::*spec* spec) (player::*current-spec-name* (player::spec-name spec)))
-    (player::expression-cubes (player::parse-expression (render-expression model ast)) spec)))
+  (let ((player.spec::*spec* spec) (player.base::*current-spec-name* (player::spec-name spec)))
+    (player.spec::expression-cubes (player.spec::parse-expression (render-expression model ast)) spec)))
 
 (test equivalence-agrees-with-brute-force
   ;; 150 random specs, 4 pairs each: one expression against a rewriting of it
@@ -76,7 +76,7 @@
                                             finally (return e))
                                       (random-expression prng model :depth 3)))
                                (expected (equal (model-states-where model a) (model-states-where model b)))
-                               (got (player::dnf-equivalent-p (player-cubes spec model a) (player-cubes spec model b) spec)))
+                               (got (player.planner::dnf-equivalent-p (player-cubes spec model a) (player-cubes spec model b) spec)))
                           (if expected (incf same) (incf different))
                           (is (eq expected got) "seed ~D: ~S vs ~S" seed a b)))
                    (remove-spec name)))))
@@ -85,16 +85,16 @@
 
 (defun goal-state-set (goal layout)
   "The states GOAL's cubes hold, by enumeration: a bit per dense state number."
-  (let ((bits (make-array (player::layout-state-count layout) :element-type 'bit)))
+  (let ((bits (make-array (player.planner::layout-state-count layout) :element-type 'bit)))
     (dotimes (dense (length bits) bits)
-      (let ((state (player::dense-to-state dense layout)))
+      (let ((state (player.planner::dense-to-state dense layout)))
         (setf (sbit bits dense)
-              (if (some (lambda (cube) (player::state-in-cube-p state cube)) (player::goal-cubes goal)) 1 0))))))
+              (if (some (lambda (cube) (player.spec::state-in-cube-p state cube)) (player.planner::goal-cubes goal)) 1 0))))))
 
 (defun planned-event-goal (machine spec name)
   "The goal MACHINE planned for the :state of SPEC's event NAME."
-  (let ((event (find name (player::spec-events spec) :key #'player::event-name)))
-    (player::machine-goal-for machine (second (first (player::event-directives event))))))
+  (let ((event (find name (player.spec::spec-events spec) :key #'player.spec::event-name)))
+    (player.planner::machine-goal-for machine (second (first (player.spec::event-directives event))))))
 
 (test a-machine-plans-each-set-of-states-once
   ;; Random specs with extra events asking for rewritten goals: every goal the
@@ -114,9 +114,9 @@
                     (spec (define-spec name (append forms events) :package (find-package '#:player-tests))))
                (unwind-protect
                     (let* ((machine (compile-spec spec))
-                           (layout (player::machine-layout machine))
+                           (layout (player.planner::machine-layout machine))
                            (sets (map 'list (lambda (goal) (goal-state-set goal layout))
-                                      (player::machine-goal-table machine))))
+                                      (player.planner::machine-goal-table machine))))
                       (is (= (length sets) (length (remove-duplicates sets :test #'equal)))
                           "seed ~D: two goals of one machine hold in the same states" seed)
                       (loop for i below 3

@@ -93,10 +93,10 @@ it names the file's line."
 (test messages-about-circular-forms-are-bounded
   (let ((circular (list 1 2)))
     (setf (cdr (last circular)) circular)
-    (is (<= (length (player::bounded-lisp-text circular 100)) 100))
+    (is (<= (length (player.base::bounded-lisp-text circular 100)) 100))
     (let ((nested (list nil)))
       (setf (car nested) nested)
-      (is (<= (length (player::bounded-lisp-text nested 50)) 50)))))
+      (is (<= (length (player.base::bounded-lisp-text nested 50)) 50)))))
 
 (test numbers-must-be-finite-and-in-range
   (let ((huge (make-string 401 :initial-element #\9)))

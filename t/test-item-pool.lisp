@@ -1,5 +1,5 @@
 ;;;; test-item-pool.lisp -- a timed controller uses its agenda items, their
-;;;; conses and its runs again (src/runtime/timeline/item-pool.lisp).  An item
+;;;; conses and its runs again (src/control/timeline/item-pool.lisp).  An item
 ;;;; or run retired while something still reaches it would be handed out
 ;;;; twice and play as two things at once, so the random specs and streams of
 ;;;; the model-based test are played with nothing used again but retired
@@ -18,28 +18,28 @@ recorded by the runs there, running or waiting, live ops, timers."
     (labels ((note (item) (when item (push item items)))
              (note-run (run)
                (when run
-                 (mapc #'note (player::run-items run))
-                 (mapc #'note (player::run-pending run)))))
-      (let ((agenda (player::timeline-agenda timeline)))
-        (dotimes (i (player::agenda-count agenda))
-          (let ((item (svref (player::agenda-items agenda) i)))
+                 (mapc #'note (player.control::run-items run))
+                 (mapc #'note (player.control::run-pending run)))))
+      (let ((agenda (player.control::timeline-agenda timeline)))
+        (dotimes (i (player.control::agenda-count agenda))
+          (let ((item (svref (player.control::agenda-items agenda) i)))
             (note item)
-            (note-run (player::agenda-item-run item)))))
-      (mapc #'note-run (player::timeline-runs timeline))
-      (mapc #'note-run (player::timeline-queue timeline))
-      (mapc #'note (player::timeline-live-ops timeline))
-      (dolist (state (player::timeline-timers timeline))
-        (note (player::timer-state-item state))))
+            (note-run (player.control::agenda-item-run item)))))
+      (mapc #'note-run (player.control::timeline-runs timeline))
+      (mapc #'note-run (player.control::timeline-queue timeline))
+      (mapc #'note (player.control::timeline-live-ops timeline))
+      (dolist (state (player.control::timeline-timers timeline))
+        (note (player.control::timer-state-item state))))
     items))
 
 (defun retired-but-reached (controller)
   "How many items, and runs of items, CONTROLLER's timeline reaches that were retired."
-  (let ((timeline (player::controller-timeline controller)))
-    (+ (count :free (timeline-reachable-items timeline) :key #'player::agenda-item-status)
+  (let ((timeline (player.control::controller-timeline controller)))
+    (+ (count :free (timeline-reachable-items timeline) :key #'player.control::agenda-item-status)
        (count :free (remove-duplicates
-                     (append (player::timeline-runs timeline) (player::timeline-queue timeline)
-                             (remove nil (mapcar #'player::agenda-item-run (timeline-reachable-items timeline)))))
-              :key #'player::run-policy))))
+                     (append (player.control::timeline-runs timeline) (player.control::timeline-queue timeline)
+                             (remove nil (mapcar #'player.control::agenda-item-run (timeline-reachable-items timeline)))))
+              :key #'player.control::run-policy))))
 
 (defun play-stream-checking-items (machine spec actions initial)
   "Play ACTIONS like TM-PLAY-STREAM (a trace presenter), counting after every
@@ -75,9 +75,9 @@ NIL.  Returns a second value: how many times the items were checked."
    seed stream
    (lambda (machine spec actions initial)
      (flet ((summary (recycle)
-              (tm-play-summary-with 'player::*recycle-agenda-items* recycle machine spec actions initial)))
+              (tm-play-summary-with 'player.control::*recycle-agenda-items* recycle machine spec actions initial)))
        (multiple-value-bind (reached checks)
-           (let ((player::*recycle-agenda-items* nil))
+           (let ((player.control::*recycle-agenda-items* nil))
              (play-stream-checking-items machine spec actions initial))
          (values (cond ((plusp reached)
                         (format nil "~D retired items still reached" reached))
@@ -118,18 +118,18 @@ fresh items give."
       (let* ((before (sb-ext:get-bytes-consed))
              (controller (play (make-null-presenter)))
              (bytes (/ (- (sb-ext:get-bytes-consed) before) (length stream)))
-             (agenda (player::timeline-agenda (player::controller-timeline controller))))
-        (is (player::agenda-free agenda) "the pool is empty at the end")
+             (agenda (player.control::timeline-agenda (player.control::controller-timeline controller))))
+        (is (player.control::agenda-free agenda) "the pool is empty at the end")
         (is (< bytes 350) "~,1F bytes an event" bytes)
         ;; What is given back is what was taken: the spares stay as few as
         ;; the items alive at once, not one more for every cut.
-        (let ((spare-items (loop for item = (player::agenda-free agenda) then (player::agenda-item-owner item)
+        (let ((spare-items (loop for item = (player.control::agenda-free agenda) then (player.control::agenda-item-owner item)
                                  while item count t))
-              (spare-conses (length (player::agenda-free-conses agenda))))
+              (spare-conses (length (player.control::agenda-free-conses agenda))))
           (is (< spare-items 200) "~D spare items after ~D events" spare-items (length stream))
           (is (< spare-conses 200) "~D spare conses after ~D events" spare-conses (length stream))))
       (let ((recycled (nth-value 1 (play (make-trace-presenter))))
-            (fresh (let ((player::*recycle-agenda-items* nil)) (nth-value 1 (play (make-trace-presenter))))))
+            (fresh (let ((player.control::*recycle-agenda-items* nil)) (nth-value 1 (play (make-trace-presenter))))))
         (is (equal (trace-lines recycled) (trace-lines fresh)))
         (is (> (length (trace-lines fresh)) 4000))))))
 
@@ -170,7 +170,7 @@ values, every policy) play the same with items used again as with fresh ones."
   (let ((problems '()) (played 0))
     (dolist (seed (loop for seed from 1 to 20 collect seed))
       (multiple-value-bind (problem count)
-          (handler-case (c++-spec-variant-problem seed "item-pool" 'player::*recycle-agenda-items* '(nil t))
+          (handler-case (c++-spec-variant-problem seed "item-pool" 'player.control::*recycle-agenda-items* '(nil t))
             (error (e) (format nil "error: ~A" e)))
         (incf played (or count 0))
         (when problem (push (format nil "seed ~D: ~A" seed problem) problems))))

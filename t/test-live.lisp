@@ -76,12 +76,12 @@
   "MACHINE's plan tables as plain data: per goal its cubes, plans as
 (condition op-names...), solved bitmap and truncation."
   (map 'list (lambda (goal)
-               (list (player::goal-cubes goal)
-                     (map 'list (lambda (plan) (cons (player::plan-condition plan)
-                                                     (mapcar #'player::op-name (player::plan-ops plan))))
-                          (player::goal-plans goal))
-                     (player::goal-solved goal) (player::goal-truncatedp goal)))
-       (player::machine-goal-table machine)))
+               (list (player.planner::goal-cubes goal)
+                     (map 'list (lambda (plan) (cons (player.planner::plan-condition plan)
+                                                     (mapcar #'player::op-name (player.planner::plan-ops plan))))
+                          (player.planner::goal-plans goal))
+                     (player.planner::goal-solved goal) (player.planner::goal-truncatedp goal)))
+       (player.planner::machine-goal-table machine)))
 
 (defun mutated-spec-forms (seed)
   "A random spec for SEED and a variant with one random change: an op's
@@ -110,16 +110,16 @@ VARIANT-FORMS CHANGE)."
                     (compile-spec (define-live 'live-random forms))
                     (let* ((spec (define-live 'live-random variant))
                            (reused (compile-spec spec))
-                           (fresh (let ((player::*reuse-plans* nil)) (compile-spec spec))))
+                           (fresh (let ((player.planner::*reuse-plans* nil)) (compile-spec spec))))
                       (is (equal (goal-rows fresh) (goal-rows reused)) "seed ~D (~A): plans differ" seed change)
                       (is (<= (machine-rows-built reused) (machine-rows-built fresh)))
                       (when (eq change :duration)
                         (is (= 0 (machine-rows-built reused)) "seed ~D: a duration rebuilt rows" seed))
                       ;; Reused plans run the new spec's ops, not the old ones'.
                       (is (every (lambda (goal)
-                                   (every (lambda (plan) (subsetp (player::plan-ops plan) (player::spec-ops spec)))
-                                          (player::goal-plans goal)))
-                                 (player::machine-goal-table reused)))
+                                   (every (lambda (plan) (subsetp (player.planner::plan-ops plan) (player.spec::spec-ops spec)))
+                                          (player.planner::goal-plans goal)))
+                                 (player.planner::machine-goal-table reused)))
                       ;; And the controllers trace alike.
                       (let ((a (make-controller reused)) (b (make-controller fresh)))
                         (dolist (event (event-names spec))
@@ -215,7 +215,7 @@ VARIANT-FORMS CHANGE)."
             (finish-events c))
           (is-true warned)
           (is (eq old (controller-machine c)))
-          (is (null (player::controller-pending c)))
+          (is (null (player.control::controller-pending c)))
           (is (eq 'stand (state-value c 'posture))))))))
 
 (test live-functions-check-their-arguments
@@ -240,7 +240,7 @@ VARIANT-FORMS CHANGE)."
       (signals argument-error (player::reload-script-library (make-trace-presenter) 'live-arguments)))))
 
 (test view-without-a-display-is-an-error-in-the-caller
-  (if (player::display-available-p)
+  (if (player.render::display-available-p)
       (progn (format t "~&; skipped: DISPLAY is set, so VIEW would open a window here~%") (pass))
       (progn
         (load-spec (fixture "anim.lisp"))
@@ -256,18 +256,18 @@ VARIANT-FORMS CHANGE)."
     (edit-file library text)
     (unwind-protect
          (let* ((presenter (make-body-presenter spec :scripts library))
-                (old (player::presenter-library presenter)))
+                (old (player.performance::presenter-library presenter)))
            ;; A broken file, then one that lacks a script the spec needs: refused.
            (edit-file library (format nil "~A~%(script~%" text))
            (signals script-error (reload-script-library presenter spec))
-           (is (eq old (player::presenter-library presenter)))
+           (is (eq old (player.performance::presenter-library presenter)))
            (edit-file library (let ((at (search "(defscript wave " text)))
                                   (concatenate 'string (subseq text 0 at) "(defscript waved " (subseq text (+ at 16)))))
            (signals script-error (reload-script-library presenter spec))
-           (is (eq old (player::presenter-library presenter)))
+           (is (eq old (player.performance::presenter-library presenter)))
            ;; A good one replaces it.
            (edit-file library (format nil "~A~%; edited~%" text))
            (let ((new (reload-script-library presenter spec)))
              (is (not (eq old new)))
-             (is (eq new (player::presenter-library presenter)))))
+             (is (eq new (player.performance::presenter-library presenter)))))
       (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore))))

@@ -21,7 +21,7 @@
               (event ev-wake :op wake))
     (let* ((machine (compile-spec spec))
            (controller (make-controller machine)))
-      (is (null (player::inexact-macros machine)))
+      (is (null (player.planner::inexact-macros machine)))
       (is (eq t (send-event controller 'ev-wake)))
       (is (eq 'awake (state-value controller 'alert)))
       (is (eq 'up (state-value controller 'head))))))
@@ -43,7 +43,7 @@
   (with-inexact-macro-spec (spec :exact)
     (let ((error (handler-case (progn (compile-spec spec) nil)
                    (player-error (e) e))))
-      (is (typep error 'player::inexact-macro-error))
+      (is (typep error 'player.base::inexact-macro-error))
       (let ((message (princ-to-string error)))
         (is (search "macro-op enter: not exact" message))
         ;; The witness: the light was off, the :seq leaves it on.
@@ -64,7 +64,7 @@
 
 (test unknown-macro-semantics-is-an-error
   (signals player::spec-syntax-error
-    (player::parse-spec 'bad-macros '((:macros :sloppy) (state-variable a boolean false)))))
+    (player.spec::parse-spec 'bad-macros '((:macros :sloppy) (state-variable a boolean false)))))
 
 (test exactness-error-names-the-file-and-line
   (let ((path (merge-pathnames "leaky-macro.lisp" (uiop:temporary-directory))))
@@ -101,32 +101,32 @@ preconditions and all, so the controller plans inside the macro."
 
 (defun state-after-sub-op (state op)
   "The one-hot STATE after OP's effects (a macro's declared ones)."
-  (logior (logandc2 state (player::op-effect-mask op)) (player::op-effect-bits op)))
+  (logior (logandc2 state (player.spec::op-effect-mask op)) (player.spec::op-effect-bits op)))
 
 (defun simulate-seq (macro machine state)
   "The one-hot state MACRO's :seq leaves from STATE, achieving each sub-op's
 precondition by the first plan whose condition holds, or NIL when one fails."
-  (dolist (directive (player::op-seq macro) state)
+  (dolist (directive (player.spec::op-seq macro) state)
     (when (eq (first directive) :op)
       (let ((sub (second directive)))
-        (when (player::op-precond sub)
-          (let* ((goal (player::machine-goal-for machine (player::op-precond sub)))
-                 (plan (find-if (lambda (plan) (player::state-in-cube-p state (player::plan-condition plan)))
-                                (player::goal-plans goal))))
+        (when (player.spec::op-precond sub)
+          (let* ((goal (player.planner::machine-goal-for machine (player.spec::op-precond sub)))
+                 (plan (find-if (lambda (plan) (player.spec::state-in-cube-p state (player.planner::plan-condition plan)))
+                                (player.planner::goal-plans goal))))
             (unless plan (return nil))
-            (dolist (op (player::plan-ops plan))
+            (dolist (op (player.planner::plan-ops plan))
               (setf state (state-after-sub-op state op)))))
         (setf state (state-after-sub-op state sub))))))
 
 (defun brute-force-exact-p (macro machine)
   "Is MACRO exact, checked on every state of MACHINE's spec where its precondition holds?"
-  (let* ((layout (player::machine-layout machine))
+  (let* ((layout (player.planner::machine-layout machine))
          (spec (player::machine-spec machine))
-         (pre (player::expression-cubes (player::op-precond macro) spec))
-         (declared (player::op-effect-mask macro)))
-    (loop for dense below (player::layout-state-count layout)
-          for state = (player::dense-to-state dense layout)
-          for after = (and (some (lambda (cube) (player::state-in-cube-p state cube)) pre)
+         (pre (player.spec::expression-cubes (player.spec::op-precond macro) spec))
+         (declared (player.spec::op-effect-mask macro)))
+    (loop for dense below (player.planner::layout-state-count layout)
+          for state = (player.planner::dense-to-state dense layout)
+          for after = (and (some (lambda (cube) (player.spec::state-in-cube-p state cube)) pre)
                            (simulate-seq macro machine state))
           never (and after (/= (logandc2 after declared) (logandc2 state declared))))))
 
@@ -141,10 +141,10 @@ precondition by the first plan whose condition holds, or NIL when one fails."
                                                  :package (find-package '#:player-tests)))
           for machine = (and spec (ignore-errors (compile-spec spec)))
           when machine
-            do (dolist (op (player::spec-ops spec))
+            do (dolist (op (player.spec::spec-ops spec))
                  (when (eq (player::op-kind op) :macro)
                    (incf macros)
-                   (let ((proved (null (player::macro-inexactness op machine))))
+                   (let ((proved (null (player.planner::macro-inexactness op machine))))
                      (unless proved (incf inexact))
                      (is (eq (brute-force-exact-p op machine) proved)
                          "seed ~D, macro ~A: the proof says ~:[inexact~;exact~]"
@@ -162,7 +162,7 @@ refuses the spec, under the default CHECK-SPEC warns instead of failing."
               (op open-eyes :precond alert.drowsy :add alert.awake)
               (macro-op wake :precond (not alert.awake) :add alert.awake
                         :seq (:op stir :op open-eyes)))
-    (let ((player::*macro-branch-limit* 0))
+    (let ((player.planner::*macro-branch-limit* 0))
       (let ((warnings (remove :inexact-macro (check-spec (compile-spec spec))
                               :key #'player::diagnostic-kind :test-not #'eq)))
         (is (= 1 (length warnings)))

@@ -1,5 +1,5 @@
 ;;;; test-op-channels.lisp -- the body channels an op drives, inferred from
-;;;; the motor calls of its script (src/runtime/performance/op-channels.lisp):
+;;;; the motor calls of its script (src/performance/op-channels.lisp):
 ;;;; Peedy's scripts on the parrot body, scripts that play others, directors,
 ;;;; gaze turning the head as its slave, additive idle noise, the character's
 ;;;; own placement, declared channel names as joints, and the body presenter's
@@ -20,19 +20,19 @@
 (defun peedy-library-with (&rest forms)
   "Peedy's script library with FORMS added, read as if from its own file (so
 its poses resolve)."
-  (player::parse-script-library-forms
-   (append (mapcar #'first (player::read-data-file (peedy-scripts-path) :what "script library"))
+  (player.performance::parse-script-library-forms
+   (append (mapcar #'first (player.spec::read-data-file (peedy-scripts-path) :what "script library"))
            forms)
    :source (probe-file (peedy-scripts-path))))
 
 (defun parrot-joints (library name)
   "SCRIPT-JOINTS of NAME in LIBRARY on the parrot."
-  (player::script-joints library name (parrot-skeleton)))
+  (player.performance::script-joints library name (parrot-skeleton)))
 
 (defun role-joints (&rest roles)
   "The lower-case names of the parrot's joints filling ROLES."
   (loop for role in roles
-        append (mapcar (lambda (joint) (string-downcase (string (player::body-joint-name joint))))
+        append (mapcar (lambda (joint) (string-downcase (string (player.body::body-joint-name joint))))
                        (alexandria:ensure-list (player::skeleton-role (parrot-skeleton) role)))))
 
 (defun same-names-p (a b)
@@ -50,7 +50,7 @@ its poses resolve)."
     (is (equal joints (sort (copy-list joints) #'string<)) "sorted")))
 
 (test a-blink-drives-only-the-lids
-  (let ((library (player::parse-script-library-forms
+  (let ((library (player.performance::parse-script-library-forms
                   '((defscript just-blink (:duration 2) (:at 0 :motor (:blink)))))))
     (is (equal '("l_lid" "r_lid") (parrot-joints library 'just-blink))))
   ;; look-around: its gazes aim the eyes and, as their slave, turn neck and
@@ -97,11 +97,11 @@ its poses resolve)."
 (test every-peedy-script-and-director-fits-the-parrot
   (let ((library (peedy-library-with))
         (skeleton (parrot-skeleton)))
-    (dolist (definition (player::script-library-definitions library))
-      (let* ((name (if (player::script-p definition)
-                       (player::script-name definition)
-                       (player::director-name definition)))
-             (joints (player::script-joints library name skeleton)))
+    (dolist (definition (player.performance::script-library-definitions library))
+      (let* ((name (if (player.performance::script-p definition)
+                       (player.performance::script-name definition)
+                       (player.performance::director-name definition)))
+             (joints (player.performance::script-joints library name skeleton)))
         (is (every (lambda (joint) (or (string= joint "root") (player::find-joint skeleton joint)))
                    joints)
             "~A: every name is a joint of the parrot (or root)" name)
@@ -113,26 +113,26 @@ its poses resolve)."
 
 (test declared-channel-names-become-joints
   (let ((skeleton (parrot-skeleton)))
-    (is (equal '("l_elbow" "l_shoulder" "l_wrist") (player::expand-channel-names '(:left-arm) skeleton))
+    (is (equal '("l_elbow" "l_shoulder" "l_wrist") (player.performance::expand-channel-names '(:left-arm) skeleton))
         "a role becomes its joints")
-    (is (equal '("head" "neck") (player::expand-channel-names '(spine) skeleton)))
-    (is (equal '("l_eye" "r_eye") (player::expand-channel-names '("eyes") skeleton))
+    (is (equal '("head" "neck") (player.performance::expand-channel-names '(spine) skeleton)))
+    (is (equal '("l_eye" "r_eye") (player.performance::expand-channel-names '("eyes") skeleton))
         "a plural of a left and right role becomes both sides")
-    (is (equal '("l_lid" "r_lid") (player::expand-channel-names '(upper-lids) skeleton)))
-    (is (equal '("beak" "l_eye") (player::expand-channel-names '("L_EYE" jaw) skeleton))
+    (is (equal '("l_lid" "r_lid") (player.performance::expand-channel-names '(upper-lids) skeleton)))
+    (is (equal '("beak" "l_eye") (player.performance::expand-channel-names '("L_EYE" jaw) skeleton))
         "a joint stays, lower-case; the jaw role is the beak")
-    (is (equal '("tail" "wings") (player::expand-channel-names '(wings tail wings) skeleton))
+    (is (equal '("tail" "wings") (player.performance::expand-channel-names '(wings tail wings) skeleton))
         "a made-up name stays as it is, once")
-    (is (null (player::expand-channel-names '() skeleton)))))
+    (is (null (player.performance::expand-channel-names '() skeleton)))))
 
 (test body-presenters-answer-per-op
   (let* ((spec (peedy-body-spec))
          (presenter (make-body-presenter spec :stream nil))
-         (library (player::presenter-library presenter)))
-    (flet ((op (name) (find name (player::spec-ops spec) :key #'op-name :test #'string-equal)))
-      (is (equal (parrot-joints library 'nod) (player::op-joints presenter (op 'nod))))
-      (is (equal (parrot-joints library 'stream) (player::op-joints presenter (op 'search)))
+         (library (player.performance::presenter-library presenter)))
+    (flet ((op (name) (find name (player.spec::spec-ops spec) :key #'op-name :test #'string-equal)))
+      (is (equal (parrot-joints library 'nod) (player.performance::op-joints presenter (op 'nod))))
+      (is (equal (parrot-joints library 'stream) (player.performance::op-joints presenter (op 'search)))
           "search plays the director stream")
-      (is (null (player::op-joints presenter (op 'celebrate))) "a macro op plays no script")
-      (is (eq (player::op-joints presenter (op 'greet)) (player::op-joints presenter (op 'greet)))
+      (is (null (player.performance::op-joints presenter (op 'celebrate))) "a macro op plays no script")
+      (is (eq (player.performance::op-joints presenter (op 'greet)) (player.performance::op-joints presenter (op 'greet)))
           "worked out once"))))

@@ -17,7 +17,7 @@
 
 (defun peedy-script-library (&optional (spec (peedy-body-spec)))
   "The script library SPEC's (:scripts ...) option names."
-  (player::spec-script-library spec))
+  (player.performance::spec-script-library spec))
 
 (defun peedy-simulation (events &rest initial)
   "Peedy simulated from INITIAL (an alist) through EVENTS (names), no output."
@@ -31,7 +31,7 @@
 (defun peedy-op-lines (simulation name)
   "The (:op NAME ...) trace lines of SIMULATION's op called NAME, oldest first."
   (remove-if-not (lambda (line) (and (eq (first line) :op) (string-equal (second line) name)))
-                 (trace-lines (player::simulation-presenter simulation))))
+                 (trace-lines (player.performance::simulation-presenter simulation))))
 
 (defun peedy-op-start (line)
   "When the op of the trace LINE started."
@@ -43,11 +43,11 @@
 
 (defun peedy-frame-at (simulation time)
   "SIMULATION's scene at TIME."
-  (performance-frame (player::simulation-performance simulation) time))
+  (performance-frame (player.performance::simulation-performance simulation) time))
 
 (defun peedy-body-of (simulation)
   "Peedy's body in SIMULATION's current scene."
-  (player::simulation-body simulation))
+  (player.performance::simulation-body simulation))
 
 (defun peedy-object (scene name)
   "SCENE's object called NAME (compared by name)."
@@ -55,12 +55,12 @@
 
 (defun peedy-joint-distance (body a b)
   "Metres between BODY's joints (or roles) A and B at its last evaluation."
-  (player::vdistance (body-joint-position body a) (body-joint-position body b)))
+  (player.body::vdistance (body-joint-position body a) (body-joint-position body b)))
 
 (defun peedy-frame-times (simulation from to)
   "The times of SIMULATION's frames within [FROM, TO]."
   (loop for index from 0 below (player::simulation-frame-count simulation)
-        for time = (player::simulation-frame-time simulation index)
+        for time = (player.performance::simulation-frame-time simulation index)
         when (<= from time to) collect time))
 
 (defun peedy-lid-closure (body)
@@ -72,23 +72,23 @@
 (test peedy-library-has-a-motion-for-every-op-and-autoscript
   (let* ((spec (peedy-body-spec))
          (library (peedy-script-library spec))
-         (names (player::spec-script-names spec)))
-    (is (null (player::missing-scripts library names)))
+         (names (player.performance::spec-script-names spec)))
+    (is (null (player.performance::missing-scripts library names)))
     ;; 41 script ops (the macro-ops need none) and 5 autoscript procedures.
     (is (= 46 (length names)))
     (is (find "stream" names :test #'string-equal) "search plays the script (or director) stream")
     (is (player::find-director library 'stream) "stream is a director")
-    (is (string-equal "parrot" (player::spec-body-name spec)))))
+    (is (string-equal "parrot" (player.performance::spec-body-name spec)))))
 
 (test peedy-op-durations-are-their-scripts-durations
   (let* ((spec (peedy-body-spec))
          (library (peedy-script-library spec)))
-    (is (null (player::script-duration-diagnostics spec library)))
-    (is (null (player::script-diagnostics spec)))
+    (is (null (player.performance::script-duration-diagnostics spec library)))
+    (is (null (player.performance::script-diagnostics spec)))
     ;; The director of search lasts the op's 3 seconds too.
     (is (= 3 (nth-value 1 (player::director-schedule (player::find-director library 'stream) library 0))))
     (dolist (name '(snore-loop doze-breathe flap-wings tap-foot bob-head))
-      (is (player::script-loop (player::find-script library name)) "autoscript ~A loops" name))))
+      (is (player.performance::script-loop (player::find-script library name)) "autoscript ~A loops" name))))
 
 (test peedy-motor-calls-fit-the-parrot
   ;; Poses are resolved when a driver is made; make one for every motor call of
@@ -98,17 +98,17 @@
          (skeleton (player::load-skeleton 'parrot))
          (body (make-body 'peedy skeleton))
          (count 0))
-    (setf (player::body-pose-library body)
-          (player::load-pose-library (player::script-library-poses library) :skeleton skeleton))
-    (loop for script being the hash-values of (player::script-library-scripts library)
-          do (dolist (item (player::script-items script))
-               (when (player::motor-item-p item)
+    (setf (player.body::body-pose-library body)
+          (player.body::load-pose-library (player.performance::script-library-poses library) :skeleton skeleton))
+    (loop for script being the hash-values of (player.performance::script-library-scripts library)
+          do (dolist (item (player.performance::script-items script))
+               (when (player.performance::motor-item-p item)
                  (incf count)
-                 (is (typep (handler-case (make-driver (player::motor-item-call item) body 0)
+                 (is (typep (handler-case (make-driver (player.performance::motor-item-call item) body 0)
                               (error (e) e))
                             'player::driver)
                      "script ~A: ~S does not fit the parrot"
-                     (player::script-name script) (player::motor-item-frame item)))))
+                     (player.performance::script-name script) (player.performance::motor-item-frame item)))))
     (is (> count 100))))
 
 ;;; The papers' scenario
@@ -118,7 +118,7 @@
          (focus (first (peedy-op-lines simulation 'focus))))
     (peedy-frame-at simulation 0)
     (is (>= (peedy-lid-closure (peedy-body-of simulation)) 60) "asleep from the first frame: lids shut")
-    (is (< (abs (- -0.026 (player::vec3-y (property-value (peedy-body-of simulation) 'position)))) 1d-9)
+    (is (< (abs (- -0.026 (player.body::vec3-y (property-value (peedy-body-of simulation) 'position)))) 1d-9)
         "sitting on the table")
     (peedy-frame-at simulation (peedy-op-end focus))
     (is (<= (peedy-lid-closure (peedy-body-of simulation)) 10) "eyes open after focus")))
@@ -126,7 +126,7 @@
 (test peedy-search-puts-the-note-in-the-right-wing
   (let* ((simulation (peedy-papers-simulation))
          (skeleton (player::load-skeleton 'parrot))
-         (wing (mapcar #'player::body-joint-name
+         (wing (mapcar #'player.body::body-joint-name
                        (cons (skeleton-role skeleton :right-hand) (skeleton-role skeleton :right-arm))))
          (searches (peedy-op-lines simulation 'search))
          (drop (first (peedy-op-lines simulation 'drop-note))))
@@ -143,7 +143,7 @@
     (let* ((scene (peedy-frame-at simulation (peedy-op-end drop)))
            (note (peedy-object scene 'note)))
       (is (null (object-parent note)))
-      (is (< (abs (player::vec3-y (object-world-position note))) 0.01)))))
+      (is (< (abs (player.body::vec3-y (object-world-position note))) 0.01)))))
 
 (test peedy-bad-speech-holds-the-wing-to-the-ear
   (let* ((simulation (peedy-papers-simulation))
@@ -169,14 +169,14 @@
     (flet ((camera-position (time)
              (object-world-position (peedy-object (peedy-frame-at simulation time) 'camera))))
       (dolist (time (peedy-frame-times simulation 0 cue))
-        (unless (< (player::vdistance home (camera-position time)) 1d-9)
+        (unless (< (player.body::vdistance home (camera-position time)) 1d-9)
           (fail "the camera moved at ~,2F s, before ~,2F s" time cue)))
-      (is (> (player::vdistance home (camera-position (+ cue 0.1))) 1d-4) "moving just after")
+      (is (> (player.body::vdistance home (camera-position (+ cue 0.1))) 1d-4) "moving just after")
       (let ((moves (loop for (a b) on (peedy-frame-times simulation (+ cue 0.05) (peedy-op-end goodbye))
                          while b
-                         count (> (player::vdistance (camera-position a) (camera-position b)) 1d-6))))
+                         count (> (player.body::vdistance (camera-position a) (camera-position b)) 1d-6))))
         (is (> moves 30) "still moving through camgoodbye"))
-      (is (> (player::vdistance home (camera-position (peedy-op-end goodbye))) 0.5) "pulled well back"))))
+      (is (> (player.body::vdistance home (camera-position (peedy-op-end goodbye))) 0.5) "pulled well back"))))
 
 (test peedy-bows-at-the-stroke
   (let* ((simulation (peedy-papers-simulation))
@@ -209,9 +209,9 @@
   (let ((simulation (peedy-papers-simulation)))
     (let ((bad (frames-past-limits simulation)))
       (is (null bad) "frames past the joint limits at ~A" bad))
-    (is (null (player::simulation-reports simulation)) "drivers reported ~S" (player::simulation-reports simulation))
-    (peedy-frame-at simulation (player::simulation-end simulation))
-    (is (< (abs (- -0.026 (player::vec3-y (property-value (peedy-body-of simulation) 'position)))) 1d-9)
+    (is (null (player.performance::simulation-reports simulation)) "drivers reported ~S" (player.performance::simulation-reports simulation))
+    (peedy-frame-at simulation (player.performance::simulation-end simulation))
+    (is (< (abs (- -0.026 (player.body::vec3-y (property-value (peedy-body-of simulation) 'position)))) 1d-9)
         "he sits down at the end")))
 
 ;;; Every op
@@ -225,7 +225,7 @@
 (test peedy-tour-plays-every-op-cleanly
   (let* ((simulation (peedy-simulation *peedy-tour*))
          (played (remove-duplicates
-                  (loop for line in (trace-lines (player::simulation-presenter simulation))
+                  (loop for line in (trace-lines (player.performance::simulation-presenter simulation))
                         when (eq (first line) :op) collect (string-downcase (second line)))
                   :test #'string=)))
     ;; All but the ops of the papers' scenario (drop-note, raise-wing, huh,
@@ -238,4 +238,4 @@
       (is (member op played :test #'string=) "the tour does not play ~A" op))
     (let ((bad (frames-past-limits simulation)))
       (is (null bad) "frames past the joint limits at ~A" bad))
-    (is (null (player::simulation-reports simulation)) "drivers reported ~S" (player::simulation-reports simulation))))
+    (is (null (player.performance::simulation-reports simulation)) "drivers reported ~S" (player.performance::simulation-reports simulation))))

@@ -40,7 +40,7 @@ Fails the test when the event does not succeed."
 
 (defun peedy-value (controller name)
   "Variable NAME's value in CONTROLLER as lower-case text (\"t\"/\"nil\" for booleans)."
-  (player::lisp-text (state-value controller name)))
+  (player.base::lisp-text (state-value controller name)))
 
 (defun peedy-names (things)
   "THINGS (symbols) as sorted lower-case strings."
@@ -50,47 +50,47 @@ Fails the test when the event does not succeed."
 
 (test peedy-has-the-declared-sizes
   (let* ((spec (peedy-spec))
-         (vars (player::spec-variables spec))
-         (ops (player::spec-ops spec)))
+         (vars (player.spec::spec-variables spec))
+         (ops (player.spec::spec-ops spec)))
     (is (string= "PEEDY" (symbol-name (spec-name spec))))
     (is (stringp (spec-documentation spec)))
     (is (= 7 (length vars)))
     (is (equal '("last-heard")
-               (peedy-names (mapcar #'player::var-name
-                              (remove :time vars :key #'player::var-kind :test-not #'eq)))))
-    (is (= 5 (length (player::spec-autoscripts spec))))
+               (peedy-names (mapcar #'player.spec::var-name
+                              (remove :time vars :key #'player.spec::var-kind :test-not #'eq)))))
+    (is (= 5 (length (player.spec::spec-autoscripts spec))))
     (is (= 44 (length ops)))
     (is (equal '("celebrate" "hard-wake" "soft-wake")
                (peedy-names (mapcar #'op-name (remove :macro ops :key #'op-kind :test-not #'eq)))))
     (is (equal '("camgoodbye" "camhello" "camwide" "give-note")
-               (peedy-names (mapcar #'op-name (remove-if-not #'player::op-must-ask ops)))))
-    (is (= 9 (hash-table-count (player::spec-classes spec))))
-    (is (= 38 (length (player::spec-events spec))))
+               (peedy-names (mapcar #'op-name (remove-if-not #'player.spec::op-must-ask ops)))))
+    (is (= 9 (hash-table-count (player.spec::spec-classes spec))))
+    (is (= 38 (length (player.spec::spec-events spec))))
     (is (= 13 (length (machine-goals (compile-spec spec)))))))
 
 (test peedy-uses-the-papers-definitions
   (let* ((spec (peedy-spec))
          (machine (compile-spec spec))
-         (vars (player::spec-variables spec))
-         (search (find "SEARCH" (player::spec-ops spec) :key (lambda (o) (symbol-name (op-name o)))
+         (vars (player.spec::spec-variables spec))
+         (search (find "SEARCH" (player.spec::spec-ops spec) :key (lambda (o) (symbol-name (op-name o)))
                                                         :test #'string=))
-         (wake (find "HARD-WAKE" (player::spec-ops spec) :key (lambda (o) (symbol-name (op-name o)))
+         (wake (find "HARD-WAKE" (player.spec::spec-ops spec) :key (lambda (o) (symbol-name (op-name o)))
                                                          :test #'string=)))
     (is (equal '("holding-note" "posture" "alert" "wing-at-ear" "wearing-phones")
-               (mapcar (lambda (v) (string-downcase (symbol-name (player::var-name v))))
+               (mapcar (lambda (v) (string-downcase (symbol-name (player.spec::var-name v))))
                        (subseq vars 0 5))))
     (is (equal '(:boolean :enumerated :enumerated :boolean :boolean)
-               (mapcar #'player::var-kind (subseq vars 0 5))))
-    (is (equal "(fly stand sit)" (player::lisp-text (coerce (player::var-domain (second vars)) 'list))))
-    (is (equal "(snore sleep awake)" (player::lisp-text (coerce (player::var-domain (third vars)) 'list))))
-    (is (string= "stream" (player::lisp-text (op-script search))))
-    (is (string= "stand-noteless" (player::lisp-text (player::op-precond-form search))))
+               (mapcar #'player.spec::var-kind (subseq vars 0 5))))
+    (is (equal "(fly stand sit)" (player.base::lisp-text (coerce (player.spec::var-domain (second vars)) 'list))))
+    (is (equal "(snore sleep awake)" (player.base::lisp-text (coerce (player.spec::var-domain (third vars)) 'list))))
+    (is (string= "stream" (player.base::lisp-text (op-script search))))
+    (is (string= "stand-noteless" (player.base::lisp-text (player.spec::op-precond-form search))))
     (is (equal '("snort" "exhale" "focus")
                (mapcar (lambda (op) (string-downcase (symbol-name (op-name op))))
-                       (player::macro-sub-ops wake))))
+                       (player.spec::macro-sub-ops wake))))
     ;; The class hierarchy unfolds to the paper's full precondition of search,
     ;; and the other classes Peedy's ops stand on are goals of their own.
-    (let ((goals (mapcar #'player::lisp-text (machine-goals machine))))
+    (let ((goals (mapcar #'player.base::lisp-text (machine-goals machine))))
       (is (member "(and (not holding-note) posture.stand alert.awake (not wing-at-ear) (not wearing-phones))"
                   goals :test #'string=))
       (is (member "(and alert.awake (not wing-at-ear) (not wearing-phones))" goals :test #'string=))
@@ -238,7 +238,7 @@ Fails the test when the event does not succeed."
     (is (equal '("(:autoscript-start snore-loop :var alert :value snore :time 0)") (trace-of c)))
     (is (equal '("snore-loop")
                (mapcar (lambda (a) (string-downcase (symbol-name (first a))))
-                       (player::active-autoscripts c))))
+                       (player.control::active-autoscripts c))))
     (send-event c 'ev-search)
     (let ((autos (remove-if-not (lambda (l) (member (first l) '(:autoscript-start :autoscript-stop)))
                                 (peedy-raw-lines c))))
@@ -246,9 +246,9 @@ Fails the test when the event does not succeed."
       (is (equal '("(:autoscript-start snore-loop :var alert :value snore :time 0)"
                    "(:autoscript-stop snore-loop :var alert :value snore :time 2.5)")
                  (mapcar #'trace-line-string autos))))
-    (is (null (player::active-autoscripts c))))
+    (is (null (player.control::active-autoscripts c))))
   ;; awake and standing (the declared initial state), nothing runs
-  (is (null (player::active-autoscripts (peedy-controller)))))
+  (is (null (player.control::active-autoscripts (peedy-controller)))))
 
 (test peedy-autoscripts-follow-their-variables
   (let ((c (peedy-controller)))
@@ -305,11 +305,11 @@ Fails the test when the event does not succeed."
                (mapcar #'first (peedy-ops (peedy-raw-lines c)))))
     (is (equal "nil" (peedy-value c 'holding-note))))
   (let* ((machine (compile-spec (peedy-spec)))
-         (planned (loop for goal across (player::machine-goal-table machine)
-                        append (loop for plan across (player::goal-plans goal)
-                                     append (player::plan-ops plan)))))
+         (planned (loop for goal across (player.planner::machine-goal-table machine)
+                        append (loop for plan across (player.planner::goal-plans goal)
+                                     append (player.planner::plan-ops plan)))))
     (is (member "DROP-NOTE" planned :key (lambda (op) (symbol-name (op-name op))) :test #'string=))
-    (is (null (remove-duplicates (mapcar #'op-name (remove-if-not #'player::op-must-ask planned)))))))
+    (is (null (remove-duplicates (mapcar #'op-name (remove-if-not #'player.spec::op-must-ask planned)))))))
 
 (test peedy-idle-yawns-only-after-half-a-minute-of-silence
   (let ((c (peedy-controller)))

@@ -26,7 +26,7 @@
 
 (defun elbow-library ()
   "The library of *ELBOW-LIBRARY-FORMS*."
-  (player::parse-script-library-forms *elbow-library-forms*))
+  (player.performance::parse-script-library-forms *elbow-library-forms*))
 
 (defun elbow-performance ()
   "A performance of the elbow library on a humanoid called BOB."
@@ -40,7 +40,7 @@
 
 (defun camera-x (performance time)
   "The camera's x in PERFORMANCE at TIME."
-  (player::vec3-x (player:property-value
+  (player.body::vec3-x (player:property-value
                    (player:find-object (player:performance-frame performance time) 'camera)
                    'position)))
 
@@ -84,8 +84,8 @@
   "Everything PERFORMANCE shows at TIME, as a comparable list."
   (let ((scene (player:performance-frame performance time)))
     (list (copy-seq (player:body-pose (player:performance-body performance)))
-          (player::anim-text (player:object-world-position (player:find-object scene 'note)))
-          (player::anim-text (player:property-value (player:find-object scene 'camera) 'position)))))
+          (player.body::anim-text (player:object-world-position (player:find-object scene 'note)))
+          (player.body::anim-text (player:property-value (player:find-object scene 'camera) 'position)))))
 
 (test evaluation-is-a-pure-function-of-time
   (let ((performance (elbow-performance))
@@ -130,7 +130,7 @@
 
 (test ops-last-as-long-as-their-scripts
   (with-elbow-spec (spec)
-    (let* ((library (player::parse-script-library-forms
+    (let* ((library (player.performance::parse-script-library-forms
                      (append *elbow-library-forms* '((defscript drop (:duration 0.5))))))
            (presenter (player:make-body-presenter spec :scripts library :body 'humanoid))
            (controller (player:make-controller spec :presenter presenter)))
@@ -149,7 +149,7 @@
   (with-elbow-spec (spec)
     (let ((condition (handler-case
                          (player:make-body-presenter
-                          spec :scripts (player::parse-script-library-forms
+                          spec :scripts (player.performance::parse-script-library-forms
                                          '((defscript flex (:duration 1)))))
                        (player:script-error (c) c))))
       (is-true condition)
@@ -161,13 +161,13 @@
 
 (test check-warns-about-durations
   (with-elbow-spec (spec)
-    (let* ((library (player::parse-script-library-forms
+    (let* ((library (player.performance::parse-script-library-forms
                      (append *elbow-library-forms* '((defscript drop (:duration 0.5))))))
-           (diagnostics (player::script-duration-diagnostics spec library)))
+           (diagnostics (player.performance::script-duration-diagnostics spec library)))
       (is (= 1 (length diagnostics)) "only flex declares a :duration")
       (is (search "flex" (player:diagnostic-message (first diagnostics)))))))
 
 (test a-spec-without-a-library-plays-placeholders
   (with-elbow-spec (spec)
-    (signals player:spec-error (player::spec-script-library spec))
-    (is (player::presenter-placeholder-p (player:make-body-presenter spec)))))
+    (signals player:spec-error (player.performance::spec-script-library spec))
+    (is (player.performance::presenter-placeholder-p (player:make-body-presenter spec)))))

@@ -26,14 +26,14 @@ saying WHAT is not tested."
 slot's alternative (stepping through them about 7 at a time, so CHOICEs
 differ in artist and title) and which optional elements are said."
   (let ((words '()))
-    (loop for element in (player::utterance-pattern-elements pattern)
+    (loop for element in (player.dialogue::utterance-pattern-elements pattern)
           for k from 0
-          unless (and (player::pattern-optional-p element) (evenp (+ choice k)))
+          unless (and (player.dialogue::pattern-optional-p element) (evenp (+ choice k)))
             do (setf words
                      (append words
-                             (if (player::pattern-words-p element)
-                                 (player::pattern-words-words element)
-                                 (let ((alternatives (player::pattern-slot-alternatives element)))
+                             (if (player.dialogue::pattern-words-p element)
+                                 (player.dialogue::pattern-words-words element)
+                                 (let ((alternatives (player.dialogue::pattern-slot-alternatives element)))
                                    (car (nth (mod (+ (* 7 (+ choice k)) (floor (+ choice k) 2)) (length alternatives))
                                              alternatives)))))))
     (format nil "~(~{~A~^ ~}~)" words)))
@@ -43,7 +43,7 @@ differ in artist and title) and which optional elements are said."
 order, each pattern's choice numbered apart so artists and titles vary."
   (let ((dialogue (jukebox)))
     (loop for choice below choices
-          append (loop for pattern in (player::dialogue-utterances dialogue)
+          append (loop for pattern in (player.dialogue::dialogue-utterances dialogue)
                        for index from 0
                        collect (pattern-sentence pattern (+ index (* 5 choice)))))))
 
@@ -141,7 +141,7 @@ speaker: (VALUES CONVERSATION SPEAKER PERFORMANCE)."
   (player::performance-frame performance time)
   (let* ((body (player::performance-body performance))
          (index (player::dof-index (player::body-skeleton body) 'beak 'open))
-         (high (player::body-dof-max (nth-value 1 (player::skeleton-dof (player::body-skeleton body) index)))))
+         (high (player.body::body-dof-max (nth-value 1 (player.body::skeleton-dof (player::body-skeleton body) index)))))
     (/ (aref (player::body-pose body) index) high)))
 
 (defun loudness (sound from to)
@@ -198,12 +198,12 @@ speaker: (VALUES CONVERSATION SPEAKER PERFORMANCE)."
             (is (< 7.6 (sound-duration sound)) "the frames cover the whole greeting"))))))
 
 (test without-espeak-rendering-is-silent-after-one-note
-  (let ((player::*espeak-library-names* '("libespeak-ng-missing-for-a-test.so.1"))
-        (player::*espeak-rate* nil)
-        (player::*loaded-speech-libraries* '()))
+  (let ((player.speech::*espeak-library-names* '("libespeak-ng-missing-for-a-test.so.1"))
+        (player.speech::*espeak-rate* nil)
+        (player.speech::*loaded-speech-libraries* '()))
     (let* ((available t)
            (note (with-output-to-string (*standard-output*)
-                   (setf available (player::speech-available-or-note)))))
+                   (setf available (player.cli::speech-available-or-note)))))
       (is-false available)
       (is (= 1 (length (lines note))) "~S" note)
       (is (search "; no speech: " note))

@@ -1,6 +1,6 @@
 ;;;; test-plan-tapes.lisp -- a timed controller tapes an event's plan the first
 ;;;; time it plans it from a state and replays the tape after
-;;;; (src/runtime/timeline/tapes.lisp).  A replay must make exactly what the
+;;;; (src/control/timeline/tapes.lisp).  A replay must make exactly what the
 ;;;; closures would: the random specs and streams of the model-based test and
 ;;;; the random specs of the C++ comparison (macros, :time directives,
 ;;;; runtime values) are played with tapes off, then twice with them on (the
@@ -13,9 +13,9 @@
 
 (defun machine-tape-count (machine)
   "How many plans MACHINE's events have taped."
-  (loop for compiled being the hash-values of (player::compiled-machine-events machine)
-        for table = (player::compiled-event-tapes compiled)
-        sum (if table (player::tape-table-count table) 0)))
+  (loop for compiled being the hash-values of (player.control::compiled-machine-events machine)
+        for table = (player.control::compiled-event-tapes compiled)
+        sum (if table (player.control::tape-table-count table) 0)))
 
 (defun plan-tape-problem (seed stream)
   "How playing stream STREAM of random spec SEED with taped plans differs from
@@ -24,7 +24,7 @@ playing it without, or NIL.  Returns a second value: the plans taped."
    seed stream
    (lambda (machine spec actions initial)
      (flet ((summary (tapes)
-              (tm-play-summary-with 'player::*replay-plan-tapes* tapes machine spec actions initial)))
+              (tm-play-summary-with 'player.control::*replay-plan-tapes* tapes machine spec actions initial)))
        (let* ((closures (summary nil))
               (taping (summary t))
               (replaying (summary t)))
@@ -50,7 +50,7 @@ runtime values, every policy) play the same with taped plans as without."
     (dolist (seed (loop for seed from 1 to 20 collect seed))
       (multiple-value-bind (problem count machine)
           ;; Off, taping, replaying.
-          (handler-case (c++-spec-variant-problem seed "plan-tapes" 'player::*replay-plan-tapes* '(nil t t))
+          (handler-case (c++-spec-variant-problem seed "plan-tapes" 'player.control::*replay-plan-tapes* '(nil t t))
             (error (e) (format nil "error: ~A" e)))
         (incf played (or count 0))
         (incf taped (if machine (machine-tape-count machine) 0))
@@ -61,13 +61,13 @@ runtime values, every policy) play the same with taped plans as without."
 
 (defun peedy-compiled-event (machine name)
   "The compiled event NAME (a string) of Peedy's MACHINE."
-  (player::find-compiled-event (make-controller machine) name))
+  (player.control::find-compiled-event (make-controller machine) name))
 
 (test plan-tapes-only-for-events-the-state-alone-decides
   "An event is taped only when the plannable state alone decides its plan: not
 one with :if, :time or :label, nor any event of a spec with a :code op."
   (let ((machine (compile-spec (first (load-spec (checkout-file "specs/peedy.lisp"))))))
-    (flet ((tapeable (name) (player::event-tapeable-p (peedy-compiled-event machine name) machine)))
+    (flet ((tapeable (name) (player.control::event-tapeable-p (peedy-compiled-event machine name) machine)))
       (is-true (tapeable "ev-sit"))
       (is-true (tapeable "ev-wake"))            ; a goal whose plan runs a macro-op
       (is-false (tapeable "ev-thanks"))         ; :label and :time
@@ -78,7 +78,7 @@ one with :if, :time or :label, nor any event of a spec with a :code op."
                                      (op shout :code (print "hi") :duration 1)
                                      (event ev-lift :op lift))
                                    (find-package '#:player-user))))
-    (is-false (player::event-tapeable-p (player::find-compiled-event (make-controller machine) "ev-lift") machine))))
+    (is-false (player.control::event-tapeable-p (player.control::find-compiled-event (make-controller machine) "ev-lift") machine))))
 
 (test plan-tapes-stop-at-their-limit
   "An event keeps at most *PLAN-TAPES-PER-EVENT* tapes; past that it is planned
@@ -92,13 +92,13 @@ by its closures, and plays the same."
                (dolist (name stream)
                  (send-event controller name :at (+ (controller-time controller) 0.5d0) :when-busy :preempt))
                (finish-events controller)
-               (trace-lines (player::controller-presenter* (player::controller-timeline controller))))))
-      (let ((unlimited (let ((player::*replay-plan-tapes* nil)) (play)))
-            (limited (let ((player::*plan-tapes-per-event* 2)) (play) (play))))
+               (trace-lines (player.control::controller-presenter* (player.control::controller-timeline controller))))))
+      (let ((unlimited (let ((player.control::*replay-plan-tapes* nil)) (play)))
+            (limited (let ((player.control::*plan-tapes-per-event* 2)) (play) (play))))
         (is (equal unlimited limited))
-        (is (<= (loop for compiled being the hash-values of (player::compiled-machine-events machine)
-                      maximize (let ((table (player::compiled-event-tapes compiled)))
-                                 (if table (player::tape-table-count table) 0)))
+        (is (<= (loop for compiled being the hash-values of (player.control::compiled-machine-events machine)
+                      maximize (let ((table (player.control::compiled-event-tapes compiled)))
+                                 (if table (player.control::tape-table-count table) 0)))
                 2))))))
 
 (test plan-tapes-replay-macros-nested-deep
@@ -115,7 +115,7 @@ the same replayed as planned by the closures."
                         '((event ev :op m6))))
          (machine (machine-of-forms 'tapes-nested forms (find-package '#:player-user))))
     (flet ((play (tapes)
-             (let ((player::*replay-plan-tapes* tapes))
+             (let ((player.control::*replay-plan-tapes* tapes))
                (let* ((presenter (make-trace-presenter))
                       (controller (make-controller machine :timed t :presenter presenter)))
                  ;; Once to its end, then cut by itself and resumed.

@@ -17,8 +17,8 @@
 enumerating the values CUBE allows each variable."
   (let ((states (list 0))
         (stride 1))
-    (loop for size across (player::layout-sizes layout)
-          for offset across (player::layout-offsets layout)
+    (loop for size across (player.planner::layout-sizes layout)
+          for offset across (player.planner::layout-offsets layout)
           do (setf states (loop for value below size
                                 when (logbitp (+ offset value) cube)
                                   append (mapcar (lambda (state) (+ state (* value stride))) states))
@@ -41,73 +41,73 @@ enumerating the values CUBE allows each variable."
 
 (defun scanning-plan-goal (goal-cubes operators layout max-depth)
   "The plans, solved-states bitmap and truncation flag of the old planner."
-  (let ((result-q (player::make-queue))
-        (working-q (player::make-queue))
-        (solved-states (make-array (player::layout-state-count layout) :element-type 'bit
+  (let ((result-q (player.planner::make-queue))
+        (working-q (player.planner::make-queue))
+        (solved-states (make-array (player.planner::layout-state-count layout) :element-type 'bit
                                                                          :initial-element 0)))
     (dolist (cube goal-cubes)
       (when (plusp (naive-mark-cube solved-states cube layout))
-        (let ((empty-plan (player::make-plan cube '())))
-          (player::enqueue empty-plan result-q)
-          (player::enqueue empty-plan working-q))))
+        (let ((empty-plan (player.planner::make-plan cube '())))
+          (player.planner::enqueue empty-plan result-q)
+          (player.planner::enqueue empty-plan working-q))))
     (let ((truncatedp (scanning-sub-plan result-q working-q solved-states operators layout max-depth)))
-      (values (player::queue-items result-q) solved-states truncatedp))))
+      (values (player.planner::queue-items result-q) solved-states truncatedp))))
 
 (defun scanning-sub-plan (result-q working-q solved-states operators layout max-depth)
   "The old SUB-PLAN: a candidate a plan of RESULT-Q covers is skipped by scanning RESULT-Q."
   (let ((truncatedp nil))
-    (loop until (player::queue-empty-p working-q)
-          do (let* ((root-plan (player::dequeue working-q))
-                    (root-state (player::plan-condition root-plan))
-                    (root-ops (player::plan-ops root-plan)))
+    (loop until (player.planner::queue-empty-p working-q)
+          do (let* ((root-plan (player.planner::dequeue working-q))
+                    (root-state (player.planner::plan-condition root-plan))
+                    (root-ops (player.planner::plan-ops root-plan)))
                (if (>= (length root-ops) max-depth)
                    (unless truncatedp
                      (setf truncatedp
                            (loop for operator in operators
-                                   thereis (loop for new-state in (player::regress root-state operator layout)
+                                   thereis (loop for new-state in (player.planner::regress root-state operator layout)
                                                    thereis (naive-cube-has-unmarked-p solved-states new-state layout)))))
                    (dolist (operator operators)
-                     (dolist (new-state (player::regress root-state operator layout))
+                     (dolist (new-state (player.planner::regress root-state operator layout))
                        (when (and (not (scanning-covered-by-plan-p new-state root-plan result-q))
                                   (plusp (naive-mark-cube solved-states new-state layout)))
-                         (let ((new-plan (player::make-plan new-state
-                                                            (cons (player::planner-op-op operator) root-ops))))
-                           (player::enqueue new-plan result-q)
-                           (player::enqueue new-plan working-q))))))))
+                         (let ((new-plan (player.planner::make-plan new-state
+                                                            (cons (player.planner::planner-op-op operator) root-ops))))
+                           (player.planner::enqueue new-plan result-q)
+                           (player.planner::enqueue new-plan working-q))))))))
     truncatedp))
 
 (defun scanning-covered-by-plan-p (cube root-plan result-q)
   "The old quadratic test: some plan's condition (ROOT-PLAN's first) contains CUBE."
-  (or (player::cube-subset-p cube (player::plan-condition root-plan))
-      (loop for plan in (player::queue-items result-q)
-              thereis (player::cube-subset-p cube (player::plan-condition plan)))))
+  (or (player.spec::cube-subset-p cube (player.planner::plan-condition root-plan))
+      (loop for plan in (player.planner::queue-items result-q)
+              thereis (player.spec::cube-subset-p cube (player.planner::plan-condition plan)))))
 
 (defun plan-list (plans)
   "PLANS (a sequence of PLANs) as a list of (CONDITION . OP-DEFS)."
-  (map 'list (lambda (plan) (cons (player::plan-condition plan) (player::plan-ops plan))) plans))
+  (map 'list (lambda (plan) (cons (player.planner::plan-condition plan) (player.planner::plan-ops plan))) plans))
 
 (defun compare-with-scanning-planner (forms name)
   "Plan FORMS with Player and with the old planner; NIL when every goal has the
 same plans in the same order, the same solved states and truncation, else a string."
   (unwind-protect
        (let* ((machine (plan-spec (define-spec name forms :package (find-package '#:player-user))))
-              (layout (player::machine-layout machine))
+              (layout (player.planner::machine-layout machine))
               (max-depth (spec-max-depth (machine-spec machine))))
-         (loop for goal across (player::machine-goal-table machine)
+         (loop for goal across (player.planner::machine-goal-table machine)
                do (multiple-value-bind (plans solved truncatedp)
-                      (scanning-plan-goal (player::goal-cubes goal) (player::machine-operators machine)
+                      (scanning-plan-goal (player.planner::goal-cubes goal) (player.planner::machine-operators machine)
                                           layout max-depth)
-                    (cond ((not (equal (plan-list plans) (plan-list (player::goal-plans goal))))
+                    (cond ((not (equal (plan-list plans) (plan-list (player.planner::goal-plans goal))))
                            (return (format nil "goal ~S: ~D plans, the old planner's ~D~@[, first differing at ~D~]"
-                                           (player::goal-expression goal) (length (player::goal-plans goal))
+                                           (player.planner::goal-expression goal) (length (player.planner::goal-plans goal))
                                            (length plans)
-                                           (mismatch (plan-list plans) (plan-list (player::goal-plans goal))
+                                           (mismatch (plan-list plans) (plan-list (player.planner::goal-plans goal))
                                                      :test #'equal))))
-                          ((not (equal solved (player::goal-solved goal)))
-                           (return (format nil "goal ~S: different solved states" (player::goal-expression goal))))
-                          ((not (eq (not truncatedp) (not (player::goal-truncatedp goal))))
+                          ((not (equal solved (player.planner::goal-solved goal)))
+                           (return (format nil "goal ~S: different solved states" (player.planner::goal-expression goal))))
+                          ((not (eq (not truncatedp) (not (player.planner::goal-truncatedp goal))))
                            (return (format nil "goal ~S: truncated ~A, the old planner ~A"
-                                           (player::goal-expression goal) (player::goal-truncatedp goal) truncatedp)))))))
+                                           (player.planner::goal-expression goal) (player.planner::goal-truncatedp goal) truncatedp)))))))
     (remove-spec name)))
 
 (defparameter *wide-spec-options*
@@ -140,7 +140,7 @@ plans of the planner before issue 13, in the same order, for every goal
 (with a bit per full word of SolvedStates wherever the layout allows one)."
   (let ((problems '()) (cases (scale-test-cases)))
     (loop for (seed . options) in cases
-          do (let ((problem (let ((player::*group-threshold* 0)) ; groups however few the states
+          do (let ((problem (let ((player.planner::*group-threshold* 0)) ; groups however few the states
                               (compare-with-scanning-planner (apply #'random-spec seed options)
                                                              (rs-symbol "scale-~D" seed)))))
                (when problem
@@ -152,7 +152,7 @@ plans of the planner before issue 13, in the same order, for every goal
 (defun boolean-layout (count &key (enumerated '()))
   "The layout of a throwaway spec of COUNT booleans (and, at the positions in
 ENUMERATED, three-valued variables), with groups however few its states."
-  (let ((player::*group-threshold* 0)
+  (let ((player.planner::*group-threshold* 0)
         (spec (define-spec 'layout-only
                   (loop for i below count
                         collect (if (member i enumerated)
@@ -161,13 +161,13 @@ ENUMERATED, three-valued variables), with groups however few its states."
                                     `(player-user::state-variable ,(rs-symbol "v~D" i) player-user::boolean
                                                                   player-user::false)))
                 :package (find-package '#:player-user))))
-    (prog1 (player::make-layout spec)
+    (prog1 (player.planner::make-layout spec)
       (remove-spec 'layout-only))))
 
 (defun random-cube (prng layout &key (free-probability 0.6))
   "A random non-empty cube of LAYOUT: each variable free, or one value, or (enumerated) two."
-  (loop for size across (player::layout-sizes layout)
-        for offset across (player::layout-offsets layout)
+  (loop for size across (player.planner::layout-sizes layout)
+        for offset across (player.planner::layout-offsets layout)
         sum (ash (cond ((rs-chance prng free-probability) (1- (ash 1 size)))
                        ((and (> size 2) (rs-chance prng 0.3))
                         (logxor (1- (ash 1 size)) (ash 1 (rs-below prng size))))
@@ -182,25 +182,25 @@ enumerated variable), and with neither; the full-word bits stay exact."
                                          (9 (6) :words) (8 (2 5) :runs) (16 (0) :runs))
         for layout = (boolean-layout count :enumerated enumerated)
         for prng = (make-rs-prng count)
-        do (is (eq kind (cond ((player::layout-group-prefix layout) :groups)
-                              ((player::layout-word-prefix layout) :words)
+        do (is (eq kind (cond ((player.planner::layout-group-prefix layout) :groups)
+                              ((player.planner::layout-word-prefix layout) :words)
                               (t :runs))))
            (dolist (free-probability '(0.3 0.5 0.7 0.9))
-             (let ((solved (player::make-solved-states layout))
-                   (naive (make-array (player::layout-state-count layout) :element-type 'bit
+             (let ((solved (player.planner::make-solved-states layout))
+                   (naive (make-array (player.planner::layout-state-count layout) :element-type 'bit
                                                                             :initial-element 0))
                    (agree t))
                (loop repeat 400
                      for cube = (random-cube prng layout :free-probability free-probability)
-                     do (unless (and (eq (player::cube-has-unmarked-p solved cube layout)
+                     do (unless (and (eq (player.planner::cube-has-unmarked-p solved cube layout)
                                          (naive-cube-has-unmarked-p naive cube layout))
-                                     (= (player::mark-cube solved cube layout)
+                                     (= (player.planner::mark-cube solved cube layout)
                                         (naive-mark-cube naive cube layout))
-                                     (equal naive (player::solved-states-bits solved)))
+                                     (equal naive (player.planner::solved-states-bits solved)))
                           (setf agree nil)))
                (is-true agree "~D variables (~S enumerated), cubes free ~A: marking disagrees"
                         count enumerated free-probability)
-               (let ((full (player::solved-states-full-words solved)))
+               (let ((full (player.planner::solved-states-full-words solved)))
                  (when full
                    (is (every (lambda (word)
                                 (eq (= 1 (sbit full word))
@@ -223,8 +223,8 @@ enumerated variable), and with neither; the full-word bits stay exact."
                         :package (find-package '#:player-tests)))
                 (machine (plan-spec spec)))
            (is (= (expt 2 26) (machine-state-count machine)))
-           (is (equal '(((and x0 x25)) (x25 a) (x0 b) (player::true a b)) (plans machine '(and x0 x25))))
-           (is (= (expt 2 26) (player::goal-solved-count (aref (player::machine-goal-table machine) 0)))))
+           (is (equal '(((and x0 x25)) (x25 a) (x0 b) (player.spec::true a b)) (plans machine '(and x0 x25))))
+           (is (= (expt 2 26) (player.planner::goal-solved-count (aref (player.planner::machine-goal-table machine) 0)))))
       (remove-spec 'wide-26))))
 
 (test equal-durations-plan-breadth-first
@@ -242,12 +242,12 @@ enumerated variable), and with neither; the full-word bits stay exact."
                                                          :package (find-package '#:player-user)))))
                                (map 'list (lambda (goal)
                                             (list (map 'list (lambda (plan)
-                                                               (cons (player::plan-condition plan)
-                                                                     (mapcar #'player::op-name (player::plan-ops plan))))
-                                                       (player::goal-plans goal))
-                                                  (player::goal-solved goal)
-                                                  (not (player::goal-truncatedp goal))))
-                                    (player::machine-goal-table machine)))
+                                                               (cons (player.planner::plan-condition plan)
+                                                                     (mapcar #'player::op-name (player.planner::plan-ops plan))))
+                                                       (player.planner::goal-plans goal))
+                                                  (player.planner::goal-solved goal)
+                                                  (not (player.planner::goal-truncatedp goal))))
+                                    (player.planner::machine-goal-table machine)))
                           (remove-spec 'equal-durations))))
                  (unless (equalp (tables :steps) (tables :duration))
                    (push seed problems)))))

@@ -120,7 +120,7 @@
                                                :test #'equal))))))
 
 (test state-space-limit-is-a-clear-error
-  (let ((player::*state-limit* 32))
+  (let ((player.planner::*state-limit* 32))
     (with-spec (spec too-big (state-variable a string x (x y z w))
                              (state-variable b string x (x y z w))
                              (state-variable c string x (x y z w)))
@@ -137,9 +137,9 @@ is empty when any one variable has no value left."
                  (state-variable b boolean false)
                  (event e :state a))
     (let* ((spec (player::machine-spec m))
-           (layout (player::machine-layout m))
-           (top (player::top-cube spec))
-           (a-field (player::var-field-mask (find "A" (player::spec-variables spec) :key (lambda (v) (symbol-name (player::var-name v))) :test #'string=))))
-      (is (not (player::layout-cube-empty-p top layout)))
-      (is (player::layout-cube-empty-p (logandc2 top a-field) layout))
+           (layout (player.planner::machine-layout m))
+           (top (player.spec::top-cube spec))
+           (a-field (player.spec::var-field-mask (find "A" (player.spec::spec-variables spec) :key (lambda (v) (symbol-name (player.spec::var-name v))) :test #'string=))))
+      (is (not (player.planner::layout-cube-empty-p top layout)))
+      (is (player.planner::layout-cube-empty-p (logandc2 top a-field) layout))
       (is (not (typep (logandc2 top a-field) 'fixnum))))))

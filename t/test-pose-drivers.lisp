@@ -47,14 +47,14 @@
 
 (defun driven (driver time &optional base)
   "What DRIVER writes at TIME over a copy of BASE (default the rest pose)."
-  (let ((pose (player::copy-pose (or base (player::make-pose (player::driver-skeleton driver))))))
+  (let ((pose (player.body::copy-pose (or base (player::make-pose (player.body::driver-skeleton driver))))))
     (player::driver-drive driver (seconds time) pose)
     pose))
 
 (defmacro signals-pose-error ((text &optional (form nil form-p)) &body body)
   "Check that BODY signals a POSE-ERROR whose report contains TEXT (and whose form is FORM)."
   `(let ((condition (handler-case (progn ,@body nil)
-                      (player::pose-error (c) c))))
+                      (player.body::pose-error (c) c))))
      (is (typep condition 'spec-error) "no pose-error from ~S" ',body)
      (when condition
        (is (search ,text (princ-to-string condition))
@@ -68,22 +68,22 @@
   (uiop:with-temporary-file (:pathname path :stream out :type "lisp")
     (write-string text out)
     :close-stream
-    (handler-case (progn (player::load-pose-library path) nil)
-      (player::pose-error (c) (list (princ-to-string c) (spec-error-form c)
+    (handler-case (progn (player.body::load-pose-library path) nil)
+      (player.body::pose-error (c) (list (princ-to-string c) (spec-error-form c)
                                     (file-namestring path))))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Pose libraries
 
 (test pose-library-parsing
-  (let* ((library (player::make-pose-library
+  (let* ((library (player.body::make-pose-library
                    '((defpose wave "Hand up." (l_shoulder z 90) (l_elbow x -90))
                      (defpose curl (:left-fingers curl 40) (l_index1 curl 10)))))
          (humanoid (player::load-skeleton 'humanoid))
-         (wave (player::resolve-pose (player::find-pose library 'wave) humanoid))
-         (curl (player::resolve-pose (player::find-pose library "CURL") humanoid)))
-    (is (equal '("WAVE" "CURL") (mapcar #'string (player::pose-library-names library))))
-    (is (equal "Hand up." (player::pose-definition-documentation (player::find-pose library 'wave))))
+         (wave (player.body::resolve-pose (player.body::find-pose library 'wave) humanoid))
+         (curl (player.body::resolve-pose (player.body::find-pose library "CURL") humanoid)))
+    (is (equal '("WAVE" "CURL") (mapcar #'string (player.body::pose-library-names library))))
+    (is (equal "Hand up." (player.body::pose-definition-documentation (player.body::find-pose library 'wave))))
     (is (equal (list (cons (player::dof-index humanoid 'l_shoulder :z) 90d0)
                      (cons (player::dof-index humanoid 'l_elbow :x) -90d0))
                wave))
@@ -91,14 +91,14 @@
     (is (= 5 (length curl)))
     (is (= 10d0 (cdr (assoc (player::dof-index humanoid 'l_index1 'curl) curl))))
     (is (= 40d0 (cdr (assoc (player::dof-index humanoid 'l_pinky1 'curl) curl))))
-    (is (null (player::find-pose library 'nothing nil)))
-    (signals-pose-error ("no pose nothing") (player::find-pose library 'nothing))))
+    (is (null (player.body::find-pose library 'nothing nil)))
+    (signals-pose-error ("no pose nothing") (player.body::find-pose library 'nothing))))
 
 (test pose-library-errors-name-the-clause
   (let ((humanoid (player::load-skeleton 'humanoid)))
     (flet ((resolve (&rest clauses)
-             (player::resolve-pose
-              (player::find-pose (player::make-pose-library `((defpose p ,@clauses))) 'p)
+             (player.body::resolve-pose
+              (player.body::find-pose (player.body::make-pose-library `((defpose p ,@clauses))) 'p)
               humanoid)))
       (signals-pose-error ("no joint l_elbw" '(l_elbw x -10)) (resolve '(l_elbw x -10)))
       (signals-pose-error ("fills no role :crest" '(:crest raise 10)) (resolve '(:crest raise 10)))
@@ -108,17 +108,17 @@
       ;; The thumb curls only to 50, so a role clause must fit every joint.
       (signals-pose-error ("limits 0 to 50" '(:left-fingers curl 80)) (resolve '(:left-fingers curl 80)))
       (signals-pose-error ("no pose q" '(:include q)) (resolve '(:include q))))
-    (signals-pose-error ("DOF ANGLE pairs" '(l_elbow x)) (player::make-pose-library '((defpose p (l_elbow x)))))
-    (signals-pose-error ("DOF ANGLE pairs") (player::make-pose-library '((defpose p (l_elbow x "ten")))))
-    (signals-pose-error ("pose clause" 'l_elbow) (player::make-pose-library '((defpose p l_elbow))))
-    (signals-pose-error ("only (defpose") (player::make-pose-library '((pose p (l_elbow x 0)))))
-    (signals-pose-error ("needs a name") (player::make-pose-library '((defpose))))
-    (signals-pose-error ("sets nothing") (player::make-pose-library '((defpose p "doc"))))
+    (signals-pose-error ("DOF ANGLE pairs" '(l_elbow x)) (player.body::make-pose-library '((defpose p (l_elbow x)))))
+    (signals-pose-error ("DOF ANGLE pairs") (player.body::make-pose-library '((defpose p (l_elbow x "ten")))))
+    (signals-pose-error ("pose clause" 'l_elbow) (player.body::make-pose-library '((defpose p l_elbow))))
+    (signals-pose-error ("only (defpose") (player.body::make-pose-library '((pose p (l_elbow x 0)))))
+    (signals-pose-error ("needs a name") (player.body::make-pose-library '((defpose))))
+    (signals-pose-error ("sets nothing") (player.body::make-pose-library '((defpose p "doc"))))
     (signals-pose-error ("defined twice")
-      (player::make-pose-library '((defpose p (l_elbow x 0)) (defpose p (l_elbow x -1)))))
+      (player.body::make-pose-library '((defpose p (l_elbow x 0)) (defpose p (l_elbow x -1)))))
     (signals-pose-error ("includes itself")
-      (player::resolve-pose
-       (player::find-pose (player::make-pose-library '((defpose a (:include b)) (defpose b (:mirror a))))
+      (player.body::resolve-pose
+       (player.body::find-pose (player.body::make-pose-library '((defpose a (:include b)) (defpose b (:mirror a))))
                           'a)
        humanoid))))
 
@@ -131,59 +131,59 @@
   (is (search "could not read" (first (library-file-error "(defpose p #.(l_elbow x 0))"))))
   (is (search "only (defpose" (first (library-file-error "(in-package :player)"))))
   (signals-pose-error ("no pose library file")
-    (player::load-pose-library "/nonexistent/poses.lisp"))
+    (player.body::load-pose-library "/nonexistent/poses.lisp"))
   ;; With a skeleton, loading resolves every pose, and errors name the line.
   (uiop:with-temporary-file (:pathname path :stream out :type "lisp")
     (format out "(defpose a (l_elbow x 0))~%(defpose b (r_elbow x 45))")
     :close-stream
-    (is (player::load-pose-library path))
+    (is (player.body::load-pose-library path))
     (signals-pose-error (":2: DOF x of joint r_elbow: 45 degrees is outside its limits -150 to 0")
-      (player::load-pose-library path :skeleton (player::load-skeleton 'humanoid)))))
+      (player.body::load-pose-library path :skeleton (player::load-skeleton 'humanoid)))))
 
 (test shipped-poses-resolve-within-limits
   (dolist (name '(humanoid parrot))
     (let* ((skeleton (player::load-skeleton name))
-           (library (player::shipped-pose-library skeleton)))
-      (is (<= 10 (length (player::pose-library-names library))) "~A ships few poses" name)
-      (dolist (pose-name (player::pose-library-names library))
-        (let* ((entries (player::resolve-pose (player::find-pose library pose-name) skeleton))
-               (pose (player::apply-pose-angles entries (player::make-pose skeleton))))
+           (library (player.body::shipped-pose-library skeleton)))
+      (is (<= 10 (length (player.body::pose-library-names library))) "~A ships few poses" name)
+      (dolist (pose-name (player.body::pose-library-names library))
+        (let* ((entries (player.body::resolve-pose (player.body::find-pose library pose-name) skeleton))
+               (pose (player.body::apply-pose-angles entries (player::make-pose skeleton))))
           (is (consp entries))
           (is (player::pose-within-limits-p skeleton pose 0) "~A ~A exceeds a limit" name pose-name)))))
-  (let ((parrot (player::shipped-pose-library (player::load-skeleton 'parrot))))
+  (let ((parrot (player.body::shipped-pose-library (player::load-skeleton 'parrot))))
     (dolist (pose '(perch-sit stand wings-spread wing-to-ear-right bow beak-open crest-up
                     sleep-tuck fly-up fly-down))
-      (is (player::find-pose parrot pose nil) "the parrot lacks ~A" pose))))
+      (is (player.body::find-pose parrot pose nil) "the parrot lacks ~A" pose))))
 
 (test mirrored-poses-mirror-the-figure
   (let* ((skeleton (player::load-skeleton 'parrot))
-         (library (player::shipped-pose-library skeleton)))
+         (library (player.body::shipped-pose-library skeleton)))
     (flet ((primaries (pose-name joint)
-             (let ((pose (player::apply-pose-angles
-                          (player::resolve-pose (player::find-pose library pose-name) skeleton)
+             (let ((pose (player.body::apply-pose-angles
+                          (player.body::resolve-pose (player.body::find-pose library pose-name) skeleton)
                           (player::make-pose skeleton))))
                (player::joint-world-position (player::pose-world-transforms skeleton pose)
                                              (player::find-joint skeleton joint)))))
       (let ((right (primaries 'wing-to-ear-right 'r_primaries))
             (left (primaries 'wing-to-ear-left 'l_primaries)))
-        (is (near (player::vec3-x left) (- (player::vec3-x right)) 1d-9))
-        (is (near (player::vec3-y left) (player::vec3-y right) 1d-9))
-        (is (near (player::vec3-z left) (player::vec3-z right) 1d-9))))))
+        (is (near (player.body::vec3-x left) (- (player.body::vec3-x right)) 1d-9))
+        (is (near (player.body::vec3-y left) (player.body::vec3-y right) 1d-9))
+        (is (near (player.body::vec3-z left) (player.body::vec3-z right) 1d-9))))))
 
 (test body-pose-library-defaults-and-overrides
   (let ((body (fresh-body 'humanoid))
         (other (fresh-body 'humanoid))
-        (library (player::make-pose-library '((defpose salute (r_shoulder z -90) (r_elbow x -120))))))
-    (is (eq (player::shipped-pose-library (player::body-skeleton body))
-            (player::body-pose-library body)))
-    (setf (player::body-pose-library body) library)
-    (is (eq library (player::body-pose-library body)))
+        (library (player.body::make-pose-library '((defpose salute (r_shoulder z -90) (r_elbow x -120))))))
+    (is (eq (player.body::shipped-pose-library (player::body-skeleton body))
+            (player.body::body-pose-library body)))
+    (setf (player.body::body-pose-library body) library)
+    (is (eq library (player.body::body-pose-library body)))
     (is (player::make-driver (player::parse-motor-frame '(:pose :name salute)) body 0))
     (signals player::motor-error (player::make-driver (player::parse-motor-frame '(:pose :name salute)) other 0))
-    (let ((player::*pose-library* library))
+    (let ((player.body::*pose-library* library))
       (is (player::make-driver (player::parse-motor-frame '(:pose :name salute)) other 0)))
-    (setf (player::body-pose-library body) nil)
-    (is (player::find-pose (player::body-pose-library body) 'fist))))
+    (setf (player.body::body-pose-library body) nil)
+    (is (player.body::find-pose (player.body::body-pose-library body) 'fist))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Direct, keyframe and pose
@@ -194,7 +194,7 @@
          (driver (begun '(:direct :set ((l_elbow x -100) (:left-fingers curl 30)) :duration 0.4)
                         body :start 1 :pose start))
          (elbow (dof body 'l_elbow :x)))
-    (is (= 6 (length (player::driver-channels driver))))
+    (is (= 6 (length (player.body::driver-channels driver))))
     (is (near -20 (aref (driven driver 1 start) elbow)))
     ;; smoothstep: 1/4 of the way in time is 5/32 of the way in angle.
     (is (near (+ -20 (* 5/32 -80)) (aref (driven driver 1.1 start) elbow)))
@@ -261,9 +261,9 @@
 (test pose-shorthand-eases-into-a-named-pose
   (let* ((body (fresh-body 'humanoid))
          (driver (begun '(:pose :name fist :duration 0.5) body :start 2))
-         (fist (player::resolve-pose (player::find-pose (player::body-pose-library body) 'fist)
+         (fist (player.body::resolve-pose (player.body::find-pose (player.body::body-pose-library body) 'fist)
                                      (player::body-skeleton body))))
-    (is (equal (mapcar #'car fist) (player::driver-channels driver)))
+    (is (equal (mapcar #'car fist) (player.body::driver-channels driver)))
     (is (null (player::driver-end-time driver)))
     (loop for (index . angle) in fist
           do (is (near 0 (aref (driven driver 2) index)))
@@ -283,7 +283,7 @@
     (is (near -100 (aref (player::body-evaluate body 3) elbow)))
     ;; Ended: the body holds the last angle.
     (is (near -100 (aref (player::body-evaluate body 5) elbow)))
-    (is (null (player::body-active body)))))
+    (is (null (player.body::body-active body)))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Lips, beat, idle
@@ -296,7 +296,7 @@
         do (let* ((body (fresh-body skeleton))
                   (jaw (dof body joint 'open))
                   (driver (begun `(:lips :visemes ,*speech*) body :start 1)))
-             (is (equal (list jaw) (player::driver-channels driver)))
+             (is (equal (list jaw) (player.body::driver-channels driver)))
              (is (near 0 (aref (driven driver 1) jaw)))
              (is (near widest (aref (driven driver 1.1) jaw)) "~A jaw at :aa" skeleton)
              (is (near 0 (aref (driven driver 1.3) jaw)) "~A jaw at :mm" skeleton)
@@ -314,8 +314,8 @@
          (elbow (dof body 'r_elbow :x))
          (skeleton (player::body-skeleton body)))
     (flet ((hand-height (pose)
-             (player::vec3-y (player::hand-point skeleton pose (player::find-joint skeleton 'r_wrist)
-                                                 (player::identity-transform)))))
+             (player.body::vec3-y (player.body::hand-point skeleton pose (player::find-joint skeleton 'r_wrist)
+                                                 (player.body::identity-transform)))))
       (dolist (beat '(2.5 3.0))
         (is (near -78 (aref (driven driver beat start) elbow)) "elbow at the beat ~A" beat)
         (is (< (hand-height (driven driver beat start)) (- (hand-height start) 0.03)))
@@ -326,13 +326,13 @@
       (is (near 3.25 (player::driver-end-time driver)))))
   ;; The parrot's wing beats through its arm chain.
   (let* ((body (fresh-body 'parrot))
-         (start (player::apply-pose-angles
-                 (player::resolve-pose (player::find-pose (player::body-pose-library body) 'wings-spread)
+         (start (player.body::apply-pose-angles
+                 (player.body::resolve-pose (player.body::find-pose (player.body::body-pose-library body) 'wings-spread)
                                        (player::body-skeleton body))
                  (player::make-pose (player::body-skeleton body))))
          (driver (begun '(:beat :arm :left :times (0.3)) body :pose start))
          (moved (remove-if (lambda (i) (near (aref start i) (aref (driven driver 0.3 start) i)))
-                           (player::driver-channels driver))))
+                           (player.body::driver-channels driver))))
     (is (member (dof body 'l_elbow 'unfold) moved))
     (is (equalp start (driven driver 0.6 start)))))
 
@@ -341,11 +341,11 @@
          (driver (begun '(:idle :amplitude 3 :frequency 0.5 :seed 7 :joints (:spine :head)) body))
          (same (begun '(:idle :amplitude 3 :frequency 0.5 :seed 7 :joints (:spine :head)) body))
          (other (begun '(:idle :amplitude 3 :frequency 0.5 :seed 8 :joints (:spine :head)) body))
-         (channels (player::driver-channels driver))
+         (channels (player.body::driver-channels driver))
          (base (pose-with body '(vl5 x 10))))
     (is-true (player::driver-additive-p driver))
-    (is (equal (append (player::joint-dof-indices (player::find-joint (player::body-skeleton body) 'vl5))
-                       (player::joint-dof-indices (player::find-joint (player::body-skeleton body) 'skullbase)))
+    (is (equal (append (player.body::joint-dof-indices (player::find-joint (player::body-skeleton body) 'vl5))
+                       (player.body::joint-dof-indices (player::find-joint (player::body-skeleton body) 'skullbase)))
                channels))
     (is (equalp base (driven driver 0 base)) "the drift fades in from nothing")
     (let ((previous (driven driver 0 base)) (largest 0) (step 0) (differs nil))
@@ -366,8 +366,8 @@
       (player::body-add-driver drifting (player::make-driver (player::parse-motor-frame '(:idle :seed 7))
                                                              drifting 0))
       (player::body-evaluate drifting 2)
-      (is (every #'null (player::body-owners drifting)))
-      (is (not (equalp (player::body-pose drifting) (player::body-base drifting)))))))
+      (is (every #'null (player.body::body-owners drifting)))
+      (is (not (equalp (player::body-pose drifting) (player.body::body-base drifting)))))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Limits and bad frames

@@ -66,7 +66,7 @@ reference has none. Returns a list of problems (strings)."
         (unwind-protect
              (let* ((machine (plan-spec (define-spec name (reachable-spec-forms forms model starts regime durations)
                                                      :package (find-package '#:player-user))))
-                    (layout (player::machine-layout machine))
+                    (layout (player.planner::machine-layout machine))
                     (one-hot (let ((table (make-hash-table)))
                                (loop for index being the hash-keys of reachable
                                      do (setf (gethash index table)
@@ -75,7 +75,7 @@ reference has none. Returns a list of problems (strings)."
                (when (eq regime :reachable)
                  (let ((mine (make-hash-table)))
                    (dotimes (dense (machine-state-count machine))
-                     (setf (gethash (player::dense-to-state dense layout) mine) t))
+                     (setf (gethash (player.planner::dense-to-state dense layout) mine) t))
                    (unless (and (= (hash-table-count mine) (hash-table-count reachable))
                                 (loop for state being the hash-values of one-hot
                                       always (gethash state mine)))
@@ -91,7 +91,7 @@ reference has none. Returns a list of problems (strings)."
                          do (let* ((start (model-index-state model index))
                                    (want (svref expected index))
                                    (plan (first-plan-for player-goal (gethash index one-hot)))
-                                   (ops (and plan (mapcar #'player::op-name (player::plan-ops plan)))))
+                                   (ops (and plan (mapcar #'player::op-name (player.planner::plan-ops plan)))))
                               (cond ((and (null want) plan)
                                      (note "~A from ~A: Player plans ~S; the reference finds none"
                                            (mevent-name event) (state-text model start) ops))
@@ -185,9 +185,9 @@ plan of the reference's fewest actions. Returns (VALUES PROBLEMS CHECKED)."
                                                    :package (find-package '#:player-user))))
                   (spec (machine-spec machine))
                   (offsets (mapcar (lambda (f)
-                                     (player::var-bit-offset
-                                      (find (symbol-name f) (player::plannable-variables spec)
-                                            :key (lambda (var) (symbol-name (player::var-name var)))
+                                     (player.spec::var-bit-offset
+                                      (find (symbol-name f) (player.spec::plannable-variables spec)
+                                            :key (lambda (var) (symbol-name (player.spec::var-name var)))
                                             :test #'string=)))
                                    facts))
                   (actions (player-strips:strips-problem-actions problem)))
@@ -196,7 +196,7 @@ plan of the reference's fewest actions. Returns (VALUES PROBLEMS CHECKED)."
                  (note "~D states planned, ~D reachable" (machine-state-count machine) (length states)))
                (let ((mine (make-hash-table)))
                  (dotimes (dense (machine-state-count machine))
-                   (setf (gethash (player::dense-to-state dense (player::machine-layout machine)) mine) t))
+                   (setf (gethash (player.planner::dense-to-state dense (player.planner::machine-layout machine)) mine) t))
                  (unless (every (lambda (state) (gethash (strips-one-hot state facts offsets) mine)) states)
                    (note "Player's states are not the reachable ones")))
                (loop for (event-name . goal-facts) in (player-strips:strips-problem-goals problem)
@@ -214,16 +214,16 @@ plan of the reference's fewest actions. Returns (VALUES PROBLEMS CHECKED)."
                                             (note "~A from state ~D: plan ~A, reference distance ~A"
                                                   event-name k plan want))
                                            (plan
-                                            (dolist (op (player::plan-ops plan))
+                                            (dolist (op (player.planner::plan-ops plan))
                                               (let ((action (find (symbol-name (player::op-name op)) actions
                                                                   :key (lambda (a) (symbol-name (player-strips:strips-action-name a)))
                                                                   :test #'string=)))
                                                 (setf end (and end (strips-apply problem action end)))))
                                             (unless (and end (= goal-bits (logand goal-bits end))
-                                                         (= want (length (player::plan-ops plan))))
+                                                         (= want (length (player.planner::plan-ops plan))))
                                               (note "~A from state ~D: plan ~S (~D ops) is not a shortest plan (~D)"
-                                                    event-name k (mapcar #'player::op-name (player::plan-ops plan))
-                                                    (length (player::plan-ops plan)) want)))))))))
+                                                    event-name k (mapcar #'player::op-name (player.planner::plan-ops plan))
+                                                    (length (player.planner::plan-ops plan)) want)))))))))
         (remove-spec name)))
     (values (nreverse problems) checked)))
 
@@ -273,22 +273,22 @@ reachable state, and a controller runs one."
   (unwind-protect
        (let* ((machine (compile-spec (define-spec 'token-ring (token-ring-forms 130)
                                                   :package (find-package '#:player-user))))
-              (goal (aref (player::machine-goal-table machine) 0))
-              (layout (player::machine-layout machine)))
+              (goal (aref (player.planner::machine-goal-table machine) 0))
+              (layout (player.planner::machine-layout machine)))
          (is (= 390 (machine-state-count machine)))
-         (is (= (* 3 (expt 2 130)) (player::layout-space-size layout)))
+         (is (= (* 3 (expt 2 130)) (player.planner::layout-space-size layout)))
          (flet ((offset (name)
-                  (player::var-bit-offset (find name (player::plannable-variables (machine-spec machine))
-                                                :key (lambda (var) (symbol-name (player::var-name var)))
+                  (player.spec::var-bit-offset (find name (player.spec::plannable-variables (machine-spec machine))
+                                                :key (lambda (var) (symbol-name (player.spec::var-name var)))
                                                 :test #'string=))))
            (is (every (lambda (dense)
-                        (let* ((state (player::dense-to-state dense layout))
+                        (let* ((state (player.planner::dense-to-state dense layout))
                                (token (loop for i below 130
                                             when (logbitp (1+ (offset (format nil "T~D" i))) state) return i))
                                (mode (loop for k below 3
                                            when (logbitp (+ k (offset "MODE")) state) return k))
                                (plan (first-plan-for goal state)))
-                          (= (length (player::plan-ops plan))
+                          (= (length (player.planner::plan-ops plan))
                              (+ (- 129 token) (nth mode '(2 1 0))))))
                       (loop for dense below 390 collect dense))))
          (let ((controller (make-controller machine :presenter (make-null-presenter))))
@@ -398,7 +398,7 @@ goal it cannot reach is reported :unreachable and fails as usual."
 (test full-state-space-is-refused-past-the-limit
   "(:state-space :full) past *STATE-LIMIT* is STATE-SPACE-TOO-LARGE, as before the
 reachable regime; :auto plans the same spec for its reachable states."
-  (let ((player::*state-limit* 32) (player::*full-space-threshold* 32))
+  (let ((player.planner::*state-limit* 32) (player.planner::*full-space-threshold* 32))
     (with-spec (spec wide-full (:state-space :full)
                      (state-variable a string x (x y z w)) (state-variable b string x (x y z w))
                      (state-variable c string x (x y z w)))
@@ -452,7 +452,7 @@ trace, line for line, and one of 131 variables (five 64-bit words) too."
        (let ((machine (compile-spec (define-spec 'token-ring (token-ring-forms 130)
                                                  :package (find-package '#:player-user)))))
          (is (= 390 (machine-state-count machine)))
-         (is (search "kStateWords = 5" (player::c++-sources machine "ring" "ring")))
+         (is (search "kStateWords = 5" (player.cpp::c++-sources machine "ring" "ring")))
          (is (null (compare-backends machine '() '(player-user::finish player-user::finish)))))
     (remove-spec 'token-ring)))
 
@@ -525,7 +525,7 @@ reference has none. Returns (VALUES PROBLEMS CHECKED)."
                    (when (and (not (gethash index reachable)) (zerop (mod index 3)))
                      (incf checked)
                      (let* ((start (model-index-state model index))
-                            (ops (player::search-unplanned-plan (model-one-hot model machine start)
+                            (ops (player.control::search-unplanned-plan (model-one-hot model machine start)
                                                                 player-goal machine))
                             (names (and (listp ops) (mapcar #'player::op-name ops)))
                             (want (svref distances index))

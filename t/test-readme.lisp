@@ -94,7 +94,7 @@ a one-second stub for every script it plays or starts without defining it."
          (defined (mapcar #'second forms))
          (stubs (loop for name in (set-difference used defined :test #'string=)
                       collect `(,(intern "DEFSCRIPT" '#:player-user) ,name (:duration 1)))))
-    (player::parse-script-library-forms (append forms stubs)
+    (player.performance::parse-script-library-forms (append forms stubs)
                                         :source (checkout-file "specs/peedy-scripts.lisp"))))
 
 (defun call-with-readme-sandbox (function)
@@ -111,7 +111,7 @@ or removed."
           (remove-spec name)))
       (loop for (name . spec) in saved
             unless (eq spec (find-spec name nil))
-              do (setf (gethash (player::name-key name) player::*specs*) spec))
+              do (setf (gethash (player.spec::name-key name) player.spec::*specs*) spec))
       (delete-package package))))
 
 (test readme-lisp-blocks

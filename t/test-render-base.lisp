@@ -79,13 +79,13 @@ One process for all of them: starting python3 can cost half a second."
   (merge-pathnames (format nil "player-test-~36R-~A.png" (random (expt 36 6) (make-random-state t)) name) "/tmp/"))
 
 (test crc32-known-vectors
-  (flet ((crc (text) (player::crc32-octets (map 'player::octets #'char-code text))))
+  (flet ((crc (text) (player.render::crc32-octets (map 'player.render::octets #'char-code text))))
     (is (= 0 (crc "")))
     (is (= #xCBF43926 (crc "123456789")))
     (is (= #x414FA339 (crc "The quick brown fox jumps over the lazy dog"))))
   ;; Every PNG ends with the same IEND chunk, CRC AE 42 60 82.
   (is (equalp #(0 0 0 0 73 69 78 68 #xAE #x42 #x60 #x82)
-              (player::png-chunk "IEND" (make-array 0 :element-type '(unsigned-byte 8))))))
+              (player.render::png-chunk "IEND" (make-array 0 :element-type '(unsigned-byte 8))))))
 
 (test png-round-trip
   ;; Odd sizes, both colour types, every filter; each file checked by the decoder.
@@ -149,19 +149,19 @@ One process for all of them: starting python3 can cost half a second."
 ;;; Libraries
 
 (test missing-libraries-name-their-packages
-  (let ((player::*osmesa-library-names* '("libPlayerNoSuchOSMesa.so.99")))
-    (handler-case (progn (player::load-osmesa-library) (fail "no error"))
+  (let ((player.render::*osmesa-library-names* '("libPlayerNoSuchOSMesa.so.99")))
+    (handler-case (progn (player.render::load-osmesa-library) (fail "no error"))
       (player::render-error (e)
         (is (search "libOSMesa not found: install the Debian package libosmesa6"
                     (princ-to-string e))))))
-  (let ((player::*glfw-library-names* '("libPlayerNoSuchGlfw.so.99")))
-    (signals player::render-error (player::load-glfw-library)))
-  (is-true (player::load-osmesa-library))
-  (is-true (player::load-glfw-library)))
+  (let ((player.render::*glfw-library-names* '("libPlayerNoSuchGlfw.so.99")))
+    (signals player::render-error (player.render::load-glfw-library)))
+  (is-true (player.render::load-osmesa-library))
+  (is-true (player.render::load-glfw-library)))
 
 (test gl-calls-need-a-context
-  (let ((player::*gl-entry-points* #()))
-    (handler-case (progn (player::gl-finish) (fail "no error"))
+  (let ((player.render::*gl-entry-points* #()))
+    (handler-case (progn (player.render::gl-finish) (fail "no error"))
       (player::render-error (e)
         (is (search "glFinish is not available" (princ-to-string e)))))))
 
@@ -170,48 +170,48 @@ One process for all of them: starting python3 can cost half a second."
 
 (test offscreen-context-version-and-clear
   (player::with-offscreen-context ((context) 17 9)
-    (multiple-value-bind (major minor) (player::gl-version)
+    (multiple-value-bind (major minor) (player.render::gl-version)
       (is (or (> major 3) (and (= major 3) (>= minor 3))) "GL ~D.~D" major minor))
-    (is (member (player::offscreen-context-profile context) '(:core :compat)))
+    (is (member (player.render::offscreen-context-profile context) '(:core :compat)))
     ;; Colours of the form k/255 convert to bytes exactly.
-    (player::gl-clear-color (/ 51 255) (/ 102 255) (/ 153 255) 1)
-    (player::gl-clear player::+gl-color-buffer-bit+)
+    (player.render::gl-clear-color (/ 51 255) (/ 102 255) (/ 153 255) 1)
+    (player.render::gl-clear player.render::+gl-color-buffer-bit+)
     (let ((rgba (player::read-frame-pixels 17 9))
           (rgb (player::read-frame-pixels 17 9 :channels 3)))
       (is (= (* 17 9 4) (length rgba)))
-      (is (equalp rgba (player::offscreen-context-pixels context)))
+      (is (equalp rgba (player.render::offscreen-context-pixels context)))
       (is (loop for i from 0 below (length rgba) by 4
                 always (equalp #(51 102 153 255) (subseq rgba i (+ i 4)))))
       ;; 17*3 bytes per row is not a multiple of 4: checks the pack alignment.
       (is (= (* 17 9 3) (length rgb)))
       (is (loop for i from 0 below (length rgb) by 3
                 always (equalp #(51 102 153) (subseq rgb i (+ i 3))))))
-    (player::check-gl-error "clearing"))
+    (player.render::check-gl-error "clearing"))
   ;; Leaving the context unloads its functions.
-  (signals player::render-error (player::gl-finish)))
+  (signals player::render-error (player.render::gl-finish)))
 
 (test offscreen-context-options-and-fallback
   (player::with-offscreen-context ((context) 8 8 :profile :compat)
-    (is (eq :compat (player::offscreen-context-profile context)))
+    (is (eq :compat (player.render::offscreen-context-profile context)))
     (is (search "Compatibility" (player::gl-version-string))))
   ;; The fallback for Mesa before 11.2, which lacks OSMesaCreateContextAttribs.
-  (let ((handle (player::osmesa-context-legacy 24 8)))
+  (let ((handle (player.render::osmesa-context-legacy 24 8)))
     (is-false (cffi:null-pointer-p handle))
     (player::with-gl-traps-masked
       (cffi:foreign-funcall "OSMesaDestroyContext" :pointer handle :void)))
-  (signals player::render-error (player::make-offscreen-context 0 10)))
+  (signals player::render-error (player.render::make-offscreen-context 0 10)))
 
 (test offscreen-contexts-nest
   (player::with-offscreen-context ((outer) 8 8)
-    (player::gl-clear-color 0 1 0 1)
-    (player::gl-clear player::+gl-color-buffer-bit+)
+    (player.render::gl-clear-color 0 1 0 1)
+    (player.render::gl-clear player.render::+gl-color-buffer-bit+)
     (player::with-offscreen-context ((inner) 4 4)
-      (player::gl-clear-color 1 0 0 1)
-      (player::gl-clear player::+gl-color-buffer-bit+)
+      (player.render::gl-clear-color 1 0 0 1)
+      (player.render::gl-clear player.render::+gl-color-buffer-bit+)
       (is (equalp #(255 0 0 255) (subseq (player::read-frame-pixels 4 4) 0 4))))
     ;; Back in the outer context, its frame is intact and GL calls still work.
     (is (equalp #(0 255 0 255) (subseq (player::read-frame-pixels 8 8) 60 64)))
-    (player::check-gl-error "after a nested context")))
+    (player.render::check-gl-error "after a nested context")))
 
 (defparameter *flat-vertex-shader*
   "#version 330 core
@@ -227,25 +227,25 @@ void main() { fragment = color; }")
 (defun draw-red-triangle (vertices)
   "Draw the triangle VERTICES (six NDC coordinates) in pure red over black."
   (let ((program (player::compile-shader-program *flat-vertex-shader* *flat-fragment-shader*))
-        (array (player::gl-gen-object #'player::gl-gen-vertex-arrays))
-        (buffer (player::gl-gen-object #'player::gl-gen-buffers)))
-    (player::gl-clear-color 0 0 0 1)
-    (player::gl-clear player::+gl-color-buffer-bit+)
-    (player::gl-use-program program)
-    (player::gl-uniform4f (player::gl-get-uniform-location program "color") 1 0 0 1)
-    (player::gl-bind-vertex-array array)
-    (player::gl-bind-buffer player::+gl-array-buffer+ buffer)
+        (array (player.render::gl-gen-object #'player.render::gl-gen-vertex-arrays))
+        (buffer (player.render::gl-gen-object #'player.render::gl-gen-buffers)))
+    (player.render::gl-clear-color 0 0 0 1)
+    (player.render::gl-clear player.render::+gl-color-buffer-bit+)
+    (player.render::gl-use-program program)
+    (player.render::gl-uniform4f (player.render::gl-get-uniform-location program "color") 1 0 0 1)
+    (player.render::gl-bind-vertex-array array)
+    (player.render::gl-bind-buffer player.render::+gl-array-buffer+ buffer)
     (cffi:with-foreign-object (data :float 6)
       (loop for v in vertices for i from 0 do (setf (cffi:mem-aref data :float i) (float v 1f0)))
-      (player::gl-buffer-data player::+gl-array-buffer+ 24 data player::+gl-static-draw+))
-    (player::gl-vertex-attrib-pointer 0 2 player::+gl-float+ player::+gl-false+ 0
+      (player.render::gl-buffer-data player.render::+gl-array-buffer+ 24 data player.render::+gl-static-draw+))
+    (player.render::gl-vertex-attrib-pointer 0 2 player.render::+gl-float+ player.render::+gl-false+ 0
                                       (cffi:null-pointer))
-    (player::gl-enable-vertex-attrib-array 0)
-    (player::gl-draw-arrays player::+gl-triangles+ 0 3)
-    (player::check-gl-error "drawing the test triangle")
-    (player::gl-delete-object #'player::gl-delete-buffers buffer)
-    (player::gl-delete-object #'player::gl-delete-vertex-arrays array)
-    (player::gl-delete-program program)))
+    (player.render::gl-enable-vertex-attrib-array 0)
+    (player.render::gl-draw-arrays player.render::+gl-triangles+ 0 3)
+    (player.render::check-gl-error "drawing the test triangle")
+    (player.render::gl-delete-object #'player.render::gl-delete-buffers buffer)
+    (player.render::gl-delete-object #'player.render::gl-delete-vertex-arrays array)
+    (player.render::gl-delete-program program)))
 
 (defun red-levels (pixels)
   "The red byte of each RGBA pixel in PIXELS, as a list."
@@ -264,7 +264,7 @@ void main() { fragment = color; }")
       (is (every (lambda (row-column) (<= 15 (second row-column) 48)) red))
       (is (every (lambda (level) (member level '(0 255))) (red-levels pixels))
           "without multisampling every pixel is in or out")
-      (is (equalp pixels (player::offscreen-context-pixels context))))))
+      (is (equalp pixels (player.render::offscreen-context-pixels context))))))
 
 (test shader-errors-carry-the-log
   (player::with-offscreen-context ((context) 4 4)
@@ -279,7 +279,7 @@ void main() { undefined_thing = 1; }")
 (test msaa-target-smooths-edges
   (player::with-offscreen-context ((context) 64 64)
     (let ((target (player::make-msaa-target 64 64 4)))
-      (is (= 4 (player::msaa-target-samples target)))
+      (is (= 4 (player.render::msaa-target-samples target)))
       (draw-red-triangle '(-0.8 -0.7  0.9 -0.2  -0.1 0.85))
       (player::resolve-msaa-target target)
       (let* ((levels (red-levels (player::read-frame-pixels 64 64)))
@@ -291,4 +291,4 @@ void main() { undefined_thing = 1; }")
       (draw-red-triangle '(-1 -1  1 -1  0 1))
       (player::resolve-msaa-target target)
       (player::delete-msaa-target target)
-      (player::check-gl-error "with an MSAA target"))))
+      (player.render::check-gl-error "with an MSAA target"))))

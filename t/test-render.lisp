@@ -35,7 +35,7 @@ and, with CAMERA a list (X Y Z), a camera there looking along -z."
     (pose-body body settings)
     (when camera
       (let ((object (make-instance 'player::scene-object :name 'camera :kind :camera
-                                                         :position (apply #'player::make-vec3 camera))))
+                                                         :position (apply #'player.body::make-vec3 camera))))
         (player::define-property object 'fov :number 35)
         (player::add-object scene object)))
     scene))
@@ -44,14 +44,14 @@ and, with CAMERA a list (X Y Z), a camera there looking along -z."
   "Call FUNCTION with a renderer of WIDTH x HEIGHT (OPTIONS as for MAKE-RENDERER)
 in a fresh offscreen context."
   (player::with-offscreen-context ((context) width height)
-    (let ((renderer (apply #'player::make-renderer width height options)))
+    (let ((renderer (apply #'player.render::make-renderer width height options)))
       (unwind-protect (funcall function renderer)
-        (player::delete-renderer renderer)))))
+        (player.render::delete-renderer renderer)))))
 
 (defun draw (renderer scene)
   "SCENE drawn by RENDERER: its pixels and the view used (two values)."
-  (let ((view (player::render-scene renderer scene)))
-    (values (player::renderer-pixels renderer) view)))
+  (let ((view (player.render::render-scene renderer scene)))
+    (values (player.render::renderer-pixels renderer) view)))
 
 (defun pixel-difference (a b index)
   "The largest channel difference between the RGB of pixel INDEX in images A and B."
@@ -128,13 +128,13 @@ of pixels with a channel off by more than 32 (two values)."
 (defun projected-joint-box (view body width height)
   "The box (LEFT TOP RIGHT BOTTOM) around BODY's joints seen through VIEW, each
 joint grown by its projected radius."
-  (let ((focal (/ (* 0.5 height) (tan (* 0.5 (player::view-fov view) (/ pi 180)))))
+  (let ((focal (/ (* 0.5 height) (tan (* 0.5 (player.render::view-fov view) (/ pi 180)))))
         (box (list width height 0 0)))
     (loop for joint across (player::skeleton-joints (player::body-skeleton body))
           do (multiple-value-bind (column row w)
-                 (player::project-point view (player::body-joint-position body (player::body-joint-name joint))
+                 (player.render::project-point view (player::body-joint-position body (player.body::body-joint-name joint))
                                         width height)
-               (let ((r (/ (* focal (player::body-joint-radius joint)) w)))
+               (let ((r (/ (* focal (player.body::body-joint-radius joint)) w)))
                  (setf box (list (min (first box) (- column r)) (min (second box) (- row r))
                                  (max (third box) (+ column r)) (max (fourth box) (+ row r)))))))
     box))
@@ -179,7 +179,7 @@ joint grown by its projected radius."
                          (body (player::find-object open 'figure))
                          (eyes (loop for eye in eyes-joints
                                      collect (multiple-value-list
-                                              (player::project-point view (player::body-joint-position body eye)
+                                              (player.render::project-point view (player::body-joint-position body eye)
                                                                      240 180))))
                          (focal (/ 90 (tan (* 0.5 35 (/ pi 180)))))
                          ;; The lid shell reaches 1.15 eyeball radii from the centre.
@@ -238,13 +238,13 @@ joint grown by its projected radius."
 
 (defun anim-simulation (&key (fps 4))
   "The anim fixture's scenario (pick up the ball, wave) played at FPS."
-  (player::simulate (player::choose-spec (fixture "anim.lisp")) :events '("ev-pick" "ev-wave")
+  (player::simulate (player.cli::choose-spec (fixture "anim.lisp")) :events '("ev-pick" "ev-wave")
                                                                     :fps fps))
 
 (test render-writes-frames-and-a-sheet
   (let* ((simulation (anim-simulation))
          (out (scratch-directory "frames"))
-         (count (1+ (ceiling (* 4 (player::simulation-end simulation)))))
+         (count (1+ (ceiling (* 4 (player.performance::simulation-end simulation)))))
          (progress (make-string-output-stream))
          (paths (player::render-simulation simulation :out out :size "64x48" :progress progress)))
     (is (= (+ count 1) (length paths)) "~D frames and the sheet" count)
@@ -261,7 +261,7 @@ joint grown by its projected radius."
       (is (search (format nil "~C[" #\Return) text)))
     ;; A second render into the same directory replaces the frames of the first.
     (player::render-simulation simulation :out out :size "64x48" :fps 2 :progress nil)
-    (is (= (1+ (ceiling (* 2 (player::simulation-end simulation))))
+    (is (= (1+ (ceiling (* 2 (player.performance::simulation-end simulation))))
            (length (directory (merge-pathnames "frame-*.png" out)))))))
 
 (test render-pipes-frames-to-ffmpeg
@@ -272,7 +272,7 @@ joint grown by its projected radius."
     (with-open-file (script fake :direction :output)
       (format script "#!/bin/sh~%for last; do :; done~%cat > \"$last\"~%"))
     (sb-ext:run-program "/bin/chmod" (list "+x" fake))
-    (let* ((player::*ffmpeg-program* fake)
+    (let* ((player.render::*ffmpeg-program* fake)
            (paths (player::render-simulation simulation :out out :size "32x24" :video (format nil "~Aclip.mp4" out)
                                                         :progress nil))
            (frames (- (length paths) 2)))
@@ -284,7 +284,7 @@ joint grown by its projected radius."
   (let* ((out (scratch-directory "command"))
          (text (with-output-to-string (*standard-output*)
                  (let ((*error-output* (make-broadcast-stream)))
-                   (player::run-command-line (list "render" (fixture "anim.lisp") "--events" "ev-pick"
+                   (player.cli::run-command-line (list "render" (fixture "anim.lisp") "--events" "ev-pick"
                                                    "--size" "48x36" "--fps" "4" "--out" out))))))
     (is (search "(:event ev-pick :time 0)" text))
     (is (search (format nil "; wrote ~Aframe-0001.png .. frame-" out) text))
@@ -297,13 +297,13 @@ joint grown by its projected radius."
 
 (test render-bad-input
   (dolist (size '("0x10" "640" "5000x480" "axb" "64x-1" "640x480x3" ""))
-    (is (search "bad size" (or (render-error-text (lambda () (player::image-size size))) ""))
+    (is (search "bad size" (or (render-error-text (lambda () (player.render::image-size size))) ""))
         "size ~S" size)
-    (is (null (player::read-size size)) "size ~S" size))
-  (is (equal '(640 480) (multiple-value-list (player::image-size "640x480"))))
-  (is (equal '(4096 1) (multiple-value-list (player::image-size "4096X1"))))
-  (is (equal '(32 24) (multiple-value-list (player::image-size '(32 24)))))
-  (is (search "bad size" (render-error-text (lambda () (player::image-size '(0 24))))))
+    (is (null (player.render::read-size size)) "size ~S" size))
+  (is (equal '(640 480) (multiple-value-list (player.render::image-size "640x480"))))
+  (is (equal '(4096 1) (multiple-value-list (player.render::image-size "4096X1"))))
+  (is (equal '(32 24) (multiple-value-list (player.render::image-size '(32 24)))))
+  (is (search "bad size" (render-error-text (lambda () (player.render::image-size '(0 24))))))
   (let ((simulation (anim-simulation :fps 2))
         (file (format nil "~Aa-file" (scratch-directory "errors"))))
     (is (search "bad size" (render-error-text (lambda () (player::render-simulation simulation :size "0x5")))))
@@ -312,7 +312,7 @@ joint grown by its projected radius."
                                                                                     :progress nil)))))
       (is (search (format nil "cannot write into the output directory ~A/frames/" file) (or text ""))
           "got ~S" text))
-    (let* ((player::*ffmpeg-program* "player-no-such-ffmpeg")
+    (let* ((player.render::*ffmpeg-program* "player-no-such-ffmpeg")
            (out (scratch-directory "no-ffmpeg"))
            (text (render-error-text (lambda () (player::render-simulation simulation :out out :video "x.mp4")))))
       (is (search "install the Debian package ffmpeg" (or text "")) "got ~S" text)

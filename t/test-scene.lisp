@@ -8,7 +8,7 @@
 
 (defun near-vec (a b &optional (tolerance 1d-9))
   "Are vec3s A and B within TOLERANCE of each other?"
-  (< (player::vdistance a b) tolerance))
+  (< (player.body::vdistance a b) tolerance))
 
 (defun prop (scene name &rest initargs)
   "Add a prop called NAME to SCENE."
@@ -18,7 +18,7 @@
 (test properties-are-typed
   (let* ((scene (make-instance 'player::scene))
          (note (prop scene 'note)))
-    (player::define-property note 'colour :colour (player::make-vec3 1 1 0.8))
+    (player::define-property note 'colour :colour (player.body::make-vec3 1 1 0.8))
     (player::define-property note 'weight :number 3)
     (is (= 3d0 (player::property-value note 'weight)))
     (setf (player::property-value note 'weight) 4)
@@ -28,26 +28,26 @@
     (signals player::anim-error (player::property-value note 'no-such-property))
     (signals player::anim-error (player::define-property note 'mood :feeling 1))
     ;; A rotation is stored normalized.
-    (setf (player::property-value note 'rotation) (player::make-quat 2 0 0 0))
-    (is (= 1d0 (player::quat-w (player::property-value note 'rotation))))
+    (setf (player::property-value note 'rotation) (player.body::make-quat 2 0 0 0))
+    (is (= 1d0 (player.body::quat-w (player::property-value note 'rotation))))
     (is (= 4d0 (player::property-value note 'weight)) "a rejected value changes nothing")))
 
 (test world-transforms-follow-the-hierarchy
   (let* ((scene (make-instance 'player::scene))
-         (table (prop scene 'table :position (player::make-vec3 1 0 0)
-                                   :rotation (player::quat-from-axis-angle (player::make-vec3 0 1 0) (/ pi 2))))
-         (note (prop scene 'note :position (player::make-vec3 0 0.7 1))))
+         (table (prop scene 'table :position (player.body::make-vec3 1 0 0)
+                                   :rotation (player.body::quat-from-axis-angle (player.body::make-vec3 0 1 0) (/ pi 2))))
+         (note (prop scene 'note :position (player.body::make-vec3 0 0.7 1))))
     (setf (player::object-parent note) table)
     ;; Turning the table 90 degrees about y takes the note's +z offset to +x.
-    (is (near-vec (player::make-vec3 2 0.7 0) (player::object-world-position note)))
-    (setf (player::property-value table 'position) (player::make-vec3 0 0 0))
-    (is (near-vec (player::make-vec3 1 0.7 0) (player::object-world-position note)))))
+    (is (near-vec (player.body::make-vec3 2 0.7 0) (player::object-world-position note)))
+    (setf (player::property-value table 'position) (player.body::make-vec3 0 0 0))
+    (is (near-vec (player.body::make-vec3 1 0.7 0) (player::object-world-position note)))))
 
 (test reparenting-keeps-the-world-position
   (let* ((scene (make-instance 'player::scene))
-         (table (prop scene 'table :position (player::make-vec3 1 0 0)))
-         (note (prop scene 'note :position (player::make-vec3 0 0.7 0.2)))
-         (body (player::make-body 'peedy 'parrot :scene scene :position (player::make-vec3 0 0.7 0))))
+         (table (prop scene 'table :position (player.body::make-vec3 1 0 0)))
+         (note (prop scene 'note :position (player.body::make-vec3 0 0.7 0.2)))
+         (body (player::make-body 'peedy 'parrot :scene scene :position (player.body::make-vec3 0 0.7 0))))
     (setf (player::object-parent note) table)
     (player::body-evaluate body 0)
     (let ((before (player::object-world-position note)))
@@ -55,9 +55,9 @@
       (is (near-vec before (player::object-world-position note) 1d-9))
       (is (equal (cons body 'r_primaries) (player::object-parent note)))
       ;; Now it moves with the body.
-      (setf (player::property-value body 'position) (player::make-vec3 0 1.7 0))
+      (setf (player::property-value body 'position) (player.body::make-vec3 0 1.7 0))
       (player::body-evaluate body 1)
-      (is (near-vec (player::v+ before (player::make-vec3 0 1 0)) (player::object-world-position note) 1d-6)))
+      (is (near-vec (player.body::v+ before (player.body::make-vec3 0 1 0)) (player::object-world-position note) 1d-6)))
     (signals player::anim-error (player::reparent-object body note) "a cycle is refused")
     (signals player::skeleton-error (player::reparent-object note (cons body 'no-such-joint)))
     (is (equal (cons body 'r_primaries) (player::object-parent note))
@@ -84,7 +84,7 @@
   (:additive :boolean nil "add instead of owning"))
 
 (defmethod player::driver-setup ((driver constant-test-driver))
-  (list (player::dof-index (player::driver-skeleton driver)
+  (list (player::dof-index (player.body::driver-skeleton driver)
                            (player::driver-arg driver :joint) (player::driver-arg driver :dof))))
 
 (defmethod player::driver-additive-p ((driver constant-test-driver))
@@ -92,7 +92,7 @@
 
 (defmethod player::driver-drive ((driver constant-test-driver) time pose)
   (declare (ignore time))
-  (let ((i (first (player::driver-channels driver))))
+  (let ((i (first (player.body::driver-channels driver))))
     (if (player::driver-additive-p driver)
         (incf (aref pose i) (player::driver-arg driver :angle))
         (setf (aref pose i) (float (player::driver-arg driver :angle) 1d0)))))
@@ -150,6 +150,6 @@
                        (player::motor-error (c) c))))
       (is-true condition "~S is refused" frame)
       (when condition
-        (is (search (player::lisp-text (if (consp frame) (first frame) frame))
+        (is (search (player.base::lisp-text (if (consp frame) (first frame) frame))
                     (princ-to-string condition))
             "the message names the frame: ~A" condition)))))

@@ -1,5 +1,5 @@
 ;;;; test-script-check.lisp -- CHECK finds, before anything plays, every error
-;;;; playing a spec's script library would meet (src/runtime/performance/
+;;;; playing a spec's script library would meet (src/performance/
 ;;;; script-check.lisp): Peedy checks clean; each of six authoring mistakes in
 ;;;; a copy of Peedy's library gives exactly one error naming the script and
 ;;;; the file and line, and simulating an op that plays it fails as CHECK
@@ -87,7 +87,7 @@ Return the spec's path and the line FORM-TEXT starts on."
 
 (defun error-diagnostics (diagnostics)
   "The errors among DIAGNOSTICS."
-  (remove-if-not #'player::diagnostic-error-p diagnostics))
+  (remove-if-not #'player.performance::diagnostic-error-p diagnostics))
 
 (defun simulate-case (spec)
   "Simulate SPEC's event EV-BAD and evaluate every frame; the error that
@@ -102,11 +102,11 @@ stops it, or NIL when it plays through."
 
 (test peedy-checks-clean
   (let ((spec (load-case-spec (checkout-file "specs/peedy.lisp"))))
-    (is (null (player::script-diagnostics spec)) "Peedy's library: no findings at all"))
+    (is (null (player.performance::script-diagnostics spec)) "Peedy's library: no findings at all"))
   (let ((spec (load-case-spec (checkout-file "t/fixtures/anim.lisp"))))
-    (let ((diagnostics (player::script-diagnostics spec)))
+    (let ((diagnostics (player.performance::script-diagnostics spec)))
       (is (null (error-diagnostics diagnostics)))
-      (is (equal '(:warning) (mapcar #'player::diagnostic-severity diagnostics))
+      (is (equal '(:warning) (mapcar #'player.performance::diagnostic-severity diagnostics))
           "the :duration mismatch of pan is a warning"))))
 
 ;;;# Each mistake: one error, at its line; simulate fails as check said
@@ -115,13 +115,13 @@ stops it, or NIL when it plays through."
   (loop for (name script kind form-text offset fragment) in *script-check-cases*
         do (multiple-value-bind (path form-line) (write-script-check-case name script form-text)
              (let* ((spec (load-case-spec path))
-                    (diagnostics (player::script-diagnostics spec))
+                    (diagnostics (player.performance::script-diagnostics spec))
                     (message (and diagnostics (player::diagnostic-message (first diagnostics)))))
                (is (= 1 (length diagnostics)) "~A: one diagnostic, not ~S" name diagnostics)
                (when diagnostics
                  (is (eq kind (player::diagnostic-kind (first diagnostics))) "~A: kind ~S" name
                      (player::diagnostic-kind (first diagnostics)))
-                 (is (eq :error (player::diagnostic-severity (first diagnostics))) "~A is an error" name)
+                 (is (eq :error (player.performance::diagnostic-severity (first diagnostics))) "~A is an error" name)
                  (is (search (format nil "lib.lisp:~D:" (+ form-line offset)) message)
                      "~A: file and line ~D in ~S" name (+ form-line offset) message)
                  (is (search (string-downcase (string script)) message) "~A: names ~A in ~S" name script message)
@@ -143,15 +143,15 @@ stops it, or NIL when it plays through."
   (:at 0.5 :attach note :to (:self :right-hand))
   (:at 0.2 :motor (:gaze :target (:joint :self :tail))))")
     (let ((spec (load-case-spec path)))
-      (is (null (player::script-diagnostics spec)))
+      (is (null (player.performance::script-diagnostics spec)))
       (is (null (simulate-case spec)) "angles at the limits and known names play"))))
 
 (test severities-of-the-existing-kinds
   (dolist (kind '(:unreachable-goal :unused-op :truncated :unreachable-states :shared-channel
                   :duration-mismatch))
-    (is (eq :warning (player::diagnostic-severity (player::make-diagnostic kind "x")))))
+    (is (eq :warning (player.performance::diagnostic-severity (player.planner::make-diagnostic kind "x")))))
   (dolist (kind '(:script-library :missing-scripts :motor-call :scene-name))
-    (is (eq :error (player::diagnostic-severity (player::make-diagnostic kind "x"))))))
+    (is (eq :error (player.performance::diagnostic-severity (player.planner::make-diagnostic kind "x"))))))
 
 ;;;# bin/player check
 

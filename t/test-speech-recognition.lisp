@@ -9,7 +9,7 @@
 
 (defun pocketsphinx-available-p ()
   "Are pocketsphinx and its English model installed?"
-  (handler-case (progn (player::load-pocketsphinx-library) (player::pocketsphinx-model-files) t)
+  (handler-case (progn (player.speech::load-pocketsphinx-library) (player.speech::pocketsphinx-model-files) t)
     (player::speech-unavailable () nil)))
 
 (defparameter *jukebox-grammar* (checkout-file "t/fixtures/jukebox.gram"))
@@ -65,10 +65,10 @@ thanks, yes and no.")
          (skip "libespeak-ng or pocketsphinx is not installed: learning words not tested"))
         (t
          (is (equal '("play" "by" "zorblax" "quintessa" "thank" "you")
-                    (player::grammar-words "#JSGF V1.0; /* a comment */ grammar g;
+                    (player.speech::grammar-words "#JSGF V1.0; /* a comment */ grammar g;
 public <a> = play [<x>] by /2/ (zorblax quintessa) {artist} | thank you; // more
 <x> = by;")))
-         (is (equal "Z AO R B L AE K S" (player::word-pronunciation "zorblax")))
+         (is (equal "Z AO R B L AE K S" (player.speech::word-pronunciation "zorblax")))
          (let ((wav (speech-file "zorblax.wav"))
                (grammar "#JSGF V1.0; grammar g; public <a> = play something by (zorblax quintessa | bonnie maple) | thank you;"))
            (write-wav wav (utterance-sound (synthesize-speech "play something by zorblax quintessa")))

@@ -9,7 +9,7 @@
 
 (defun espeak-available-p ()
   "Can this machine synthesise speech (libespeak-ng and its data installed)?"
-  (handler-case (progn (player::ensure-espeak) t)
+  (handler-case (progn (player.speech::ensure-espeak) t)
     (player::speech-unavailable () nil)))
 
 (defmacro with-espeak (&body body)
@@ -36,7 +36,7 @@
 
 (defun samples (&rest values)
   "A sample vector of VALUES."
-  (coerce values 'player::samples))
+  (coerce values 'player.speech::samples))
 
 ;;; ---------------------------------------------------------------------------
 ;;; WAV files
@@ -87,9 +87,9 @@
 (test resampling-keeps-a-tone
   ;; A 440 Hz tone at 22050 Hz resampled to 16000 Hz: same length in time, same loudness.
   (let* ((tone (player::make-sound (coerce (loop for i below 22050 collect (round (* 10000 (sin (/ (* 2 pi 440 i) 22050)))))
-                                           'player::samples)
+                                           'player.speech::samples)
                                    22050))
-         (down (player::resample-sound tone 16000)))
+         (down (player.speech::resample-sound tone 16000)))
     (is (= 16000 (length (player::sound-samples down))))
     (is (< 9000 (reduce #'max (player::sound-samples down) :start 1000 :end 15000) 10500))))
 
@@ -97,8 +97,8 @@
 ;;; Phonemes, visemes, mixing
 
 (test every-phoneme-maps-to-a-known-viseme
-  (loop for (viseme . phonemes) in player::*phoneme-visemes*
-        do (is (player::viseme-opening viseme) "~A is not in *visemes*" viseme)
+  (loop for (viseme . phonemes) in player.speech::*phoneme-visemes*
+        do (is (player.body::viseme-opening viseme) "~A is not in *visemes*" viseme)
            (dolist (phoneme phonemes)
              (is (eq viseme (player::phoneme-viseme phoneme)))))
   ;; Pauses close the beak; open vowels open it most; lips shut for m b p.
@@ -127,10 +127,10 @@
 
 (test say-and-sound-items-are-checked-when-read
   (let ((snore (namestring (checkout-file "t/fixtures/snore.wav"))))
-    (let ((library (player::parse-script-library-forms
+    (let ((library (player.performance::parse-script-library-forms
                     `((defscript talk (:duration 2) (:at 0.5 :say "Hello there" :rate 150 :voice "en-us"))
                       (defscript snore () (:at 0.25 :sound ,snore))))))
-      (is (typep (first (player::script-items (player::find-script library 'talk))) 'player::say-item))
+      (is (typep (first (player.performance::script-items (player::find-script library 'talk))) 'player.performance::say-item))
       (is (< 1.6 (player::script-duration (player::find-script library 'snore)) 1.7)
           "a sound's script lasts until the sound ends (0.25 s + 1.4 s)")))
   (loop for (item fragment) in '(((:at 0 :say 42) ":say takes the text to speak")
@@ -140,7 +140,7 @@
                                  ((:at 0 :sound "no-such-file.wav") "cannot read the WAV file")
                                  ((:at 0 :sound 7) ":sound takes a WAV file's name"))
         do (let ((message (speech-error-text
-                           (lambda () (player::parse-script-library-forms `((defscript bad () ,item)))))))
+                           (lambda () (player.performance::parse-script-library-forms `((defscript bad () ,item)))))))
              (is (search fragment (or message "")) "~S: ~S" item message))))
 
 ;;; ---------------------------------------------------------------------------
@@ -189,7 +189,7 @@
 
 (defun talking-performance (&key silent)
   "A parrot performance whose script TALK says *SPOKEN-LINE* 0.5 s in, started at 0."
-  (let* ((library (player::parse-script-library-forms
+  (let* ((library (player.performance::parse-script-library-forms
                    `((defscript talk (:duration 5) (:at 0.5 :say ,*spoken-line*)))))
          (performance (player::make-performance library '((polly parrot)) :silent silent)))
     (player::perform-script performance 'talk 0)
@@ -200,7 +200,7 @@
 every STEP seconds up to END, as a vector."
   (let* ((body (player::performance-body performance))
          (index (player::dof-index (player::body-skeleton body) 'beak 'open))
-         (high (player::body-dof-max (nth-value 1 (player::skeleton-dof (player::body-skeleton body) index)))))
+         (high (player.body::body-dof-max (nth-value 1 (player.body::skeleton-dof (player::body-skeleton body) index)))))
     (coerce (loop for time from 0d0 to end by step
                   collect (progn (player::performance-frame performance time)
                                  (/ (aref (player::body-pose (player::performance-body performance)) index) high)))
@@ -245,10 +245,10 @@ every STEP seconds up to END, as a vector."
       (multiple-value-bind (duration run) (player::performance-say performance "Thank you" :at 3)
         (is (< 0.4 duration 1.5))
         (let ((clips (player::performance-clips performance 5)))
-          (is (equal '(0.5d0 3d0) (mapcar #'player::clip-start clips)))
-          (is (equal "Thank you" (player::clip-label (second clips)))))
+          (is (equal '(0.5d0 3d0) (mapcar #'player.speech::clip-start clips)))
+          (is (equal "Thank you" (player.speech::clip-label (second clips)))))
         (player::stop-script-run performance run 3.2d0)
-        (is (= 3.2d0 (player::clip-end (second (player::performance-clips performance 5)))))))
+        (is (= 3.2d0 (player.speech::clip-end (second (player::performance-clips performance 5)))))))
     ;; Silent: no sound, no beak.
     (let ((performance (talking-performance :silent t)))
       (is (null (player::performance-audio performance 5)))
@@ -257,33 +257,33 @@ every STEP seconds up to END, as a vector."
 (test simulate-writes-speech-wav-beside-the-frames
   (with-espeak
     (let* ((out (scratch-directory "simulate-speech"))
-           (simulation (player::simulate (player::choose-spec (checkout-file "specs/peedy.lisp"))
+           (simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp"))
                                          :events '("ev-bad-speech") :fps 10))
            (paths (player::write-simulation simulation :frames (format nil "~Aframes.txt" out)
                                                        :audio (format nil "~Aspeech.wav" out))))
       (is (equal (list "frames.txt" "speech.wav") (mapcar #'file-namestring paths)))
       (let ((sound (player::read-wav (second paths))))
-        (is (< (abs (- (player::sound-duration sound) (player::simulation-duration simulation))) 0.01))
+        (is (< (abs (- (player::sound-duration sound) (player.performance::simulation-duration simulation))) 0.01))
         (is (some (lambda (x) (> (abs x) 1000)) (player::sound-samples sound)) "Peedy says huh"))
       ;; Silent: no file (and an old one is removed).
-      (player::write-simulation (player::simulate (player::choose-spec (checkout-file "specs/peedy.lisp"))
+      (player::write-simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp"))
                                                   :events '("ev-bad-speech") :fps 10 :silent t)
                                 :audio (format nil "~Aspeech.wav" out))
       (is (not (probe-file (format nil "~Aspeech.wav" out)))))))
 
 (test a-missing-espeak-is-one-clear-error-and-silence-still-works
-  (let ((player::*espeak-library-names* '("libespeak-ng-missing-for-a-test.so.1"))
-        (player::*espeak-rate* nil)
-        (player::*utterances* (make-hash-table :test #'equal)))
+  (let ((player.speech::*espeak-library-names* '("libespeak-ng-missing-for-a-test.so.1"))
+        (player.speech::*espeak-rate* nil)
+        (player.speech::*utterances* (make-hash-table :test #'equal)))
     (let ((condition (handler-case (progn (player::synthesize-speech "hello") nil)
                        (player::speech-unavailable (c) c))))
       (is (typep condition 'player::speech-unavailable))
-      (let ((line (and condition (player::condition-line condition))))
+      (let ((line (and condition (player.base::condition-line condition))))
         (is (search "install the Debian package libespeak-ng1" (or line "")) "~S" line)))
     ;; Peedy's huh? says something; silently it plays without espeak.
-    (let ((simulation (player::simulate (player::choose-spec (checkout-file "specs/peedy.lisp"))
+    (let ((simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp"))
                                         :events '("ev-bad-speech") :fps 10 :silent t)))
-      (is (< 1 (player::simulation-end simulation)))
+      (is (< 1 (player.performance::simulation-end simulation)))
       (is (null (player::write-simulation simulation :audio (speech-file "none.wav")))))))
 
 (test speech-api-rejects-bad-arguments
@@ -314,7 +314,7 @@ every STEP seconds up to END, as a vector."
                           "--fps" "10" "--frames" (format nil "~Aframes.txt" out))
         (is (= 0 code) "stderr: ~A" err)
         (is (search (format nil "; wrote ~Aspeech.wav" out) text) "~A" text))
-      (if (not (player::find-executable "ffmpeg"))
+      (if (not (player.base::find-executable "ffmpeg"))
           (skip "ffmpeg is not installed: the video's sound track not tested")
           (let ((video (format nil "~Ahuh.mp4" out)))
             (multiple-value-bind (text err code)
@@ -337,6 +337,6 @@ every STEP seconds up to END, as a vector."
                               "--frames" "120" "--keys" "2@0"))
         (is (= 0 code) "exit ~D, stderr: ~A" code err)
         (let ((notes (count-if (lambda (line) (search "playing silently" line)) (lines out))))
-          (if (player::audio-playback-problem)
+          (if (player.speech::audio-playback-problem)
               (is (= 1 notes) "~D notes in ~A" notes out)
               (is (= 0 notes))))))))

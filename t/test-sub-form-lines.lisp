@@ -76,7 +76,7 @@
   "Load PATH as LOADER says: a script library, a pose library (on the humanoid) or a spec file."
   (ecase loader
     (:scripts (player::load-script-library path))
-    (:poses (player::load-pose-library path :skeleton (player::load-skeleton 'humanoid)))
+    (:poses (player.body::load-pose-library path :skeleton (player::load-skeleton 'humanoid)))
     (:spec (load-spec path))))
 
 (test errors-name-the-line-of-the-part-at-fault
@@ -118,7 +118,7 @@
   (let* ((text "(a (b 'c) #(d (e)) \"(x\" #\\( #'f () ; (y
   (g . h))")
          (form (with-standard-io-syntax (read-from-string text)))
-         (places (player::sub-form-places (list (list form 0)) text "f")))
+         (places (player.spec::sub-form-places (list (list form 0)) text "f")))
     (is (= 6 (hash-table-count places)) "~A places" (hash-table-count places))
     (is (equal '("f" . 3) (gethash (second form) places)))
     (is (equal '("f" . 6) (gethash (second (second form)) places)) "'c is (quote c) at the quote")
@@ -126,7 +126,7 @@
     (is (equal '("f" . 42) (gethash (car (last form)) places)) "(g . h) after () and the comment"))
   (let* ((text "(a `(b ,c))")
          (form (with-standard-io-syntax (read-from-string text))))
-    (is (zerop (hash-table-count (player::sub-form-places (list (list form 0)) text "f")))))
+    (is (zerop (hash-table-count (player.spec::sub-form-places (list (list form 0)) text "f")))))
   (let* ((text "(a #1=(b) #1#)")
          (form (with-standard-io-syntax (read-from-string text))))
-    (is (zerop (hash-table-count (player::sub-form-places (list (list form 0)) text "f"))))))
+    (is (zerop (hash-table-count (player.spec::sub-form-places (list (list form 0)) text "f"))))))

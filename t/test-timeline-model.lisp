@@ -1,4 +1,4 @@
-;;;; test-timeline-model.lisp -- the timed controller (src/runtime/timeline/)
+;;;; test-timeline-model.lisp -- the timed controller (src/control/timeline/)
 ;;;; against the independent reference model of timeline-model.lisp, on the
 ;;;; random specs and timed event streams of timeline-streams.lisp.
 ;;;;
@@ -276,7 +276,7 @@ changes are internal), as without the cut."
   (:documentation "A trace presenter with a PLANNED-OP-DURATION of its own (the
 declared duration): a timed controller asks it for every op it plans."))
 
-(defmethod player::planned-op-duration ((presenter tm-asked-durations-presenter) op start)
+(defmethod player.control::planned-op-duration ((presenter tm-asked-durations-presenter) op start)
   (declare (ignore start))
   (op-duration op))
 
@@ -291,10 +291,10 @@ still told: autoscripts starting and stopping, timers and triggers going off."))
 (defmethod stop-autoscript ((presenter tm-quiet-log-presenter) proc variable value time)
   (push (list :autoscript-stop proc variable value time) (tm-log-lines presenter)))
 
-(defmethod player::present-timer ((presenter tm-quiet-log-presenter) timer time)
+(defmethod player.control::present-timer ((presenter tm-quiet-log-presenter) timer time)
   (push (list :timer timer time) (tm-log-lines presenter)))
 
-(defmethod player::present-trigger ((presenter tm-quiet-log-presenter) trigger time)
+(defmethod player.control::present-trigger ((presenter tm-quiet-log-presenter) trigger time)
   (push (list :trigger trigger time) (tm-log-lines presenter)))
 
 (defclass tm-told-log-presenter (tm-quiet-log-presenter) ()
@@ -343,15 +343,15 @@ Returns a second value: the number of lines the quiet log holds."
   "On random specs and streams, a timed controller gives the same trace, answers,
 checkpoint states and autoscript, timer and trigger calls whether or not it
 takes its fast paths (durations not asked, a quiet presenter not told)."
-  (is (player::declared-durations-p (make-trace-presenter)))
-  (is (not (player::declared-durations-p (make-instance 'tm-asked-durations-presenter))))
-  (is (player::quiet-presenter-p (make-null-presenter)))
-  (is (player::quiet-presenter-p (make-instance 'tm-quiet-log-presenter)))
-  (is (not (player::quiet-presenter-p (make-instance 'tm-told-log-presenter))))
-  (is (not (player::quiet-presenter-p (make-trace-presenter))))
-  (is (player::quiet-autoscripts-p (make-null-presenter)))
-  (is (not (player::quiet-autoscripts-p (make-instance 'tm-quiet-log-presenter))))
-  (is (not (player::quiet-autoscripts-p (make-trace-presenter))))
+  (is (player.control::declared-durations-p (make-trace-presenter)))
+  (is (not (player.control::declared-durations-p (make-instance 'tm-asked-durations-presenter))))
+  (is (player.control::quiet-presenter-p (make-null-presenter)))
+  (is (player.control::quiet-presenter-p (make-instance 'tm-quiet-log-presenter)))
+  (is (not (player.control::quiet-presenter-p (make-instance 'tm-told-log-presenter))))
+  (is (not (player.control::quiet-presenter-p (make-trace-presenter))))
+  (is (player.control::quiet-autoscripts-p (make-null-presenter)))
+  (is (not (player.control::quiet-autoscripts-p (make-instance 'tm-quiet-log-presenter))))
+  (is (not (player.control::quiet-autoscripts-p (make-trace-presenter))))
   (let ((problems '()) (logged 0))
     (dolist (seed (subseq *tm-spec-seeds* 0 80))
       (loop for stream from 1 to 2

@@ -180,7 +180,7 @@ of the whole-event API: Peedy's tour, and random specs."
   (let ((spec (peedy-spec)))
     ;; Without the trigger that makes him dance when music starts (the
     ;; whole-event API has no triggers).
-    (setf (player::spec-triggers spec) '())
+    (setf (player.spec::spec-triggers spec) '())
     (multiple-value-bind (untimed timed)
         (untimed-and-timed-traces spec '(ev-hello ev-search ev-give ev-search ev-found ev-next-track ev-stop
                                          ev-listen ev-wake ev-help ev-thanks ev-fly-to ev-circle ev-land
@@ -439,20 +439,20 @@ the running one; one that meets it on a channel follows its policy."
   "Simulated, a preempted lap stops its script at the cut: the fly-loop run's
 stop is the cut time, and the landing starts there."
   (let* ((simulation (player::simulate (peedy-spec) :events '((ev-fly-to . 0) (ev-sit . 2)) :stream nil))
-         (runs (player::performance-runs (player::simulation-performance simulation)))
-         (lap (find "fly-loop" runs :key (lambda (run) (string (player::script-name (player::script-run-script run))))
+         (runs (player.performance::performance-runs (player.performance::simulation-performance simulation)))
+         (lap (find "fly-loop" runs :key (lambda (run) (string (player.performance::script-name (player.performance::script-run-script run))))
                                     :test #'string-equal))
-         (land (find "land" runs :key (lambda (run) (string (player::script-name (player::script-run-script run))))
+         (land (find "land" runs :key (lambda (run) (string (player.performance::script-name (player.performance::script-run-script run))))
                                  :test #'string-equal)))
-    (is (= 1.25d0 (player::script-run-start lap)))
-    (is (eql 2d0 (player::script-run-stop lap)))
-    (is (= 2d0 (player::script-run-start land)))
-    (is (= 5d0 (player::simulation-end simulation)))))
+    (is (= 1.25d0 (player.performance::script-run-start lap)))
+    (is (eql 2d0 (player.performance::script-run-stop lap)))
+    (is (= 2d0 (player.performance::script-run-start land)))
+    (is (= 5d0 (player.performance::simulation-end simulation)))))
 
 (test finish-events-gives-up-on-endless-events
   "A timer that repeats faster than its event plays keeps the controller busy
 for ever: FINISH-EVENTS says so instead of hanging."
-  (let ((player::*finish-events-limit* 5000))
+  (let ((player.control::*finish-events-limit* 5000))
     (with-spec (spec endless
                  (state-variable x boolean false)
                  (op wave :duration 2)

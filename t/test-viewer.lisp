@@ -14,7 +14,7 @@
 
 (defun missing-window-programs ()
   "The programs the window tests need that are not installed."
-  (remove-if #'player::find-executable '("xvfb-run" "xauth")))
+  (remove-if #'player.base::find-executable '("xvfb-run" "xauth")))
 
 (defun view-command (arguments &key (xvfb t) (input nil))
   "Run `bin/player view ARGUMENTS`, under `xvfb-run -a` when XVFB, else with no
@@ -145,11 +145,11 @@ sky and floor change little along a row, so what differs is what stands there."
               (op switch-on :add on :duration 1)
               (event ev-on :op switch-on))
     (let* ((controller (make-controller (compile-spec spec)))
-           (viewer (player::%make-viewer :controller controller :name "viewed")))
-      (is (string= "viewed -- on=false mode=low poked=-" (player::view-title viewer)))
+           (viewer (player.render::%make-viewer :controller controller :name "viewed")))
+      (is (string= "viewed -- on=false mode=low poked=-" (player.render::view-title viewer)))
       (send-event controller 'ev-on :at 2.5)
-      (setf (player::viewer-paused-at viewer) 0d0)
-      (is (string= "viewed -- on=true mode=low poked=2.5 [paused]" (player::view-title viewer))))))
+      (setf (player.render::viewer-paused-at viewer) 0d0)
+      (is (string= "viewed -- on=true mode=low poked=2.5 [paused]" (player.render::view-title viewer))))))
 
 (test view-prints-trace-lines-when-their-time-comes
   (with-spec (spec timed
@@ -158,11 +158,11 @@ sky and floor change little along a row, so what differs is what stands there."
               (op second-half :add on :duration 1)
               (event ev :op first-half :op second-half))
     (let* ((controller (make-controller (compile-spec spec)))
-           (viewer (player::%make-viewer :controller controller)))
+           (viewer (player.render::%make-viewer :controller controller)))
       (send-event controller 'ev :at 0.5)
       (flet ((printed-at (now)
-               (setf (player::viewer-now viewer) now)
-               (lines (with-output-to-string (*standard-output*) (player::print-due-trace viewer)))))
+               (setf (player.render::viewer-now viewer) now)
+               (lines (with-output-to-string (*standard-output*) (player.render::print-due-trace viewer)))))
         (is (equal '() (printed-at 0.25d0)))
         (is (equal '("(:event ev :time 0.5)" "(:op first-half :script first-half :start 0.5 :end 1.5)")
                    (printed-at 1d0)))
@@ -172,7 +172,7 @@ sky and floor change little along a row, so what differs is what stands there."
 
 (defun keys-option (text)
   "What view's --keys TEXT reads as."
-  (getf (nth-value 1 (player::parse-command-arguments (player::find-command "view") (list "spec.lisp" "--keys" text)))
+  (getf (nth-value 1 (player.cli::parse-command-arguments (player.cli::find-command "view") (list "spec.lisp" "--keys" text)))
         :keys))
 
 (test view-keys-option
@@ -191,20 +191,20 @@ sky and floor change little along a row, so what differs is what stands there."
               (event ev-on :op switch-on)
               (event ev-off :op switch-off))
     (let* ((controller (make-controller (compile-spec spec)))
-           (orbit (player::make-orbit))
-           (viewer (player::%make-viewer
+           (orbit (player.render::make-orbit))
+           (viewer (player.render::%make-viewer
                     :controller controller :now 0.5d0
                     :keys '((#\1 . ev-on) (#\2 . ev-off))
-                    :renderer (make-instance 'player::renderer :orbit orbit))))
-      (dolist (input `((:button 0 ,player::+glfw-press+ 0) (:cursor 100d0 50d0) (:cursor 110d0 30d0)
-                       (:button 0 ,player::+glfw-release+ 0) (:cursor 300d0 300d0)
-                       (:scroll 0d0 1d0) (:key ,player::+glfw-key-right+ ,player::+glfw-repeat+ 0)
+                    :renderer (make-instance 'player.render::renderer :orbit orbit))))
+      (dolist (input `((:button 0 ,player.render::+glfw-press+ 0) (:cursor 100d0 50d0) (:cursor 110d0 30d0)
+                       (:button 0 ,player.render::+glfw-release+ 0) (:cursor 300d0 300d0)
+                       (:scroll 0d0 1d0) (:key ,player.render::+glfw-key-right+ ,player.render::+glfw-repeat+ 0)
                        (:char ,(char-code #\1)) (:char ,(char-code #\2)) (:char ,(char-code #\9))))
-        (player::handle-input viewer input))
+        (player.render::handle-input viewer input))
       ;; Dragged 10 px right and 20 up, then the right arrow: 5 degrees.
-      (is (< (abs (- (player::orbit-yaw orbit) (+ -0.1d0 (/ pi 36)))) 1d-9))
-      (is (< (abs (- (player::orbit-pitch orbit) 0.2d0)) 1d-9))
-      (is (< (abs (- (player::orbit-distance orbit) 0.9d0)) 1d-9))
+      (is (< (abs (- (player.render::orbit-yaw orbit) (+ -0.1d0 (/ pi 36)))) 1d-9))
+      (is (< (abs (- (player.render::orbit-pitch orbit) 0.2d0)) 1d-9))
+      (is (< (abs (- (player.render::orbit-distance orbit) 0.9d0)) 1d-9))
       ;; Keys 1 and 2 sent their events, the second queued after the first; 9 is no key.
       (is (equal '("(:event ev-on :time 0.5)" "(:event ev-off :time 1.5)")
                  (remove-if-not (lambda (line) (search "(:event" line)) (trace-of controller)))))))

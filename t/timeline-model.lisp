@@ -1,5 +1,5 @@
 ;;;; timeline-model.lisp -- an independent reference model of the timed
-;;;; controller (src/runtime/timeline/), which test-timeline-model.lisp checks
+;;;; controller (src/control/timeline/), which test-timeline-model.lisp checks
 ;;;; on random specs and random timed event streams (timeline-streams.lisp).
 ;;;;
 ;;;; Each case is a random spec (RANDOM-SPEC, plus multi-directive events, op
@@ -285,12 +285,12 @@ MACHINE plays for event NAME from its top-level directive STEP in STATE."
     (if (zerop step)
         (send-event controller name)
         ;; A resumption plans the event from directive STEP on.
-        (let ((compiled (player::find-compiled-event controller name))
+        (let ((compiled (player.control::find-compiled-event controller name))
               (player::*controller* controller))
-          (setf (player::controller-schedule controller) 0d0
-                (player::controller-span-start controller) 0d0
-                (player::controller-span-end controller) 0d0)
-          (funcall (svref (player::event-suffixes compiled machine) step) controller)))
+          (setf (player.control::controller-schedule controller) 0d0
+                (player.control::controller-span-start controller) 0d0
+                (player.control::controller-span-end controller) 0d0)
+          (funcall (svref (player.control::event-suffixes compiled machine) step) controller)))
     (loop for line in (trace-lines presenter)
           when (eq (first line) :op) collect (second line))))
 

@@ -358,7 +358,7 @@ play's lines are PRESENTER's trace lines (none unless it is a trace presenter)."
             (unless abandoned
               (finish-events controller)))
         (player::timeline-error () (setf abandoned :zero-time-loop))))
-    (make-tm-play :lines (and (player::trace-presenter-p presenter) (trace-lines presenter)) :results (nreverse results) :checks (nreverse checks)
+    (make-tm-play :lines (and (player.control::trace-presenter-p presenter) (trace-lines presenter)) :results (nreverse results) :checks (nreverse checks)
                   :settle-times (nreverse settle-times)
                   :final-state (controller-state controller)
                   :final-busy (controller-busy-p controller)

@@ -5,7 +5,7 @@
 ;;;; sees only the bare event name, so a member plays exactly as a lone
 ;;;; controller of its spec would.
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (defun address-text (address)
   "ADDRESS (a symbol or string) as a string, as written (symbols downcased)."

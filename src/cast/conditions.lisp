@@ -3,7 +3,7 @@
 ;;;; event addressed to a member the scene lacks.  Each is a SPEC-ERROR, so it
 ;;;; names the file and line of the form at fault when it comes from a file.
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (define-condition scene-error (spec-error)
   ()

@@ -12,7 +12,7 @@
 ;;;;     (event ev-both-search left/ev-search right/ev-search)
 ;;;;     (event ev-wave (left/ev-hello :after 0) (right/ev-hello :after 0.5)))
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (defparameter *member-spacing* 0.6d0
   "Metres between neighbouring members placed without :at: they stand in a

@@ -3,7 +3,7 @@
 ;;;; they address; the trace is each member's lines in turn, in the scene's
 ;;;; order, each line prefixed with the member's name and ": ".
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (defstruct (performer (:constructor make-performer (name member controller)))
   "One member of a scene at play: its NAME, its CAST-MEMBER and its CONTROLLER."

@@ -3,7 +3,7 @@
 ;;;; naming a spec that is not defined yet is looked for in SPEC.lisp beside
 ;;;; the scene's file, so specs/two-peedys.lisp can cast specs/peedy.lisp.
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (defun defscene-form-p (form)
   "Is FORM a (defscene ...) form?"

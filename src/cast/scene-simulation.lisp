@@ -5,7 +5,7 @@
 ;;;; as it would alone; a frame of the scene gathers every member's bodies and
 ;;;; props, and is seen by the camera framing all the bodies.
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (defstruct (scene-simulation (:include simulation) (:constructor %make-scene-simulation))
   "A played scene: its ENSEMBLE, MEMBERS (an alist from each member's name to

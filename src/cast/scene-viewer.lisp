@@ -4,7 +4,7 @@
 ;;;; terminal (left/ev-search) reaches only the members it names.  Trace lines
 ;;;; print as their time comes, prefixed "MEMBER: ".
 
-(in-package #:player)
+(in-package #:player.cast)
 
 (defstruct (scene-viewer (:include viewer) (:constructor %make-scene-viewer))
   "A VIEWER of a scene: its ENSEMBLE (timed controllers, body presenters), the

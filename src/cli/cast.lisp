@@ -3,7 +3,7 @@
 ;;;; --cast SPEC:N, N members of one spec called SPEC1 ... SPECN.  Events are
 ;;;; then addresses: --events left/ev-search@0,all/ev-thanks@2.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defparameter *max-cast-size* 1000 "The most members --cast makes.")
 

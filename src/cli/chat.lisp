@@ -5,7 +5,7 @@
 ;;;; his body as it goes, his replies spoken with the beak in sync, and drawn
 ;;;; at the end.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defun choose-dialogue (file)
   "The dialogue of the dialogue FILE: its only one; an error when it has none or several."

@@ -1,6 +1,6 @@
 ;;;; check.lisp -- `player check`: a spec's diagnostics, errors and warnings.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "check" (file &key spec no-code scripts)
     (:summary "print the spec's diagnostics"

@@ -4,7 +4,7 @@
 ;;;; Parsing the command line, `player help`, `player help CMD` and
 ;;;; `player CMD --help` all read this table.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defstruct (command (:constructor %make-command))
   "A command of bin/player: NAME, a one-line SUMMARY, a longer DESCRIPTION

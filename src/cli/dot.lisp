@@ -1,6 +1,6 @@
 ;;;; dot.lisp -- `player dot`: the plannable state graph as Graphviz.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defmethod read-option-value ((type (eql :state-expression)) text option)
   ;; One datum read as spec files are (no #., no #S, symbols in PLAYER-USER);

@@ -1,6 +1,6 @@
 ;;;; emit-c++.lisp -- `player emit-c++`: the controller as standalone C++17.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defmethod read-option-value ((type (eql :c++-identifier)) text option)
   ;; A file and namespace name: a C++ identifier, so it can neither inject

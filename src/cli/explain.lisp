@@ -1,7 +1,7 @@
 ;;;; explain.lisp -- `player explain`: the plan from a state to a goal, or
 ;;;; through an event, each op with the literal it achieves (EXPLAIN-PLAN).
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defun read-goal-text (text)
   "The state expression TEXT (--goal's value) holds, read as data in

@@ -1,7 +1,7 @@
 ;;;; help.lisp -- `player help` and `player help CMD` (= `player CMD --help`),
 ;;;; written from the command table.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defun command-synopsis (command)
   "COMMAND's one-line synopsis: player NAME ARGUMENTS [OPTIONS]."

@@ -3,7 +3,7 @@
 ;;;; command line; a closed output pipe ends the program quietly; never a
 ;;;; debugger or a backtrace.  Also the saved core bin/player starts from.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defun storage-message (condition)
   "What ran out, for a STORAGE-CONDITION: the stack (input nested too deeply) or the heap."

@@ -2,7 +2,7 @@
 ;;;; status 2), option types (how a value is read, checked and described) and
 ;;;; the options several commands share, each declared once.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-condition usage-error (player-error-with-message)
   ()

@@ -1,6 +1,6 @@
 ;;;; plans.lisp -- `player plans`: every goal's plan table.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "plans" (file &key spec no-code)
     (:summary "print every goal's plan table"

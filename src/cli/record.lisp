@@ -1,7 +1,7 @@
 ;;;; record.lisp -- `player record`: play a scenario and keep its trace (and
 ;;;; frames) in a file, so that `player verify` can check it later.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "record" (file &key spec no-code initial events at when-busy frames fps seed scripts body out)
     (:summary "play a scenario and record its trace (and body frames) as a regression test"

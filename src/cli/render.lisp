@@ -1,6 +1,6 @@
 ;;;; render.lisp -- `player render`: a scenario drawn offscreen to PNG frames.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "render" (file &key spec no-code initial events at when-busy policies fps seed scripts body size out video cast silent)
     (:summary "play the events in simulated time and draw them offscreen"

@@ -1,6 +1,6 @@
 ;;;; run.lisp -- `player run`: play events and print the trace.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "run" (file &key spec no-code initial events at when-busy backend cast)
     (:summary "play events in simulated time and print the trace"

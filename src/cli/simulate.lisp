@@ -1,6 +1,6 @@
 ;;;; simulate.lisp -- `player simulate`: a scenario played on the body, as BVH and frames.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "simulate" (file &key spec no-code initial events at when-busy fps seed scripts body bvh frames cast silent)
     (:summary "play the events on the spec's body in simulated time"

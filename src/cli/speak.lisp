@@ -2,7 +2,7 @@
 ;;;; What `make demo-dialogue` records the user's requests with, before chat
 ;;;; --wav hears them; handy for trying a recogniser too.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (define-command "speak" (text &key out voice rate)
     (:summary "say TEXT with espeak-ng into a WAV file"

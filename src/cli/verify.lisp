@@ -1,7 +1,7 @@
 ;;;; verify.lisp -- `player verify`: replay a recording made by `player
 ;;;; record` on a spec file and report the first difference.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defmethod read-option-value ((type (eql :tolerance)) text option)
   ;; A real from 0: how far a replayed frame's number may be from the recorded one.

@@ -1,6 +1,6 @@
 ;;;; view.lisp -- `player view`: the controller played live in a window.
 
-(in-package #:player)
+(in-package #:player.cli)
 
 (defmethod read-option-value ((type (eql :keys)) text option)
   ;; KEY@SECONDS,... as ((SECONDS . KEY) ...): KEY a character or a control key's name.

@@ -5,7 +5,7 @@
 ;;;; (:graph EXPR) option of a defspec signals GRAPH-EXPRESSION-ERROR, a spec
 ;;;; error at the option's file and line.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (define-condition graph-error (player-error-with-message)
   ((value :initarg :value :initform nil :reader graph-error-value

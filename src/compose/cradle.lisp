@@ -8,7 +8,7 @@
 ;;;; Where the paper's text does not give the behaviour its own examples show,
 ;;;; this file says which reading it takes (the [Reading] notes below).
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defparameter *positions* '(-1 0 1)
   "Σ, the positions of a sphere (and its rates of change).")

@@ -25,7 +25,7 @@
 ;;;; Anything else -- an unknown builder, a bad pattern, a graph too large --
 ;;;; is a GRAPH-EXPRESSION-ERROR (a SPEC-ERROR) naming the form.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defparameter *max-cradle-spheres* 6
   "The largest N a graph expression's (newton-cradle N) builds: n = 6 takes

@@ -13,7 +13,7 @@
 ;;;; DEFAULT-NODE-NAME. The spec's :max-depth, unless it gives one, is the
 ;;;; number of nodes less one.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defparameter *graph-option-keys* '(:start :variable :go-events)
   "The options a (:graph EXPR ...) option takes after EXPR.")

@@ -6,7 +6,7 @@
 ;;;; an event GO-X whose goal is X. Plans then follow the graph's edges: a
 ;;;; shortest plan from a node to a goal is a shortest path in the graph.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defparameter *name-characters* "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_<>+*/=!?%&$^~"
   "The characters a node's name may use: no dot (var.value splits at it), and

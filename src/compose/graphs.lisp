@@ -8,7 +8,7 @@
 ;;;; another. Nodes and edges are kept in NODE= hash tables (see nodes.lisp);
 ;;;; the accessors return fresh sorted lists.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defstruct (graph (:constructor %make-graph (node-table edge-table)) (:copier nil))
   "A finite graph: NODE-TABLE maps each node to T, EDGE-TABLE each edge

@@ -18,7 +18,7 @@
 ;;;; GRAPH-MERGE computes exactly that, but without building G1 × G2: it joins
 ;;;; the edges of G1 and G2 on the move of the common element.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defun check-merge-nodes (graph which leafp)
   "Signal a GRAPH-ERROR unless every node of GRAPH is a binary tree of at least

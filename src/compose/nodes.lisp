@@ -9,7 +9,7 @@
 ;;;; are conses (SOURCE . TARGET), so they hash the same way. NODE< orders any
 ;;;; two nodes, so every list this module returns is sorted and deterministic.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defun node= (a b)
   "Nodes are the same when they are EQUAL."

@@ -23,7 +23,7 @@
 ;;;; node of the graph, and their conjuncts, so RESTRICT can apply the paper's
 ;;;; reading of &.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 ;;; Patterns
 

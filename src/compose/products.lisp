@@ -1,7 +1,7 @@
 ;;;; products.lisp -- the product G1 × G2 and graph homomorphisms (f, g)
 ;;;; (Clark & Palmer, Appendix A).
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defun graph-product-2 (graph1 graph2)
   "GRAPH1 × GRAPH2, see GRAPH-PRODUCT."

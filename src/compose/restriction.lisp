@@ -1,7 +1,7 @@
 ;;;; restriction.lisp -- G \ p, a graph restricted by a predicate on its edges
 ;;;; (Clark & Palmer, Appendix A).
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defun check-patterns (function graph predicate)
   "Signal a GRAPH-ERROR when a pattern of PREDICATE can match no node of GRAPH

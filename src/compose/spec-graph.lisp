@@ -13,7 +13,7 @@
 ;;;; integer). The algebra's edges carry no labels, so the op names come back
 ;;;; as a second value.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defparameter *spec-graph-state-limit* 100000
   "The most states SPEC->GRAPH builds a graph of.")

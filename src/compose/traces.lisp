@@ -8,7 +8,7 @@
 ;;;; encountered)."  Traces can be infinite; these functions stop after LENGTH
 ;;;; steps.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defun check-trace-arguments (function graph start length)
   "Check GRAPH, START (a node of it) and LENGTH (steps) for FUNCTION."

@@ -9,7 +9,7 @@
 ;;;; cradle, whose leaves are sphere states (POSITION . VELOCITY), passes
 ;;;; SPHERE-STATE-P. Sequences are lists.
 
-(in-package #:player)
+(in-package #:player.compose)
 
 (defun tree-p (x &key (leafp #'atom))
   "Is X a binary tree: a leaf, or a cons of trees (an atom that is not a leaf

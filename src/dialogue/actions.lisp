@@ -6,7 +6,7 @@
 ;;;; EXPRESSION) sets a context variable, (mood NAME) sets the emotional state.
 ;;;; Application actions (catalogue queries) are in catalogue-actions.lisp.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defstruct (dialogue-action (:constructor %make-dialogue-action))
   "A registered action: its NAME, the FUNCTION called with the conversation

@@ -5,7 +5,7 @@
 ;;;; wrote that?" resolves; `cnt0` the number of results, which Figure 8's
 ;;;; rules test.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defun refer-to (conversation object)
   "Make OBJECT the last referenced object of CONVERSATION."

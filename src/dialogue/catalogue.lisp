@@ -5,7 +5,7 @@
 ;;;; a defdialogue or in a catalogue file; queries over them are dialogue
 ;;;; actions (catalogue-actions.lisp).
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defstruct (cd (:constructor %make-cd))
   "A CD: its ID (a name), TITLE, ARTIST (strings), YEAR (an integer or NIL) and TRACKS."

@@ -3,7 +3,7 @@
 ;;;; fault, with its file and line, so DIALOGUE-ERROR is a SPEC-ERROR and shares
 ;;;; its report; errors while a conversation runs name the turn's input.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (define-condition dialogue-error (spec-error)
   ()

@@ -5,7 +5,7 @@
 ;;;; the protocol has a default that does nothing, so a presenter defines only
 ;;;; what it shows (the chat command prints; a speech module speaks).
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defclass dialogue-presenter () ()
   (:documentation "Told what a conversation does; the base class ignores everything."))

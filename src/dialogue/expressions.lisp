@@ -8,7 +8,7 @@
 ;;;; conversation; (asked-before VAR): did an earlier input carry VAR's value
 ;;;; in the slot VAR (a repeated request, in this conversation or an earlier one).
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defparameter *expression-operators*
   '(("=" 2) ("/=" 2) ("<" 2) ("<=" 2) (">" 2) (">=" 2)

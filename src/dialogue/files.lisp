@@ -3,7 +3,7 @@
 ;;;; case :INVERT (so the paper's stGotCD keeps its spelling) and never
 ;;;; evaluated; the Player spec and catalogue it names are read as data too.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defun load-dialogue (file)
   "Load the dialogue file FILE and return the dialogues it defines, in order.

@@ -4,7 +4,7 @@
 ;;;; (its alternatives the catalogue's names or a phrases set), and the public
 ;;;; <request> rule, any input event.  JSGF 1.0, as pocketsphinx reads it.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defun jsgf-rule-name (name)
   "NAME as a JSGF rule name: lower case, letters, digits and underscores."

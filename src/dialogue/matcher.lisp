@@ -6,7 +6,7 @@
 ;;;; set), and optional parts, (:optional ELEMENT).  The same patterns give the
 ;;;; speech recogniser its grammar (jsgf.lisp), so what can be said can be matched.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defstruct utterance-pattern
   "A pattern: the input EVENT it means, its ELEMENTS (PATTERN-WORDS and

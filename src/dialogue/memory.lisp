@@ -6,7 +6,7 @@
 ;;;; (user NAME :mood M :conversations N :log (ENTRY...)) form per user, read
 ;;;; back as every Player data file is, so loading it runs nothing.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defstruct (episodic-memory (:conc-name memory-) (:constructor %make-memory))
   "What Peedy remembers of USER (a string): his MOOD towards them (:neutral,

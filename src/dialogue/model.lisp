@@ -3,7 +3,7 @@
 ;;;; that say them, transitions (Figures 7 and 8), verbal templates by
 ;;;; category (Figure 9), animations naming Player events, and a catalogue.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defstruct (dialogue (:constructor %make-dialogue))
   "A conversational state machine.  STATES, INPUTS, TEMPLATES and ANIMATIONS

@@ -4,7 +4,7 @@
 ;;;; `say` is SAY as ever.  Names are compared by their upper-cased text, so a
 ;;;; dialogue typed at the REPL (where stGotCD reads as STGOTCD) means the same.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defvar *dialogue-readtable*
   (let ((readtable (copy-readtable *data-readtable*)))

@@ -12,7 +12,7 @@
 ;;;; (cd ...) catalogue entries.  Declarations are read first, so forms may
 ;;;; name what is defined after them.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defparameter *dialogue-options*
   '(:player :player-initial :catalogue :initial :not-understood :ignore-words)

@@ -5,7 +5,7 @@
 ;;;; animation back until the speech before it has ended.
 ;;;; It plugs into a conversation through *SAY-FUNCTION*.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defstruct (speaker (:constructor %make-speaker))
   "Speaks a conversation on PERFORMANCE: espeak-ng's VOICE and RATE (NIL: the

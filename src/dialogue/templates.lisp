@@ -5,7 +5,7 @@
 ;;;; or per user) is used up, is passed over.  The chosen text's <=Var> holes
 ;;;; are filled from the context variables.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defun template-allowed-p (template conversation)
   "May TEMPLATE be said now: does its condition hold and its limit allow it?"

@@ -5,7 +5,7 @@
 ;;;; the state before rules for any state, each in the order written); its
 ;;;; actions send Player events and say templates.
 
-(in-package #:player)
+(in-package #:player.dialogue)
 
 (defun dialogue-slot-names (dialogue)
   "The keys of every slot DIALOGUE's utterance patterns fill."

@@ -9,7 +9,7 @@
 ;;;; p<N> beside the op graph's s<N>, N the state's dense number) whose arrows
 ;;;; are the steps of the plans.
 
-(in-package #:player)
+(in-package #:player.inspect)
 
 (defparameter *current-state-color* "#d62728"
   "The border colour of the node of the state a running controller is in.")

@@ -11,7 +11,7 @@
 ;;;; The steps and their printing are in explanation-steps.lisp, the analysis
 ;;;; of unreachable goals in unreachable-goals.lisp.
 
-(in-package #:player)
+(in-package #:player.inspect)
 
 ;;;# Why each op of a plan
 

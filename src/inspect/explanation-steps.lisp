@@ -2,7 +2,7 @@
 ;;;; of line (a goal, an op and what it achieves, a condition, a failure), the
 ;;;; literals and states they mention as text, and how each prints.
 
-(in-package #:player)
+(in-package #:player.inspect)
 
 ;;;# Literals and states as text
 ;;; A literal is (VARIABLE . FIELD): the values a cube allows one variable,

@@ -8,7 +8,7 @@
 ;;;; the machine runs from each drawn state: from S, the first of the goal's
 ;;;; plans whose condition holds in S, one edge per op it runs.
 
-(in-package #:player)
+(in-package #:player.inspect)
 
 (define-condition state-graph-error (player-error-with-message)
   ()
@@ -130,16 +130,6 @@ NIL as soon as there are more than LIMIT."
          (sort (coerce (hash-table-keys seen) 'simple-vector) #'<
                :key (lambda (state) (state-to-dense state layout))))))
 
-(defun value-index-in-state (state var)
-  "The index of the value plannable VAR has in the one-hot STATE."
-  (1- (integer-length (ldb (byte (var-domain-size var) (var-bit-offset var)) state))))
-
-(defun state-assignments (state spec)
-  "The one-hot STATE as a list of (VARIABLE-DEF . VALUE-INDEX), one per
-plannable variable of SPEC, in declaration order."
-  (loop for var in (plannable-variables spec)
-        collect (cons var (value-index-in-state state var))))
-
 (defun state-value-text (var index)
   "The INDEXth value of plannable VAR as written on a command line: true or
 false for a boolean, a name in lower case, a string or number as it is."
@@ -195,10 +185,6 @@ FORM is not a state expression of MACHINE's spec."
   (let* ((spec (machine-spec machine))
          (cubes (parse-goal-cubes form spec)))
     (machine-goal-with-cubes machine cubes form)))
-
-(defun goal-holds-p (goal state)
-  "Does GOAL hold in the one-hot STATE?"
-  (some (lambda (cube) (state-in-cube-p state cube)) (goal-cubes goal)))
 
 (defun state-plan (goal state)
   "The PLAN the machine runs for GOAL from the one-hot STATE: the first of

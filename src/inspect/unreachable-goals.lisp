@@ -2,7 +2,7 @@
 ;;;; literals no op adds, or the preconditions that block in the reachable
 ;;;; states nearest the goal.
 
-(in-package #:player)
+(in-package #:player.inspect)
 
 ;;;# Why a goal cannot be reached
 

@@ -2,7 +2,7 @@
 ;;;; plan tables, and CHECK-SPEC's warnings (unreachable goals, unused ops,
 ;;;; depth truncation, states the agent can never get into).
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defstruct (diagnostic (:constructor make-diagnostic (kind message &optional details)))
   "One finding of CHECK-SPEC. KIND is :UNREACHABLE-GOAL, :UNUSED-OP,

@@ -6,7 +6,7 @@
 ;;;; :reachable)) only the states reachable from the initial state are planned
 ;;;; for and numbered, in ascending order (reachable.lisp).
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defparameter *state-limit* (expt 2 26)
   "Most plannable states the full-space planner accepts (the SolvedStates bitmap

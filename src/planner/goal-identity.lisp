@@ -10,7 +10,7 @@
 ;;;; it, split on a variable where the disjunction tells states apart, does
 ;;;; (the classic recursive cover test).
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defun cube-meets-p (a b spec)
   "True when cubes A and B share a state."

@@ -3,7 +3,7 @@
 ;;;; requests is a goal. Goals that hold in the same states are one goal
 ;;;; (goal-identity.lisp), planned once, however each is written.
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defstruct (goal (:constructor %make-goal))
   "A distinct goal and its plans."
@@ -90,3 +90,7 @@ breadth first (regression.lisp), or least total duration (uniform-cost.lisp)."
           (goal-solved-count goal) (count-marked solved)
           (goal-truncatedp goal) truncatedp)
     goal))
+
+(defun goal-holds-p (goal state)
+  "Does GOAL hold in the one-hot STATE?"
+  (some (lambda (cube) (state-in-cube-p state cube)) (goal-cubes goal)))

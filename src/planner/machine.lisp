@@ -2,7 +2,14 @@
 ;;;; PLAN-SPEC is the planner's whole job; a code generator then turns the
 ;;;; machine into something that runs (Lisp closures, or C++ source).
 
-(in-package #:player)
+(in-package #:player.planner)
+
+(defun machine-designator-p (x)
+  "Is X a machine, a spec or a spec's name?"
+  (or (spec-designator-p x) (machine-p x)))
+
+(defparameter *machine-designator* "a machine (from compile-spec or plan-spec), a spec or a spec's name"
+  "How argument errors describe a machine designator.")
 
 (defstruct (machine (:constructor %make-machine))
   "A spec with plans from every state to every goal, ready for a code generator."
@@ -99,3 +106,4 @@ written), or a new goal, written FORM, planned on the spot."
   "The distinct goals of MACHINE, as readable canonical expressions, in the order planned."
   (check-argument 'machine-goals 'machine machine #'machine-p "a machine")
   (map 'list #'goal-expression (machine-goal-table machine)))
+

@@ -20,7 +20,7 @@
 ;;;; controller would run, in the order it tries them; start states no plan
 ;;;; serves are where the macro fails, which is not an inexactness.
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defparameter *macro-branch-limit* 100000
   "Most branches the exactness proof follows for one macro before it gives up

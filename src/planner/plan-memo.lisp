@@ -13,7 +13,7 @@
 ;;;; (any op may shorten any plan).  Plans name ops by position, so rows are
 ;;;; shared across specs whose op objects differ.
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defvar *reuse-plans* t
   "When true, PLAN-SPEC reuses the plan rows of the spec name's last planning

@@ -22,10 +22,10 @@
 ;;;; every state of R: a regressed cube whose states in R are all solved can
 ;;;; give no state of R a shorter plan. (Its plans may also hold in states
 ;;;; outside R, where nothing says they are shortest: the controller refuses
-;;;; such states, see src/runtime/controller/unplanned-states.lisp.)
+;;;; such states, see src/control/controller/unplanned-states.lisp.)
 ;;;; Memory is a bit per state of R per one-hot bit, nothing per 2^bits.
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defparameter *reachable-state-limit* (expt 2 22)
   "Most reachable states the reachable regime numbers and plans for.")

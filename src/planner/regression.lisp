@@ -12,7 +12,7 @@
 ;;;; number of plans). So the first plan whose condition holds in a state is a
 ;;;; shortest plan from it.
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defstruct (plan (:constructor make-plan (condition ops)))
   "A (condition . op sequence) pair: from any state in cube CONDITION, running

@@ -11,7 +11,7 @@
 ;;;;
 ;;;; SBCL stores a bit vector's bit I as bit (MOD I 64) of word (FLOOR I 64).
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defparameter *known-cube-limit* 65536
   "How many cubes known to lie inside a SolvedStates it remembers (it forgets

@@ -20,7 +20,7 @@
 ;;;; never cut the search, and one SolvedStates was enough.) With equal
 ;;;; durations this is the breadth-first planner, plan for plan.
 
-(in-package #:player)
+(in-package #:player.planner)
 
 (defstruct (costed-plan (:constructor make-costed-plan (plan cost length serial)))
   "A plan on WorkingQ with what orders it: its ops' total duration in seconds,

@@ -6,7 +6,7 @@
 ;;;; (zerop (logandc2 S C)) and intersection is LOGAND. An expression becomes a
 ;;;; disjunction of cubes (DNF), simplified so equivalent goals usually merge.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun plannable-variables (spec)
   "SPEC's plannable variables, in declaration order."
@@ -131,3 +131,13 @@ sorted: the canonical form goals are compared in."
   (cond ((null cubes) 'false)
         ((null (rest cubes)) (cube-expression (first cubes) spec))
         (t (cons 'or (mapcar (lambda (c) (cube-expression c spec)) cubes)))))
+
+(defun value-index-in-state (state var)
+  "The index of the value plannable VAR has in the one-hot STATE."
+  (1- (integer-length (ldb (byte (var-domain-size var) (var-bit-offset var)) state))))
+
+(defun state-assignments (state spec)
+  "The one-hot STATE as a list of (VARIABLE-DEF . VALUE-INDEX), one per
+plannable variable of SPEC, in declaration order."
+  (loop for var in (plannable-variables spec)
+        collect (cons var (value-index-in-state state var))))

@@ -3,7 +3,7 @@
 ;;;; later element overrides what earlier ones said about the same variables:
 ;;;; (state-class c (a posture.sit)) is A with posture set to sit, not A and sit.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun class-cubes (class spec)
   "The DNF of CLASS, computed once. Each element frees the variables it

@@ -2,7 +2,7 @@
 ;;;; when they run) and :c++ text (copied into the generated C++).  A spec
 ;;;; from an untrusted source can be refused when it has any (--no-code).
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun directive-code-sites (directives owner)
   "The code in parsed DIRECTIVES of OWNER (a description such as \"event ev\"),

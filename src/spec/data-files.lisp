@@ -5,7 +5,7 @@
 ;;;; measured on the text before the reader sees it, and every form is checked
 ;;;; for circular structure, so no file can exhaust the stack or loop.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defparameter *max-data-file-bytes* (* 64 1024 1024)
   "The largest file Player reads as data.")

@@ -8,7 +8,7 @@
 ;;;;   (:increment VAR DELTA) :add/:sub (VAR N) of a number variable
 ;;;;   (:code FORM)          (:c++ TEXT)
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defparameter *directive-keys* '(:state :op :label :time :if :add :sub :code :c++)
   "Every directive keyword an event may use.")

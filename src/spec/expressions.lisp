@@ -7,7 +7,7 @@
 ;;;;   (:cmp OP N N...)  with numeric ASTs  (:num X) (:value VARIABLE-DEF) (:now)
 ;;;;   (:label SLOT) (:arith OP N...)
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defvar *spec* nil "The spec being parsed.")
 

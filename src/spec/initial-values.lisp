@@ -2,7 +2,7 @@
 ;;;; the declared initial values, overridden by a caller's alist.  Every
 ;;;; backend starts from these (the Lisp controller and the generated C++).
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun resolve-initial-value (var raw)
   "RAW as the stored value of VAR: a value index (plannable) or a number.

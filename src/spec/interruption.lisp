@@ -4,7 +4,7 @@
 ;;;; problem: fly, then sit a moment later -- sequential, preempt, override or
 ;;;; interleave.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defparameter *when-busy-policies* '(:queue :preempt :override :interleave)
   "What a timed controller may do with an event that arrives while it is busy:

@@ -2,7 +2,7 @@
 ;;;; PARSE turns a DEFSPEC's forms into these; the planner and code generators
 ;;;; read only these, never the raw forms (except to quote them in messages).
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defstruct (spec (:constructor %make-spec))
   "A parsed controller spec."

@@ -2,7 +2,7 @@
 ;;;; Two passes: declarations first (so forms may refer to names defined later),
 ;;;; then the bodies of classes, ops, autoscripts and events.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defparameter *default-max-depth* 16
   "Longest plan, in operators, the planner searches for when a spec gives no :MAX-DEPTH.")
@@ -39,12 +39,6 @@ points at the line of the form it is about, and names that form."
             for position in positions
             when (consp form) do (setf (gethash form table) (cons file position))))
     table))
-
-(defun form-label (form)
-  "How errors name FORM: its kind and name, e.g. \"op whistle\", or NIL."
-  (when (and (consp form) (symbolp (first form)) (consp (rest form))
-             (symbolp (unquote (second form))) (unquote (second form)))
-    (format nil "~(~A~) ~A" (symbol-name (first form)) (lisp-text (unquote (second form))))))
 
 (defun form-kind (form)
   "The keyword naming FORM's kind, or a syntax error."

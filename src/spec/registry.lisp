@@ -1,6 +1,6 @@
 ;;;; registry.lisp -- DEFSPEC, the table of defined specs, and loading spec files.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defvar *specs* (make-hash-table :test 'equal)
   "Defined specs, by name key.")
@@ -67,3 +67,9 @@ Any other NAME is an ARGUMENT-ERROR."
   (check-argument 'remove-spec 'name name #'name-designator-p "a spec's name (a symbol or string)")
   (remhash (if (stringp name) (string-upcase name) (name-key name)) *specs*))
 
+(defun spec-designator-p (x)
+  "Is X a spec or a spec's name (a symbol or a string)?"
+  (or (symbolp x) (stringp x) (spec-p x)))
+
+(defparameter *spec-designator* "a spec or a spec's name (a symbol or string)"
+  "How argument errors describe a spec designator.")

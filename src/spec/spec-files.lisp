@@ -4,7 +4,7 @@
 ;;;; forms inside a spec run only when their event does; ALLOW-CODE NIL
 ;;;; refuses a spec that has any.)
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun spec-file-fail (file)
   "A function of a position and a message signalling a SPEC-READER-ERROR in FILE."

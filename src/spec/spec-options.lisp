@@ -3,7 +3,7 @@
 ;;;; (:state-space, :start-states and :unplanned-states are described in
 ;;;; state-space.lisp; (:graph EXPR) in src/compose/graph-option.lisp.)
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defparameter *spec-option-keys* '(:max-depth :optimize :macros :scripts :body :when-busy
                                    :state-space :unplanned-states)

@@ -11,12 +11,12 @@
 ;;;;   (:unplanned-states :refuse | :search)
 ;;;;       what a controller does in a state outside the planned set: signal
 ;;;;       STATE-OUTSIDE-PLANNED-SET (the default), or search a plan from it
-;;;;       at run time (src/runtime/controller/unplanned-states.lisp).
+;;;;       at run time (src/control/controller/unplanned-states.lisp).
 ;;;;
 ;;;; The options are read with the spec's header, before its variables exist;
 ;;;; the :start-states expressions are parsed once every form is defined.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defparameter *state-space-regimes* '(:auto :full :reachable)
   "What (:state-space REGIME) may say.")

@@ -1,18 +1,12 @@
 ;;;; syntax.lisp -- small readers of the language's surface syntax.
 ;;;; Spec words are compared by name, so a spec read in any package works.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun word-p (thing &rest names)
   "True when THING is a symbol whose name is one of NAMES (case-insensitive)."
   (and (symbolp thing) thing
        (member (symbol-name thing) names :test #'string-equal)))
-
-(defun unquote (thing)
-  "THING without a leading QUOTE, so the paper's quoted style also reads."
-  (if (and (consp thing) (eq (first thing) 'quote) (consp (rest thing)) (null (cddr thing)))
-      (second thing)
-      thing))
 
 (defun name-key (symbol)
   "The string a definition's name is looked up by."

@@ -3,7 +3,7 @@
 ;;;; period of inaction will sit down ... and eventually fall asleep") and
 ;;;; triggers (fired when a state expression becomes true).
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun find-timer-named (name)
   "The timer or trigger of *SPEC* named NAME, or NIL."

@@ -1,7 +1,7 @@
 ;;;; validate.lisp -- checks that need the whole spec: class cycles, macro
 ;;;; recursion, and the events time variables listen to.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun validate-spec (spec)
   "Signal a SPEC-ERROR for whole-spec inconsistencies in SPEC."

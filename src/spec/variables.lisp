@@ -2,7 +2,7 @@
 ;;;; types, domains and initial values, checked as PARSE's first pass reads
 ;;;; them.
 
-(in-package #:player)
+(in-package #:player.spec)
 
 (defun parse-variable-type (word form)
   "The type keyword WORD names."

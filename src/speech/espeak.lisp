@@ -4,7 +4,7 @@
 ;;;; SPEECH-ERRORs.  Synthesis is synchronous: the callback runs inside
 ;;;; espeak_Synth on this thread, handing over samples and events in chunks.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 ;;;# Raw bindings (speak_lib.h)
 

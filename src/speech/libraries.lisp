@@ -3,7 +3,7 @@
 ;;;; use, not when Player loads, so a machine without them still plans,
 ;;;; simulates and renders silently.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (define-condition speech-error (player-error-with-message)
   ()

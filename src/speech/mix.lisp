@@ -2,7 +2,7 @@
 ;;;; 16-bit sound.  Performances keep their speech and sound effects as such
 ;;;; clips, so the mix is a function of what played, like the frames.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (defparameter *track-rate* 22050
   "The sample rate of mixed tracks: espeak-ng's, so speech needs no resampling.")

@@ -3,7 +3,7 @@
 ;;;; (alsa-utils) or sox's play, which run beside Player.  Without a device
 ;;;; or either program, nothing plays and the caller says so once.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (defparameter *audio-players* '(("aplay" "-q") ("play" "-q"))
   "Programs that play a WAV file given last, with their arguments, tried in order.")

@@ -5,7 +5,7 @@
 ;;;; (pocketsphinx_continuous splits a file where the speaker pauses, and a
 ;;;; piece of a sentence does not match the grammar; one utterance does.)
 
-(in-package #:player)
+(in-package #:player.speech)
 
 ;;;# Raw bindings (pocketsphinx.h, cmd_ln.h, err.h)
 

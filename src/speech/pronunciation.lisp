@@ -3,7 +3,7 @@
 ;;;; espeak-ng and written in the dictionary's CMU phones, so a dialogue can
 ;;;; name anything espeak-ng can say.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (defparameter *espeak-cmu-phones*
   '(("a" "AE") ("aa" "AA") ("A:" "AA") ("A@" "AA R") ("a#" "AH") ("@" "AH") ("@2" "AH") ("@5" "AH")

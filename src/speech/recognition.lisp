@@ -2,7 +2,7 @@
 ;;;; grammar: the sound read, made 16 kHz mono, and decoded by pocketsphinx
 ;;;; (Persona's Whisper, with a grammar of every legal sentence).
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (defvar *sphinx-decoder* nil
   "The decoder, made on first use: making one loads the model (a few tenths of

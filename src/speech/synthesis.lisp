@@ -2,7 +2,7 @@
 ;;;; the phoneme timeline its phoneme events give.  Synthesis is
 ;;;; deterministic, so utterances are kept by text, voice and rate.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (defparameter *default-voice* "en-us" "The espeak-ng voice SYNTHESIZE-SPEECH uses unless told otherwise.")
 (defparameter *default-speech-rate* 160

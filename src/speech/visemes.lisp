@@ -4,7 +4,7 @@
 ;;;; place phonemes meet visemes; Pantomime's lipshape maps the same way
 ;;;; (CLOSED for m b p, F, TH, R, E, A, O, OO ...).
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (defparameter *phoneme-visemes*
   '((:rest "_" "_:" "_!" "_^_" "_|" "||" "_;_")

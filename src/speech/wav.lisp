@@ -2,7 +2,7 @@
 ;;;; channels, read as mono 16-bit), and resampling between rates.  Speech,
 ;;;; sound effects and the performance's mixed track are all SOUNDs.
 
-(in-package #:player)
+(in-package #:player.speech)
 
 (deftype samples () "Mono 16-bit audio samples." '(simple-array (signed-byte 16) (*)))
 

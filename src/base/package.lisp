@@ -1,0 +1,28 @@
+;;;; package.lisp -- player.base: Helpers every layer shares: the condition tree, the printer, argument checks, the limits on data.
+
+(defpackage #:player.base
+  (:use #:cl)
+  (:import-from #:alexandria
+                #:when-let #:if-let #:ensure-list #:hash-table-keys
+                #:with-gensyms #:once-only #:appendf #:read-file-into-string)
+  (:documentation "Helpers every layer shares: the condition tree, the printer, argument checks, the limits on data.")
+  (:export
+   #:*current-form-label* #:*current-spec-name* #:*form-places* #:*int64-range*
+   #:*library-number-range* #:*max-form-depth* #:*max-seconds* #:*path-phrase*
+   #:*source-position* #:*sub-form-places* #:argument-error #:argument-error-argument
+   #:argument-error-expected #:argument-error-function #:argument-error-value
+   #:argument-fail #:argument-value-text #:bounded-form-p #:bounded-lisp-text
+   #:check-argument #:check-form-structure #:check-real #:check-seconds #:check-spec-number
+   #:class-cycle-error #:condition-line #:directory-pathname #:domain-error
+   #:duplicate-definition #:effect-error #:find-executable #:finite-form-p
+   #:finite-number-p #:finite-real-p #:form #:form-label #:format-number #:goal-error
+   #:head #:inexact-macro-error #:int64-p #:label-error #:lisp-text #:name-designator-p
+   #:number-text #:out-of-range-number #:output-stream-designator-p #:pathname-designator-p
+   #:plain-seconds-p #:player-error #:player-error-with-message #:position-line
+   #:proper-form-list-p #:reachable-space-too-large #:report-spec-error-safely #:seconds-p
+   #:seconds-phrase #:spec-error #:spec-error-form #:spec-error-label #:spec-error-message
+   #:spec-error-position #:spec-error-spec #:spec-fail #:spec-reader-error #:spec-seconds
+   #:spec-syntax-error #:split-list #:state-outside-planned-set #:state-space-too-large
+   #:state-transfer-error #:string-designator-p #:tail #:to-double #:truncate-text
+   #:type-error-in-spec #:unknown-event #:unknown-event-name #:unknown-name-error #:unquote
+   #:untrusted-code-error #:write-list-text))

@@ -1,0 +1,25 @@
+;;;; utilities.lisp -- the few general helpers every layer shares: lists
+;;;; written as "a,b,c", directory designators, and programs found on PATH.
+
+(in-package #:player.base)
+
+(defun split-list (string &key (separator #\,))
+  "STRING split at each SEPARATOR, blanks trimmed, empty parts dropped: \"a, b,,c\" is (\"a\" \"b\" \"c\")."
+  (loop for part in (uiop:split-string string :separator (string separator))
+        for trimmed = (string-trim '(#\Space #\Tab) part)
+        unless (string= trimmed "") collect trimmed))
+
+(defun directory-pathname (designator)
+  "DESIGNATOR (a pathname, or a native file name with or without a trailing
+slash) as a directory pathname merged with *DEFAULT-PATHNAME-DEFAULTS*."
+  (merge-pathnames (uiop:ensure-directory-pathname
+                    (if (stringp designator) (uiop:parse-native-namestring designator) designator))))
+
+(defun find-executable (name)
+  "The truename of the program NAME: NAME itself when it has a slash, else the
+first file of that name in a directory of PATH; NIL when there is none."
+  (flet ((file (path) (let ((found (probe-file path))) (and found (pathname-name found) found))))
+    (if (find #\/ name)
+        (file name)
+        (loop for directory in (split-list (or (sb-ext:posix-getenv "PATH") "") :separator #\:)
+              thereis (file (concatenate 'string (string-right-trim "/" directory) "/" name))))))

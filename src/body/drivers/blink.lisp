@@ -1,0 +1,144 @@
+;;;; blink.lisp -- the blink reflex (Pantomime's EyeBlinkReflex): the upper
+;;;; lids close and open at exponentially distributed intervals, and on each
+;;;; gaze shift.  Pure in time: the intervals are a function of the seed and
+;;;; their index (SplitMix64), never of CL's global random state.
+
+(in-package #:player.body)
+
+;;;# Seeded intervals
+
+(defun splitmix64 (seed index)
+  "The INDEX-th (from 0) 64-bit output of SplitMix64 started from the integer
+SEED (Steele, Lea & Flood, \"Fast splittable pseudorandom number generators\",
+OOPSLA 2014): a pure function of SEED and INDEX."
+  (flet ((u64 (x) (ldb (byte 64 0) x)))
+    (let* ((z (u64 (+ seed (* (1+ index) #x9E3779B97F4A7C15))))
+           (z (u64 (* (logxor z (ash z -30)) #xBF58476D1CE4E5B9)))
+           (z (u64 (* (logxor z (ash z -27)) #x94D049BB133111EB))))
+      (logxor z (ash z -31)))))
+
+(defun blink-interval (seed index mean)
+  "The INDEX-th interval (seconds) between blinks for SEED: exponentially
+distributed with mean MEAN, by inverting the distribution at a uniform draw in [0, 1)."
+  (let ((uniform (* (ash (splitmix64 seed index) -11) (scale-float 1d0 -53))))
+    (* (to-double mean) (- (log (- 1d0 uniform))))))
+
+(defun blink-intervals (n &key (seed 1) (mean-interval 4.0))
+  "The first N intervals (seconds) between the blinks of a blink driver with
+SEED and MEAN-INTERVAL, as a list."
+  (loop for index below n collect (blink-interval seed index mean-interval)))
+
+;;;# The driver
+
+(defclass blink-driver (driver)
+  ((lids :accessor blink-lids :documentation "The close DOFs of the two upper lids.")
+   (open :accessor blink-open :documentation "Each lid's angle between blinks.")
+   (times :initform (make-array 16 :adjustable t :fill-pointer 0) :reader blink-reflex-times
+          :documentation "The reflex blinks' absolute times found so far, increasing.")
+   (gaze-starts :initform '() :accessor blink-gaze-starts
+                :documentation "The start times of gaze shifts seen since it began."))
+  (:documentation "Performs :blink: blinks at seeded exponential intervals from
+its start, and at the start of each later gaze shift, until stopped."))
+
+(defmethod driver-setup ((driver blink-driver))
+  (unless (integerp (driver-arg driver :seed))
+    (motor-fail (motor-call-frame (driver-call driver)) "blink :seed must be an integer, not ~A"
+                (lisp-text (driver-arg driver :seed))))
+  (let ((skeleton (driver-skeleton driver)))
+    (setf (blink-lids driver)
+          (loop for role in '(:left-upper-lid :right-upper-lid)
+                for joint = (role-joint driver role)
+                for dof = (body-joint-dof joint 'close)
+                unless dof
+                  do (motor-fail (motor-call-frame (driver-call driver))
+                                 "lid ~A of skeleton ~A has no DOF close"
+                                 (lisp-text (body-joint-name joint))
+                                 (lisp-text (skeleton-name skeleton)))
+                collect dof))
+    (loop for role in '(:left-upper-lid :right-upper-lid)
+          collect (dof-index skeleton (body-joint-name (role-joint driver role)) 'close))))
+
+(defmethod driver-begin ((driver blink-driver) pose time)
+  (declare (ignore time))
+  (setf (blink-open driver) (loop for i in (driver-channels driver) collect (aref pose i))))
+
+(defun reflex-blink-times (driver until)
+  "DRIVER's reflex blink times (absolute, increasing), extended past UNTIL: the
+cumulative sums of its intervals from its start, computed once and cached."
+  (let ((times (blink-reflex-times driver)))
+    (loop while (or (zerop (fill-pointer times))
+                    (<= (aref times (1- (fill-pointer times))) until))
+          do (let ((index (fill-pointer times)))
+               (vector-push-extend
+                (+ (if (zerop index) (float (driver-start driver) 1d0) (aref times (1- index)))
+                   (blink-interval (blink-seed driver) index (driver-real driver :mean-interval)))
+                times)))
+    times))
+
+(defun note-gaze-shifts (driver time)
+  "Remember the start of each gaze driver of DRIVER's body that started after
+DRIVER, at or before TIME; return every start remembered."
+  (when (driver-arg driver :on-gaze-shift)
+    (dolist (other (body-active (driver-body driver)))
+      (let ((start (driver-start other)))
+        (when (and (eq (motor-call-function (driver-call other)) :gaze)
+                   (> start (driver-start driver)) (<= start time))
+          (pushnew start (blink-gaze-starts driver))))))
+  (blink-gaze-starts driver))
+
+(defun blink-times (driver until)
+  "Every blink of DRIVER that starts by UNTIL, reflex and gaze shift, increasing."
+  (let ((reflex (reflex-blink-times driver until)))
+    (sort (append (remove-if (lambda (b) (> b until)) (coerce reflex 'list))
+                  (remove-if (lambda (b) (> b until)) (note-gaze-shifts driver until)))
+          #'<)))
+
+(defun blink-closure (since duration)
+  "How shut a lid is (0 open, 1 shut) SINCE seconds into a blink of DURATION:
+eased shut by the middle, eased open by the end."
+  (let ((u (/ since duration)))
+    (cond ((or (< u 0) (> u 1)) 0d0)
+          ((<= u 0.5d0) (smoothstep (* 2d0 u)))
+          (t (smoothstep (- 2d0 (* 2d0 u)))))))
+
+(defun blink-closure-at (driver time)
+  "How shut DRIVER's lids are at TIME: the most of any blink under way."
+  (let* ((duration (driver-real driver :duration))
+         (times (reflex-blink-times driver time))
+         ;; Binary search for the first reflex blink starting after TIME - DURATION.
+         (low (let ((lo 0) (hi (fill-pointer times)))
+                (loop while (< lo hi)
+                      do (let ((mid (floor (+ lo hi) 2)))
+                           (if (<= (aref times mid) (- time duration)) (setf lo (1+ mid)) (setf hi mid))))
+                lo))
+         (closure 0d0))
+    (loop for i from low below (fill-pointer times)
+          while (<= (aref times i) time)
+          do (setf closure (max closure (blink-closure (- time (aref times i)) duration))))
+    (dolist (start (note-gaze-shifts driver time) closure)
+      (setf closure (max closure (blink-closure (- time start) duration))))))
+
+(defmethod driver-drive ((driver blink-driver) time pose)
+  (let ((closure (blink-closure-at driver time)))
+    (loop for index in (driver-channels driver)
+          for dof in (blink-lids driver)
+          for open in (blink-open driver)
+          for shut = (float (body-dof-max dof) 1d0)
+          do (setf (aref pose index) (+ open (* closure (- shut open)))))))
+
+(define-motor-function :blink blink-driver
+  "The blink reflex: the upper lids close and open at seeded, exponentially
+distributed intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
+  (:mean-interval :positive 4.0 "mean seconds between reflex blinks")
+  (:duration :positive 0.15 "seconds a blink takes, shut at its middle")
+  (:seed :non-negative 1 "an integer choosing the sequence of intervals")
+  (:on-gaze-shift :boolean t "also blink when a gaze shift starts")
+  (:priority :real 50 "arbitration priority; higher wins"))
+
+(defmethod driver-default-blend ((driver blink-driver))
+  ;; It eases from the angles it captured at its start: a crossfade would only slow it.
+  0d0)
+
+(defun blink-seed (driver)
+  "DRIVER's :seed mixed with its body's seed, so `simulate --seed N` varies the blinks."
+  (+ (driver-arg driver :seed) (* 7919 (body-seed (driver-body driver)))))

@@ -1,0 +1,172 @@
+;;;; pose.lisp -- a body's pose: one angle per DOF, clamped to the joint limits,
+;;;; and the world transforms of the joints that follow from it.
+
+(in-package #:player.body)
+
+;;; A pose is a vector of double-floats, one per DOF of a skeleton, in degrees,
+;;; in SKELETON-CHANNELS order: joints parent first, each joint's DOFs in file
+;;; order, so the DOFs of JOINT are the BODY-JOINT-DOF-START-th and following.
+;;; A joint's local rotation is the product of its DOF rotations in file order,
+;;; the first outermost: R = R(dof1) R(dof2) ... (as BVH channels compose).
+;;; Its local translation is its centre minus its parent's centre, so the zero
+;;; pose is the rest pose of the skeleton file.
+
+(deftype pose ()
+  "One angle in degrees per DOF of a skeleton, in SKELETON-CHANNELS order."
+  '(simple-array double-float (*)))
+
+(defun pose-of-p (skeleton x)
+  "Is X a POSE of SKELETON: a double-float vector of its DOF count, every angle finite?"
+  (and (typep x 'pose) (= (length x) (skeleton-dof-count skeleton))
+       (every #'finite-number-p x)))
+
+(defun pose-phrase (skeleton)
+  "How argument errors describe a pose of SKELETON."
+  (format nil "a pose of skeleton ~A (a (simple-array double-float (~D)) of finite angles, from make-pose)"
+          (lisp-text (skeleton-name skeleton)) (skeleton-dof-count skeleton)))
+
+(defun make-pose (skeleton)
+  "The rest pose of SKELETON: every DOF at zero (clamped into its limits when
+zero lies outside them)."
+  (check-argument 'make-pose 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (%clamp-pose skeleton (make-array (skeleton-dof-count skeleton)
+                                   :element-type 'double-float :initial-element 0d0)))
+
+(defun copy-pose (pose)
+  "A fresh copy of POSE."
+  (copy-seq pose))
+
+(defun dof-index (skeleton joint-name dof-name &optional (errorp t))
+  "The index in SKELETON's poses of JOINT-NAME's DOF DOF-NAME (names compared
+case-insensitively).  When there is none: a SKELETON-ERROR, or NIL without ERRORP."
+  (check-argument 'dof-index 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (check-argument 'dof-index 'joint-name joint-name #'string-designator-p "a joint's name (a symbol or string)")
+  (check-argument 'dof-index 'dof-name dof-name #'string-designator-p "a DOF's name (a symbol or string)")
+  (let* ((joint (find-joint skeleton joint-name errorp))
+         (position (and joint (position (string dof-name) (body-joint-dofs joint)
+                                        :key (lambda (dof) (string (body-dof-name dof)))
+                                        :test #'string-equal))))
+    (cond (position (+ (body-joint-dof-start joint) position))
+          (errorp (skeleton-fail (list joint-name dof-name) "joint ~A of skeleton ~A has no DOF ~A~@[ (it has ~{~A~^ ~})~]"
+                                 (lisp-text joint-name) (lisp-text (skeleton-name skeleton))
+                                 (lisp-text dof-name)
+                                 (and joint (mapcar (lambda (dof) (lisp-text (body-dof-name dof)))
+                                                    (body-joint-dofs joint)))))
+          (t nil))))
+
+(defun joint-dof-indices (joint)
+  "The pose indices of JOINT's DOFs, in file order."
+  (loop for i from (body-joint-dof-start joint)
+        repeat (length (body-joint-dofs joint))
+        collect i))
+
+(defun skeleton-dof (skeleton index)
+  "The joint and the BODY-DOF at pose INDEX of SKELETON, as two values."
+  (loop for joint across (skeleton-joints skeleton)
+        for start = (body-joint-dof-start joint)
+        when (< index (+ start (length (body-joint-dofs joint))))
+          return (values joint (nth (- index start) (body-joint-dofs joint)))))
+
+;;;# Limits
+
+(defun clamp-pose (skeleton pose)
+  "Clamp every angle of POSE into its DOF's limits, in place; return POSE."
+  (check-argument 'clamp-pose 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (check-argument 'clamp-pose 'pose pose (lambda (x) (pose-of-p skeleton x)) (pose-phrase skeleton))
+  (%clamp-pose skeleton pose))
+
+(defun %clamp-pose (skeleton pose)
+  "CLAMP-POSE of a known POSE of SKELETON."
+  (declare (type pose pose))
+  (loop for joint across (skeleton-joints skeleton)
+        do (loop for dof in (body-joint-dofs joint)
+                 for i from (body-joint-dof-start joint)
+                 do (setf (aref pose i)
+                          (max (float (body-dof-min dof) 1d0)
+                               (min (float (body-dof-max dof) 1d0) (aref pose i))))))
+  pose)
+
+(defun pose-within-limits-p (skeleton pose &optional (tolerance 1d-9))
+  "True when every angle of POSE lies within its DOF's limits, give or take TOLERANCE degrees."
+  (check-argument 'pose-within-limits-p 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (check-argument 'pose-within-limits-p 'pose pose
+                  (lambda (x) (and (vectorp x) (= (length x) (skeleton-dof-count skeleton))
+                                   (every #'finite-number-p x)))
+                  (format nil "a vector of ~D finite angles, a pose of skeleton ~A"
+                          (skeleton-dof-count skeleton) (lisp-text (skeleton-name skeleton))))
+  (check-real 'pose-within-limits-p 'tolerance tolerance :minimum 0)
+  (loop for joint across (skeleton-joints skeleton)
+        always (loop for dof in (body-joint-dofs joint)
+                     for i from (body-joint-dof-start joint)
+                     always (<= (- (body-dof-min dof) tolerance) (aref pose i)
+                                (+ (body-dof-max dof) tolerance)))))
+
+;;;# Transforms
+
+(defun dof-rotation (dof degrees)
+  "The unit quaternion turning DEGREES about DOF's axis."
+  (destructuring-bind (x y z) (dof-axis-vector dof)
+    (quat-from-axis-angle (vec3 (float x 1d0) (float y 1d0) (float z 1d0))
+                          (* (float degrees 1d0) (/ pi 180)))))
+
+(defun joint-local-rotation (joint pose)
+  "JOINT's rotation relative to its parent in POSE: the product of its DOF
+rotations in file order, as a new unit quaternion."
+  (let ((q (quat)))
+    (loop for dof in (body-joint-dofs joint)
+          for i from (body-joint-dof-start joint)
+          do (setf q (q* q (dof-rotation dof (aref pose i)))))
+    q))
+
+(defun joint-offset (joint)
+  "JOINT's centre relative to its parent's centre (to the origin, for the root), as a vec3."
+  (let ((center (body-joint-center joint))
+        (parent (body-joint-parent joint)))
+    (flet ((coordinate (i)
+             (- (svref center i) (if parent (svref (body-joint-center parent) i) 0d0))))
+      (vec3 (coordinate 0) (coordinate 1) (coordinate 2)))))
+
+(defun pose-world-transforms (skeleton pose &key (placement (identity-transform)) result)
+  "The world transform of each joint of SKELETON in POSE, as a simple-vector of
+MAT4s indexed like SKELETON-JOINTS (stored into RESULT when given).  PLACEMENT
+is the body's own world transform (its scene object's).  A joint's transform
+maps its rest-frame offsets from its centre to world points, so its
+translation is where the joint is."
+  (check-argument 'pose-world-transforms 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
+  (check-argument 'pose-world-transforms 'pose pose (lambda (x) (pose-of-p skeleton x)) (pose-phrase skeleton))
+  (check-argument 'pose-world-transforms :placement placement (lambda (x) (typep x 'mat4)) "a MAT4 (a 4x4 double-float array)")
+  (if result
+      (check-argument 'pose-world-transforms :result result
+                      (lambda (x) (and (simple-vector-p x) (= (length x) (length (skeleton-joints skeleton)))
+                                       (every (lambda (m) (typep m 'mat4)) x)))
+                      (format nil "NIL or a simple-vector of ~D MAT4s" (length (skeleton-joints skeleton))))
+      (setf result (map 'simple-vector (lambda (joint) (declare (ignore joint)) (identity-transform))
+                        (skeleton-joints skeleton))))
+  (loop for joint across (skeleton-joints skeleton)
+        for index from 0
+        for parent = (body-joint-parent joint)
+        for local = (make-transform :rotation (joint-local-rotation joint pose)
+                                    :translation (joint-offset joint))
+        do (transform-compose (if parent (svref result (body-joint-index parent)) placement)
+                              local (svref result index)))
+  result)
+
+(defun joint-world-position (transforms joint)
+  "Where JOINT is in the world, from TRANSFORMS (see POSE-WORLD-TRANSFORMS), as a new vec3."
+  (check-argument 'joint-world-position 'joint joint #'body-joint-p "a joint of a skeleton (from find-joint)")
+  (check-argument 'joint-world-position 'transforms transforms
+                  (lambda (x) (and (simple-vector-p x) (> (length x) (body-joint-index joint))
+                                   (typep (svref x (body-joint-index joint)) 'mat4)))
+                  "a simple-vector of MAT4s, one per joint (from pose-world-transforms)")
+  (transform-translation (svref transforms (body-joint-index joint))))
+
+(defun joint-world-transform (skeleton pose joint &optional (placement (identity-transform)))
+  "The world transform of JOINT alone in POSE, walking its parent chain from
+PLACEMENT; cheaper than POSE-WORLD-TRANSFORMS when one joint is wanted."
+  (declare (ignore skeleton))
+  (let ((chain (loop for j = joint then (body-joint-parent j) while j collect j))
+        (world (transform-compose placement (identity-transform))))
+    (dolist (j (nreverse chain) world)
+      (transform-compose world (make-transform :rotation (joint-local-rotation j pose)
+                                               :translation (joint-offset j))
+                         world))))

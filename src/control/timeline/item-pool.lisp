@@ -1,0 +1,201 @@
+;;;; item-pool.lisp -- agenda items used again.  A timed controller makes three
+;;;; to five items for every event it plans.  Made fresh, they were two thirds
+;;;; of what it allocated (about 450 of 675 bytes an event); at a million
+;;;; events a second that is half a gigabyte a second, and once a garbage
+;;;; collection has handed pages back to the system, touching fresh ones cost
+;;;; more than the work (a page fault every 25 events, the rate halved).  So
+;;;; an item nothing can reach any more goes back to its agenda's pool, and the
+;;;; recorder takes the next item from there.
+;;;;
+;;;; An item is retired (RETIRE-ITEM) only where nothing can reach it again:
+;;;;  - every item of a run that played to its end, at its :FINISH (FINISH-RUN):
+;;;;    all of them have come off the agenda by then (unless a :time directive
+;;;;    left changes due after the end: each of those once it is applied);
+;;;;  - the items of a run planned on trial and not started (FORGET-PLAN);
+;;;;  - at a cut, the items of the cut run already played that neither play on
+;;;;    (as live ops) nor are kept (CUT-RUN);
+;;;;  - the items a cut cancelled, all at once once the cut is made
+;;;;    (RETIRE-CANCELLED-ITEMS), and a cancelled timer's item when the agenda
+;;;;    discards it (AGENDA-NEXT);
+;;;;  - an item of a run already over (cut) once it is applied (ADVANCE-TIMELINE);
+;;;;  - a live op when it leaves the live ops (FORGET-ENDED-OPS).
+;;;; A run counts its items not retired; the last one of a run that is over
+;;;; retires the run.  The conses of a run's item list go back when the run
+;;;; is over: all at once at its end, or, when it is cut, as the agenda passes
+;;;; them (the list is then the run's alone).  An item never retired is left
+;;;; to the garbage collector: a case missed costs memory, never correctness.
+
+(in-package #:player.control)
+
+(declaim #.*timeline-optimize*)                 ; the engine's policy (agenda.lisp)
+
+;; Inline: the recorder takes an item for every op, state change and macro
+;; span of every event a timed controller plans.
+(declaim (inline fresh-agenda-item))
+(defun fresh-agenda-item (agenda kind time run &optional (seq (agenda-next-seq agenda)))
+  "A pending item of KIND due at TIME for RUN, with sequence number SEQ
+(AGENDA's next): one from AGENDA's pool, every slot set again, or a new one."
+  (declare (agenda agenda) (double-float time) (fixnum seq))
+  (let ((item (agenda-free agenda)))
+    (when run
+      (incf (run-live-items run)))
+    (if (null item)
+        (make-agenda-item kind time seq run)
+        (progn
+          (setf (agenda-free agenda) (agenda-item-owner item)
+                (agenda-item-kind item) kind
+                (agenda-item-time item) time
+                (agenda-item-seq item) seq
+                (agenda-item-run item) run
+                (agenda-item-op item) nil
+                (agenda-item-a item) nil
+                (agenda-item-b item) nil
+                (agenda-item-owner item) nil
+                (agenda-item-end item) 0d0
+                (agenda-item-step item) 0
+                (agenda-item-status item) :pending)
+          item))))
+
+(declaim (inline mark-item-free))
+(defun mark-item-free (agenda item)
+  "Mark ITEM, not retired yet, :FREE, counting it off its run's items; the
+last of a run that is over retires the run (RETIRE-ITEM's first half)."
+  (let ((run (agenda-item-run item)))
+    (when (and run (zerop (decf (run-live-items run))) (run-finished run))
+      (retire-run agenda run)))
+  (setf (agenda-item-status item) :free))
+
+;; Inline: an item is retired for every one a timed controller records.
+(declaim (inline retire-item))
+(defun retire-item (agenda item)
+  "Nothing reaches ITEM any more: mark it :FREE and put it in AGENDA's pool;
+an agenda that does not recycle (*RECYCLE-AGENDA-ITEMS*) poisons it instead,
+KIND :FREE and nothing referred to.  An item already retired is left alone.
+The last item of a run that is over retires the run too."
+  (declare (agenda agenda) (agenda-item item))
+  (unless (item-status-p item :free)
+    (mark-item-free agenda item)
+    (if (agenda-recycle agenda)
+        ;; The pool is chained through OWNER: no cons per item.  The other
+        ;; slots are set when the item is taken again (FRESH-AGENDA-ITEM).
+        (setf (agenda-item-owner item) (agenda-free agenda)
+              (agenda-free agenda) item)
+        ;; KIND :FREE, so applying a retired item is an ECASE error, not a
+        ;; silent wrong state.
+        (setf (agenda-item-kind item) :free
+              (agenda-item-run item) nil
+              (agenda-item-op item) nil
+              (agenda-item-a item) nil
+              (agenda-item-b item) nil
+              (agenda-item-owner item) nil)))
+  nil)
+
+(defun new-cons (first rest)
+  "(CONS FIRST REST), out of line: SPARE-CONS is inline in many places and
+seldom needs a new cons once the spares are warm, so each copy of it calls
+this instead of carrying the allocation itself."
+  (cons first rest))
+
+;; Inline: the recorder takes a cons for every item it records.
+(declaim (inline spare-cons))
+(defun spare-cons (agenda first rest)
+  "(CONS FIRST REST), with a cons from AGENDA's spares when it has one.  Every
+cons given back (GIVE-BACK-CONS) must have come from here, or the spares
+would grow without end."
+  (declare (agenda agenda))
+  (let ((cell (agenda-free-conses agenda)))
+    (if (null cell)
+        (new-cons first rest)
+        (progn (setf (agenda-free-conses agenda) (rest cell)
+                     (first cell) first
+                     (rest cell) rest)
+               cell))))
+
+(declaim (inline fresh-item-cons))
+(defun fresh-item-cons (agenda item)
+  "A list of ITEM alone, with a cons from AGENDA's spares when it has one."
+  (spare-cons agenda item '()))
+
+;; Inline: a cut run gives back a cons for every item the agenda passes.
+(declaim (inline give-back-cons))
+(defun give-back-cons (agenda cell)
+  "Keep CELL, a cons nothing else holds and SPARE-CONS made, for SPARE-CONS."
+  (declare (agenda agenda) (cons cell))
+  (when (agenda-recycle agenda)
+    (setf (rest cell) (agenda-free-conses agenda)
+          (agenda-free-conses agenda) cell)))
+
+;; Inline: a cut gives back three lists, mostly empty.
+(declaim (inline give-back-list))
+(defun give-back-list (agenda list)
+  "Keep the conses of LIST, which nothing else holds and SPARE-CONS made, for SPARE-CONS."
+  (declare (agenda agenda) (list list))
+  ;; Spliced in whole, in their order: one store for the list, not two a cons.
+  (when (and list (agenda-recycle agenda))
+    (let ((last list))
+      (loop while (rest last)
+            do (setf last (rest last)))
+      (setf (rest last) (agenda-free-conses agenda)
+            (agenda-free-conses agenda) list))))
+
+(defun retire-item-list (agenda items)
+  "Retire each item of ITEMS, a run's own list that nothing else shares any
+more, and keep its conses for FRESH-ITEM-CONS."
+  (declare (agenda agenda) (list items))
+  (when items
+    (let ((last items))
+      (if (agenda-recycle agenda)
+          ;; RETIRE-ITEM's pooling, the pool's head kept in a variable and
+          ;; stored once: the same chain, one pointer store less per item.
+          (let ((free (agenda-free agenda)))
+            (loop (let ((item (first last)))
+                    (unless (item-status-p item :free)
+                      (mark-item-free agenda item)
+                      (setf (agenda-item-owner item) free
+                            free item)))
+                  (if (rest last)
+                      (setf last (rest last))
+                      (return)))
+            (setf (agenda-free agenda) free
+                  (rest last) (agenda-free-conses agenda)
+                  (agenda-free-conses agenda) items))
+          (loop (retire-item agenda (first last))
+                (if (rest last)
+                    (setf last (rest last))
+                    (return)))))))
+
+(defun retire-run-item-list (agenda run items)
+  "RETIRE-ITEM-LIST of ITEMS, all of them RUN's: those not retired yet are
+counted off RUN all at once."
+  (declare (agenda agenda) (list items))
+  (if (and items (agenda-recycle agenda))
+      (let ((free (agenda-free agenda))
+            (count 0)
+            (last items))
+        (declare (fixnum count))
+        (loop (let ((item (first last)))
+                (unless (item-status-p item :free)
+                  (setf (agenda-item-status item) :free
+                        (agenda-item-owner item) free
+                        free item)
+                  (incf count)))
+              (if (rest last)
+                  (setf last (rest last))
+                  (return)))
+        (setf (agenda-free agenda) free
+              (rest last) (agenda-free-conses agenda)
+              (agenda-free-conses agenda) items)
+        ;; RETIRE-ITEM would retire RUN at its last item: the same, once.
+        (when (and (zerop (decf (run-live-items run) count)) (run-finished run))
+          (retire-run agenda run)))
+      (retire-item-list agenda items)))
+
+;; Inline: a run that plays to its end makes one, as its last item comes up.
+(declaim (inline finish-item))
+(defun finish-item (agenda run)
+  "RUN's :FINISH item, made now that the run has played every item due before
+its end (WITH-FINISH): due then, with the sequence number it was given when it
+was planned, so it sorts exactly where a :FINISH recorded then would have.  A
+run cut short, or planned on trial and dropped, never makes one."
+  (setf (run-finish run)
+        (fresh-agenda-item agenda :finish (run-finish-time run) run (run-finish-seq run))))

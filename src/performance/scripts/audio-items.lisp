@@ -1,0 +1,82 @@
+;;;; audio-items.lisp -- the script items that sound: (:say TEXT) speaks with
+;;;; the beak moving, (:sound FILE) plays a sound effect (see the language
+;;;; reference at the top of scripts.lisp).
+
+(in-package #:player.performance)
+
+(defstruct (say-item (:include script-item))
+  "TEXT spoken by VOICE (or NIL for the default) at RATE words a minute (or NIL)."
+  (text "" :type string :read-only t)
+  (voice nil :read-only t)
+  (rate nil :read-only t))
+
+(defstruct (sound-item (:include script-item))
+  "The sound effect read from the WAV file PATH."
+  (path nil :read-only t)
+  (sound nil :read-only t))
+
+;;; Speech and sounds: the text is checked now, spoken when it plays; a sound
+;;; file is read now, so a missing one is an error at its line.
+
+(defvar *library-directory* nil
+  "While a library is read: the directory its file names (poses, sounds) are relative to.")
+
+(defun parse-say-item (item at arguments)
+  "(:at T :say \"TEXT\" [:voice \"VOICE\"] [:rate WPM] [:for D])."
+  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:voice :rate :for))
+    (destructuring-bind (&key voice rate &allow-other-keys) options
+      (unless (and (stringp (first parts)) (<= 1 (length (first parts)) 2000))
+        (script-fail item ":say takes the text to speak, a string of 1 to 2000 characters, not ~A"
+                     (argument-value-text (first parts))))
+      (unless (or (null voice) (and (stringp voice) (< 0 (length voice) 40) (every #'graphic-char-p voice)))
+        (script-fail item ":voice must be the name of an espeak-ng voice, such as \"en-us\""))
+      (unless (or (null rate) (and (integerp rate) (<= 80 rate 450)))
+        (script-fail item ":rate must be an integer from 80 to 450 (words a minute), not ~A"
+                     (argument-value-text rate)))
+      (make-say-item :at at :until until :form item :text (first parts) :voice voice :rate rate))))
+
+(defun say-item-motor-call (visemes)
+  "The :lips call that moves the jaw through VISEMES, ((SECONDS VISEME) ...):
+what a :say item drives, so channel and playability checks treat it as one."
+  (parse-motor-frame (list :lips :visemes visemes)))
+
+(defun parse-sound-item (item at arguments)
+  "(:at T :sound \"FILE.wav\" [:for D]): the file is read now."
+  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:for))
+    (declare (ignore options))
+    (unless (and (stringp (first parts)) (plusp (length (first parts))))
+      (script-fail item ":sound takes a WAV file's name in a string, not ~A" (argument-value-text (first parts))))
+    (let ((path (merge-pathnames (first parts) (or *library-directory* *default-pathname-defaults*))))
+      (make-sound-item :at at :until until :form item :path path
+                       :sound (handler-case (read-wav path)
+                                (speech-error (error) (script-fail item "~A" error)))))))
+
+;;; ---------------------------------------------------------------------------
+;;; Property types
+
+(defun builtin-property-type (property)
+  "The type of the built-in PROPERTY, or NIL for any other."
+  (second (assoc property *builtin-properties* :test #'name=)))
+
+(defun set-value-kind (value)
+  "The kind of a :set VALUE: :boolean for T and NIL, else its control value kind."
+  (if (member value '(t nil)) :boolean (value-kind-of value)))
+
+(defun check-property-kind (form property type kind &key value animated)
+  "Signal a SCRIPT-ERROR about the item FORM when values of KIND (:number, :vec3,
+:quat or :boolean), set (VALUE, for a range check) or ANIMATED by a control,
+cannot go into PROPERTY of TYPE (NIL when unknown: anything goes)."
+  (let ((item form)
+        (wanted (ecase type
+                  ((nil) kind) (:number :number) ((:vector :colour) :vec3)
+                  (:rotation :quat) (:boolean :boolean))))
+    (cond ((and (eq type :boolean) animated)
+           (script-fail item "~A is a boolean property: set it with :set, it cannot be animated"
+                        (lisp-text property)))
+          ((not (eq kind wanted))
+           (script-fail item "~A is a ~(~A~) property, and this gives it a ~(~A~)"
+                        (lisp-text property) type kind))
+          ((and (eq type :colour) (vec3-p value)
+                (notevery (lambda (x) (<= 0 x 1)) (list (vec3-x value) (vec3-y value) (vec3-z value))))
+           (script-fail item "~A is a colour: each of red, green and blue must lie in [0, 1]"
+                        (lisp-text property))))))

@@ -1,0 +1,167 @@
+;;;; camera.lisp -- where a frame is seen from: the scene's camera object (or a
+;;;; default one framing the characters), orbit offsets for the viewer, and the
+;;;; view and perspective matrices the shaders take.
+
+(in-package #:player.render)
+
+;;; A camera object looks along its own -z with +y up, like an OpenGL eye, so
+;;; its world transform is the inverse of the view matrix.  Its FOV property
+;;; is the vertical field of view in degrees.  Matrices here are MAT4-shaped
+;;; (row, column) double-float arrays; UPLOAD-MATRIX hands them to GL.
+
+(defparameter *default-fov* 35d0
+  "Vertical field of view, in degrees, of a camera without a FOV property.")
+
+(defparameter *near-plane* 0.02d0 "Metres from the eye to the near clipping plane.")
+(defparameter *far-plane* 80d0 "Metres from the eye to the far clipping plane.")
+
+(defparameter *default-camera-pitch* -8d0
+  "Degrees the default camera looks down, so the floor under the character shows.")
+
+(defstruct (view (:constructor %make-view))
+  "A frame's viewpoint: VIEW-PROJECTION maps world points to clip space,
+INVERSE-VIEW-PROJECTION back; EYE is the camera's world position, CAMERA its
+world transform (after any orbit), FOV its vertical field in degrees."
+  view-projection inverse-view-projection eye camera (fov *default-fov*))
+
+(defstruct (orbit (:constructor make-orbit (&key (yaw 0d0) (pitch 0d0) (distance 1d0))))
+  "How the viewer has moved the camera: YAW about the world's up axis and PITCH
+about the camera's own x axis (radians), both around the point the camera
+looks at, and DISTANCE, a factor on how far from that point it stands."
+  (yaw 0d0 :type double-float)
+  (pitch 0d0 :type double-float)
+  (distance 1d0 :type double-float))
+
+;;;# Matrices
+
+(defun mat4* (a b)
+  "The product A B of two 4x4 double-float matrices, as a new one."
+  (let ((m (make-array '(4 4) :element-type 'double-float :initial-element 0d0)))
+    (dotimes (i 4 m)
+      (dotimes (j 4)
+        (setf (aref m i j) (loop for k below 4 sum (* (aref a i k) (aref b k j))))))))
+
+(defun perspective-matrices (fov aspect near far)
+  "The OpenGL perspective projection for a vertical field of FOV degrees, width
+over height ASPECT and clipping planes NEAR and FAR, and its inverse: two values."
+  (let* ((f (/ 1d0 (tan (* 0.5d0 (float fov 1d0) (/ pi 180)))))
+         (a (/ (+ far near) (- near far)))
+         (b (/ (* 2 far near) (- near far)))
+         (p (make-array '(4 4) :element-type 'double-float :initial-element 0d0))
+         (inverse (make-array '(4 4) :element-type 'double-float :initial-element 0d0)))
+    (setf (aref p 0 0) (/ f aspect) (aref p 1 1) f (aref p 2 2) a (aref p 2 3) b (aref p 3 2) -1d0
+          (aref inverse 0 0) (/ aspect f) (aref inverse 1 1) (/ f)
+          (aref inverse 2 3) -1d0 (aref inverse 3 2) (/ b) (aref inverse 3 3) (/ a b))
+    (values p inverse)))
+
+(defun upload-matrix (location matrix)
+  "Set the mat4 uniform at LOCATION to MATRIX (row, column indexed), column-major as GL reads it."
+  (cffi:with-foreign-object (floats :float 16)
+    (dotimes (column 4)
+      (dotimes (row 4)
+        (setf (cffi:mem-aref floats :float (+ row (* 4 column))) (float (aref matrix row column) 1f0))))
+    (gl-uniform-matrix4fv location 1 +gl-false+ floats)))
+
+(defun project-point (view point width height)
+  "Where the world vec3 POINT lands in a WIDTH x HEIGHT frame seen through VIEW:
+pixel column and row (top-down, fractional) as two values, and its clip w."
+  (let* ((m (view-view-projection view))
+         (p (list (vec3-x point) (vec3-y point) (vec3-z point) 1d0))
+         (clip (loop for i below 4 collect (loop for j below 4 for x in p sum (* (aref m i j) x))))
+         (w (fourth clip)))
+    (values (* width (* 0.5d0 (+ 1 (/ (first clip) w))))
+            (* height (* 0.5d0 (- 1 (/ (second clip) w))))
+            w)))
+
+;;;# What there is to look at
+
+(defun scene-bodies (scene)
+  "SCENE's visible bodies, in scene order."
+  (remove-if-not (lambda (object) (and (typep object 'body) (property-value object 'visible)))
+                 (scene-objects scene)))
+
+(defun body-rest-extent (body)
+  "The box around BODY's joints in its skeleton's rest pose at its placement,
+each joint grown by its radius, as two vec3s MIN and MAX.  The default camera
+frames this, not the current pose, so that it holds still while the body moves."
+  (let ((placement (object-world-transform body))
+        (low (list most-positive-double-float most-positive-double-float most-positive-double-float))
+        (high (list most-negative-double-float most-negative-double-float most-negative-double-float)))
+    (loop for joint across (skeleton-joints (body-skeleton body))
+          for r = (body-joint-radius joint)
+          for p = (transform-point placement (apply #'make-vec3 (coerce (body-joint-center joint) 'list)))
+          for xyz = (list (vec3-x p) (vec3-y p) (vec3-z p))
+          do (setf low (mapcar (lambda (a b) (min a (- b r))) low xyz)
+                   high (mapcar (lambda (a b) (max a (+ b r))) high xyz)))
+    (values (apply #'make-vec3 low) (apply #'make-vec3 high))))
+
+(defun scene-focus (scene)
+  "The centre and radius (two values) of a sphere around SCENE's bodies in their
+rest poses, or a point a metre up and radius 1 when it has none."
+  (let ((boxes (loop for body in (scene-bodies scene)
+                     collect (multiple-value-list (body-rest-extent body)))))
+    (if (null boxes)
+        (values (vec3 0d0 1d0 0d0) 1d0)
+        (let ((low (reduce (lambda (a b) (vec3 (min (vec3-x a) (vec3-x b)) (min (vec3-y a) (vec3-y b))
+                                               (min (vec3-z a) (vec3-z b))))
+                           (mapcar #'first boxes)))
+              (high (reduce (lambda (a b) (vec3 (max (vec3-x a) (vec3-x b)) (max (vec3-y a) (vec3-y b))
+                                                (max (vec3-z a) (vec3-z b))))
+                            (mapcar #'second boxes))))
+          (values (vlerp low high 0.5d0) (* 0.5d0 (vdistance low high)))))))
+
+;;;# Cameras
+
+(defun scene-camera (scene)
+  "SCENE's first camera object, or NIL."
+  (find :camera (scene-objects scene) :key #'object-kind))
+
+(defun camera-fov (camera)
+  "CAMERA's vertical field of view in degrees: its FOV property, else *DEFAULT-FOV*."
+  (let ((fov (and camera (property-type camera 'fov nil) (property-value camera 'fov))))
+    (if (and fov (< 1 fov 179)) (float fov 1d0) *default-fov*)))
+
+(defun default-camera-transform (scene &optional (fov *default-fov*))
+  "A camera pose framing SCENE's characters from their front (+z), a little
+above and looking slightly down, far enough back that the sphere around them
+fills 85% of the height of a FOV-degree view."
+  (multiple-value-bind (centre radius) (scene-focus scene)
+    (let* ((rotation (quat-from-axis-angle (vec3 1d0 0d0 0d0) (* *default-camera-pitch* (/ pi 180))))
+           (back (qrotate rotation (vec3 0d0 0d0 1d0)))
+           (distance (/ radius (* 0.85d0 (tan (* 0.5d0 fov (/ pi 180)))))))
+      (make-transform :rotation rotation :translation (v+ centre (v* back distance))))))
+
+(defun orbit-transform (camera focus orbit)
+  "The camera transform CAMERA moved by ORBIT around the point FOCUS metres in
+front of it: yawed about world +y, pitched about its own x, its distance scaled."
+  (let* ((forward (transform-vector camera (vec3 0d0 0d0 -1d0)))
+         (pivot (v+ (transform-translation camera) (v* forward focus)))
+         (yaw (quat-from-axis-angle (vec3 0d0 1d0 0d0) (orbit-yaw orbit)))
+         (pitch (quat-from-axis-angle (vec3 1d0 0d0 0d0) (orbit-pitch orbit)))
+         (rotation (qnormalize (q* yaw (q* (transform-rotation camera) pitch))))
+         (back (qrotate rotation (vec3 0d0 0d0 1d0))))
+    (make-transform :rotation rotation
+                    :translation (v+ pivot (v* back (* focus (max 0.05d0 (orbit-distance orbit))))))))
+
+(defun camera-focus-distance (camera scene)
+  "How far in front of CAMERA (a transform) the viewer orbits: the depth of the
+characters' centre, or 1.5 m when they are behind it or absent."
+  (let ((depth (vdot (v- (scene-focus scene) (transform-translation camera))
+                     (transform-vector camera (vec3 0d0 0d0 -1d0)))))
+    (if (> depth 0.1d0) depth 1.5d0)))
+
+(defun scene-view (scene aspect &key orbit camera)
+  "The VIEW of SCENE for a frame of width over height ASPECT: through CAMERA (a
+camera object, default the scene's first), or a default camera framing the
+characters, moved by ORBIT when given."
+  (let* ((object (or camera (scene-camera scene)))
+         (fov (camera-fov object))
+         (transform (if object (object-world-transform object) (default-camera-transform scene fov)))
+         (transform (if orbit
+                        (orbit-transform transform (camera-focus-distance transform scene) orbit)
+                        transform)))
+    (multiple-value-bind (projection inverse-projection)
+        (perspective-matrices fov aspect *near-plane* *far-plane*)
+      (%make-view :view-projection (mat4* projection (transform-invert transform))
+                  :inverse-view-projection (mat4* transform inverse-projection)
+                  :eye (transform-translation transform) :camera transform :fov fov))))

@@ -1,0 +1,283 @@
+;;;; render-simulation.lisp -- a simulated scenario drawn offscreen to
+;;;; numbered PNG frames, a contact sheet of frames spread over the whole
+;;;; scenario, and optionally a video piped through ffmpeg (what `player
+;;;; render` runs).
+
+(in-package #:player.render)
+
+(defparameter *ffmpeg-program* "ffmpeg"
+  "The ffmpeg executable --video runs: a name looked up in PATH, or a path.")
+
+(defparameter *sheet-columns* 4 "Thumbnails per row of the contact sheet.")
+(defparameter *sheet-rows* 3 "Rows of thumbnails of the contact sheet, at most.")
+(defparameter *thumbnail-width* 320 "The widest a contact-sheet thumbnail may be, in pixels.")
+
+;;;# Checking what the user asked for
+
+(defparameter *max-image-side* 4096 "The widest and tallest image, in pixels, that Player renders.")
+
+(defun read-size (text)
+  "The width and height (two values) TEXT, like \"640x480\" or \"640X480\",
+gives, or NIL when it is not two integers from 1 to *MAX-IMAGE-SIDE*."
+  (let* ((x (position #\x (string-downcase text)))
+         (width (and x (ignore-errors (parse-integer text :end x))))
+         (height (and x (ignore-errors (parse-integer text :start (1+ x))))))
+    (if (and width height (<= 1 width *max-image-side*) (<= 1 height *max-image-side*))
+        (values width height)
+        nil)))
+
+(defun image-size (size)
+  "SIZE, a list (WIDTH HEIGHT) or a text \"WxH\", as two values; a RENDER-ERROR
+unless both are integers from 1 to *MAX-IMAGE-SIDE*."
+  (multiple-value-bind (width height)
+      (typecase size
+        (string (read-size size))
+        (cons (and (alexandria:proper-list-p size) (= (length size) 2)
+                   (every (lambda (n) (typep n `(integer 1 ,*max-image-side*))) size)
+                   (values-list size))))
+    (unless width
+      (render-fail "bad size ~A: give WIDTHxHEIGHT, two integers from 1 to ~D (e.g. 640x480)"
+                   (if (stringp size) (bounded-lisp-text size 60) (bounded-lisp-text size 60)) *max-image-side*))
+    (values width height)))
+
+(defun find-ffmpeg ()
+  "The path of *FFMPEG-PROGRAM*; a RENDER-ERROR naming the Debian package when it is not installed."
+  (let ((path (find-executable *ffmpeg-program*)))
+    (or path
+        (render-fail "writing a video needs ~A, which is not installed: install the Debian package ffmpeg"
+                     *ffmpeg-program*))))
+
+(defun prepare-output-directory (out)
+  "OUT (a directory designator) as a directory pathname that exists and takes
+files; its frame-*.png files from an earlier render are removed.  Signals a
+RENDER-ERROR naming the directory otherwise."
+  (let* ((directory (directory-pathname out))
+         (probe (merge-pathnames ".player-render-probe" directory)))
+    (handler-case
+        (progn (ensure-directories-exist directory)
+               (with-open-file (stream probe :direction :output :if-exists :supersede)
+                 (write-line "probe" stream))
+               (delete-file probe))
+      ((or file-error stream-error) ()
+        (render-fail "cannot write into the output directory ~A" (namestring directory))))
+    (mapc #'delete-file (directory (merge-pathnames "frame-*.png" directory)))
+    directory))
+
+;;;# Progress
+
+(defun show-progress (stream done total)
+  "Redraw the progress line on STREAM: a bar and DONE/TOTAL frames; a newline when done."
+  (when stream
+    (let ((filled (floor (* 30 done) (max 1 total))))
+      (format stream "~C[~v,,,'#A~v,,,'.A] ~D/~D frames" #\Return filled "" (- 30 filled) "" done total)
+      (when (= done total) (terpri stream))
+      (force-output stream))))
+
+;;;# The contact sheet
+
+(defun thumbnail (pixels width height factor)
+  "PIXELS (WIDTH x HEIGHT RGBA, top-down) shrunk by the integer FACTOR, each
+thumbnail pixel the mean of its FACTOR x FACTOR block: RGBA bytes and the new size."
+  (declare (type octets pixels) (type (integer 1 4096) width height factor)
+           (optimize (speed 2) (safety 1)))
+  (let* ((w (floor width factor)) (h (floor height factor))
+         (out (make-array (* w h 4) :element-type '(unsigned-byte 8)))
+         (area (* factor factor)))
+    (dotimes (y h (values out w h))
+      (dotimes (x w)
+        (dotimes (c 4)
+          (let ((sum 0))
+            (declare (type fixnum sum))
+            (dotimes (dy factor)
+              (dotimes (dx factor)
+                (incf sum (aref pixels (+ c (* 4 (+ (* x factor) dx (* width (+ (* y factor) dy)))))))))
+            (setf (aref out (+ c (* 4 (+ x (* w y))))) (round sum area))))))))
+
+(defparameter *digit-glyphs*
+  '((#\0 "111" "101" "101" "101" "111") (#\1 "010" "110" "010" "010" "111")
+    (#\2 "111" "001" "111" "100" "111") (#\3 "111" "001" "111" "001" "111")
+    (#\4 "101" "101" "111" "001" "001") (#\5 "111" "100" "111" "001" "111")
+    (#\6 "111" "100" "111" "101" "111") (#\7 "111" "001" "010" "010" "010")
+    (#\8 "111" "101" "111" "101" "111") (#\9 "111" "101" "111" "001" "111")
+    (#\. "000" "000" "000" "000" "010") (#\s "011" "100" "010" "001" "110")
+    (#\Space "000" "000" "000" "000" "000"))
+  "A 3x5 pixel font for the times on the contact sheet.")
+
+(defun draw-label (pixels width text x y &key (scale 2))
+  "Write TEXT in the 3x5 font, SCALE pixels a dot, dark on a light box, into the
+RGBA image PIXELS of WIDTH at column X, row Y (its top left)."
+  (let ((box-width (+ 2 (* scale 4 (length text)))) (box-height (+ 2 (* scale 6))))
+    (dotimes (dy box-height)
+      (dotimes (dx box-width)
+        (replace pixels #(245 245 240 255) :start1 (* 4 (+ x dx (* width (+ y dy)))))))
+    (loop for char across text
+          for left from (+ x 1 scale) by (* 4 scale)
+          do (loop for row in (rest (assoc char *digit-glyphs*))
+                   for top from (+ y 1 scale) by scale
+                   do (loop for dot across row
+                            for column from left by scale
+                            when (char= dot #\1)
+                              do (dotimes (dy scale)
+                                   (dotimes (dx scale)
+                                     (replace pixels #(30 30 30 255)
+                                              :start1 (* 4 (+ column dx (* width (+ top dy))))))))))))
+
+(defun sheet-frame-indices (count)
+  "Which of COUNT frames the contact sheet shows: up to columns x rows, evenly
+spaced from the first to the last."
+  (let ((cells (min count (* *sheet-columns* *sheet-rows*))))
+    (remove-duplicates (loop for k below cells
+                             collect (if (= cells 1) 0 (round (* k (1- count)) (1- cells)))))))
+
+(defun write-contact-sheet (path thumbnails width height)
+  "Write the THUMBNAILS, a list of (PIXELS TIME) each WIDTH x HEIGHT, as a grid
+with their times to the PNG file PATH.  Returns PATH."
+  (let* ((gap 6)
+         (columns (min *sheet-columns* (length thumbnails)))
+         (rows (ceiling (length thumbnails) columns))
+         (sheet-width (+ gap (* columns (+ width gap))))
+         (sheet-height (+ gap (* rows (+ height gap))))
+         (sheet (make-array (* 4 sheet-width sheet-height) :element-type '(unsigned-byte 8))))
+    (loop for i from 0 below (length sheet) by 4 do (replace sheet #(64 64 68 255) :start1 i))
+    (loop for (pixels time) in thumbnails
+          for k from 0
+          do (multiple-value-bind (row column) (floor k columns)
+               (let ((x (+ gap (* column (+ width gap)))) (y (+ gap (* row (+ height gap)))))
+                 (dotimes (line height)
+                   (replace sheet pixels :start1 (* 4 (+ x (* sheet-width (+ y line))))
+                                         :start2 (* 4 width line) :end2 (* 4 width (1+ line))))
+                 (let ((label (format nil "~,2F s" time)))
+                   (when (and (>= width (+ 2 (* 8 (length label)))) (>= height 16))
+                     (draw-label sheet sheet-width label (+ x 2) (+ y height -16)))))))
+    (write-png path sheet-width sheet-height sheet)))
+
+;;;# Video
+
+(defun start-ffmpeg (path width height fps log &optional audio)
+  "An ffmpeg process encoding raw RGBA frames of WIDTH x HEIGHT at FPS from its
+input into the video file PATH, with the WAV file AUDIO as its sound track when
+given, its messages going to the file LOG."
+  (sb-ext:run-program (namestring (find-ffmpeg))
+                      (append (list "-y" "-loglevel" "error" "-f" "rawvideo" "-pix_fmt" "rgba"
+                                    "-s" (format nil "~Dx~D" width height) "-r" (format nil "~A" fps)
+                                    "-i" "-")
+                              (if audio
+                                  (list "-i" (namestring audio) "-map" "0:v" "-map" "1:a" "-c:a" "aac")
+                                  (list "-an"))
+                              (list "-vf" "pad=ceil(iw/2)*2:ceil(ih/2)*2"
+                                    "-pix_fmt" "yuv420p" (namestring path)))
+                      :input :stream :output nil :error (namestring log)
+                      :if-error-exists :supersede :wait nil))
+
+(defun finish-ffmpeg (process path log)
+  "Close PROCESS's input and wait for it; a RENDER-ERROR quoting LOG when it failed."
+  (close (sb-ext:process-input process))
+  (sb-ext:process-wait process)
+  (let ((code (sb-ext:process-exit-code process)))
+    (unless (eql code 0)
+      (render-fail "ffmpeg could not write ~A (exit ~A): ~A" path code
+                   (string-trim '(#\Space #\Newline)
+                                (or (ignore-errors (alexandria:read-file-into-string log)) ""))))
+    (ignore-errors (delete-file log))))
+
+;;;# Rendering a simulation
+
+(defun render-simulation (simulation &key (out "render/") (size '(640 480)) fps video
+                                          (progress *error-output*) (antialias :fxaa))
+  "Draw SIMULATION offscreen at FPS (default its own) from time 0 to its end into
+OUT: frame-0001.png, frame-0002.png ... and sheet.png, a contact sheet of frames
+evenly spaced over the scenario with their times; speech.wav, the audio track
+\(speech and sound effects), when anything sounds; with VIDEO (a path) also a
+video encoded by ffmpeg, the audio track muxed in.  SIZE is (WIDTH HEIGHT) or
+\"WxH\".  A progress bar goes to PROGRESS (a stream, or NIL).  Returns the paths
+written: the frames, the sheet, speech.wav when written, then the video.  Signals a RENDER-ERROR for an unwritable OUT, a
+missing ffmpeg or libOSMesa, or a bad SIZE; an ARGUMENT-ERROR for the other
+arguments of the wrong kind."
+  (check-argument 'render-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
+  (check-argument 'render-simulation :out out #'pathname-designator-p
+                  "a directory's path (a string or pathname, not wild)")
+  (when fps (check-fps 'render-simulation fps))
+  (check-argument 'render-simulation :video video (lambda (x) (or (null x) (pathname-designator-p x)))
+                  (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'render-simulation :progress progress #'output-stream-designator-p
+                  "an output stream, T or NIL")
+  (check-argument 'render-simulation :antialias antialias (lambda (x) (member x '(:fxaa :msaa nil)))
+                  ":fxaa, :msaa or NIL")
+  (when (eq progress t) (setf progress *standard-output*))
+  (multiple-value-bind (width height) (image-size size)
+    (let* ((fps (or fps (simulation-fps simulation)))
+           (count (1+ (ceiling (* (simulation-end simulation) fps))))
+           (output (progn (when video (find-ffmpeg)) (prepare-output-directory out)))
+           (video (and video (merge-pathnames video)))
+           (log (merge-pathnames "ffmpeg.log" output))
+           (chosen (sheet-frame-indices count))
+           (factor (max 1 (ceiling width *thumbnail-width*)))
+                      ;; The track first (playing the performance to its end), so ffmpeg can take it.
+           (audio (write-simulation-audio simulation (/ count (float fps 1d0))
+                                           (merge-pathnames *audio-file-name* output)))
+           (frames '()) (thumbnails '()) (process nil) (drawn nil))
+      (unwind-protect
+           (with-offscreen-context ((context) width height)
+             (let ((renderer (make-renderer width height :antialias antialias)))
+               (when video (setf process (start-ffmpeg video width height fps log audio)))
+               (dotimes (index count)
+                 (let ((time (/ index (float fps 1d0))))
+                   (render-scene renderer (simulation-scene-at simulation time))
+                   (let ((pixels (renderer-pixels renderer))
+                         (path (merge-pathnames (format nil "frame-~4,'0D.png" (1+ index)) output)))
+                     (push (write-png path width height pixels) frames)
+                     (when (member index chosen)
+                       (push (list (thumbnail pixels width height factor) time) thumbnails))
+                     (when process
+                       (write-sequence pixels (sb-ext:process-input process)))))
+                 (show-progress progress (1+ index) count))
+               (delete-renderer renderer)
+               (setf drawn t)))
+        ;; A frame failed: do not leave ffmpeg waiting for the rest.
+        (when (and process (not drawn) (sb-ext:process-alive-p process))
+          (sb-ext:process-kill process 15)))
+      (when process (finish-ffmpeg process video log))
+      (append (nreverse frames)
+              (list (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
+                                         (floor width factor) (floor height factor)))
+              (and audio (list audio))
+              (and video (list video))))))
+
+;;;# Policies side by side
+
+(defun render-policy-sheet (spec policies &key initial events until (fps 24) (seed 0) scripts body
+                                               (size '(640 480)) (out "render/") (columns 6) silent)
+  "Play the scenario EVENTS (as for SIMULATE) once per policy of POLICIES, every
+event that arrives while another plays following that policy, and draw one
+row per policy of COLUMNS frames evenly spaced over the longest run into
+OUT/policies.png (SILENT as for SIMULATE).  Returns its path.  Signals what SIMULATE and
+RENDER-SIMULATION signal."
+  (check-argument 'render-policy-sheet 'policies policies
+                  (lambda (x) (and (alexandria:proper-list-p x) x
+                                   (every (lambda (p) (member p *when-busy-policies*)) x)))
+                  (format nil "a non-empty list of ~{~A~^, ~}" (mapcar #'lisp-text *when-busy-policies*)))
+  (check-argument 'render-policy-sheet :columns columns (lambda (x) (typep x '(integer 1 24)))
+                  "an integer from 1 to 24")
+  (let* ((simulations (mapcar (lambda (policy)
+                                (simulate spec :initial initial :events events :until until :when-busy policy
+                                               :fps fps :seed seed :scripts scripts :body body
+                                               :silent silent))
+                              policies))
+         (end (reduce #'max simulations :key #'simulation-end))
+         (times (loop for k below columns
+                      collect (if (= columns 1) 0d0 (* end (/ k (float (1- columns) 1d0)))))))
+    (multiple-value-bind (width height) (image-size size)
+      (let ((output (prepare-output-directory out))
+            (factor (max 1 (ceiling width *thumbnail-width*)))
+            (thumbnails '()))
+        (with-offscreen-context ((context) width height)
+          (let ((renderer (make-renderer width height)))
+            (dolist (simulation simulations)
+              (dolist (time times)
+                (render-scene renderer (performance-frame (simulation-performance simulation) time))
+                (push (list (thumbnail (renderer-pixels renderer) width height factor) time) thumbnails)))
+            (delete-renderer renderer)))
+        (let ((*sheet-columns* columns)
+              (*sheet-rows* (length policies)))
+          (write-contact-sheet (merge-pathnames "policies.png" output) (nreverse thumbnails)
+                               (floor width factor) (floor height factor)))))))
