@@ -262,13 +262,13 @@ and blank lines dropped."
 (defun command-directory (page)
   "A fresh directory for PAGE's commands, with links to the checkout's specs/,
 examples/, t/ and doc/."
-  (let ((directory (format nil "/tmp/player-doc-test-~D-~A/" (sb-posix:getpid)
+  (let ((directory (format nil "/tmp/player-doc-test-~D-~A/" (sb-unix:unix-getpid)
                            (substitute #\- #\/ page))))
     (uiop:delete-directory-tree (pathname directory) :validate t :if-does-not-exist :ignore)
     (ensure-directories-exist directory)
     (dolist (name '("specs" "examples" "t" "doc") directory)
-      (sb-posix:symlink (namestring (checkout-file (format nil "~A/" name)))
-                        (concatenate 'string directory name)))))
+      (sb-ext:run-program "/bin/ln" (list "-s" (namestring (checkout-file name))
+                                          (concatenate 'string directory name))))))
 
 (defun run-doc-command (command directory)
   "Run COMMAND (a line starting with bin/player) through /bin/sh in DIRECTORY with
@@ -368,12 +368,13 @@ may run across line breaks, as Markdown allows.  Fenced blocks are left out."
           unless (placeholder-command-p text)
             do (handler-case
                    (let ((name (second words)))
-                     (if (string= name "help")
-                         (when (third words)
-                           (unless (string= (third words) "--markdown")
-                             (player.cli::find-command (third words))))
-                         (player.cli::parse-command-arguments (player.cli::find-command name)
-                                                              (cddr words)))
+                     (cond ((null (cddr words))       ; `bin/player run`: the command's name
+                            (player.cli::find-command name))
+                           ((string= name "help")
+                            (unless (string= (third words) "--markdown")
+                              (player.cli::find-command (third words))))
+                           (t (player.cli::parse-command-arguments (player.cli::find-command name)
+                                                                   (cddr words))))
                      (pass))
                  (error (condition)
                    (fail "~A line ~D: `~A`: ~A" page line text condition))))))
@@ -417,7 +418,7 @@ may run across line breaks, as Markdown allows.  Fenced blocks are left out."
 (test cpp-page-interface-and-host
   "doc/cpp.md's interface is the generated header's, and its host program compiles
 against Peedy's timed controller and runs."
-  (let* ((directory (format nil "/tmp/player-doc-cpp-~D/" (sb-posix:getpid)))
+  (let* ((directory (format nil "/tmp/player-doc-cpp-~D/" (sb-unix:unix-getpid)))
          (interface (marked-block "doc/cpp.md" "c++-interface"))
          (host (marked-block "doc/cpp.md" "c++-host")))
     (ensure-directories-exist directory)
