@@ -46,8 +46,9 @@
 ;;;;                   `emit-c++ --timed` writes for specs/peedy.lisp;
 ;;;;   c++-host        a complete host program: compiled with g++ against that
 ;;;;                   controller and run, it must exit 0.
-;;;; doc/cli.md must be exactly what `bin/player help --markdown` prints, and
-;;;; every relative link of a page must name a file of the checkout.
+;;;; doc/cli.md must be exactly what `bin/player help --markdown` prints; every
+;;;; relative link of a page must name a file of the checkout, and so must every
+;;;; code span that starts with one of its folders (`src/control/timeline/`).
 
 (in-package #:player-tests)
 
@@ -368,18 +369,43 @@ may run across line breaks, as Markdown allows.  Fenced blocks are left out."
           unless (placeholder-command-p text)
             do (handler-case
                    (let ((name (second words)))
-                     (cond ((null (cddr words))       ; `bin/player run`: the command's name
-                            (player.cli::find-command name))
-                           ((string= name "help")
-                            (unless (string= (third words) "--markdown")
+                     (cond ((string= name "help")
+                            (unless (member (third words) '(nil "--markdown") :test #'equal)
                               (player.cli::find-command (third words))))
+                           ((null (cddr words))  ; `bin/player record`: the command's name
+                            (player.cli::find-command name))
                            (t (player.cli::parse-command-arguments (player.cli::find-command name)
                                                                    (cddr words))))
                      (pass))
                  (error (condition)
                    (fail "~A line ~D: `~A`: ~A" page line text condition))))))
 
-;;;# The CLI page, links and the C++ host
+;;;# The CLI page, links, paths and the C++ host
+
+(defparameter *checkout-folders* '("src/" "t/" "specs/" "bench/" "examples/" "bin/" "doc/")
+  "The folders whose files the docs name in backquotes, `src/control/timeline/`.")
+
+(defun page-paths (page)
+  "The paths of the checkout PAGE names as code spans, as (LINE PATH); globs and
+placeholders (`src/<layer>/`) left out."
+  (loop for text across (readme-lines page)
+        for number from 1
+        append (loop for start = (position #\` text) then (position #\` text :start (1+ end))
+                     for end = (and start (position #\` text :start (1+ start)))
+                     while end
+                     for span = (subseq text (1+ start) end)
+                     when (and (some (lambda (folder) (alexandria:starts-with-subseq folder span))
+                                     *checkout-folders*)
+                               (not (find-if (lambda (char) (find char " *<>{}")) span)))
+                       collect (list number span))))
+
+(test docs-paths
+  "Every file or folder of the checkout the README and doc/ name in backquotes exists."
+  (dolist (page (doc-pages))
+    (loop for (line path) in (page-paths page)
+          do (is-true (probe-file (checkout-file path))
+                      "~A line ~D: ~A does not exist (moved? see doc/internals/architecture.md)"
+                      page line path))))
 
 (test cli-page-is-generated
   "doc/cli.md is what `bin/player help --markdown` prints now."
