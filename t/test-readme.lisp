@@ -25,7 +25,8 @@
 ;;;;            command must exit 0, unless a line of its output starts with
 ;;;;            "player: error:", when it must fail.
 ;;;;   text, cpp, and a fence with no language: shown, not run (output, syntax,
-;;;;            excerpts), unless a marker below says otherwise.
+;;;;            excerpts), unless a marker below says otherwise; a "$ " command
+;;;;            line in one is a failure (it belongs in a console block).
 ;;;; Commands in running text, `bin/player ...` in backquotes, are checked
 ;;;; without running: the command and its options must exist and the values
 ;;;; parse, unless the span holds an upper-case placeholder (SPEC, FILE) or "...".
@@ -337,7 +338,10 @@ whose output must hold the EXPECTED lines in order; look up a make target."
                             (check-command page line command (dir))))
                          ((string= language "console")
                           (loop for (command . output) in (console-commands body)
-                                do (check-command page line command (dir) output))))))
+                                do (check-command page line command (dir) output)))
+                         ((find-if (lambda (text) (alexandria:starts-with-subseq "$ " text)) body)
+                          (fail "~A line ~D: a $ command in a ```~A block, which does not run ~
+                                 (make it a console block)" page line language)))))
       (when directory
         (uiop:delete-directory-tree (pathname directory) :validate t)))))
 
