@@ -66,7 +66,7 @@ help as the Markdown page doc/cli.md."
 
 ;;;# The command table as Markdown: doc/cli.md
 
-;;; doc/cli.md is this output, committed; t/test-docs.lisp fails when the two
+;;; doc/cli.md is this output, committed; t/test-readme.lisp fails when the two
 ;;; differ, so the page can never fall behind the table.
 
 (defun markdown-cell (text)
