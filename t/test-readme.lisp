@@ -1,30 +1,71 @@
-;;;; test-readme.lisp -- the README is tested: its Lisp blocks run, its sample trace is real.
+;;;; test-readme.lisp -- the docs are tested: README.md and every doc/**/*.md.
 ;;;;
-;;;; Every ```lisp block of README.md is read and evaluated in order, all in one
-;;;; fresh package (IN-PACKAGE forms switch, as at a REPL), output discarded;
-;;;; a block that signals an error is one failure naming its line.
-;;;; Afterwards the package is deleted, specs the blocks defined are removed and
-;;;; specs they redefined are restored.  REPL setup forms are not evaluated:
-;;;; (asdf:load-system ...), since the test runs in a loaded Player, and forms
-;;;; with the placeholder path "/path/to/" (the reader's checkout goes there).
+;;;; What a fenced block is, by its language (the word after ```), and what the
+;;;; test does with it:
+;;;;   lisp     evaluated: every block of a page in order, all in one fresh
+;;;;            package (IN-PACKAGE forms switch, as at a REPL), output
+;;;;            discarded; a block that signals an error is one failure naming
+;;;;            its page and line.  Afterwards the package is deleted, specs the
+;;;;            blocks defined are removed and specs they redefined restored.
+;;;;            REPL setup forms are not evaluated: (asdf:load-system ...),
+;;;;            since the test runs in a loaded Player, and forms with the
+;;;;            placeholder path "/path/to/" (the reader's checkout goes there).
+;;;;   sh       commands, run as written: each line (a line ending in \
+;;;;            continues on the next; # starts a comment) that starts with
+;;;;            `bin/player` runs through /bin/sh in a fresh directory holding
+;;;;            links to the checkout's specs/, examples/, t/ and doc/ (one
+;;;;            directory per page, so a page's commands see each other's
+;;;;            files), and must exit 0; a line that starts with `make` must name
+;;;;            a target of the Makefile (not run: `make test` is this run);
+;;;;            any other line is a failure.
+;;;;   console  a session: lines starting with "$ " are commands, run as in sh
+;;;;            blocks; the lines after one are its output (stdout and stderr
+;;;;            together), each of which, but "...", must appear in it, in
+;;;;            order, where "..." inside a line stands for any text.  The
+;;;;            command must exit 0, unless a line of its output starts with
+;;;;            "player: error:", when it must fail.
+;;;;   text, cpp, and a fence with no language: shown, not run (output, syntax,
+;;;;            excerpts), unless a marker below says otherwise; a "$ " command
+;;;;            line in one is a failure (it belongs in a console block).
+;;;; Commands in running text, `bin/player ...` in backquotes, are checked
+;;;; without running: the command and its options must exist and the values
+;;;; parse, unless the span holds an upper-case placeholder (SPEC, FILE) or "...".
+;;;;
 ;;;; An HTML comment on the line before a fence, <!-- readme-test: KIND (REASON) -->,
 ;;;; changes what happens to the block:
-;;;;   skip            not run (an excerpt that is not valid Lisp on its own);
+;;;;   skip            not run (an excerpt, or a window that needs a display);
 ;;;;   script-library  read as data by the script-library reader, with the
 ;;;;                   scripts it plays or starts but does not define stubbed;
 ;;;;   trace           a sample trace: each line but "..." (which inside a
 ;;;;                   line stands for any text) must appear, in order, in the
 ;;;;                   trace of `bin/player run specs/peedy.lisp --initial
-;;;;                   alert=snore --events ev-search`.
+;;;;                   alert=snore --events ev-search`;
+;;;;   file            REASON is a path of the checkout whose text the block is;
+;;;;   output          a console block whose output lines are checked (the
+;;;;                   default for console blocks; the marker says so to readers);
+;;;;   c++-interface   each line of the block must be a line of the header
+;;;;                   `emit-c++ --timed` writes for specs/peedy.lisp;
+;;;;   c++-host        a complete host program: compiled with g++ against that
+;;;;                   controller and run, it must exit 0.
+;;;; doc/cli.md must be exactly what `bin/player help --markdown` prints; every
+;;;; relative link of a page must name a file of the checkout, and so must every
+;;;; code span that starts with one of its folders (`src/control/timeline/`).
 
 (in-package #:player-tests)
 
 (def-suite* readme :in player-tests)
 
-(defun readme-lines ()
-  "README.md as a vector of lines."
-  (with-open-file (in (checkout-file "README.md") :external-format :utf-8)
+(defun readme-lines (&optional (page "README.md"))
+  "PAGE (a path relative to the checkout; README.md by default) as a vector of lines."
+  (with-open-file (in (checkout-file page) :external-format :utf-8)
     (coerce (loop for line = (read-line in nil) while line collect line) 'vector)))
+
+(defun doc-pages ()
+  "The tested pages, relative to the checkout: README.md, then doc/**/*.md in order."
+  (cons "README.md"
+        (sort (mapcar (lambda (path) (enough-namestring path *root*))
+                      (directory (checkout-file "doc/**/*.md")))
+              #'string<)))
 
 (defun marker-line-p (line)
   "True when LINE is a readme-test marker comment."
@@ -54,7 +95,9 @@ NIL when it is not of that form or the kind is unknown or the reason empty."
          (close (position #\) text :from-end t))
          (kind (and open (string-trim " " (subseq text (length "<!-- readme-test:") open)))))
     (when (and open close (alexandria:ends-with-subseq "-->" text)
-               (member kind '("skip" "script-library" "trace") :test #'string=)
+               (member kind '("skip" "script-library" "trace" "file" "output"
+                              "c++-interface" "c++-host")
+                       :test #'string=)
                (string/= "" (string-trim " " (subseq text (1+ open) close))))
       (values kind (subseq text (1+ open) close)))))
 
@@ -114,27 +157,48 @@ or removed."
               do (setf (gethash (player.spec::name-key name) player.spec::*specs*) spec))
       (delete-package package))))
 
+(defun page-blocks (page)
+  "The fenced blocks of PAGE (see README-BLOCKS), each with its kind (from its
+marker, or NIL) appended: (LINE LANGUAGE MARKER BODY KIND)."
+  (loop for block in (readme-blocks (readme-lines page))
+        collect (append block (list (and (third block) (parse-marker (third block)))))))
+
+(test readme-markers
+  "Every readme-test marker of every page is well formed and stands just before a fence."
+  (dolist (page (doc-pages))
+    (let* ((lines (readme-lines page))
+           (blocks (readme-blocks lines)))
+      (is (= (count-if #'marker-line-p lines) (count-if #'third blocks))
+          "~A: every readme-test marker must be on the line just before a fence" page)
+      (dolist (block blocks)
+        (when (and (third block) (not (parse-marker (third block))))
+          (fail "~A line ~D: malformed marker ~A (want <!-- readme-test: KIND (REASON) -->)"
+                page (first block) (third block)))))))
+
 (test readme-lisp-blocks
-  "Every ```lisp block of README.md runs, unless a marker with a reason says otherwise."
-  (let* ((lines (readme-lines))
-         (blocks (readme-blocks lines)))
-    (is (= (count-if #'marker-line-p lines) (count-if #'third blocks))
-        "every readme-test marker must be on the line just before a fence")
-    (dolist (block blocks)
-      (when (and (third block) (not (parse-marker (third block))))
-        (fail "README.md line ~D: malformed marker ~A (want <!-- readme-test: ~
-               skip|script-library|trace (REASON) -->)" (first block) (third block))))
+  "Every ```lisp block of the README and of doc/ runs, unless a marker with a
+reason says otherwise; a block marked file is that file's text."
+  (dolist (page (doc-pages))
     (call-with-readme-sandbox
      (lambda ()
-       (loop for (line language marker body) in blocks
-             for kind = (and marker (parse-marker marker))
-             when (and (string= language "lisp") (not (equal kind "skip")))
-               do (handler-case (progn (if (equal kind "script-library")
-                                           (check-library-block body)
-                                           (evaluate-block body))
-                                       (pass))
-                    (error (condition)
-                      (fail "README.md line ~D: ~A" line condition))))))))
+       (loop for (line language marker body kind) in (page-blocks page)
+             do (cond ((equal kind "file")
+                       (check-file-block page line (nth-value 1 (parse-marker marker)) body))
+                      ((and (string= language "lisp") (not (equal kind "skip")))
+                       (handler-case (progn (if (equal kind "script-library")
+                                                (check-library-block body)
+                                                (evaluate-block body))
+                                            (pass))
+                         (error (condition)
+                           (fail "~A line ~D: ~A" page line condition))))))))))
+
+(defun check-file-block (page line path body)
+  "Check that BODY (lines), PAGE's block at LINE, is the text of the checkout's file PATH."
+  (let ((file (checkout-file (string-trim " " path))))
+    (if (probe-file file)
+        (is (equal (coerce (readme-lines (string-trim " " path)) 'list) body)
+            "~A line ~D: the block is not the text of ~A" page line path)
+        (fail "~A line ~D: ~A does not exist" page line path))))
 
 (defun readme-command-trace ()
   "The trace lines `bin/player run specs/peedy.lisp --initial alert=snore
@@ -162,18 +226,254 @@ or removed."
           do (setf start (+ at (length piece))))))
 
 (test readme-sample-trace
-  "The README's sample trace lines appear, in order, in the real trace."
-  (let* ((sample (find "trace" (readme-blocks (readme-lines))
-                       :key (lambda (block) (and (third block) (parse-marker (third block))))
-                       :test #'equal))
+  "The sample trace lines of the block marked trace appear, in order, in the real trace."
+  (let* ((found (loop for page in (doc-pages)
+                      for block = (find "trace" (page-blocks page) :key #'fifth :test #'equal)
+                      when block return (cons page block)))
+         (page (car found))
+         (sample (cdr found))
          (trace (call-with-readme-sandbox #'readme-command-trace))
          (remaining trace))
-    (is-true sample "README.md has no block marked <!-- readme-test: trace (...) -->")
+    (is-true sample "no page has a block marked <!-- readme-test: trace (...) -->")
     (loop for text in (fourth sample)
           for number from (1+ (or (first sample) 0))
           for wanted = (string-trim " " text)
           unless (member wanted '("" "...") :test #'string=)
             do (let ((found (member wanted remaining :test #'sample-line-matches-p)))
-                 (is-true found "README.md line ~D: ~A is not in the trace (after the lines ~
-                                 before it):~%~{  ~A~%~}" number wanted trace)
+                 (is-true found "~A line ~D: ~A is not in the trace (after the lines ~
+                                 before it):~%~{  ~A~%~}" page number wanted trace)
                  (when found (setf remaining (rest found)))))))
+
+;;;# Commands
+
+(defun command-lines (body)
+  "The commands of an sh block's BODY (lines): continuation lines joined, comments
+and blank lines dropped."
+  (let ((commands '()) (pending ""))
+    (dolist (raw body (nreverse commands))
+      (let* ((hash (search " #" raw))
+             (line (string-right-trim " " (if (and hash (not (search "\"" raw))) (subseq raw 0 hash) raw)))
+             (continued (alexandria:ends-with-subseq "\\" line))
+             (text (concatenate 'string pending
+                                (string-trim " " (if continued (subseq line 0 (1- (length line))) line)))))
+        (cond (continued (setf pending (concatenate 'string text " ")))
+              (t (setf pending "")
+                 (unless (or (string= text "") (char= (char text 0) #\#))
+                   (push text commands))))))))
+
+(defun command-directory (page)
+  "A fresh directory for PAGE's commands, with links to the checkout's specs/,
+examples/, t/ and doc/."
+  (let ((directory (format nil "/tmp/player-doc-test-~D-~A/" (sb-unix:unix-getpid)
+                           (substitute #\- #\/ page))))
+    (uiop:delete-directory-tree (pathname directory) :validate t :if-does-not-exist :ignore)
+    (ensure-directories-exist directory)
+    (dolist (name '("specs" "examples" "t" "doc") directory)
+      (sb-ext:run-program "/bin/ln" (list "-s" (namestring (checkout-file name))
+                                          (concatenate 'string directory name))))))
+
+(defun run-doc-command (command directory)
+  "Run COMMAND (a line starting with bin/player) through /bin/sh in DIRECTORY with
+the checkout's bin/player; return (VALUES OUTPUT EXIT-CODE), OUTPUT stdout and
+stderr together."
+  (ensure-player-core)
+  (let* ((line (concatenate 'string (namestring (checkout-file "bin/player"))
+                            (subseq command (length "bin/player"))))
+         (out (make-string-output-stream))
+         (process (sb-ext:run-program "/bin/sh" (list "-c" line) :output out :error :output
+                                                                :input nil :search nil
+                                                                :directory directory)))
+    (values (get-output-stream-string out) (sb-ext:process-exit-code process))))
+
+(defun makefile-targets ()
+  "The targets the Makefile defines."
+  (with-open-file (in (checkout-file "Makefile"))
+    (loop for line = (read-line in nil) while line
+          for colon = (position #\: line)
+          when (and colon (plusp colon) (alpha-char-p (char line 0)) (not (find #\= line)))
+            collect (subseq line 0 colon))))
+
+(defun check-command (page line command directory &optional expected)
+  "Check COMMAND of PAGE's block at LINE: run a bin/player command in DIRECTORY,
+whose output must hold the EXPECTED lines in order; look up a make target."
+  (cond ((alexandria:starts-with-subseq "make " command)
+         (is (member (second (split-words command)) (makefile-targets) :test #'string=)
+             "~A line ~D: ~A: no such Makefile target" page line command))
+        ((alexandria:starts-with-subseq "bin/player " command)
+         (multiple-value-bind (output code) (run-doc-command command directory)
+           (let ((fails (some (lambda (l) (alexandria:starts-with-subseq "player: error:" l)) expected)))
+             (is (if fails (/= 0 code) (= 0 code))
+                 "~A line ~D: ~A exited ~D:~%~A" page line command code output))
+           (let ((remaining (lines output)))
+             (dolist (text expected)
+               (unless (string= (string-trim " " text) "...")
+                 (let ((found (member text remaining :test #'sample-line-matches-p)))
+                   (is-true found "~A line ~D: ~A: the line ~S is not in its output (after the ~
+                                   lines before it):~%~A" page line command text output)
+                   (when found (setf remaining (rest found)))))))))
+        (t (fail "~A line ~D: ~A: a command block may only hold bin/player and make commands"
+                 page line command))))
+
+(defun split-words (text)
+  "TEXT's words, split at spaces."
+  (remove "" (uiop:split-string text :separator " ") :test #'string=))
+
+(defun console-commands (body)
+  "A console block's BODY as ((COMMAND . OUTPUT-LINES) ...)."
+  (let ((entries '()))
+    (dolist (line body (nreverse (mapcar (lambda (e) (cons (car e) (reverse (cdr e)))) entries)))
+      (if (alexandria:starts-with-subseq "$ " line)
+          (push (list (subseq line 2)) entries)
+          (when entries (push line (cdr (first entries))))))))
+
+(test docs-commands
+  "Every command of an sh or console block of the README and doc/ runs as written."
+  (dolist (page (doc-pages))
+    (let ((directory nil))
+      (loop for (line language nil body kind) in (page-blocks page)
+            unless (equal kind "skip")
+              do (flet ((dir () (or directory (setf directory (command-directory page)))))
+                   (cond ((string= language "sh")
+                          (dolist (command (command-lines body))
+                            (check-command page line command (dir))))
+                         ((string= language "console")
+                          (loop for (command . output) in (console-commands body)
+                                do (check-command page line command (dir) output)))
+                         ((find-if (lambda (text) (alexandria:starts-with-subseq "$ " text)) body)
+                          (fail "~A line ~D: a $ command in a ```~A block, which does not run ~
+                                 (make it a console block)" page line language)))))
+      (when directory
+        (uiop:delete-directory-tree (pathname directory) :validate t)))))
+
+(defun inline-commands (lines)
+  "The `bin/player ...` code spans of LINES (a page), each as (LINE TEXT); spans
+may run across line breaks, as Markdown allows.  Fenced blocks are left out."
+  (let ((found '()) (in-fence nil))
+    (loop for i from 0 below (length lines)
+          for text = (aref lines i)
+          do (if (alexandria:starts-with-subseq "```" text)
+                 (setf in-fence (not in-fence))
+                 (unless in-fence
+                   (let ((joined (format nil "~{~A~^ ~}" (coerce (subseq lines i (min (length lines) (+ i 4))) 'list))))
+                     (loop for start = (search "`bin/player " text) then (search "`bin/player " text :start2 (1+ start))
+                           while start
+                           do (let ((end (position #\` joined :start (1+ start))))
+                                (when end (push (list (1+ i) (subseq joined (1+ start) end)) found))))))))
+    (nreverse found)))
+
+(defun placeholder-command-p (text)
+  "Is TEXT a synopsis rather than a command: an upper-case placeholder, ..., or quotes?"
+  (or (some #'upper-case-p text) (search "..." text) (find #\" text) (find #\' text)))
+
+(test docs-inline-commands
+  "Every `bin/player ...` of the docs' running text names a command and options that exist."
+  (dolist (page (doc-pages))
+    (loop for (line text) in (inline-commands (readme-lines page))
+          for words = (split-words (subseq text 0 (position #\| text)))
+          unless (placeholder-command-p text)
+            do (handler-case
+                   (let ((name (second words)))
+                     (cond ((string= name "help")
+                            (unless (member (third words) '(nil "--markdown") :test #'equal)
+                              (player.cli::find-command (third words))))
+                           ((null (cddr words))  ; `bin/player record`: the command's name
+                            (player.cli::find-command name))
+                           (t (player.cli::parse-command-arguments (player.cli::find-command name)
+                                                                   (cddr words))))
+                     (pass))
+                 (error (condition)
+                   (fail "~A line ~D: `~A`: ~A" page line text condition))))))
+
+;;;# The CLI page, links, paths and the C++ host
+
+(defparameter *checkout-folders* '("src/" "t/" "specs/" "bench/" "examples/" "bin/" "doc/")
+  "The folders whose files the docs name in backquotes, `src/control/timeline/`.")
+
+(defun page-paths (page)
+  "The paths of the checkout PAGE names as code spans, as (LINE PATH); globs and
+placeholders (`src/<layer>/`) left out."
+  (loop for text across (readme-lines page)
+        for number from 1
+        append (loop for start = (position #\` text) then (position #\` text :start (1+ end))
+                     for end = (and start (position #\` text :start (1+ start)))
+                     while end
+                     for span = (subseq text (1+ start) end)
+                     when (and (some (lambda (folder) (alexandria:starts-with-subseq folder span))
+                                     *checkout-folders*)
+                               (not (find-if (lambda (char) (find char " *<>{}")) span)))
+                       collect (list number span))))
+
+(test docs-paths
+  "Every file or folder of the checkout the README and doc/ name in backquotes exists."
+  (dolist (page (doc-pages))
+    (loop for (line path) in (page-paths page)
+          do (is-true (probe-file (checkout-file path))
+                      "~A line ~D: ~A does not exist (moved? see doc/internals/architecture.md)"
+                      page line path))))
+
+(test cli-page-is-generated
+  "doc/cli.md is what `bin/player help --markdown` prints now."
+  (multiple-value-bind (out err code) (player-command "help" "--markdown")
+    (is (= 0 code))
+    (is (string= "" err))
+    (is (string= out (alexandria:read-file-into-string (checkout-file "doc/cli.md")
+                                                       :external-format :utf-8))
+        "doc/cli.md is out of date: run bin/player help --markdown > doc/cli.md")))
+
+(defun page-links (page)
+  "The relative link targets of PAGE, as (LINE TARGET), anchors dropped."
+  (loop for text across (readme-lines page)
+        for number from 1
+        append (loop for start = (search "](" text) then (search "](" text :start2 (1+ start))
+                     while start
+                     for end = (position #\) text :start start)
+                     for target = (and end (subseq text (+ start 2) end))
+                     when (and target (string/= target "")
+                               (not (search "://" target)) (char/= (char target 0) #\#))
+                       collect (list number (subseq target 0 (position #\# target))))))
+
+(test docs-links
+  "Every relative link of the README and of doc/ names a file of the checkout."
+  (dolist (page (doc-pages))
+    (loop for (line target) in (page-links page)
+          do (is-true (probe-file (merge-pathnames target (checkout-file page)))
+                      "~A line ~D: the link ~A names no file" page line target))))
+
+(defun marked-block (page kind)
+  "The body of PAGE's block marked KIND, or a failure."
+  (let ((block (find kind (page-blocks page) :key #'fifth :test #'equal)))
+    (is-true block "~A has no block marked <!-- readme-test: ~A (...) -->" page kind)
+    (fourth block)))
+
+(test cpp-page-interface-and-host
+  "doc/cpp.md's interface is the generated header's, and its host program compiles
+against Peedy's timed controller and runs."
+  (let* ((directory (format nil "/tmp/player-doc-cpp-~D/" (sb-unix:unix-getpid)))
+         (interface (marked-block "doc/cpp.md" "c++-interface"))
+         (host (marked-block "doc/cpp.md" "c++-host")))
+    (ensure-directories-exist directory)
+    (unwind-protect
+         (progn
+           (player:emit-c++ (plan-spec (first (load-spec (checkout-file "specs/peedy.lisp"))))
+                            directory :name "peedy" :namespace "peedy" :timed t)
+           (let ((header (lines (alexandria:read-file-into-string
+                                 (merge-pathnames "peedy.hpp" directory)))))
+             (dolist (line interface)
+               (is (member line header :test #'string=)
+                   "doc/cpp.md: ~S is not a line of the generated peedy.hpp" line)))
+           (alexandria:write-string-into-file (format nil "~{~A~%~}" host)
+                                              (merge-pathnames "host.cpp" directory))
+           (let* ((out (make-string-output-stream))
+                  (compile (sb-ext:run-program "/usr/bin/env"
+                                               (list "g++" "-std=c++17" "-O1" "-Wall" "-Wextra" "-Werror"
+                                                     "-pedantic" "-I." "host.cpp" "peedy.cpp" "-o" "host")
+                                               :directory directory :output out :error :output)))
+             (is (= 0 (sb-ext:process-exit-code compile))
+                 "doc/cpp.md's host does not compile:~%~A" (get-output-stream-string out))
+             (when (= 0 (sb-ext:process-exit-code compile))
+               (let ((run (sb-ext:run-program (concatenate 'string directory "host") '()
+                                              :output out :error :output)))
+                 (is (= 0 (sb-ext:process-exit-code run))
+                     "doc/cpp.md's host exited ~D:~%~A" (sb-ext:process-exit-code run)
+                     (get-output-stream-string out))))))
+      (uiop:delete-directory-tree (pathname directory) :validate t :if-does-not-exist :ignore))))
