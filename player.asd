@@ -14,7 +14,7 @@ preconditions and effects, precompile plans from every state to every goal, and
 run the resulting state machine as Lisp closures or embedded C++."
   :version "0.1.0"
   :license "MIT"
-  :depends-on ("alexandria" "sb-md5" "cffi" "salza2" "bordeaux-threads")
+  :depends-on ("alexandria" "sb-md5" "sb-posix" "cffi" "salza2" "bordeaux-threads")
   :pathname "src"
   :components
   (;; Helpers every layer shares: the condition tree, the printer, argument checks, the limits on data.
@@ -30,6 +30,7 @@ run the resulting state machine as Lisp closures or embedded C++."
    (:module "spec" :depends-on ("base")
     :serial t
     :components ((:file "package")
+                 (:file "context")
                  (:file "model")
                  (:file "syntax")
                  (:file "expressions")

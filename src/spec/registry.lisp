@@ -20,7 +20,7 @@ is not a symbol, BODY is not a proper list, either is circular or nested too
 deeply, or BODY is malformed; unless ALLOW-CODE, also when the spec contains
 :code or :c++ (an UNTRUSTED-CODE-ERROR).  FORM-POSITIONS, the character positions of BODY's
 forms in SOURCE-FILE, let errors name the line of the form at fault."
-  (let ((*current-spec-name* (and (symbolp name) name)))
+  (with-spec-context (:spec-name (and (symbolp name) name))
     (check-form-structure (cons name body) :what "defspec form")
     (unless (and (symbolp name) name (not (keywordp name)) (not (eq name t)))
       (spec-fail 'spec-syntax-error (list 'defspec name) "a spec's name must be a symbol, not ~A"
