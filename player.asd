@@ -227,6 +227,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                   :serial t
                   :components ((:file "inbox")
                                (:file "watch")
+                               (:file "output")
                                (:file "reports")
                                (:file "swank")))
                  (:file "mesh")
@@ -387,6 +388,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-speech-recognition")
                  (:file "test-readme")
                  (:file "test-layers")
+                 (:file "test-shared-context")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")
                  (:file "fuzz-text-mutations")
