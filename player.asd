@@ -14,7 +14,7 @@ preconditions and effects, precompile plans from every state to every goal, and
 run the resulting state machine as Lisp closures or embedded C++."
   :version "0.1.0"
   :license "MIT"
-  :depends-on ("alexandria" "sb-md5" "cffi" "salza2" "bordeaux-threads")
+  :depends-on ("alexandria" "sb-md5" "sb-posix" "cffi" "salza2" "bordeaux-threads")
   :pathname "src"
   :components
   (;; Helpers every layer shares: the condition tree, the printer, argument checks, the limits on data.
@@ -30,6 +30,7 @@ run the resulting state machine as Lisp closures or embedded C++."
    (:module "spec" :depends-on ("base")
     :serial t
     :components ((:file "package")
+                 (:file "context")
                  (:file "model")
                  (:file "syntax")
                  (:file "expressions")
@@ -132,14 +133,12 @@ run the resulting state machine as Lisp closures or embedded C++."
    (:module "cpp" :depends-on ("base" "spec" "planner" "ir")
     :serial t
     :components ((:file "package")
+                 (:file "cpp-resources")
                  (:file "cpp-names")
                  (:file "cpp-words")
                  (:file "cpp")
                  (:file "cpp-steps")
                  (:file "cpp-timeline")
-                 (:file "cpp-timeline-agenda")
-                 (:file "cpp-timeline-dispatch")
-                 (:file "cpp-timeline-clock")
                  (:file "cpp-timeline-machine")
                  (:file "cpp-source")
                  (:file "cpp-drivers")
@@ -226,6 +225,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                   :serial t
                   :components ((:file "inbox")
                                (:file "watch")
+                               (:file "output")
                                (:file "reports")
                                (:file "swank")))
                  (:file "mesh")
@@ -386,6 +386,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-speech-recognition")
                  (:file "test-readme")
                  (:file "test-layers")
+                 (:file "test-shared-context")
+                 (:file "test-c++-resources")
                  (:file "fuzz")
                  (:file "fuzz-form-mutations")
                  (:file "fuzz-text-mutations")

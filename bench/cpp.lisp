@@ -96,7 +96,7 @@ Defined as the spec PEEDY-WIDE."
 (defun bench-c++ (machine lisp-rate)
   "Add the C++ rows: events/s next to LISP-RATE, the same on a two-word
 state, and lines of generated code."
-  (let ((directory (format nil "/tmp/player-bench-c++-~D/" (sb-unix:unix-getpid))))
+  (let ((directory (format nil "/tmp/player-bench-c++-~D/" (sb-posix:getpid))))
     (ensure-directories-exist directory)
     (multiple-value-bind (executable files) (build-c++-bench machine directory "peedy")
       (if (null executable)

@@ -39,7 +39,7 @@ posed, drawn, antialiased and read back."
   "PNG frames written per second at WIDTH x HEIGHT: drawn, read back, encoded
 and written to a file, as the render command does."
   (let ((scene (render-bench-scene skeleton-name))
-        (path (format nil "/tmp/player-bench-~D.png" (sb-unix:unix-getpid))))
+        (path (format nil "/tmp/player-bench-~D.png" (sb-posix:getpid))))
     (unwind-protect
          (player::with-offscreen-context ((context) width height)
            (let ((renderer (player.render::make-renderer width height)))

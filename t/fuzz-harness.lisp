@@ -25,7 +25,7 @@ payloads would create."
 
 (defun fz-open-run (&key (timeout 10) (emit-every 5) (play-every 10))
   "A fresh run directory under /tmp with the companion files copied in."
-  (let* ((directory (pathname (format nil "/tmp/player-fuzz-~D-~D-~D/" (sb-unix:unix-getpid)
+  (let* ((directory (pathname (format nil "/tmp/player-fuzz-~D-~D-~D/" (sb-posix:getpid)
                                       (get-universal-time) (incf *fz-run-counter*))))
          (run (make-fz-run :directory directory :emit (merge-pathnames "emit/" directory)
                            :marker (merge-pathnames "marker" directory) :timeout timeout

@@ -24,7 +24,7 @@
 
 (defun fz-make-directory (prefix)
   "A fresh directory /tmp/PREFIX-PID-N/."
-  (let ((directory (pathname (format nil "/tmp/~A-~D-~D-~D/" prefix (sb-unix:unix-getpid)
+  (let ((directory (pathname (format nil "/tmp/~A-~D-~D-~D/" prefix (sb-posix:getpid)
                                      (get-universal-time) (incf *fz-run-counter*)))))
     (ensure-directories-exist directory)
     directory))

@@ -179,7 +179,7 @@ progress line on its stderr."
   ;; still writing when head has gone.
   (let* ((events (format nil "~{~A~^,~}" (loop repeat 4000 collect "ev-search")))
          (script (format nil "\"$0\" run \"$1\" --initial alert=snore --events \"$2\" 2>\"$3\" | head -n 2; echo \"status ${PIPESTATUS[0]}\""))
-         (errors (format nil "/tmp/player-pipe-test-~D.err" (sb-unix:unix-getpid)))
+         (errors (format nil "/tmp/player-pipe-test-~D.err" (sb-posix:getpid)))
          (out (make-string-output-stream)))
     (sb-ext:run-program "/bin/bash" (list "-c" script (namestring (checkout-file "bin/player"))
                                           (fixture "mini.lisp") events errors)

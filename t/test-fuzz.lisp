@@ -89,7 +89,7 @@
     (is (< (length (fz-replace-token text "a" (make-string 10000 :initial-element #\b)))
            (+ (length text) *fz-max-growth* 10001))))
   ;; Raw bytes reach the file as bytes.
-  (let ((path (format nil "/tmp/player-fuzz-bytes-~D.lisp" (sb-unix:unix-getpid))))
+  (let ((path (format nil "/tmp/player-fuzz-bytes-~D.lisp" (sb-posix:getpid))))
     (unwind-protect
          (progn (fz-write-case-file (concatenate 'string "é" (fz-raw-bytes '(#xFF #xC3))) path)
                 (with-open-file (in path :element-type '(unsigned-byte 8))

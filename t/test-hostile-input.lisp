@@ -11,7 +11,7 @@
 
 (defun scratch-file (text &key (name "hostile"))
   "A fresh file under /tmp holding TEXT (a string, or octets); its path as a string."
-  (let ((path (format nil "/tmp/player-hostile-~D-~D-~A.lisp" (sb-unix:unix-getpid)
+  (let ((path (format nil "/tmp/player-hostile-~D-~D-~A.lisp" (sb-posix:getpid)
                       (incf *scratch-counter*) name)))
     (if (stringp text)
         (with-open-file (out path :direction :output :if-exists :supersede :external-format :utf-8)
@@ -43,7 +43,7 @@ it names the file's line."
 
 (defun marker-path (name)
   "A path that a hostile payload would create, unique to this test run."
-  (format nil "/tmp/player-hostile-marker-~D-~A" (sb-unix:unix-getpid) name))
+  (format nil "/tmp/player-hostile-marker-~D-~A" (sb-posix:getpid) name))
 
 (test opening-a-spec-file-runs-no-code
   (let ((read-time (marker-path "read-eval"))
@@ -140,12 +140,12 @@ it names the file's line."
   (signals spec-syntax-error (eval '(defspec "door" (state-variable x boolean false)))))
 
 (test files-that-are-not-regular-utf-8-text
-  (let ((directory (format nil "/tmp/player-hostile-dir-~D/" (sb-unix:unix-getpid))))
+  (let ((directory (format nil "/tmp/player-hostile-dir-~D/" (sb-posix:getpid))))
     (ensure-directories-exist directory)
     (let ((e (handler-case (load-spec directory) (player-error (e) e))))
       (is (search "not a regular file" (princ-to-string e))))
     (sb-ext:delete-directory directory))
-  (let ((fifo (format nil "/tmp/player-hostile-fifo-~D" (sb-unix:unix-getpid))))
+  (let ((fifo (format nil "/tmp/player-hostile-fifo-~D" (sb-posix:getpid))))
     (sb-ext:run-program "/usr/bin/mkfifo" (list fifo))
     (unwind-protect
          (let ((e (handler-case (load-spec fifo) (player-error (e) e))))

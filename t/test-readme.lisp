@@ -154,7 +154,7 @@ or removed."
           (remove-spec name)))
       (loop for (name . spec) in saved
             unless (eq spec (find-spec name nil))
-              do (setf (gethash (player.spec::name-key name) player.spec::*specs*) spec))
+              do (player.spec::register-spec spec))
       (delete-package package))))
 
 (defun page-blocks (page)

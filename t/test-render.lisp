@@ -231,7 +231,7 @@ joint grown by its projected radius."
 
 (defun scratch-directory (name)
   "A fresh, empty directory NAME under /tmp for this test run, as a string ending in /."
-  (let ((directory (format nil "/tmp/player-render-tests-~D/~A/" (sb-unix:unix-getpid) name)))
+  (let ((directory (format nil "/tmp/player-render-tests-~D/~A/" (sb-posix:getpid) name)))
     (ensure-directories-exist directory)
     (mapc #'delete-file (directory (merge-pathnames "*.*" directory)))
     directory))

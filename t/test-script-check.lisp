@@ -50,7 +50,7 @@
 
 (defun script-check-directory (name)
   "A fresh directory for case NAME, with a copy of Peedy's pose library."
-  (let ((directory (format nil "/tmp/player-tests-~D/script-check/~(~A~)/" (sb-unix:unix-getpid) name)))
+  (let ((directory (format nil "/tmp/player-tests-~D/script-check/~(~A~)/" (sb-posix:getpid) name)))
     (ensure-directories-exist directory)
     (alexandria:copy-file (checkout-file "specs/peedy-poses.lisp")
                           (merge-pathnames "peedy-poses.lisp" directory))

@@ -7,7 +7,7 @@
 
 (defun temp-path (name)
   "A fresh path NAME under a temporary directory for this test run."
-  (let ((directory (format nil "/tmp/player-tests-~D/" (sb-unix:unix-getpid))))
+  (let ((directory (format nil "/tmp/player-tests-~D/" (sb-posix:getpid))))
     (ensure-directories-exist directory)
     (concatenate 'string directory name)))
 

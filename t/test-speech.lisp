@@ -26,7 +26,7 @@
 (defun speech-file (name)
   "NAME in the speech tests' scratch directory of this test run, as a string."
   (namestring (ensure-directories-exist
-               (format nil "/tmp/player-render-tests-~D/speech/~A" (sb-unix:unix-getpid) name))))
+               (format nil "/tmp/player-render-tests-~D/speech/~A" (sb-posix:getpid) name))))
 
 (defun write-octets (path octets)
   "Write the bytes OCTETS to PATH."

@@ -136,7 +136,7 @@ RESOLVE-POSE).  Signals POSE-ERROR, naming the file and line, for a missing or
 unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
   (multiple-value-bind (entries text) (read-data-file path :what "pose library" :allow-in-package nil
                                        :fail (lambda (position message kind)
-                                               (let ((*source-position* (and position (cons (probe-file path) position))))
+                                               (with-spec-context (:source-position (and position (cons (probe-file path) position)))
                                                  (case kind
                                                    (:missing (pose-fail path "there is no pose library file ~A"
                                                                         (namestring path)))
@@ -144,17 +144,17 @@ unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
                                                                      (file-namestring path) message))
                                                    (t (pose-fail nil "~A" message))))))
     (let* ((path (probe-file path))
-           (library (%make-pose-library (pathname-name path) path))
-           ;; Errors about a clause name the clause's own line.
-           (*sub-form-places* (sub-form-places entries text path)))
-      (loop for (form start) in entries
-            do (let ((*source-position* (cons path start)))
-                 (add-pose-form library form (cons path start))))
-      (when skeleton
-        (let ((*source-position* nil))
-          (dolist (definition (pose-library-order library))
-            (resolve-pose definition skeleton))))
-      library)))
+           (library (%make-pose-library (pathname-name path) path)))
+      ;; Errors about a clause name the clause's own line.
+      (with-spec-context (:sub-form-places (sub-form-places entries text path))
+        (loop for (form start) in entries
+              do (with-spec-context (:source-position (cons path start))
+                   (add-pose-form library form (cons path start))))
+        (when skeleton
+          (with-spec-context (:source-position nil)
+            (dolist (definition (pose-library-order library))
+              (resolve-pose definition skeleton))))
+        library))))
 
 ;;;# Resolving against a skeleton
 
@@ -262,7 +262,7 @@ cycles.  Signals POSE-ERROR for anything that does not fit SKELETON."
 by index.  Signals POSE-ERROR, naming the clause (and the file and line it was
 read from), for an unknown joint, role, DOF or pose, or an angle outside the
 joint's limits."
-  (let ((*source-position* (or (pose-definition-position definition) *source-position*)))
+  (with-spec-context (:source-position (or (pose-definition-position definition) *source-position*))
     (resolve-clauses (pose-definition-clauses definition) skeleton
                      :library (pose-definition-library definition)
                      :visiting (cons definition visiting))))

@@ -186,23 +186,23 @@ for NAME-OR-PATH that is neither a symbol, a string nor a pathname."
                   (lambda (x) (or (symbolp x) (pathname-designator-p x)))
                   (format nil "a shipped skeleton's name (~{~A~^, ~}) or ~A"
                           (shipped-skeleton-names) *path-phrase*))
-  (let* ((path (skeleton-path name-or-path))
-         (*current-spec-name* nil)
-         (entries (let ((*source-position* nil))
-                    (read-data-file path :what "skeleton file" :allow-in-package nil
-                                         :fail (lambda (position message kind)
-                                                 (let ((*source-position* (and position (cons (probe-file path) position))))
-                                                   (case kind
-                                                     (:missing (skeleton-fail name-or-path "there is no skeleton file ~A"
-                                                                              (namestring path)))
-                                                     (:read (skeleton-fail nil "the Lisp reader could not read ~A: ~A"
-                                                                           (file-namestring path) message))
-                                                     (t (skeleton-fail nil "~A" message)))))))))
-    (let ((*source-position* nil))
-      (cond ((null entries) (skeleton-fail nil "~A holds no skeleton form" (file-namestring path)))
-            ((rest entries) (skeleton-fail nil "~A holds more than one form" (file-namestring path)))))
-    (let ((*source-position* (cons (probe-file path) (second (first entries)))))
-      (parse-skeleton (first (first entries)) path))))
+  (let ((path (skeleton-path name-or-path)))
+    (with-spec-context (:spec-name nil)
+      (let ((entries (with-spec-context (:source-position nil)
+                       (read-data-file path :what "skeleton file" :allow-in-package nil
+                                            :fail (lambda (position message kind)
+                                                    (with-spec-context (:source-position (and position (cons (probe-file path) position)))
+                                                      (case kind
+                                                        (:missing (skeleton-fail name-or-path "there is no skeleton file ~A"
+                                                                                 (namestring path)))
+                                                        (:read (skeleton-fail nil "the Lisp reader could not read ~A: ~A"
+                                                                              (file-namestring path) message))
+                                                        (t (skeleton-fail nil "~A" message)))))))))
+        (with-spec-context (:source-position nil)
+          (cond ((null entries) (skeleton-fail nil "~A holds no skeleton form" (file-namestring path)))
+                ((rest entries) (skeleton-fail nil "~A holds more than one form" (file-namestring path)))))
+        (with-spec-context (:source-position (cons (probe-file path) (second (first entries))))
+          (parse-skeleton (first (first entries)) path))))))
 
 (defun shipped-skeleton-names ()
   "The names of the skeletons shipped with Player, as lower-case strings."

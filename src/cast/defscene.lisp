@@ -99,7 +99,7 @@ on the origin, *MEMBER-SPACING* apart (counting every member, placed or not)."
   (loop for (member . rest) on members
         for twin = (find (cast-member-name member) rest :key #'cast-member-name :test #'string=)
         when twin
-          do (let ((*source-position* (or (form-place (cast-member-form twin)) *source-position*)))
+          do (with-spec-context (:source-position (or (form-place (cast-member-form twin)) *source-position*))
                (scene-fail 'duplicate-member-error (cast-member-form twin)
                            "two members are called ~A: give each its own name with :as"
                            (lisp-text (cast-member-name member))))))
@@ -138,39 +138,39 @@ the positions of BODY's forms in SOURCE-FILE, let errors name their lines.
 Signals a SCENE-ERROR for a malformed form, a MISSING-MEMBER-SPEC-ERROR for
 a member naming an undefined spec, a DUPLICATE-MEMBER-ERROR for two members
 of one name, an UNKNOWN-MEMBER-ERROR for a scene event addressed to no member."
-  (let ((*current-form-label* (format nil "scene ~A" (lisp-text name)))
-        (*scene-form-places* (make-hash-table :test 'eq)))
-    (check-form-structure (cons name body) :what "defscene form")
-    (unless (member-name-p name)
-      (scene-fail 'scene-error (list 'defscene name) "a scene's name must be a symbol, not ~A"
-                  (bounded-lisp-text name 60)))
-    (unless (alexandria:proper-list-p body)
-      (scene-fail 'scene-error nil "the body of defscene ~A is not a proper list" (lisp-text name)))
-    (when source-file
-      (loop for form in body for position in form-positions
-            do (setf (gethash form *scene-form-places*) (cons source-file position))))
-    (let* ((documentation (and (stringp (first body)) (rest body) (first body)))
-           (forms (if documentation (rest body) body))
-           (members '()) (events '()))
-      (dolist (form forms)
-        (let ((*source-position* (or (form-place form) *source-position*)))
-          (unless (scene-event-form-p form)
-            (push (parse-cast-member form) members))))
-      (setf members (place-members (nreverse members)))
-      (unless members
-        (scene-fail 'scene-error (list 'defscene name) "scene ~A has no members: give (SPEC :as NAME ...) forms"
-                    (lisp-text name)))
-      (check-member-names members)
-      (dolist (form forms)
-        (let ((*source-position* (or (form-place form) *source-position*)))
-          (when (scene-event-form-p form)
-            (let ((event (parse-scene-event form members)))
-              (when (assoc (car event) events :test #'string=)
-                (scene-fail 'scene-error form "scene event ~A is defined twice" (lisp-text (car event))))
-              (push event events)))))
-      (setf (gethash (name-key name) *casts*)
-            (%make-cast :name name :documentation documentation :members members
-                        :events (nreverse events) :source-file source-file)))))
+  (with-spec-context (:form-label (format nil "scene ~A" (lisp-text name)))
+    (let ((*scene-form-places* (make-hash-table :test 'eq)))
+      (check-form-structure (cons name body) :what "defscene form")
+      (unless (member-name-p name)
+        (scene-fail 'scene-error (list 'defscene name) "a scene's name must be a symbol, not ~A"
+                    (bounded-lisp-text name 60)))
+      (unless (alexandria:proper-list-p body)
+        (scene-fail 'scene-error nil "the body of defscene ~A is not a proper list" (lisp-text name)))
+      (when source-file
+        (loop for form in body for position in form-positions
+              do (setf (gethash form *scene-form-places*) (cons source-file position))))
+      (let* ((documentation (and (stringp (first body)) (rest body) (first body)))
+             (forms (if documentation (rest body) body))
+             (members '()) (events '()))
+        (dolist (form forms)
+          (with-spec-context (:source-position (or (form-place form) *source-position*))
+            (unless (scene-event-form-p form)
+              (push (parse-cast-member form) members))))
+        (setf members (place-members (nreverse members)))
+        (unless members
+          (scene-fail 'scene-error (list 'defscene name) "scene ~A has no members: give (SPEC :as NAME ...) forms"
+                      (lisp-text name)))
+        (check-member-names members)
+        (dolist (form forms)
+          (with-spec-context (:source-position (or (form-place form) *source-position*))
+            (when (scene-event-form-p form)
+              (let ((event (parse-scene-event form members)))
+                (when (assoc (car event) events :test #'string=)
+                  (scene-fail 'scene-error form "scene event ~A is defined twice" (lisp-text (car event))))
+                (push event events)))))
+        (setf (gethash (name-key name) *casts*)
+              (%make-cast :name name :documentation documentation :members members
+                          :events (nreverse events) :source-file source-file))))))
 
 (defmacro defscene (&rest name-and-body)
   "Define (or, re-evaluated, redefine) the scene NAME of several characters:

@@ -34,24 +34,24 @@ offending form; unless ALLOW-CODE, a spec holding :code or :c++ is refused."
           (*defined-specs* '())
           (casts '()))
       (loop for (form position package) in entries
-            do (let ((*source-position* (cons file position))
-                     (*package* package))
-                 (cond ((defspec-form-p form)
-                        (let ((rest (rest form)))
-                          (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
-                                       :source-file file :package package :allow-code allow-code
-                                       :form-positions (cddr (list-element-positions text position)))))
-                       ((defscene-form-p form)
-                        (let ((specs *defined-specs*))
-                          (load-member-specs form file allow-code)
-                          ;; Specs loaded from beside the file are not this file's own.
-                          (setf *defined-specs* specs))
-                        (let ((rest (rest form)))
-                          (push (define-cast (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
-                                             :source-file file
-                                             :form-positions (cddr (list-element-positions text position)))
-                                casts)))
-                       (t (spec-fail 'spec-syntax-error form
-                                     "a scene file holds only in-package, defspec and defscene forms, not ~A"
-                                     (bounded-lisp-text form 60))))))
+            do (let ((*package* package))
+                 (with-spec-context (:source-position (cons file position))
+                   (cond ((defspec-form-p form)
+                          (let ((rest (rest form)))
+                            (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
+                                         :source-file file :package package :allow-code allow-code
+                                         :form-positions (cddr (list-element-positions text position)))))
+                         ((defscene-form-p form)
+                          (let ((specs *defined-specs*))
+                            (load-member-specs form file allow-code)
+                            ;; Specs loaded from beside the file are not this file's own.
+                            (setf *defined-specs* specs))
+                          (let ((rest (rest form)))
+                            (push (define-cast (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
+                                               :source-file file
+                                               :form-positions (cddr (list-element-positions text position)))
+                                  casts)))
+                         (t (spec-fail 'spec-syntax-error form
+                                       "a scene file holds only in-package, defspec and defscene forms, not ~A"
+                                       (bounded-lisp-text form 60)))))))
       (values (nreverse casts) (reverse *defined-specs*)))))

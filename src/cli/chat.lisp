@@ -19,8 +19,8 @@
 
 (defun terminal-input-p ()
   "Is standard input a terminal (so a prompt is shown rather than the input echoed)?"
-  (let ((answer (ignore-errors (sb-unix:unix-isatty 0))))
-    ;; SBCL answers 1 or 0 (or T or NIL, in some versions).
+  ;; SB-POSIX has no isatty (SBCL 2.2), so it is called through CFFI: 1 or 0.
+  (let ((answer (ignore-errors (cffi:foreign-funcall "isatty" :int 0 :int))))
     (and answer (not (eql answer 0)))))
 
 ;;;; Turns from typed lines

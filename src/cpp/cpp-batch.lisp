@@ -9,7 +9,7 @@
 (in-package #:player.cpp)
 
 (defun renamed-main (driver name)
-  "The DRIVER's source (*TIMED-DRIVER-MAIN* or *DRIVER-MAIN*) with its main() named NAME."
+  "The DRIVER's source (from DRIVER-MAIN) with its main() named NAME."
   (let* ((main "int main(int argc, char** argv) {")
          (at (search main driver)))
     (concatenate 'string (subseq driver 0 at)
@@ -31,11 +31,9 @@ whole-event driver's)."
 ~{~%#include \"b~D.cpp\"~}~%" count (loop for i below count collect i))
     (dotimes (i count)
       (format out "~%namespace batch_~D {~%~%namespace ctl = player_b~D;~%~%" i i)
-      (write-string *driver-presenter* out)
-      (write-string *timed-driver-presenter* out)
-      (write-string *driver-presenter-end* out)
-      (write-string (renamed-main *timed-driver-main* "play") out)
-      (write-string (renamed-main *driver-main* "play_whole") out)
+      (write-string (driver-presenter t) out)
+      (write-string (renamed-main (driver-main t) "play") out)
+      (write-string (renamed-main (driver-main nil) "play_whole") out)
       (format out "~%}  // namespace batch_~D~%" i))
     (format out "~%int main(int argc, char** argv) {
   const bool whole = argc > 2 && std::strcmp(argv[2], \"whole\") == 0;

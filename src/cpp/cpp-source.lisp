@@ -13,55 +13,6 @@
   (write-string text *out*)
   (terpri *out*))
 
-(defparameter *c++-helpers*
-  "// Runtime values compare as Lisp's EQL does: 0.0 and -0.0 differ.
-[[maybe_unused]] bool same_value(long long a, long long b) { return a == b; }
-[[maybe_unused]] bool same_value(double a, double b) {
-  return a == b && std::signbit(a) == std::signbit(b);
-}
-
-// X (finite, |X| >= 1e16) as Lisp prints a double: the shortest digits that
-// read back as X, in exponent form with at least one decimal: 1.0e16, -2.5e20.
-std::string exponent_form(double x) {
-  char buffer[32];
-  const std::to_chars_result written =
-      std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific);
-  const std::string text(buffer, written.ptr);
-  const std::size_t e = text.find('e');
-  std::string mantissa = text.substr(0, e);
-  if (mantissa.find('.') == std::string::npos) mantissa += \".0\";
-  std::string exponent = text.substr(e + 1);
-  if (exponent[0] == '+') exponent.erase(0, 1);
-  return mantissa + \"e\" + exponent;
-}
-"
-  "The .cpp's private helpers (in its anonymous namespace).")
-
-(defparameter *c++-format-number*
-  "std::string format_number(double x) {
-  if (std::isnan(x)) return \"nan\";
-  if (std::isinf(x)) return x < 0 ? \"-inf\" : \"inf\";
-  if (std::fabs(x) >= 1e16) return exponent_form(x);
-  // Microseconds rounded half up, computed as Lisp computes them. |micros| < 2^74,
-  // so the integral double is split at 2^32 into exact integers, then divided by 10^6.
-  const double micros = std::floor(x * 1e6 + 0.5);
-  const double magnitude = std::fabs(micros);
-  const double high = std::floor(magnitude / 4294967296.0);
-  const std::uint64_t high_part = static_cast<std::uint64_t>(high);
-  const std::uint64_t low_part = static_cast<std::uint64_t>(magnitude - high * 4294967296.0);
-  const std::uint64_t rest = high_part % 1000000 * 4294967296ULL + low_part;
-  const std::uint64_t whole = high_part / 1000000 * 4294967296ULL + rest / 1000000;
-  const std::uint64_t fraction = rest % 1000000;
-  std::string text = (micros < 0 ? \"-\" : \"\") + std::to_string(whole);
-  if (fraction == 0) return text;
-  std::string digits = std::to_string(fraction);
-  digits = std::string(6 - digits.size(), '0') + digits;
-  while (digits.back() == '0') digits.pop_back();
-  return text + \".\" + digits;
-}
-"
-  "format_number(), printing exactly as FORMAT-NUMBER does.")
-
 (defun emit-source (machine name namespace)
   "The .cpp: helpers, tables, and every procedure."
   (let ((spec (machine-spec machine)))
@@ -76,7 +27,7 @@ std::string exponent_form(double x) {
 ")
     (emit "namespace ~A {~%namespace {~%" namespace)
     (emit-state-bits-helpers)
-    (emit-text *c++-helpers*)
+    (emit-resource "helpers.cpp")
     (dolist (var (plannable-vars machine))
       (when (and (eq (var-kind var) :enumerated) (every #'integerp (var-domain var)))
         (emit "[[maybe_unused]] const long long kValues_~A[] = {~{~A~^, ~}};" (var-id var)
@@ -85,7 +36,7 @@ std::string exponent_form(double x) {
     (emit "const char* const kEventNames[] = {~{~A, ~}nullptr};~%"
           (mapcar (lambda (e) (c++-string (lisp-text (event-name e)))) (spec-events spec)))
     (emit "}  // namespace~%")
-    (emit-text *c++-format-number*)
+    (emit-resource "format-number.cpp")  ; printing exactly as FORMAT-NUMBER does
     (emit "const char* event_name(Event e) { return kEventNames[static_cast<int>(e)]; }~%")
     (emit "bool find_event(const std::string& name, Event& out) {")
     (emit "  for (int i = 0; i < event_count; ++i)")

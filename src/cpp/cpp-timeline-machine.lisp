@@ -212,11 +212,13 @@ twins of the machine's procedures."
         (*planning* t))
     (emit "// The timed layer (EMIT-C++ :timed t): see src/cpp/cpp-timeline.lisp.~%")
     (emit-timed-tables machine)
-    (emit-text *c++-agenda*)
-    (emit-text *c++-recording*)
-    (emit-text *c++-footprints*)
-    (emit-text *c++-dispatch*)
-    (emit-text *c++-clock*)
+    ;; The machine-independent runtime, twins of src/control/timeline/: the
+    ;; agenda (agenda.lisp), recording while planning ahead (recorder.lisp),
+    ;; footprints (footprints.lisp), dispatch, the start gate and cuts
+    ;; (arrivals.lisp, timeline.lisp, cuts.lisp), the clock (advance.lisp, timers.lisp).
+    (dolist (part '("timeline-agenda.cpp" "timeline-recording.cpp" "timeline-footprints.cpp"
+                    "timeline-dispatch.cpp" "timeline-clock.cpp"))
+      (emit-resource part))
     (emit-planning-setters machine)
     (loop for goal across (machine-goal-table machine) do (emit-achiever goal machine))
     (dolist (op (spec-ops spec))

@@ -17,9 +17,8 @@
 ;;;; of their instant has happened.
 ;;;;
 ;;;; This file: checks, names, the header's declarations and the tables.
-;;;; cpp-timeline-agenda.lisp, cpp-timeline-dispatch.lisp and
-;;;; cpp-timeline-clock.lisp hold the machine-independent C++ text; cpp-timeline-machine.lisp what is
-;;;; generated for each machine.
+;;;; The machine-independent C++ is in resources/ (timed-*.hpp, timed-constants.cpp,
+;;;; timeline-*.cpp); cpp-timeline-machine.lisp writes what is generated for each machine.
 
 (in-package #:player.cpp)
 
@@ -52,177 +51,23 @@ critical time needs a script library, which the C++ controller has not."
 
 ;;;# The header
 
-(defparameter *c++-timed-presenter-members*
-  "  // Calls of the timed API only (send_timed, advance, finish_events):
-  /// How long OP will take from START, asked when its event is planned ahead
-  /// (play or run_director is called when its time comes).
-  virtual double planned_duration(const Op& op, double /*start*/) { return op.duration; }
-  /// OP (nullptr when none was running), begun at START, is cut at TIME by event BY.
-  virtual void cut(const Op* /*op*/, double /*start*/, double /*time*/, const char* /*by*/) {}
-  /// EVENT, arriving at TIME while BUSY_WITH runs, is dropped (:override).
-  virtual void dropped(const char* /*event*/, double /*time*/, const char* /*busy_with*/) {}
-  /// The interrupted EVENT resumes at TIME (:interleave).
-  virtual void resumed(const char* /*event*/, double /*time*/) {}
-  /// Timer TIMER goes off (trigger TRIGGER fires) at TIME and sends its event.
-  virtual void timer(const char* /*timer*/, double /*time*/) {}
-  virtual void trigger(const char* /*trigger*/, double /*time*/) {}"
-  "The Presenter's members the timed layer calls.")
-
 (defun emit-timed-presenter-members ()
   "The Presenter's virtual members for the timed API."
-  (emit-text *c++-timed-presenter-members*))
+  (emit-resource "timed-presenter-members.hpp"))
 
-(defparameter *c++-timed-api*
-  "public:
-  // The timed API: ops occupy time, and an event arriving while others play
-  // either plays beside them (when its plan's channels and variables meet
-  // none of theirs) or is resolved by its :when-busy policy against those it
-  // meets.  A controller uses either this or send/send_at, not both.
-  enum class WhenBusy : int { as_declared, queue, preempt, override, interleave };
-  ~Controller();
-  /// E arrives at AT (not before now()): the clock advances there first; then E
-  /// starts, or POLICY (by default E's :when-busy) resolves it against the
-  /// running events it meets.  True when E was accepted; false when it was
-  /// dropped, when it started and its plan failed (failed_goal() names the
-  /// goal), when AT lies before now(), or when the timeline has stopped
-  /// (timeline_error()).
-  bool send_timed(Event e, double at, WhenBusy policy = WhenBusy::as_declared);
-  /// Move the clock to TIME (not before now()), presenting what falls due: op
-  /// starts, state changes with their autoscripts, event ends, waiting events,
-  /// timers and triggers.  False when TIME lies before now() or the timeline stopped.
-  bool advance(double time);
-  /// Advance until no event runs or waits (armed timers stay armed); returns now().
-  double finish_events();
-  /// Is an event running (or waiting)?
-  bool busy() const { return !runs_.empty() || !queue_.empty(); }
-  /// The timed clock.
-  double now() const { return timeline_started_ ? now_ : clock_; }
-  /// Empty, or why the timeline stopped (over 100000 things at one instant:
-  /// triggers firing each other, or zero-length ops in a loop).
-  const std::string& timeline_error() const { return timeline_error_; }
-"
-  "The timed API's declarations in the Controller.")
-
-(defparameter *c++-timed-item*
-  "private:
-  struct Run;
-  // Something due on the timeline (see src/control/timeline/agenda.lisp).
-  struct Item {
-    int kind = 0;
-    double time = 0;
-    long long seq = 0;
-    std::shared_ptr<Run> run;    // the Run it belongs to (null for a timer)
-    int event = 0;               // its Run's event
-    int op = 0;
-    double start = 0, end = 0;
-    StateBits mask{}, bits{};    // a state change: fields MASK become BITS
-    int var = 0;                 // a runtime value: variable VAR becomes INTEGER or NUMBER
-    long long integer = 0;
-    double number = 0;
-    Item* owner = nullptr;       // an op end's change -> the op; a macro start -> its end
-    const char* goal = \"\";
-    int step = 0;                // the top-level directive that made it
-    int status = 0;              // pending, done or cancelled
-    int timer = 0;
-  };"
-  "The timed layer's agenda item, in the Controller.")
-
-(defparameter *c++-timed-footprint*
-  "  // What a planned event touches (see src/control/timeline/footprints.lisp):
-  // the channels its ops declare (ALL when one declares none), the one-hot
-  // fields and the runtime variables (by slot) it mentions.
-  struct Footprint {
-    bool all = false;
-    std::uint64_t channels[~D] = {};
-    StateBits fields{};
-    std::uint64_t runtime[~D] = {};
-  };"
-  "The Footprint struct; its arrays are sized for the machine's channels and runtime variables.")
-
-(defparameter *c++-timed-types*
-  "  // One event on the timeline, from its start to its end or cut.
-  struct Run {
-    int event = 0, policy = 0, source = 0, first_step = 0;
-    bool resumed = false, finished = false;
-    bool planned = false;                      // FOOTPRINT is known
-    double start = 0;
-    Footprint footprint;
-    std::vector<std::shared_ptr<Item>> items;  // in the order they were made (until it ends)
-  };
-  // An event a timer or trigger sends at TIME, once the rest of that instant is done.
-  struct Send {
-    int event = 0;
-    double time = 0;
-    int source = 0;
-  };
-  bool timeline_started_ = false;
-  double now_ = 0;
-  long long seq_ = 0, instant_count_ = 0;
-  int step_ = 0;
-  std::vector<std::shared_ptr<Item>> agenda_;    // a heap, earliest first
-  std::vector<std::shared_ptr<Item>> live_ops_;  // ops presented, their end to come
-  std::vector<std::shared_ptr<Run>> runs_;       // the events playing, oldest first
-  std::deque<std::shared_ptr<Run>> queue_;
-  std::vector<Send> deferred_;                   // sends due at now_, first first
-  std::shared_ptr<Run> recording_;               // the run being planned ahead
-  Item* last_op_ = nullptr;                      // whose end's change comes next
-  Item* last_macro_end_ = nullptr;               // likewise
-  std::vector<Item*> open_macros_;
-  std::string timeline_error_;
-  static bool later_(const Item& a, const Item& b);
-  static bool heap_order_(const std::shared_ptr<Item>& a, const std::shared_ptr<Item>& b);
-  static bool meets_everything_(const Footprint& footprint);
-  static bool footprints_meet_(const Footprint& a, const Footprint& b);
-  void start_timeline_();
-  bool advance_to_(double time, bool dispatch = true);
-  bool note_instant_(double time);
-  void push_item_(const std::shared_ptr<Item>& item);
-  std::shared_ptr<Item> next_item_();
-  void pop_item_();
-  Item& record_(int kind, double time);
-  void record_op_(int op, double start, double end);
-  void record_delta_(const StateBits& mask, const StateBits& bits, double time, Item* owner);
-  void record_state_(const StateBits& next, double time);
-  void record_value_(int var, long long value, double time);
-  void record_value_(int var, double value, double time);
-  void record_macro_start_(int op, double start);
-  void record_macro_end_(int op, double start, double end);
-  void project_state_(double time);
-  int dispatch_(int event, double time, int policy, int source);
-  int resolve_busy_(const std::shared_ptr<Run>& run, double time, int policy);
-  int start_run_(const std::shared_ptr<Run>& run, double time);
-  void install_run_(const std::shared_ptr<Run>& run, double time);
-  int plan_run_(const std::shared_ptr<Run>& run, double time, bool all_due = false);
-  bool untried_(const Run& run) const;
-  int plan_on_trial_(const std::shared_ptr<Run>& run, double time);
-  int plan_footprint_(const std::shared_ptr<Run>& run, double time, bool all_due);
-  bool gate_run_(const std::shared_ptr<Run>& run, double& time, int& result, int trial);
-  int start_or_wait_(const std::shared_ptr<Run>& run, double time, int trial);
-  void note_footprint_(Run& run) const;
-  void forget_plan_(Run& run) const;
-  bool meets_running_(const Run& run) const;
-  double settled_time_(const Run* run, double time, const Footprint& footprint) const;
-  double cut_run_(Run& run, double time, int by, const Footprint& footprint, int& resume);
-  void keep_finished_macros_(const Run& run, std::vector<std::shared_ptr<Item>>& keep, double cut_time);
-  void apply_item_(const std::shared_ptr<Item>& item);
-  void finish_run_(std::shared_ptr<Run> run, double time);
-  void start_waiting_runs_(double time);
-  void arm_timer_(int timer, double time);
-  void fire_timer_(const std::shared_ptr<Item>& item, double time);
-  void send_own_(int event, double time, int source);
-  // Generated for this machine:
-  int plan_event_(int event, int from);
-  void record_time_variables_(int event, double time);
-  void restore_values_(const State& saved);
-  void apply_value_(const Item& item, bool notify);
-  double op_cut_time_(const Item& item, double time) const;
-  bool cut_effects_(int op, StateBits& mask, StateBits& bits) const;
-  void start_timers_();
-  void note_event_for_timers_(int event, int source, double time);
-  void start_triggers_();
-  void check_triggers_(double time);
-  bool trigger_holds_(int trigger);"
-  "The timed layer's private types, members and procedures in the Controller.")
+(defun emit-footprint-struct (channel-words runtime-words)
+  "The Footprint struct, in the Controller; its arrays hold CHANNEL-WORDS and
+RUNTIME-WORDS 64-bit words, sized for the machine (so it is written here, not
+kept in resources/)."
+  (emit "  // What a planned event touches (see src/control/timeline/footprints.lisp):")
+  (emit "  // the channels its ops declare (ALL when one declares none), the one-hot")
+  (emit "  // fields and the runtime variables (by slot) it mentions.")
+  (emit "  struct Footprint {")
+  (emit "    bool all = false;")
+  (emit "    std::uint64_t channels[~D] = {};" channel-words)
+  (emit "    StateBits fields{};")
+  (emit "    std::uint64_t runtime[~D] = {};" runtime-words)
+  (emit "  };"))
 
 (defun spec-channel-names (spec)
   "The channel names SPEC's ops declare, each once, in order of first mention."
@@ -244,10 +89,10 @@ critical time needs a script library, which the C++ controller has not."
 and the planning twins of the machine's procedures."
   (let* ((spec (machine-spec machine))
          (timers (max 1 (length (spec-timers spec)))))
-    (emit-text *c++-timed-api*)
-    (emit-text *c++-timed-item*)
-    (emit *c++-timed-footprint* (channel-words spec) (runtime-words machine))
-    (emit-text *c++-timed-types*)
+    (emit-resource "timed-api.hpp")
+    (emit-resource "timed-item.hpp")
+    (emit-footprint-struct (channel-words spec) (runtime-words machine))
+    (emit-resource "timed-types.hpp")
     (emit "  std::shared_ptr<Item> timer_items_[~D];" timers)
     (emit "  double timer_due_[~D] = {};" timers)
     (emit "  long long timer_seq_[~D] = {};" timers)
@@ -268,17 +113,6 @@ and the planning twins of the machine's procedures."
 
 ;;;# Tables
 
-(defparameter *c++-timed-constants*
-  "// The timed layer (see src/control/timeline/): what an agenda item does,
-// its status, the :when-busy policies and where an event comes from.
-constexpr int kItemOp = 0, kItemDelta = 1, kItemValue = 2, kItemMacroStart = 3,
-              kItemMacroEnd = 4, kItemFail = 5, kItemFinish = 6, kItemTimer = 7;
-constexpr int kPending = 0, kDone = 1, kCancelled = 2;
-constexpr int kQueue = 1, kOverride = 3, kInterleave = 4;
-constexpr int kFromOutside = 0, kFromTimer = 1, kFromTrigger = 2;
-constexpr long long kMaxItemsPerInstant = 100000;"
-  "The timed layer's constants (policy numbers as in Controller::WhenBusy).")
-
 (defun policy-number (policy)
   "POLICY's number in Controller::WhenBusy."
   (1+ (position policy *when-busy-policies*)))
@@ -291,7 +125,7 @@ constexpr long long kMaxItemsPerInstant = 100000;"
   "The timed layer's tables: policies, field masks, timers and triggers."
   (let ((spec (machine-spec machine)))
     (emit "namespace {~%")
-    (emit-text *c++-timed-constants*)
+    (emit-resource "timed-constants.cpp")  ; policy numbers as in Controller::WhenBusy
     (emit-table "int" "kEventPolicies"
                 (mapcar (lambda (event) (princ-to-string (policy-number (event-policy event spec))))
                         (spec-events spec)))

@@ -116,59 +116,6 @@ VALUES: in a wide state, only the words MASK touches."
       (emit "using StateBits = std::array<std::uint64_t, kStateWords>;~%")
       (emit "using StateBits = std::uint64_t;~%")))
 
-(defparameter *c++-one-word-helpers*
-  "// The one-hot state's operations (here on one word; the same names serve a
-// state of several words).
-[[maybe_unused]] StateBits with_delta(StateBits bits, StateBits mask, StateBits values) {
-  return (bits & ~mask) | values;
-}
-[[maybe_unused]] bool bits_meet(StateBits a, StateBits b) { return (a & b) != 0; }
-[[maybe_unused]] void add_bits(StateBits& into, StateBits bits) { into |= bits; }
-[[maybe_unused]] StateBits common_bits(StateBits a, StateBits b) { return a & b; }
-[[maybe_unused]] StateBits differing_bits(StateBits a, StateBits b) { return a ^ b; }
-
-[[maybe_unused]] int field_index(std::uint64_t bits, int offset, int size) {
-  for (int i = 0; i < size; ++i)
-    if (bits >> (offset + i) & 1u) return i;
-  return 0;  // unreachable for a valid one-hot state; 0 keeps every table index in bounds
-}
-"
-  "The StateBits helpers of a one-word state.")
-
-(defparameter *c++-word-helpers*
-  "// The one-hot state's operations, word by word.
-[[maybe_unused]] StateBits with_delta(const StateBits& bits, const StateBits& mask, const StateBits& values) {
-  StateBits result;
-  for (int i = 0; i < kStateWords; ++i) result[i] = (bits[i] & ~mask[i]) | values[i];
-  return result;
-}
-[[maybe_unused]] bool bits_meet(const StateBits& a, const StateBits& b) {
-  for (int i = 0; i < kStateWords; ++i)
-    if ((a[i] & b[i]) != 0) return true;
-  return false;
-}
-[[maybe_unused]] void add_bits(StateBits& into, const StateBits& bits) {
-  for (int i = 0; i < kStateWords; ++i) into[i] |= bits[i];
-}
-[[maybe_unused]] StateBits common_bits(const StateBits& a, const StateBits& b) {
-  StateBits result;
-  for (int i = 0; i < kStateWords; ++i) result[i] = a[i] & b[i];
-  return result;
-}
-[[maybe_unused]] StateBits differing_bits(const StateBits& a, const StateBits& b) {
-  StateBits result;
-  for (int i = 0; i < kStateWords; ++i) result[i] = a[i] ^ b[i];
-  return result;
-}
-
-[[maybe_unused]] int field_index(const StateBits& bits, int offset, int size) {
-  for (int i = offset; i < offset + size; ++i)
-    if (bits[i / 64] >> (i % 64) & 1u) return i - offset;
-  return 0;  // unreachable for a valid one-hot state; 0 keeps every table index in bounds
-}
-"
-  "The StateBits helpers of a state of several words.")
-
 (defun emit-state-bits-helpers ()
   "The .cpp's StateBits helpers (in its anonymous namespace)."
-  (emit-text (if (wide-state-p) *c++-word-helpers* *c++-one-word-helpers*)))
+  (emit-resource (if (wide-state-p) "word-helpers.cpp" "one-word-helpers.cpp")))

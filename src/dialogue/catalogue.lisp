@@ -65,13 +65,14 @@ cd forms.  A DIALOGUE-ERROR names the file and line of a bad form."
                                                (declare (ignore kind))
                                                (error 'dialogue-error :position (and position (cons file position))
                                                                       :spec nil :form nil :message message))))
-         (*form-places* (make-hash-table :test 'eq))
+         (places (make-hash-table :test 'eq))
          (truename (probe-file file)))
-    (loop for (form position) in entries
-          do (when (consp form) (setf (gethash form *form-places*) (cons truename position)))
-             (unless (catalogue-form-p form)
-               (dialogue-fail form "a catalogue file holds only cd forms, not ~A" (bounded-lisp-text form 60)))
-          collect (parse-cd form))))
+    (with-spec-context (:form-places places)
+      (loop for (form position) in entries
+            do (when (consp form) (setf (gethash form places) (cons truename position)))
+               (unless (catalogue-form-p form)
+                 (dialogue-fail form "a catalogue file holds only cd forms, not ~A" (bounded-lisp-text form 60)))
+            collect (parse-cd form)))))
 
 ;;;# Looking things up
 

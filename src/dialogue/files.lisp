@@ -17,7 +17,7 @@ the file and line of the offending form."
                                                           :spec nil :form nil :message message)))
     (let ((file (probe-file file)))
       (loop for (form position) in entries
-            collect (let ((*source-position* (cons file position)))
+            collect (with-spec-context (:source-position (cons file position))
                       (unless (form-head-p form "defdialogue")
                         (dialogue-fail form "a dialogue file holds only in-package and defdialogue forms, not ~A"
                                        (bounded-lisp-text form 60)))

@@ -82,9 +82,10 @@ and line of anything that is not a well-formed user form."
                                                               (declare (ignore kind))
                                                               (error 'dialogue-error :spec nil :form nil :message message
                                                                                      :position (and position (cons truename position)))))
-          collect (let ((*form-places* (make-hash-table :test 'eq)))
-                    (when (consp form) (setf (gethash form *form-places*) (cons truename position)))
-                    (parse-memory-form form)))))
+          collect (let ((places (make-hash-table :test 'eq)))
+                    (when (consp form) (setf (gethash form places) (cons truename position)))
+                    (with-spec-context (:form-places places)
+                      (parse-memory-form form))))))
 
 (defun parse-memory-form (form)
   "The memory FORM, (user NAME :mood M :conversations N :log (ENTRY...)), describes."

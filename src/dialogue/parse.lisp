@@ -44,8 +44,9 @@
 
 (defmacro with-form-label ((form) &body body)
   "Run BODY with FORM's label (\"on stGotCD\") as the current form's, for errors."
-  `(let ((*current-form-label* (dialogue-form-label ,form))
-         (*source-position* (or (and (consp ,form) (gethash ,form *form-places*)) *source-position*)))
+  `(with-spec-context (:form-label (dialogue-form-label ,form)
+                       :source-position (or (and (consp ,form) (gethash ,form *form-places*))
+                                            *source-position*))
      ,@body))
 
 (defun define-dialogue (name body &key source-file form-positions)
@@ -55,19 +56,19 @@ SOURCE-FILE is the file it comes from (relative :player and :catalogue files
 are found beside it), FORM-POSITIONS BODY's forms' character positions there.
 Signals a DIALOGUE-ERROR naming the offending form, with file and line."
   (let* ((name (require-dialogue-name name name "a dialogue name"))
-         (*current-dialogue-name* name)
-         (*form-places* (form-places body form-positions source-file))
-         (dialogue (%make-dialogue :name name :source-file source-file)))
-    (unless (alexandria:proper-list-p body)
-      (dialogue-fail nil "the body of a defdialogue must be a list of forms"))
-    (let ((forms (parse-dialogue-header dialogue body)))
-      (dolist (form forms) (with-form-label (form) (declare-dialogue-form dialogue form)))
-      (finish-declarations dialogue)
-      (dolist (form forms) (with-form-label (form) (define-dialogue-form dialogue form)))
-      (setf (dialogue-utterances dialogue) (reverse (dialogue-utterances dialogue))
-            (dialogue-transitions dialogue) (reverse (dialogue-transitions dialogue)))
-      (check-input-queries dialogue)
-      (setf (gethash (dialogue-key name) *dialogues*) dialogue))))
+         (*current-dialogue-name* name))
+    (with-spec-context (:form-places (form-places body form-positions source-file))
+      (let ((dialogue (%make-dialogue :name name :source-file source-file)))
+        (unless (alexandria:proper-list-p body)
+          (dialogue-fail nil "the body of a defdialogue must be a list of forms"))
+        (let ((forms (parse-dialogue-header dialogue body)))
+          (dolist (form forms) (with-form-label (form) (declare-dialogue-form dialogue form)))
+          (finish-declarations dialogue)
+          (dolist (form forms) (with-form-label (form) (define-dialogue-form dialogue form)))
+          (setf (dialogue-utterances dialogue) (reverse (dialogue-utterances dialogue))
+                (dialogue-transitions dialogue) (reverse (dialogue-transitions dialogue)))
+          (check-input-queries dialogue)
+          (setf (gethash (dialogue-key name) *dialogues*) dialogue))))))
 
 ;;;# The header
 

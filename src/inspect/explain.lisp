@@ -125,7 +125,7 @@ stopping there) and returns NIL."
 FORM is not a state expression of the spec."
   (let* ((machine (explainer-machine explainer))
          (spec (machine-spec machine))
-         (cubes (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
+         (cubes (with-spec-context (:spec spec :spec-name (spec-name spec))
                   (expression-cubes (parse-expression form) spec))))
     (explain-goal explainer (machine-goal-with-cubes machine cubes form) :goal form)))
 

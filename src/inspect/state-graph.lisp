@@ -170,7 +170,7 @@ and changes it."
 (defun parse-goal-cubes (form spec)
   "The cubes of the state expression FORM in SPEC; a STATE-GRAPH-ERROR saying
 why when FORM is not one."
-  (handler-case (let ((*spec* spec) (*current-spec-name* (spec-name spec)) (*form-places* nil))
+  (handler-case (with-spec-context (:spec spec :spec-name (spec-name spec) :form-places nil)
                   (check-form-structure form :what "goal")
                   (expression-cubes (parse-expression form) spec))
     (spec-error (condition)

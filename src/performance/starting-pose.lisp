@@ -14,16 +14,16 @@ pose's ANGLES ((DOF-INDEX . DEGREES) ...) on the character's skeleton."
 
 (defun pose-when-fail (entry control &rest arguments)
   "Signal a SCRIPT-ERROR at ENTRY's form, file and line."
-  (let ((*source-position* (pose-when-source entry))
-        (*script-context* (format nil "(:pose-when ~A ~A)"
+  (let ((*script-context* (format nil "(:pose-when ~A ~A)"
                                   (bounded-lisp-text (pose-when-expression entry) 60)
                                   (lisp-text (pose-when-pose entry)))))
-    (apply #'script-fail (pose-when-form entry) control arguments)))
+    (with-spec-context (:source-position (pose-when-source entry))
+      (apply #'script-fail (pose-when-form entry) control arguments))))
 
 (defun pose-when-cubes (entry spec)
   "The cubes of ENTRY's expression in SPEC; a SCRIPT-ERROR at ENTRY when it is
 not a state expression of SPEC (an unknown variable, value or class)."
-  (handler-case (let ((*spec* spec) (*current-spec-name* (spec-name spec)) (*form-places* nil))
+  (handler-case (with-spec-context (:spec spec :spec-name (spec-name spec) :form-places nil)
                   (check-form-structure (pose-when-expression entry) :what "expression")
                   (expression-cubes (parse-expression (pose-when-expression entry)) spec))
     (spec-error (condition)

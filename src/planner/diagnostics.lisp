@@ -30,7 +30,7 @@ of (CONDITION . OPS) in the order they are tried. A goal no event asks for is
 planned on the spot."
   (let* ((machine (ensure-machine machine 'plans))
          (spec (machine-spec machine))
-         (cubes (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
+         (cubes (with-spec-context (:spec spec :spec-name (spec-name spec))
                   (expression-cubes (parse-expression goal) spec)))
          (planned (machine-goal-with-cubes machine cubes goal)))
     (goal-plan-table planned spec)))

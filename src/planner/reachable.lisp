@@ -135,7 +135,7 @@ with those effects applied."
                      for product = (logcount field) then (* product (logcount field))
                      finally (return (or product 1)))))
     (when (> count limit)
-      (let ((*current-spec-name* (spec-name (layout-spec layout))))
+      (with-spec-context (:spec-name (spec-name (layout-spec layout)))
         (spec-fail 'spec-syntax-error form ":start-states expression ~A holds in ~:D states, more than the ~:D one expression may name"
                    (bounded-lisp-text form 60) count limit))))
   (let ((states (list 0)))

@@ -28,7 +28,8 @@ the body can play every script the new spec needs; report why not otherwise."
         (progn
           (checked-script-library (machine-spec machine) performance (performance-library performance))
           (when (eq (redefine-controller controller machine) :pending)
-            (format t "; ~A redefined: it switches when the running event ends~%" (viewer-name viewer))))
+            (write-live-line *standard-output* "; ~A redefined: it switches when the running event ends~%"
+                             (viewer-name viewer))))
       (player-error (e) (report-live-error viewer e)))))
 
 (defun follow-in-viewer (viewer)
@@ -47,8 +48,8 @@ say so, clear the error in the title and print the new key map."
       (setf (viewer-spec viewer) spec
             (viewer-message viewer) nil
             (viewer-keys viewer) (view-event-keys spec))
-      (format t "; now playing the new definition of ~A (from ~A s)~%" (lisp-text (spec-name spec))
-              (format-number (controller-time (viewer-controller viewer))))
+      (write-live-line *standard-output* "; now playing the new definition of ~A (from ~A s)~%"
+                       (lisp-text (spec-name spec)) (format-number (controller-time (viewer-controller viewer))))
       (print-key-map (viewer-keys viewer) (viewer-terminal viewer)))))
 
 (defun reload-watched (viewer changed spec-file allow-code)
@@ -61,12 +62,12 @@ reaches VIEWER's controller as any redefinition does.  Errors are reported."
         (handler-case
             (progn (reload-script-library presenter (spec-of (viewer-controller viewer)) path)
                    (setf (viewer-message viewer) nil)
-                   (format t "; read the script library ~A again~%" (file-namestring path)))
+                   (write-live-line *standard-output* "; read the script library ~A again~%" (file-namestring path)))
           (player-error (e) (report-live-error viewer e)))))
     (when (member spec-file changed :test #'equal)
       (handler-case
           (let ((name (name-key (spec-name (spec-of (viewer-controller viewer))))))
-            (format t "; read ~A again~%" (file-namestring spec-file))
+            (write-live-line *standard-output* "; read ~A again~%" (file-namestring spec-file))
             (unless (find name (load-spec spec-file :allow-code allow-code)
                           :key (lambda (spec) (name-key (spec-name spec))) :test #'equal)
               (error 'player-error-with-message
@@ -89,9 +90,8 @@ when they change (the spec file with ALLOW-CODE)."
       (setf (viewer-watcher viewer) (make-file-watcher (list spec-file (and library (namestring library)))
                                                        (glfw-time))
             (viewer-reload viewer) (lambda (viewer changed) (reload-watched viewer changed spec-file allow-code)))
-      (format t "; watching~@[ ~A~]~@[ ~A~] for changes~%" (and spec-file (file-namestring spec-file))
-              (and library (file-namestring library)))
-      (finish-output))))
+      (write-live-line *standard-output* "; watching~@[ ~A~]~@[ ~A~] for changes~%"
+                       (and spec-file (file-namestring spec-file)) (and library (file-namestring library))))))
 
 (defun serve-live-viewer (viewer)
   "Once a frame: read changed watched files again, run what other threads

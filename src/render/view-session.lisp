@@ -102,7 +102,7 @@ RELOAD-SCRIPT-LIBRARY signals (the old library playing on)."
                  (lambda (viewer)
                    (let ((controller (viewer-controller viewer)))
                      (reload-script-library (controller-presenter controller) (spec-of controller) path)
-                     (format t "; read the script library again~%")
+                     (write-live-line *standard-output* "; read the script library again~%")
                      t))
                  :what "read the script library again"))
 

@@ -111,14 +111,16 @@ was last written, write the state graph there with the current state marked."
     ;; VIEWER-PRINTED counts every line ever recorded; a bounded trace forgets
     ;; its oldest ones, which are then skipped.
     (setf (viewer-printed viewer) (max (viewer-printed viewer) dropped))
-    (loop while (< (- (viewer-printed viewer) dropped) (length lines))
-          do (let* ((line (aref lines (- (viewer-printed viewer) dropped)))
-                    (at (trace-line-time line)))
-               (unless (or (eq time t) (null at) (<= at time))
-                 (return))
-               (write-trace-line line)
-               (incf (viewer-printed viewer))))
-    (finish-output)))
+    ;; The lines due are written as one group, no other thread's line among them.
+    (with-output-lock ()
+      (loop while (< (- (viewer-printed viewer) dropped) (length lines))
+            do (let* ((line (aref lines (- (viewer-printed viewer) dropped)))
+                      (at (trace-line-time line)))
+                 (unless (or (eq time t) (null at) (<= at time))
+                   (return))
+                 (write-trace-line line)
+                 (incf (viewer-printed viewer))))
+      (finish-output))))
 
 (defun read-terminal (viewer)
   "Send the event named by a line typed at the terminal, if one is waiting; an
@@ -135,7 +137,7 @@ event's key from the map works too.  Never blocks."
                        (key (view-send-event viewer (cdr key)))
                        (t (handler-case (view-send-event viewer text)
                             (unknown-event ()
-                              (format t "; no event ~A: type one of the names above~%" text)))))))))))
+                              (write-live-line *standard-output* "; no event ~A: type one of the names above~%" text)))))))))))
 
 ;;;# Input
 
@@ -242,8 +244,7 @@ the machine cannot play sound, say so once (the first time something sounds)."
         (cond ((null problem) (play-sound-now (clip-sound clip)))
               ((not (viewer-silence-reported viewer))
                (setf (viewer-silence-reported viewer) t)
-               (format t "; ~A: playing silently~%" problem)
-               (finish-output)))))))
+               (write-live-line *standard-output* "; ~A: playing silently~%" problem)))))))
 
 (defun run-viewer (viewer frames)
   "Play VIEWER until its window closes or FRAMES frames (NIL: no limit) are
@@ -273,10 +274,11 @@ shown; return the number of frames shown."
 (defun print-key-map (keys &optional (terminal t))
   "Print KEYS, an alist from characters to event names, and the other
 controls; TERMINAL says event names typed at the terminal are read too."
-  (format t "; keys (in the window)~:[~;, or an event name typed here and Enter~]:~%" terminal)
-  (loop for (char . event) in keys do (format t "~C ~A~%" char (lisp-text event)))
-  (write-line *view-help*)
-  (finish-output))
+  (with-output-lock ()
+    (format t "; keys (in the window)~:[~;, or an event name typed here and Enter~]:~%" terminal)
+    (loop for (char . event) in keys do (format t "~C ~A~%" char (lisp-text event)))
+    (write-line *view-help*)
+    (finish-output)))
 
 (defun view-event-keys (spec)
   "The key map of SPEC's viewer: an alist from characters to event names, in spec order."
@@ -364,13 +366,13 @@ its spec (START-LIVE-VIEWER: INBOX, WATCH, ALLOW-CODE)."
                (when live (start-live-viewer viewer :inbox inbox :watch watch :allow-code allow-code))
                (let ((shown (with-live-errors-reported (viewer) (run-viewer viewer frames))))
                  (print-due-trace viewer t)
-                 (format t "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
+                 (write-live-line *standard-output* "; ~D frames in ~,1F s~%" shown (viewer-wall-time viewer)))
                (when screenshot
                  (let ((renderer (viewer-renderer viewer)))
                    ;; The last frame shown has been swapped away: draw it again to read it.
                    (draw-view viewer)
                    (write-png screenshot (renderer-width renderer) (renderer-height renderer)
                               (renderer-pixels renderer))
-                   (format t "; wrote ~A~%" screenshot))))
+                   (write-live-line *standard-output* "; wrote ~A~%" screenshot))))
           (when live (stop-live-viewer viewer))
           (delete-renderer (viewer-renderer viewer)))))))

@@ -12,9 +12,9 @@
 
 (defun regular-file-p (path)
   "Is PATH (following links) a regular file?  Directories, FIFOs and devices are not."
-  (multiple-value-bind (ok device inode mode) (sb-unix:unix-stat (native-namestring path))
-    (declare (ignore device inode))
-    (and ok (= (logand mode #o170000) #o100000))))
+  (let ((stat (handler-case (sb-posix:stat (native-namestring path))
+                (sb-posix:syscall-error () nil))))
+    (and stat (= (logand (sb-posix:stat-mode stat) sb-posix:s-ifmt) sb-posix:s-ifreg))))
 
 (defun native-namestring (path)
   "PATH as the operating system's file name."

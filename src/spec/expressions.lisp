@@ -9,8 +9,6 @@
 
 (in-package #:player.spec)
 
-(defvar *spec* nil "The spec being parsed.")
-
 (defvar *label-slot-function* nil
   "While directives are parsed: function of (NAME FORM) giving the slot of a set label.")
 

@@ -24,7 +24,7 @@ Signals a SPEC-ERROR naming (VAR . RAW) when RAW does not fit."
 (defun initial-assignments (spec overrides)
   "For each variable of SPEC, its stored initial value, with OVERRIDES (an alist
 of variable name -> value) applied. Unknown names are errors."
-  (let ((*spec* spec) (*current-spec-name* (spec-name spec)))
+  (with-spec-context (:spec spec :spec-name (spec-name spec))
     (dolist (entry overrides)
       (unless (and (consp entry) (symbolp (car entry)) (find-variable-named (car entry)))
         (spec-fail 'unknown-name-error entry "unknown variable ~A in the initial state"

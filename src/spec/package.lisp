@@ -9,7 +9,7 @@
   (:export
    #:*data-readtable* #:*default-max-depth* #:*defined-specs* #:*spec*
    #:*spec-definition-hooks* #:*spec-designator* #:*when-busy-policies* #:autoscript-procs
-   #:autoscript-value #:autoscript-value-index #:autoscript-variable #:boolean-word
+   #:autoscript-value #:autoscript-value-index #:autoscript-variable #:boolean-word #:call-with-spec-context
    #:cube-empty-p #:cube-expression #:cube-subset-p #:cubes-expression #:cut-effect-delta
    #:cut-effect-fields #:define-spec #:defspec #:defspec-form-p #:event-def
    #:event-directives #:event-entry-name #:event-entry-p #:event-name #:event-policy
@@ -32,4 +32,4 @@
    #:trigger-condition #:trigger-def #:trigger-event #:trigger-name #:value-index-in-state
    #:value-name #:var-bit-offset #:var-domain #:var-domain-size #:var-field-mask
    #:var-initial #:var-kind #:var-name #:var-slot #:var-type #:var-value-bit #:variable-def
-   #:when-busy-policy #:word-p))
+   #:when-busy-policy #:with-spec-context #:word-p))

@@ -12,24 +12,24 @@
 Signals a SPEC-ERROR naming the offending form when BODY is malformed; with
 FORM-POSITIONS (BODY's forms' character positions in SOURCE-FILE) the error
 points at the line of the form it is about, and names that form."
-  (let* ((*current-spec-name* name)
-         (*spec* (%make-spec :name name :forms body :source-file source-file
-                             :package package :max-depth *default-max-depth*))
-         (places (form-places body form-positions source-file))
-         (*form-places* places)
-         (forms (progn (setf (spec-form-places *spec*) places)
-                       (parse-spec-header body))))
-    (flet ((each-form (function)
-             (dolist (form forms)
-               (let ((*source-position* (or (gethash form places) *source-position*))
-                     (*current-form-label* (form-label form)))
-                 (funcall function form)))))
-      (each-form #'declare-form)
-      (assign-layout *spec*)
-      (each-form #'define-form))
-    (parse-start-states *spec*)
-    (validate-spec *spec*)
-    *spec*))
+  (let ((places (form-places body form-positions source-file)))
+    (with-spec-context (:spec-name name
+                        :spec (%make-spec :name name :forms body :source-file source-file
+                                          :package package :max-depth *default-max-depth*
+                                          :form-places places)
+                        :form-places places)
+      (let ((forms (parse-spec-header body)))
+        (flet ((each-form (function)
+                 (dolist (form forms)
+                   (with-spec-context (:source-position (or (gethash form places) *source-position*)
+                                       :form-label (form-label form))
+                     (funcall function form)))))
+          (each-form #'declare-form)
+          (assign-layout *spec*)
+          (each-form #'define-form)))
+      (parse-start-states *spec*)
+      (validate-spec *spec*)
+      *spec*)))
 
 (defun form-places (body positions file)
   "A table from each form of BODY to its (FILE . POSITION), from POSITIONS."

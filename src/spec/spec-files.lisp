@@ -25,20 +25,20 @@ accepted, and nothing is evaluated.  Unless ALLOW-CODE, a spec holding :code or
 offending form; the specs defined before it stay defined."
   (multiple-value-bind (entries text) (read-data-file file :what "spec file" :fail (spec-file-fail file))
     (let* ((file (probe-file file))
-           (*defined-specs* '())
-           ;; An error about a sub-form (an expression, a directive) names its own line.
-           (*sub-form-places* (sub-form-places entries text file)))
-      (loop for (form position package) in entries
-            do (let ((*source-position* (cons file position)))
-                 (unless (defspec-form-p form)
-                   (spec-fail 'spec-syntax-error form
-                              "a spec file holds only in-package and defspec forms, not ~A~:[~;; a file with a defscene is a scene file, which run, simulate, render, view and check take~]"
-                              (bounded-lisp-text form 60)
-                              (and (consp form) (symbolp (first form))
-                                   (string= (symbol-name (first form)) "DEFSCENE"))))
-                 (let ((rest (rest form)))
-                   (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
-                                :source-file file :package package :allow-code allow-code
-                                ;; DEFSPEC and NAME come first.
-                                :form-positions (cddr (list-element-positions text position))))))
-      (reverse *defined-specs*))))
+           (*defined-specs* '()))
+      ;; An error about a sub-form (an expression, a directive) names its own line.
+      (with-spec-context (:sub-form-places (sub-form-places entries text file))
+        (loop for (form position package) in entries
+              do (with-spec-context (:source-position (cons file position))
+                   (unless (defspec-form-p form)
+                     (spec-fail 'spec-syntax-error form
+                                "a spec file holds only in-package and defspec forms, not ~A~:[~;; a file with a defscene is a scene file, which run, simulate, render, view and check take~]"
+                                (bounded-lisp-text form 60)
+                                (and (consp form) (symbolp (first form))
+                                     (string= (symbol-name (first form)) "DEFSCENE"))))
+                   (let ((rest (rest form)))
+                     (define-spec (if (consp rest) (first rest) nil) (if (consp rest) (rest rest) nil)
+                                  :source-file file :package package :allow-code allow-code
+                                  ;; DEFSPEC and NAME come first.
+                                  :form-positions (cddr (list-element-positions text position))))))
+        (reverse *defined-specs*)))))

@@ -30,7 +30,7 @@
 plays on).  Returns the process, or NIL when there is no player."
   (let ((player (audio-player)))
     (when player
-      (let ((path (temporary-file (format nil "player-~D-~D.wav" (sb-unix:unix-getpid)
+      (let ((path (temporary-file (format nil "player-~D-~D.wav" (sb-posix:getpid)
                                           (incf *playback-counter*)))))
         (write-wav path sound)
         (sb-ext:run-program "/bin/sh"

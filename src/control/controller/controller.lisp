@@ -215,7 +215,7 @@ FORM, left to SEND-EVENT."
 (defun find-controller-variable (function controller name)
   "The variable NAME of CONTROLLER's spec, or an UNKNOWN-NAME-ERROR of FUNCTION."
   (check-argument function 'name name #'name-designator-p "a variable's name (a symbol or string)")
-  (let ((*spec* (spec-of controller)))
+  (with-spec-context (:spec (spec-of controller))
     (or (find-variable-named name)
         (spec-fail 'unknown-name-error nil "~A: unknown variable ~A (variables: ~{~A~^, ~})"
                    (lisp-text function) (bounded-lisp-text name 80)

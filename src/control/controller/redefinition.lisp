@@ -27,7 +27,7 @@ installed; the controller runs on with its old machine."))
   "CONTROLLER's current values, expressed in SPEC: an alist for INITIAL-ASSIGNMENTS.
 Variables SPEC does not have are dropped; new ones take their initial values."
   (loop for (name . value) in (controller-state controller)
-        for var = (let ((*spec* spec)) (find-variable-named name))
+        for var = (with-spec-context (:spec spec) (find-variable-named name))
         when (and var (not (and (eq (var-kind var) :time) (null value))))
           collect (cons (var-name var) value)))
 

@@ -147,28 +147,28 @@ for arguments of the wrong kind."
                   "a script library (from load-script-library)")
   (check-seconds 'director-schedule 'start start)
   (let ((*script-context* (format nil "director ~A" (lisp-text (director-name director))))
-        (*source-position* (director-source director))
         (runs '())
         (last nil))
-    (dolist (step (director-steps director))
-      (let ((time (director-step-time step last runs)))
-        (etypecase step
-          (start-step
-           (let ((script (director-script step library)))
-             (setf last (make-director-run (director-step-tag step) script time
-                                  (and (not (script-loop script))
-                                       (+ time (script-duration script)))))
-             (push last runs)))
-          (stop-step
-           (stop-director-run (find-tagged-run step (director-step-tag step) runs) time step)))))
-    (setf runs (reverse runs))
-    (values (mapcar (lambda (run)
-                      (let ((stop (director-run-stop run)) (end (director-run-natural-end run)))
-                        (list (script-name (director-run-script run)) (+ start (director-run-start run))
-                              (and stop (or (null end) (< stop end)) (+ start stop)))))
-                    runs)
-            (and (every #'director-run-end runs)
-                 (reduce #'max runs :key #'director-run-end :initial-value 0d0)))))
+    (with-spec-context (:source-position (director-source director))
+      (dolist (step (director-steps director))
+        (let ((time (director-step-time step last runs)))
+          (etypecase step
+            (start-step
+             (let ((script (director-script step library)))
+               (setf last (make-director-run (director-step-tag step) script time
+                                    (and (not (script-loop script))
+                                         (+ time (script-duration script)))))
+               (push last runs)))
+            (stop-step
+             (stop-director-run (find-tagged-run step (director-step-tag step) runs) time step)))))
+      (setf runs (reverse runs))
+      (values (mapcar (lambda (run)
+                        (let ((stop (director-run-stop run)) (end (director-run-natural-end run)))
+                          (list (script-name (director-run-script run)) (+ start (director-run-start run))
+                                (and stop (or (null end) (< stop end)) (+ start stop)))))
+                      runs)
+              (and (every #'director-run-end runs)
+                   (reduce #'max runs :key #'director-run-end :initial-value 0d0))))))
 
 (defun director-script (step library)
   "The script STEP starts; a SCRIPT-ERROR when LIBRARY has none of that name."

@@ -85,7 +85,7 @@ inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
   (check-argument 'load-script-library 'path path #'pathname-designator-p *path-phrase*)
   (multiple-value-bind (entries text) (read-data-file path :what "script library"
                                       :fail (lambda (position message kind)
-                                              (let ((*source-position* (and position (cons (probe-file path) position))))
+                                              (with-spec-context (:source-position (and position (cons (probe-file path) position)))
                                                 (case kind
                                                   (:missing (script-fail nil "there is no script library file ~A"
                                                                          (namestring path)))
@@ -106,20 +106,19 @@ resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
   "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file
 SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
   (let ((library (%make-script-library source))
-        (*current-spec-name* nil)
-        (*sub-form-places* places)
         (*library-directory* (and source (directory-pathname (make-pathname :name nil :type nil :version nil
                                                                             :defaults source)))))
-    ;; Kept, so CHECK can name the line of a key that fails on a body.
-    (setf (script-library-places library) places)
-    (loop for (form . position) in entries
-          do (let ((*source-position* (and source position (cons source position))))
-               (add-library-form library form)))
-    (setf (script-library-definitions library) (reverse (script-library-definitions library))
-          (script-library-objects library) (reverse (script-library-objects library))
-          (script-library-pose-whens library) (reverse (script-library-pose-whens library)))
-    (check-script-library library)
-    library))
+    (with-spec-context (:spec-name nil :sub-form-places places)
+      ;; Kept, so CHECK can name the line of a key that fails on a body.
+      (setf (script-library-places library) places)
+      (loop for (form . position) in entries
+            do (with-spec-context (:source-position (and source position (cons source position)))
+                 (add-library-form library form)))
+      (setf (script-library-definitions library) (reverse (script-library-definitions library))
+            (script-library-objects library) (reverse (script-library-objects library))
+            (script-library-pose-whens library) (reverse (script-library-pose-whens library)))
+      (check-script-library library)
+      library)))
 
 (defun add-library-form (library form)
   "Parse the top-level FORM into LIBRARY."
@@ -253,9 +252,9 @@ definition of its name as either."
 (defmacro with-script-context ((script) &body body)
   "Run BODY with errors placed at SCRIPT's definition and prefixed by its name."
   (once-only (script)
-    `(let ((*source-position* (script-source ,script))
-           (*script-context* (format nil "script ~A" (lisp-text (script-name ,script)))))
-       ,@body)))
+    `(let ((*script-context* (format nil "script ~A" (lisp-text (script-name ,script)))))
+       (with-spec-context (:source-position (script-source ,script))
+         ,@body))))
 
 (defun check-script-library (library)
   "Resolve and check what single forms cannot: nested scripts, durations,

@@ -1,14 +1,14 @@
 ;;;; reports.lisp -- how live authoring shows an error without stopping: one
 ;;;; "player: error: ..." line on standard error, as the command line prints
-;;;; its errors, and the text kept for the viewer's title.
+;;;; its errors (written whole, see output.lisp), and the text kept for the
+;;;; viewer's title.
 
 (in-package #:player.render)
 
 (defun print-live-error (condition)
   "Print CONDITION as one \"player: error: ...\" line on *ERROR-OUTPUT*; return the line's text."
   (let ((line (condition-line condition)))
-    (format *error-output* "player: error: ~A~%" line)
-    (finish-output *error-output*)
+    (write-live-line *error-output* "player: error: ~A~%" line)
     line))
 
 (defmacro with-live-errors-reported ((viewer) &body body)

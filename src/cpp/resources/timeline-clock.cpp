@@ -1,14 +1,4 @@
-;;;; cpp-timeline-clock.lisp -- the timed C++ layer's machine-independent
-;;;; text, part three: the clock (advancing, applying items, finishing runs and
-;;;; starting the waiting ones, timers) -- the twins of
-;;;; src/control/timeline/advance.lisp and timers.lisp.
-
-(in-package #:player.cpp)
-
-;;;# The clock
-
-(defparameter *c++-clock*
-  "void Controller::start_timeline_() {
+void Controller::start_timeline_() {
   if (timeline_started_) return;
   timeline_started_ = true;
   now_ = clock_;
@@ -24,7 +14,7 @@ Controller::~Controller() {
 bool Controller::send_timed(Event e, double at, WhenBusy policy) {
   start_timeline_();
   if (!timeline_error_.empty() || !(at >= now_) || !advance_to_(at)) return false;
-  failed_goal_ = \"\";
+  failed_goal_ = "";
   const int event = static_cast<int>(e);
   const int chosen = policy == WhenBusy::as_declared ? kEventPolicies[event] : static_cast<int>(policy);
   return dispatch_(event, at, chosen, kFromOutside) == 1 && timeline_error_.empty();
@@ -85,9 +75,9 @@ bool Controller::note_instant_(double time) {
   }
   if (++instant_count_ <= kMaxItemsPerInstant) return true;
   instant_count_ = 0;
-  timeline_error_ = \"the timeline does not move on at time \" + format_number(time) +
-                    \": over 100000 things happen at that instant (triggers firing each other, \"
-                    \"or zero-length ops in a loop)\";
+  timeline_error_ = "the timeline does not move on at time " + format_number(time) +
+                    ": over 100000 things happen at that instant (triggers firing each other, "
+                    "or zero-length ops in a loop)";
   return false;
 }
 
@@ -96,7 +86,7 @@ void Controller::apply_item_(const std::shared_ptr<Item>& item) {
   switch (item->kind) {
     case kItemOp:
       live_ops_.push_back(item);
-      if (std::strcmp(kOps[item->op].kind, \"director\") == 0)
+      if (std::strcmp(kOps[item->op].kind, "director") == 0)
         presenter_.run_director(kOps[item->op], item->start);
       else
         presenter_.play(kOps[item->op], item->start);
@@ -181,5 +171,4 @@ void Controller::fire_timer_(const std::shared_ptr<Item>& item, double time) {
   if (kTimerRepeats[timer]) arm_timer_(timer, time);
   send_own_(kTimerEvents[timer], time, kFromTimer);
 }
-"
-  "The clock: advancing, applying items, finishing runs, timers.")
+

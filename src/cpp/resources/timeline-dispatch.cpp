@@ -1,14 +1,4 @@
-;;;; cpp-timeline-dispatch.lisp -- the timed C++ layer's machine-independent
-;;;; text, part two: events arriving (policies, the start gate, cuts), the twins
-;;;; of src/control/timeline/arrivals.lisp, timeline.lisp and cuts.lisp.  The
-;;;; clock is in cpp-timeline-clock.lisp.
-
-(in-package #:player.cpp)
-
-;;;# Dispatch, the start gate and cuts
-
-(defparameter *c++-dispatch*
-  "int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
+int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
   const int result = plan_run_(run, time);
   install_run_(run, time);
   return result;
@@ -267,5 +257,4 @@ void Controller::keep_finished_macros_(const Run& run, std::vector<std::shared_p
       if (other->owner == item.get()) keep.push_back(other);
   }
 }
-"
-  "Events arriving: starting beside others, queueing, dropping, cutting.")
+

@@ -1,0 +1,21 @@
+  void cut(const ctl::Op* op, double, double time, const char* by) override {
+    add(std::string("(:cut ") + (op ? op->name : "nil") + " :time " + number(time) + " :by " + by + ")");
+  }
+  void dropped(const char* event, double time, const char* busy_with) override {
+    add(std::string("(:dropped ") + event + " :time " + number(time) + " :busy-with " + busy_with + ")");
+  }
+  void resumed(const char* event, double time) override {
+    add(std::string("(:resume ") + event + " :time " + number(time) + ")");
+  }
+  void timer(const char* name, double time) override {
+    add(std::string("(:timer ") + name + " :time " + number(time) + ")");
+  }
+  void trigger(const char* name, double time) override {
+    add(std::string("(:trigger ") + name + " :time " + number(time) + ")");
+  }
+  // At the end of a scenario stopped midway: the lines still waiting, an open
+  // macro's with its end at its start (as Player's trace holds them).
+  void print_rest() {
+    for (; flushed_ < lines_.size(); ++flushed_) print_line(lines_[flushed_]);
+  }
+
