@@ -176,7 +176,7 @@ of one name, an UNKNOWN-MEMBER-ERROR for a scene event addressed to no member."
   "Define (or, re-evaluated, redefine) the scene NAME of several characters:
   (defscene NAME [DOCSTRING] (SPEC [:as MEMBER] [:at (X Y Z)] [:initial ALIST]) ...
                              (event NAME MEMBER/EVENT ...) ...)
-Each member plays a defined spec; see DEFINE-CAST and the README.  A malformed
+Each member plays a defined spec; see DEFINE-CAST and doc/scenes.md.  A malformed
 form is DEFINE-CAST's SCENE-ERROR, when it runs, not a macroexpansion error."
   `(define-cast ',(if (consp name-and-body) (car name-and-body) nil)
                 ',(if (consp name-and-body) (cdr name-and-body) nil)

@@ -78,7 +78,7 @@ forms in SOURCE-FILE, let errors name the line of the form at fault."
   "Define (or, re-evaluated, redefine) the controller spec NAME:
   (defspec NAME [DOCSTRING] [(:max-depth N)] FORM...)
 where each FORM is a state-variable, time-variable, state-class, op, macro-op,
-autoscript or event form. See the README for the language."
+autoscript or event form. See doc/language.md for the language."
   `(define-spec ',(if (consp name-and-body) (car name-and-body) nil)
                 ',(if (consp name-and-body) (cdr name-and-body) nil)
                 :source-file ,(or (car *source-position*) *compile-file-truename* *load-truename*)
