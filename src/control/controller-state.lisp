@@ -47,7 +47,13 @@
   ;; changed since CHECKED-PRESENTER and CHECKED-GENERATION.
   (silent-presenter :none)
   (checked-presenter :none)
-  (checked-generation -1 :type fixnum))
+  (checked-generation -1 :type fixnum)
+  ;; Is an event of it running its closures now (a whole-event SEND-EVENT,
+  ;; or a timed controller planning one ahead)?  Then a SEND-EVENT to it,
+  ;; from a :code directive say, is deferred (DEFERRED-SENDS.LISP).
+  (running nil :type boolean)
+  ;; The whole-event sends deferred so, oldest first: (EVENT . AT) pairs.
+  (deferred-sends '() :type list))
 
 (declaim (inline silent-p))
 (defun silent-p (controller)

@@ -167,7 +167,7 @@ that no running event meets any more, first first."
   ;; so nothing reaches them now -- unless a :time directive left changes due
   ;; after its end: those are retired as they are applied.
   (when (null (run-pending run))
-    (retire-run-item-list (timeline-agenda timeline) run (shiftf (run-items run) '()))
+    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()) run)
     (retire-item (timeline-agenda timeline) (run-finish run)))
   (when (timeline-queue timeline)
     (start-waiting-runs timeline (timeline-now timeline))))
