@@ -103,6 +103,7 @@ run the resulting state machine as Lisp closures or embedded C++."
     :serial t
     :components ((:file "package")
                  (:file "controller-state")
+                 (:file "presenter-results")
                  (:file "lisp-closures")
                  (:file "lisp-steps")
                  (:module "controller"

@@ -45,7 +45,9 @@ controller's is DEFER-TIMED-SEND's."
                    "NIL: only a timed controller (make-controller ... :timed t) resolves busy events"))
   (let ((at (and at (check-seconds 'send-event :at at))))
     ;; An unknown event is the sender's error, signalled where it sends.
-    (find-compiled-event controller event)
+    ;; (Out of line: the inline definition comes later, in controller.lisp.)
+    (locally (declare (notinline find-compiled-event))
+      (find-compiled-event controller event))
     (setf (controller-deferred-sends controller)
           (append (controller-deferred-sends controller) (list (cons event at))))
     (values nil :deferred)))
