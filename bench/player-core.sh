@@ -20,14 +20,14 @@ make_core () {
   work=${work:-$(mktemp -d)}
   trap 'rm -rf "$work"' EXIT
   case "${1:-checked}" in
-    checked) engine='nil' ;;
-    unchecked) engine='(progn (load "t/unchecked-engine.lisp") (pushnew :player-unchecked-engine *features*)
+    checked) engine_form='nil' ;;
+    unchecked) engine_form='(progn (load "t/unchecked-engine.lisp") (pushnew :player-unchecked-engine *features*)
                  (asdf:initialize-output-translations (unchecked-engine-output-translations (truename "./"))))' ;;
     *) echo "player: error: make_core: engine $1 is neither checked nor unchecked" >&2; exit 1 ;;
   esac
   "$SBCL" --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
     --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)' \
-    --eval "$engine" \
+    --eval "$engine_form" \
     --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
     --load bench/run.lisp --load bench/instructions.lisp \
     --eval "(sb-ext:save-lisp-and-die \"$work/player-${1:-checked}.core\")" >/dev/null

@@ -182,7 +182,7 @@ FORM, left to SEND-EVENT."
           (target-send-event controller event at when-busy)
           (argument-fail 'send-event 'controller controller "a controller (from make-controller)"))))
   ;; Sent from inside its own running event (its :code): sent after it.
-  (when (controller-running controller)
+  (when (running-event-p controller)
     (return-from send-event* (defer-send controller event at when-busy)))
   (when (controller-timeline controller)
     (return-from send-event* (send-timed-event controller event at when-busy)))
@@ -204,7 +204,9 @@ FORM, left to SEND-EVENT."
       (present-event presenter (event-name event) start))
     (dolist (var (event-time-variables event))
       (set-runtime-value controller var start start))
-    (let ((result (call-while-running controller (compiled-event-run compiled))))
+    ;; No macro-op is open as an event starts, even one an error left open.
+    (setf (controller-active-macros controller) 0)
+    (let ((result (funcall (the function (compiled-event-run compiled)) controller)))
       (unless (or (eq result t) (silent-p controller))
         (present-failure presenter (event-name event) (failure-goal-form result)
                          (controller-schedule controller)))

@@ -1,6 +1,6 @@
 ;;;; deferred-sends.lisp -- a SEND-EVENT to a controller from inside its own
-;;;; running event (a :code directive calling (send-event *controller* ...))
-;;;; is deferred: the event is queued, and sent once the running event is over,
+;;;; running event (a :code directive calling (send-event *controller* ...),
+;;;; say) is deferred: the event is queued, and sent once the running event is over,
 ;;;; as a timed controller's timers and triggers send theirs.  Run at once, it
 ;;;; would play in the middle of the other's plan: that plan would go on from a
 ;;;; state it did not make, and a timed controller planning ahead would lose
@@ -22,16 +22,15 @@ DEFERRED-SENDS-ERROR.")
   (:documentation "The :code of the events a whole-event controller plays keeps
 sending it more events, without end."))
 
-;; Inline: a whole-event SEND-EVENT runs every event's closure through it.
-(declaim (inline call-while-running))
-(defun call-while-running (controller closure)
-  "Call CLOSURE (a compiled event's) on CONTROLLER, CONTROLLER marked running
-meanwhile, so a SEND-EVENT to it from inside is deferred; return what it returns."
-  (setf (controller-running controller) t)
-  (unwind-protect (funcall (the function closure) controller)
-    ;; No macro-op is open once the event is over, even one an error left.
-    (setf (controller-running controller) nil
-          (controller-active-macros controller) 0)))
+(declaim (inline running-event-p))
+(defun running-event-p (controller)
+  "Is CONTROLLER running an event's closures now, so that a SEND-EVENT to it
+comes from inside that event?  *CONTROLLER* says: SEND-EVENT binds it while a
+whole-event controller runs an event, RUN-EVENT-PLAN while a timed one plans
+one (a binding each already made, so asking costs a compare).  A send from
+inside another controller's event that CONTROLLER's own event started is not
+seen so: it runs at once, as before."
+  (eq controller *controller*))
 
 (defun defer-send (controller event at when-busy)
   "SEND-EVENT of EVENT (AT, WHEN-BUSY) to CONTROLLER while an event of it
@@ -62,7 +61,9 @@ sends runs in a loop, not ever deeper in the stack.")
 those they defer in turn (unless an outer call of this is doing so); a
 DEFERRED-SENDS-ERROR after *MAX-DEFERRED-SENDS*."
   (unless (member controller *sending-deferred*)
-    (let ((*sending-deferred* (cons controller *sending-deferred*)))
+    ;; Its event is over: what it sent is sent from outside it.
+    (let ((*sending-deferred* (cons controller *sending-deferred*))
+          (*controller* nil))
       (loop for count of-type fixnum from 1
             while (controller-deferred-sends controller)
             do (destructuring-bind (event . at) (pop (controller-deferred-sends controller))

@@ -71,18 +71,18 @@ engine (the default build) looks."))
 
 ;; Inline: every item a timed controller records is retired through it.
 (declaim (inline pool-item))
-(defun pool-item (agenda item free)
-  "Mark ITEM :FREE and chain it before FREE, the head of AGENDA's pool (kept
-in a variable by a loop); return the new head.  An agenda that does not
-recycle (*RECYCLE-AGENDA-ITEMS*) poisons ITEM instead, KIND :FREE and nothing
-referred to, and keeps FREE.  In the checked engine, an item already retired
-is an ITEM-RETIRED-TWICE error."
-  (declare (agenda agenda) (agenda-item item))
+(defun pool-item (item free recycle)
+  "Mark ITEM :FREE and chain it before FREE, the head of its agenda's pool
+(kept in a variable by a loop); return the new head.  Unless RECYCLE (the
+agenda's: *RECYCLE-AGENDA-ITEMS*), poison ITEM instead, KIND :FREE and
+nothing referred to, and keep FREE.  In the checked engine, an item already
+retired is an ITEM-RETIRED-TWICE error."
+  (declare (agenda-item item))
   #-player-unchecked-engine
   (when (item-status-p item :free)
     (item-retired-twice item))
   (setf (agenda-item-status item) :free)
-  (cond ((agenda-recycle agenda)
+  (cond (recycle
          ;; The pool is chained through OWNER: no cons per item.  The other
          ;; slots are set when the item is taken again (FRESH-AGENDA-ITEM).
          (setf (agenda-item-owner item) free)
@@ -111,7 +111,7 @@ is an ITEM-RETIRED-TWICE error."
 last item of a run that is over retires the run too."
   (declare (agenda agenda) (agenda-item item))
   (let ((run (agenda-item-run item)))
-    (setf (agenda-free agenda) (pool-item agenda item (agenda-free agenda)))
+    (setf (agenda-free agenda) (pool-item item (agenda-free agenda) (agenda-recycle agenda)))
     (count-off-items agenda run 1))
   nil)
 
@@ -124,6 +124,7 @@ ITEMS: they are counted off it at once."
     ;; The pool's head kept in a variable and stored once: the same chain as
     ;; RETIRE-ITEM's, one pointer store less per item.
     (let ((free (agenda-free agenda))
+          (recycle (agenda-recycle agenda))
           (last items)
           (count 0))
       (declare (fixnum count))
@@ -131,12 +132,12 @@ ITEMS: they are counted off it at once."
               (if run
                   (incf count)
                   (count-off-items agenda (agenda-item-run item) 1))
-              (setf free (pool-item agenda item free)))
+              (setf free (pool-item item free recycle)))
             (if (rest last)
                 (setf last (rest last))
                 (return)))
       (setf (agenda-free agenda) free)
-      (when (agenda-recycle agenda)
+      (when recycle
         (setf (rest last) (agenda-free-conses agenda)
               (agenda-free-conses agenda) items))
       (count-off-items agenda run count))))

@@ -56,8 +56,6 @@ starting while the items of the instant are being applied)."
            (start-recording recorder run)
            (setf (controller-presenter controller) (timeline-recording-presenter timeline)
                  (controller-recorder controller) recorder
-                 ;; A send to it from the plan's :code is deferred (DEFER-TIMED-SEND).
-                 (controller-running controller) t
                  (controller-step controller) (run-first-step run)
                  (controller-schedule controller) time
                  (controller-span-start controller) time
@@ -75,7 +73,6 @@ starting while the items of the instant are being applied)."
       (setf (recorder-taping recorder) nil
             (controller-presenter controller) (timeline-presenter timeline)
             (controller-recorder controller) nil
-            (controller-running controller) nil
             ;; No macro-op is open once planning is over, even one an error left.
             (controller-active-macros controller) 0
             (controller-bits controller) bits
