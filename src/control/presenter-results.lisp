@@ -29,8 +29,10 @@ number of seconds, 0 or more.  Signalled before the controller uses it."))
 may answer for a duration)?"
   (and (finite-real-p value) (>= value 0)))
 
-;; Inline: a controller checks every duration a presenter answers.
-(declaim (inline presenter-seconds))
+;; Out of line, and typed as TO-DOUBLE, which it replaces where a presenter
+;; answers: its callers add the double it returns unboxed, so an op's end is
+;; not boxed on the path that never calls it (a silent presenter's).
+(declaim (ftype (function (t t t t) (values double-float &optional)) presenter-seconds))
 (defun presenter-seconds (value presenter function op)
   "VALUE, what PRESENTER's FUNCTION answered about OP, as a double-float when
 it is a finite number of seconds, 0 or more; else a PRESENTER-RESULT-ERROR."
