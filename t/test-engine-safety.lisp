@@ -72,10 +72,10 @@ PRESENT-OP and PLANNED-OP-DURATION both answer it, and CRITICAL-TIME too."))
 (defun bad-durations ()
   "Answers a presenter may not give for a duration: NaN, the infinities, a
 negative number, something not a number."
-  (sb-int:with-float-traps-masked (:invalid)
-    (list (- sb-ext:double-float-positive-infinity sb-ext:double-float-positive-infinity)
-          sb-ext:double-float-positive-infinity sb-ext:double-float-negative-infinity
-          -1d0 -1/2 "2 seconds" nil)))
+  ;; The NaN made from its bits: arithmetic making one would trap.
+  (list (sb-kernel:make-double-float -524288 0)
+        sb-ext:double-float-positive-infinity sb-ext:double-float-negative-infinity
+        -1d0 -1/2 "2 seconds" nil))
 
 (defmacro with-walk-spec ((var) &body body)
   "BODY with VAR a spec of two ops in a row, WALK then TURN, sent by EV-GO."
