@@ -1,5 +1,6 @@
 ;;;; test-engine-safety.lisp -- the timed engine checked by default (issue 25,
-;;;; item 5): the policy it compiles at, an agenda item retired twice, what a
+;;;; item 5): the policy it compiles at, agenda items retired twice or applied
+;;;; once retired, what a
 ;;;; presenter answers validated, and a SEND-EVENT from inside a controller's
 ;;;; own event deferred.  `make test-unchecked-engine' runs this suite against
 ;;;; the unchecked build too: the tests of checks only that build makes skip
@@ -29,8 +30,8 @@ signals a type error instead of writing through it."
       (signals type-error (player.control::agenda-push (player.control::make-agenda) 42))))
 
 (test an-item-retired-twice-is-an-error
-  "Checked, retiring an agenda item already in the pool signals
-ITEM-RETIRED-TWICE (a TIMELINE-ERROR), and so does a list holding one: the
+  "Checked, retiring an agenda item already in the pool signals a
+RETIRED-ITEM-ERROR (a TIMELINE-ERROR), and so does a list holding one: the
 pool would hand it out twice."
   (if (unchecked-engine-p)
       (skip "the unchecked engine does not check")
@@ -39,7 +40,7 @@ pool would hand it out twice."
              (other (player.control::fresh-agenda-item agenda :op 1d0 nil)))
         (player.control::retire-item agenda item)
         (is (eq :free (player.control::agenda-item-status item)))
-        (signals player.control::item-retired-twice (player.control::retire-item agenda item))
+        (signals player.control::retired-item-error (player.control::retire-item agenda item))
         (signals timeline-error (player.control::retire-item-list agenda (list other item)))
         ;; Retired once, an item goes back to the pool once.
         (is (eq item (player.control::fresh-agenda-item agenda :op 2d0 nil))))))
@@ -49,6 +50,28 @@ pool would hand it out twice."
   (is (= 4 (length (remove-duplicates (list player.control::+taped-op+ player.control::+taped-macro-start+
                                             player.control::+taped-macro-end+
                                             player.control::+taped-state-change+))))))
+
+(test a-retired-item-applied-is-an-error
+  "Checked, an item due on the agenda that was retired (too early: something
+still reached it) is a RETIRED-ITEM-ERROR when its time comes, not a state
+change of whatever the pool made of it."
+  (if (unchecked-engine-p)
+      (skip "the unchecked engine does not check")
+      (with-spec (spec retired-early
+                   (state-variable walked boolean false)
+                   (op walk :add walked :duration 1)
+                   (event ev-go :state walked))
+        (let* ((c (make-controller spec :timed t))
+               (timeline (player.control::controller-timeline c)))
+          (send-event c 'ev-go)
+          (let* ((agenda (player.control::timeline-agenda timeline))
+                 (top (svref (player.control::agenda-items agenda) 0)))
+            (player.control::retire-item agenda top)
+            (let ((error (handler-case (progn (finish-events c) nil)
+                           (player.control::retired-item-error (e) e))))
+              (is (typep error 'timeline-error))
+              ;; Caught as it is applied, not later as it is retired again.
+              (is (search "applied" (princ-to-string error)))))))))
 
 ;;; What a presenter answers
 

@@ -114,6 +114,9 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                               (> (agenda-item-time item) (timeline-now timeline)))))
                (when (> (incf steps) step-limit)
                  (never-idle-error (timeline-now timeline)))
+               #-player-unchecked-engine
+               (when (item-status-p item :free)
+                 (retired-item-error item "applied"))
                (agenda-pop agenda item)
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)

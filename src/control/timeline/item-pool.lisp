@@ -57,17 +57,18 @@
           item))))
 
 ;; An item retired twice would be in the pool twice, and handed out for two
-;; things at once: the checked engine says so where it happens.
-(define-condition item-retired-twice (timeline-error) ()
-  (:documentation "The timed engine retired an agenda item already retired: a bug
-in the engine (its pool would hand the item out twice).  Only the checked
-engine (the default build) looks."))
+;; things at once; one applied after it was retired may be another thing's
+;; already.  The checked engine says so where it happens.
+(define-condition retired-item-error (timeline-error) ()
+  (:documentation "The timed engine retired an agenda item already retired, or
+applied one it had retired: a bug in the engine (its pool would hand the item
+out twice).  Only the checked engine (the default build) looks."))
 
-(defun item-retired-twice (item)
-  "Signal ITEM-RETIRED-TWICE about ITEM."
-  (error 'item-retired-twice
-         :message (format nil "the timed engine retired agenda item ~A (seq ~D) twice: its pool would hand it out twice"
-                          (agenda-item-kind item) (agenda-item-seq item))))
+(defun retired-item-error (item what)
+  "Signal a RETIRED-ITEM-ERROR: ITEM, already retired, was WHAT (a phrase)."
+  (error 'retired-item-error
+         :message (format nil "the timed engine ~A agenda item ~A (seq ~D), already retired: its pool would hand it out twice"
+                          what (agenda-item-kind item) (agenda-item-seq item))))
 
 ;; Inline: every item a timed controller records is retired through it.
 (declaim (inline pool-item))
@@ -76,11 +77,11 @@ engine (the default build) looks."))
 (kept in a variable by a loop); return the new head.  Unless RECYCLE (the
 agenda's: *RECYCLE-AGENDA-ITEMS*), poison ITEM instead, KIND :FREE and
 nothing referred to, and keep FREE.  In the checked engine, an item already
-retired is an ITEM-RETIRED-TWICE error."
+retired is a RETIRED-ITEM-ERROR."
   (declare (agenda-item item))
   #-player-unchecked-engine
   (when (item-status-p item :free)
-    (item-retired-twice item))
+    (retired-item-error item "retired"))
   (setf (agenda-item-status item) :free)
   (cond (recycle
          ;; The pool is chained through OWNER: no cons per item.  The other
