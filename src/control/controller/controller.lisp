@@ -143,6 +143,12 @@ spec's) decides: :QUEUE, :PREEMPT, :OVERRIDE or :INTERLEAVE. Returns T when
 the event was accepted, (VALUES NIL :DROPPED) when it was dropped, and (VALUES
 NIL GOAL) when it started at once and its plan failed.
 
+Sent to CONTROLLER from inside its own running event (a :code directive
+calling (send-event *controller* ...)), EVENT is deferred, its arguments
+checked now: a whole-event controller sends it once the running event is
+over, a timed one dispatches it at the current instant once everything due
+then has happened (AT must then be NIL or now). Returns (VALUES NIL :DEFERRED).
+
 CONTROLLER may also be an EVENT-TARGET, such as the VIEWER-SESSION of VIEW:
 the event is then sent to the controller it stands for, at the viewer's
 playback time unless AT is given."
