@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle demo-dialogue test bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-dialogue test test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -53,6 +53,15 @@ test: deps
 	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --eval '(asdf:test-system "player")' \
 	  --eval '(sb-ext:exit :code (if (symbol-value (find-symbol "*LAST-RUN-FAILED*" "PLAYER-TESTS")) 1 0))'
+	$(MAKE) --no-print-directory test-unchecked-engine
+
+# The timed engine's suites against a build with (safety 0) in the engine
+# (:player-unchecked-engine, src/control/timeline/agenda.lisp), in an SBCL of
+# its own with its own fasl cache (build/unchecked-engine/): `make test' runs
+# it after the full suite, so the engine is tested both ways.  Its last line
+# is 'unchecked engine: N passed, N failed'; a failure fails the target.
+test-unchecked-engine: deps
+	$(LISP) --load bin/load-system.lisp --load t/unchecked-engine.lisp --eval '(run-unchecked-engine-suites)'
 
 # A bigger heap than SBCL's default 1 GB: (newton-cradle 8)'s merge has 20 M edges
 # (bench/cradle.lisp skips a build the machine's free memory cannot hold).

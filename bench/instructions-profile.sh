@@ -5,12 +5,13 @@
 # counting off and is switched on for one pass of 20,000 events; its
 # addresses are named with a map of the core's code written by a native run
 # (under valgrind the heap is moved by a constant, found from one function).
+# ENGINE=unchecked profiles the build with :player-unchecked-engine.
 set -e
 . bench/player-core.sh
 require_tool valgrind valgrind
 require_tool callgrind_control valgrind
 require_tool python3 python3
-make_core
+make_core "${ENGINE:-checked}"
 $lisp --eval "(player-bench::write-code-map \"$work/native.map\")" \
       --eval "(player-bench::write-anchor \"$work/native-anchor\")"
 valgrind --tool=callgrind --instr-atstart=no --dump-instr=yes --callgrind-out-file="$work/callgrind.out" \

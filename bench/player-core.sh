@@ -12,14 +12,24 @@ require_tool () {
   fi
 }
 
-# make_core: build the core in a fresh $work (removed on exit); set $lisp.
+# make_core [ENGINE]: build the core in a fresh $work (removed on exit); set
+# $lisp.  ENGINE is checked (the default build) or unchecked: Player built
+# with :player-unchecked-engine, its fasls in build/unchecked-engine/ as
+# `make test-unchecked-engine' builds them (t/unchecked-engine.lisp).
 make_core () {
-  work=$(mktemp -d)
+  work=${work:-$(mktemp -d)}
   trap 'rm -rf "$work"' EXIT
+  case "${1:-checked}" in
+    checked) engine_form='nil' ;;
+    unchecked) engine_form='(progn (load "t/unchecked-engine.lisp") (pushnew :player-unchecked-engine *features*)
+                 (asdf:initialize-output-translations (unchecked-engine-output-translations (truename "./"))))' ;;
+    *) echo "player: error: make_core: engine $1 is neither checked nor unchecked" >&2; exit 1 ;;
+  esac
   "$SBCL" --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive \
     --eval '(require :asdf)' --eval '(push (truename ".") asdf:*central-registry*)' \
+    --eval "$engine_form" \
     --eval '(handler-bind ((warning (function muffle-warning))) (asdf:load-system "player"))' \
     --load bench/run.lisp --load bench/instructions.lisp \
-    --eval "(sb-ext:save-lisp-and-die \"$work/player.core\")" >/dev/null
-  lisp="$SBCL --core $work/player.core --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive"
+    --eval "(sb-ext:save-lisp-and-die \"$work/player-${1:-checked}.core\")" >/dev/null
+  lisp="$SBCL --core $work/player-${1:-checked}.core --noinform --no-sysinit --no-userinit --disable-debugger --non-interactive"
 }

@@ -41,6 +41,9 @@
    #:seq-suffixes #:spec->graph #:sphere-state-p #:subgraph-p #:tree-flatten #:tree-left
    #:tree-merge #:tree-p #:tree-product #:tree-right)
   (:import-from #:player.control
+   #:deferred-sends-error #:presenter-result-error #:presenter-result-error-function
+   #:presenter-result-error-op #:presenter-result-error-presenter
+   #:presenter-result-error-value
    #:*controller* #:advance #:clear-trace #:compile-spec #:compiled-machine #:controller
    #:controller-busy-p #:controller-clock #:controller-machine #:controller-presenter
    #:controller-state #:controller-time #:event-names #:finish-events #:follow-spec
@@ -183,6 +186,8 @@
    #:view #:stop-view #:call-in-view #:viewer-session #:view-running-p #:reload-script-library #:reload-view-scripts
    #:start-swank #:stop-swank
    #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
+   #:presenter-result-error #:presenter-result-error-presenter #:presenter-result-error-function
+   #:presenter-result-error-op #:presenter-result-error-value #:deferred-sends-error
    #:*when-busy-policies*
    #:event-names #:*controller*
    ;; Presenter protocol

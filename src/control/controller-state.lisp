@@ -5,7 +5,10 @@
 (in-package #:player.control)
 
 (defvar *controller* nil
-  "The controller whose event is running, for :code forms and presenters.")
+  "The controller whose event is running, for :code forms and presenters.
+Bound while a controller runs an event's closures (SEND-EVENT, or a timed
+controller planning one ahead): a SEND-EVENT to it then is deferred
+(DEFERRED-SENDS.LISP), and a redefinition waits (SAFE-POINT-P).")
 
 (defstruct (controller (:constructor %make-controller))
   "One running agent: a machine (shared, read-only) plus this agent's state."
@@ -47,7 +50,10 @@
   ;; changed since CHECKED-PRESENTER and CHECKED-GENERATION.
   (silent-presenter :none)
   (checked-presenter :none)
-  (checked-generation -1 :type fixnum))
+  (checked-generation -1 :type fixnum)
+  ;; The sends to it from inside its own running event, deferred till that
+  ;; is over (DEFERRED-SENDS.LISP), oldest first: (EVENT . AT) pairs.
+  (deferred-sends '() :type list))
 
 (declaim (inline silent-p))
 (defun silent-p (controller)

@@ -223,7 +223,9 @@ effects. Its precondition is the caller's business."
                          ;; declared duration: no need to ask it.
                          (end (+ start (if (silent-p controller)
                                            (op-duration op)
-                                           (to-double (present-op (controller-presenter controller) op start))))))
+                                           (let ((presenter (controller-presenter controller)))
+                                             (presenter-seconds (present-op presenter op start)
+                                                                presenter 'present-op op))))))
                     (note-op-end controller end)
                     (unless (zerop mask)
                       (set-state controller

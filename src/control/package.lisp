@@ -10,12 +10,15 @@
    #:*controller* #:*initial-state-phrase* #:advance #:clear-trace #:compile-spec
    #:compiled-machine #:controller #:controller-bits #:controller-busy-p #:controller-clock
    #:controller-machine #:controller-p #:controller-presenter #:controller-state
-   #:controller-time #:controller-timeline #:critical-time #:event-names #:event-target
+   #:controller-time #:controller-timeline #:critical-time #:deferred-sends-error
+   #:event-names #:event-target
    #:find-compiled-event #:finish-events #:follow-spec #:initial-state-p #:make-controller
    #:make-null-presenter #:make-trace-presenter #:null-presenter #:op-channel-set
    #:planned-op-duration #:play-events #:play-script #:present-cut #:present-event
    #:present-failure #:present-initial-state #:present-macro-end #:present-macro-start
-   #:present-op #:present-state #:presenter #:recompile #:redefine-controller
+   #:present-op #:present-state #:presenter #:presenter-result-error
+   #:presenter-result-error-function #:presenter-result-error-op
+   #:presenter-result-error-presenter #:presenter-result-error-value #:recompile #:redefine-controller
    #:redefinition-warning #:redefinition-warning-error #:run-director #:send-event
    #:spec-of #:start-autoscript #:state-value #:stop-autoscript #:target-send-event
    #:timeline-error #:trace-dropped #:trace-line-p #:trace-line-string #:trace-line-vector

@@ -143,6 +143,12 @@ spec's) decides: :QUEUE, :PREEMPT, :OVERRIDE or :INTERLEAVE. Returns T when
 the event was accepted, (VALUES NIL :DROPPED) when it was dropped, and (VALUES
 NIL GOAL) when it started at once and its plan failed.
 
+Sent to CONTROLLER from inside its own running event (a :code directive
+calling (send-event *controller* ...)), EVENT is deferred, its arguments
+checked now: a whole-event controller sends it once the running event is
+over, a timed one dispatches it at the current instant once everything due
+then has happened (AT must then be NIL or now). Returns (VALUES NIL :DEFERRED).
+
 CONTROLLER may also be an EVENT-TARGET, such as the VIEWER-SESSION of VIEW:
 the event is then sent to the controller it stands for, at the viewer's
 playback time unless AT is given."
@@ -181,6 +187,9 @@ FORM, left to SEND-EVENT."
       (if (typep controller 'event-target)
           (target-send-event controller event at when-busy)
           (argument-fail 'send-event 'controller controller "a controller (from make-controller)"))))
+  ;; Sent from inside its own running event (its :code): sent after it.
+  (when (running-event-p controller)
+    (return-from send-event* (defer-send controller event at when-busy)))
   (when (controller-timeline controller)
     (return-from send-event* (send-timed-event controller event at when-busy)))
   (when (controller-pending controller)
@@ -201,6 +210,8 @@ FORM, left to SEND-EVENT."
       (present-event presenter (event-name event) start))
     (dolist (var (event-time-variables event))
       (set-runtime-value controller var start start))
+    ;; No macro-op is open as an event starts, even one an error left open.
+    (setf (controller-active-macros controller) 0)
     (let ((result (funcall (the function (compiled-event-run compiled)) controller)))
       (unless (or (eq result t) (silent-p controller))
         (present-failure presenter (event-name event) (failure-goal-form result)
@@ -208,6 +219,8 @@ FORM, left to SEND-EVENT."
       (setf (controller-clock controller) (controller-span-end controller))
       (unless (silent-p controller)
         (present-state presenter controller))
+      (when (controller-deferred-sends controller)
+        (send-deferred-events controller))
       (if (eq result t)
           t
           (values nil (failure-goal-form result))))))

@@ -114,6 +114,9 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                               (> (agenda-item-time item) (timeline-now timeline)))))
                (when (> (incf steps) step-limit)
                  (never-idle-error (timeline-now timeline)))
+               #-player-unchecked-engine
+               (when (item-status-p item :free)
+                 (retired-item-error item "applied"))
                (agenda-pop agenda item)
                (note-instant timeline (agenda-item-time item))
                (setf (timeline-now timeline) (agenda-item-time item)
@@ -167,7 +170,7 @@ that no running event meets any more, first first."
   ;; so nothing reaches them now -- unless a :time directive left changes due
   ;; after its end: those are retired as they are applied.
   (when (null (run-pending run))
-    (retire-run-item-list (timeline-agenda timeline) run (shiftf (run-items run) '()))
+    (retire-item-list (timeline-agenda timeline) (shiftf (run-items run) '()) run)
     (retire-item (timeline-agenda timeline) (run-finish run)))
   (when (timeline-queue timeline)
     (start-waiting-runs timeline (timeline-now timeline))))

@@ -6,20 +6,25 @@
 (in-package #:player.control)
 
 (eval-when (:compile-toplevel :load-toplevel :execute)
-  (defparameter *timeline-optimize* '(optimize (speed 1) (safety 0) (debug 0))
+  (defparameter *timeline-optimize*
+    #-player-unchecked-engine '(optimize (speed 1) (safety 1) (debug 1))
+    #+player-unchecked-engine '(optimize (speed 1) (safety 0) (debug 0))
     "The optimize form declaimed at the top of each file of the timeline's
-engine (agenda.lisp to cuts.lisp).  Safety 0: the engine only ever handles
-the items, runs and lists it made itself, from arguments that the API
-(api.lisp, compiled safe) has checked, so the type check of every structure
-access is dead weight -- and there are many: checked, the code that plays one
-event did not fit the instruction cache (measured with cachegrind: about 20 %
-more instructions and twice the instruction-cache misses).  Debug 0 takes
-another 3 % of the instructions and a fifth of the misses left.  What the
-engine hands to code it does not own (a presenter's methods, the closures of
-the compiled events) is checked there.  The timers, footprints and API files
-keep the default policy.  To chase a bug inside the engine, make this
-(safety 3) (debug 2) and rebuild: every structure access is checked again
-(make test passes so too; it did when this policy came in)."))
+engine (agenda.lisp to cuts.lisp).  By default it is the project's checked
+policy, SBCL's own (safety 1): every structure access and declared type is
+checked, so an engine bug is an error where it happens, not a wrong state
+later.  A build with :PLAYER-UNCHECKED-ENGINE in *FEATURES* when it compiles
+takes (safety 0) (debug 0) instead: the engine only ever handles the items,
+runs and lists it made itself, from arguments the API (api.lisp, compiled
+checked either way) has checked, and unchecked, the code that plays one
+event fits the instruction cache (a timed Peedy event: about 2,960
+instructions and 12 level-1 instruction-cache misses, against 4,090 and
+45 to 60 checked; `make bench-instructions' counts both builds).  Only
+benchmarks turn it on; `make test' runs the engine's suites against such a
+build too (`make test-unchecked-engine'), so both ways stay tested.  The
+checked build also signals a RETIRED-ITEM-ERROR for an agenda item retired
+twice or applied once retired (ITEM-POOL.LISP).  doc/internals/timeline.md
+says more."))
 
 (declaim #.*timeline-optimize*)
 

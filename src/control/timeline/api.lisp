@@ -69,6 +69,26 @@ if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the s
             ((eq result t) t)
             (t (values nil (failure-goal-form result)))))))
 
+(defun defer-timed-send (controller event at when-busy)
+  "DEFER-SEND on timed CONTROLLER, planning an event ahead whose :code sends
+EVENT: the event arrives at NOW once everything else due then has happened,
+as a timer's or trigger's does, resolved by WHEN-BUSY or its own policy
+against the event planned (which is running by then).  AT, if given, must be
+NOW: the clock cannot move while an event is planned (an ARGUMENT-ERROR
+otherwise).  Returns (VALUES NIL :DEFERRED)."
+  (let* ((timeline (controller-timeline controller))
+         (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
+         (compiled (find-compiled-event controller event))
+         (policy (timed-event-policy compiled when-busy)))
+    (when (> time (timeline-now timeline))
+      (argument-fail 'send-event :at at
+                     (format nil "NIL or now (~A s): an event sent from inside the controller's own event arrives when that one is planned; send later events from outside"
+                             (format-number (timeline-now timeline)))))
+    (push (lambda ()
+            (dispatch-event timeline compiled (timeline-now timeline) policy :user))
+          (timeline-deferred timeline))
+    (values nil :deferred)))
+
 (defun advance (controller time)
   "Move timed CONTROLLER's clock to TIME (seconds, not before now), presenting
 in time order what falls due: op starts, state changes with their autoscripts,

@@ -26,7 +26,10 @@ asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
       (when (listp (op-interrupt op))
         (setf (gethash op (timeline-cut-points timeline))
               (sort (mapcar (lambda (point)
-                              (to-double (if (realp point) point (critical-time presenter op point))))
+                              (if (realp point)
+                                  (to-double point)
+                                  (presenter-seconds (critical-time presenter op point)
+                                                     presenter 'critical-time op)))
                             (op-interrupt op))
                     #'<))))))
 
@@ -194,7 +197,7 @@ retire RUN too."
     (when (and first (item-status-p first :cancelled))
       (agenda-swap-out agenda first (first kept)))
     (setf (run-pending run) kept)
-    (retire-run-item-list agenda run cancelled)))
+    (retire-item-list agenda cancelled run)))
 
 (defun retire-played-items (agenda run running keep)
   "Retire the items of RUN, being cut, that have been played and neither play

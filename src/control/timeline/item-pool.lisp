@@ -56,39 +56,92 @@
                 (agenda-item-status item) :pending)
           item))))
 
-(declaim (inline mark-item-free))
-(defun mark-item-free (agenda item)
-  "Mark ITEM, not retired yet, :FREE, counting it off its run's items; the
-last of a run that is over retires the run (RETIRE-ITEM's first half)."
-  (let ((run (agenda-item-run item)))
-    (when (and run (zerop (decf (run-live-items run))) (run-finished run))
-      (retire-run agenda run)))
-  (setf (agenda-item-status item) :free))
+;; An item retired twice would be in the pool twice, and handed out for two
+;; things at once; one applied after it was retired may be another thing's
+;; already.  The checked engine says so where it happens.
+(define-condition retired-item-error (timeline-error) ()
+  (:documentation "The timed engine retired an agenda item already retired, or
+applied one it had retired: a bug in the engine (its pool would hand the item
+out twice).  Only the checked engine (the default build) looks."))
+
+(defun retired-item-error (item what)
+  "Signal a RETIRED-ITEM-ERROR: ITEM, already retired, was WHAT (a phrase)."
+  (error 'retired-item-error
+         :message (format nil "the timed engine ~A agenda item ~A (seq ~D), already retired: its pool would hand it out twice"
+                          what (agenda-item-kind item) (agenda-item-seq item))))
+
+;; Inline: every item a timed controller records is retired through it.
+(declaim (inline pool-item))
+(defun pool-item (item free recycle)
+  "Mark ITEM :FREE and chain it before FREE, the head of its agenda's pool
+(kept in a variable by a loop); return the new head.  Unless RECYCLE (the
+agenda's: *RECYCLE-AGENDA-ITEMS*), poison ITEM instead, KIND :FREE and
+nothing referred to, and keep FREE.  In the checked engine, an item already
+retired is a RETIRED-ITEM-ERROR."
+  (declare (agenda-item item))
+  #-player-unchecked-engine
+  (when (item-status-p item :free)
+    (retired-item-error item "retired"))
+  (setf (agenda-item-status item) :free)
+  (cond (recycle
+         ;; The pool is chained through OWNER: no cons per item.  The other
+         ;; slots are set when the item is taken again (FRESH-AGENDA-ITEM).
+         (setf (agenda-item-owner item) free)
+         item)
+        ;; KIND :FREE, so applying a retired item is an ECASE error, not a
+        ;; silent wrong state.
+        (t (setf (agenda-item-kind item) :free
+                 (agenda-item-run item) nil
+                 (agenda-item-op item) nil
+                 (agenda-item-a item) nil
+                 (agenda-item-b item) nil
+                 (agenda-item-owner item) nil)
+           free)))
+
+(declaim (inline count-off-items))
+(defun count-off-items (agenda run count)
+  "COUNT items of RUN were retired: the last of a run that is over retires the run."
+  (declare (fixnum count))
+  (when (and run (zerop (decf (run-live-items run) count)) (run-finished run))
+    (retire-run agenda run)))
 
 ;; Inline: an item is retired for every one a timed controller records.
 (declaim (inline retire-item))
 (defun retire-item (agenda item)
-  "Nothing reaches ITEM any more: mark it :FREE and put it in AGENDA's pool;
-an agenda that does not recycle (*RECYCLE-AGENDA-ITEMS*) poisons it instead,
-KIND :FREE and nothing referred to.  An item already retired is left alone.
-The last item of a run that is over retires the run too."
+  "Nothing reaches ITEM any more: put it in AGENDA's pool (POOL-ITEM).  The
+last item of a run that is over retires the run too."
   (declare (agenda agenda) (agenda-item item))
-  (unless (item-status-p item :free)
-    (mark-item-free agenda item)
-    (if (agenda-recycle agenda)
-        ;; The pool is chained through OWNER: no cons per item.  The other
-        ;; slots are set when the item is taken again (FRESH-AGENDA-ITEM).
-        (setf (agenda-item-owner item) (agenda-free agenda)
-              (agenda-free agenda) item)
-        ;; KIND :FREE, so applying a retired item is an ECASE error, not a
-        ;; silent wrong state.
-        (setf (agenda-item-kind item) :free
-              (agenda-item-run item) nil
-              (agenda-item-op item) nil
-              (agenda-item-a item) nil
-              (agenda-item-b item) nil
-              (agenda-item-owner item) nil)))
+  (let ((run (agenda-item-run item)))
+    (setf (agenda-free agenda) (pool-item item (agenda-free agenda) (agenda-recycle agenda)))
+    (count-off-items agenda run 1))
   nil)
+
+(defun retire-item-list (agenda items &optional run)
+  "Retire each item of ITEMS, a list that nothing else shares any more, and
+keep its conses for FRESH-ITEM-CONS.  RUN, when given, owns every item of
+ITEMS: they are counted off it at once."
+  (declare (agenda agenda) (list items))
+  (when items
+    ;; The pool's head kept in a variable and stored once: the same chain as
+    ;; RETIRE-ITEM's, one pointer store less per item.
+    (let ((free (agenda-free agenda))
+          (recycle (agenda-recycle agenda))
+          (last items)
+          (count 0))
+      (declare (fixnum count))
+      (loop (let ((item (first last)))
+              (if run
+                  (incf count)
+                  (count-off-items agenda (agenda-item-run item) 1))
+              (setf free (pool-item item free recycle)))
+            (if (rest last)
+                (setf last (rest last))
+                (return)))
+      (setf (agenda-free agenda) free)
+      (when recycle
+        (setf (rest last) (agenda-free-conses agenda)
+              (agenda-free-conses agenda) items))
+      (count-off-items agenda run count))))
 
 (defun new-cons (first rest)
   "(CONS FIRST REST), out of line: SPARE-CONS is inline in many places and
@@ -137,58 +190,6 @@ would grow without end."
             do (setf last (rest last)))
       (setf (rest last) (agenda-free-conses agenda)
             (agenda-free-conses agenda) list))))
-
-(defun retire-item-list (agenda items)
-  "Retire each item of ITEMS, a run's own list that nothing else shares any
-more, and keep its conses for FRESH-ITEM-CONS."
-  (declare (agenda agenda) (list items))
-  (when items
-    (let ((last items))
-      (if (agenda-recycle agenda)
-          ;; RETIRE-ITEM's pooling, the pool's head kept in a variable and
-          ;; stored once: the same chain, one pointer store less per item.
-          (let ((free (agenda-free agenda)))
-            (loop (let ((item (first last)))
-                    (unless (item-status-p item :free)
-                      (mark-item-free agenda item)
-                      (setf (agenda-item-owner item) free
-                            free item)))
-                  (if (rest last)
-                      (setf last (rest last))
-                      (return)))
-            (setf (agenda-free agenda) free
-                  (rest last) (agenda-free-conses agenda)
-                  (agenda-free-conses agenda) items))
-          (loop (retire-item agenda (first last))
-                (if (rest last)
-                    (setf last (rest last))
-                    (return)))))))
-
-(defun retire-run-item-list (agenda run items)
-  "RETIRE-ITEM-LIST of ITEMS, all of them RUN's: those not retired yet are
-counted off RUN all at once."
-  (declare (agenda agenda) (list items))
-  (if (and items (agenda-recycle agenda))
-      (let ((free (agenda-free agenda))
-            (count 0)
-            (last items))
-        (declare (fixnum count))
-        (loop (let ((item (first last)))
-                (unless (item-status-p item :free)
-                  (setf (agenda-item-status item) :free
-                        (agenda-item-owner item) free
-                        free item)
-                  (incf count)))
-              (if (rest last)
-                  (setf last (rest last))
-                  (return)))
-        (setf (agenda-free agenda) free
-              (rest last) (agenda-free-conses agenda)
-              (agenda-free-conses agenda) items)
-        ;; RETIRE-ITEM would retire RUN at its last item: the same, once.
-        (when (and (zerop (decf (run-live-items run) count)) (run-finished run))
-          (retire-run agenda run)))
-      (retire-item-list agenda items)))
 
 ;; Inline: a run that plays to its end makes one, as its last item comes up.
 (declaim (inline finish-item))

@@ -54,8 +54,20 @@
    :type (simple-array double-float (*)))
   (macro-depth 0 :type fixnum))
 
+;;; What a tape says the closures did, one code per call they made to the
+;;; recorder (REPLAY-TAPE does each again).  Small integers: the tape is read
+;;; once for every event replayed, and a code compares in one instruction.
+(defconstant +taped-op+ 0
+  "Tape code: an op played (RECORD-OP-PLAYED), its end's change MASK BITS.")
+(defconstant +taped-macro-start+ 1
+  "Tape code: a macro-op began, its span opening at the clock (RECORD-MACRO-START).")
+(defconstant +taped-macro-end+ 2
+  "Tape code: the innermost macro-op open ended, the clock moving to its end (RECORD-MACRO-END).")
+(defconstant +taped-state-change+ 3
+  "Tape code: the fields of MASK became BITS at the clock, at the end of the op or NIL (RECORD-STATE-CHANGE).")
+
 (defun note-taped (recorder code op mask bits)
-  "Put on RECORDER's tape what the closures just did: CODE (see REPLAY-TAPE)
+  "Put on RECORDER's tape what the closures just did: CODE (+TAPED-OP+ and the rest, above)
 with OP, MASK and BITS, at the controller's current step."
   (let ((tape (recorder-tape recorder)))
     (unless (eq tape :spoiled)
@@ -116,7 +128,8 @@ last to its items."
   "How long OP played from START will take, as the real presenter says."
   (if (recorder-declared-durations recorder)
       (op-duration op)
-      (to-double (planned-op-duration (controller-presenter* (recorder-timeline recorder)) op start))))
+      (let ((presenter (controller-presenter* (recorder-timeline recorder))))
+        (presenter-seconds (planned-op-duration presenter op start) presenter 'planned-op-duration op))))
 
 (declaim (inline record-op))
 (defun record-op (recorder op start)
@@ -137,7 +150,7 @@ last to its items."
 (defun record-macro-start (recorder op start)
   "Record macro-op OP beginning at START."
   (when (recorder-taping recorder)
-    (note-taped recorder 1 op 0 0))
+    (note-taped recorder +taped-macro-start+ op 0 0))
   (let ((item (record-item recorder :macro-start start)))
     (setf (agenda-item-op item) op)
     (push item (recorder-open-macros recorder))
@@ -146,7 +159,7 @@ last to its items."
 (defun record-macro-end (recorder op start end)
   "Record macro-op OP, begun at START, ending at END."
   (when (recorder-taping recorder)
-    (note-taped recorder 2 op 0 0))
+    (note-taped recorder +taped-macro-end+ op 0 0))
   (let ((opening (pop (recorder-open-macros recorder)))
         (item (record-item recorder :macro-end end)))
     (setf (agenda-item-op item) op (agenda-item-a item) (to-double start)
@@ -183,7 +196,7 @@ CONTROLLER's scheduling clock, the clock moves to its end, and there the
 plannable fields of MASK (unless 0) become BITS.  In one function, so no time
 is boxed between the steps."
   (when (recorder-taping recorder)
-    (note-taped recorder 0 op mask bits))
+    (note-taped recorder +taped-op+ op mask bits))
   (let* ((start (controller-schedule controller))
          (end (+ start (record-op recorder op start))))
     (note-op-end controller end)
@@ -198,7 +211,7 @@ of MASK become BITS at TIME (the scheduling clock), at the end of OP or NIL."
   (when (recorder-taping recorder)
     ;; A replay records it at the clock: a change due at any other time spoils the tape.
     (if (eql time (controller-schedule controller))
-        (note-taped recorder 3 op mask bits)
+        (note-taped recorder +taped-state-change+ op mask bits)
         (setf (recorder-tape recorder) :spoiled)))
   (record-change recorder :delta controller time mask bits op))
 

@@ -156,11 +156,12 @@ its span closes, the clock moves to its end."
 (defun replay-tape (recorder controller tape)
   "Do to RECORDER what the closures did when TAPE was made, with CONTROLLER's
 clock where they found theirs; return what they returned.  Each entry is a
-code, an op, a mask, bits and the step it was made in:
-  0  the op played (RECORD-OP-PLAYED, its end's change MASK BITS)
-  1  a macro-op began: its span opens at the clock
-  2  the macro-op ended: its span closes, the clock moves to its end
-  3  the fields of MASK became BITS at the clock, at the end of the op or NIL."
+code, an op, a mask, bits and the step it was made in; the codes
+(RECORDER.LISP) say:
+  +TAPED-OP+            the op played (RECORD-OP-PLAYED, its end's change MASK BITS)
+  +TAPED-MACRO-START+   a macro-op began: its span opens at the clock
+  +TAPED-MACRO-END+     the macro-op ended: its span closes, the clock moves to its end
+  +TAPED-STATE-CHANGE+  the fields of MASK became BITS at the clock, at the end of the op or NIL."
   (let* ((entries (plan-tape-entries tape))
          (count (length entries)))
     (declare (simple-vector entries) (fixnum count))
@@ -170,12 +171,14 @@ code, an op, a mask, bits and the step it was made in:
       (declare (fixnum i))
       (let ((op (svref entries (+ i 1))))
         (setf (controller-step controller) (the fixnum (svref entries (+ i 4))))
-        (case (svref entries i)
-          (0 (record-op-played recorder controller op (svref entries (+ i 2)) (svref entries (+ i 3))))
-          (1 (replay-macro-start recorder controller op))
-          (2 (replay-macro-end recorder controller op))
-          (3 (record-change recorder :delta controller (controller-schedule controller)
-                            (svref entries (+ i 2)) (svref entries (+ i 3)) op)))))
+        (let ((code (svref entries i)))
+          (cond ((eql code +taped-op+)
+                 (record-op-played recorder controller op (svref entries (+ i 2)) (svref entries (+ i 3))))
+                ((eql code +taped-macro-start+) (replay-macro-start recorder controller op))
+                ((eql code +taped-macro-end+) (replay-macro-end recorder controller op))
+                ((eql code +taped-state-change+)
+                 (record-change recorder :delta controller (controller-schedule controller)
+                                (svref entries (+ i 2)) (svref entries (+ i 3)) op))))))
     (setf (controller-step controller) (plan-tape-step tape))
     (plan-tape-result tape)))
 
