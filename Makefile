@@ -49,17 +49,20 @@ demo-dialogue: deps
 	  --wav "$$(ls demo/dialogue/request-*.wav | paste -sd, -)" \
 	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/dialogue/conversation.mp4)
 
+# The timed engine's suites first on a build with :player-unchecked-engine
+# (its line: unchecked-engine: N passed, N failed, N skipped), then the whole
+# suite on the default, checked build, whose "N passed, N failed" ends the output.
 test: deps
+	$(MAKE) --no-print-directory test-unchecked-engine
 	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --eval '(asdf:test-system "player")' \
 	  --eval '(sb-ext:exit :code (if (symbol-value (find-symbol "*LAST-RUN-FAILED*" "PLAYER-TESTS")) 1 0))'
-	$(MAKE) --no-print-directory test-unchecked-engine
 
 # The timed engine's suites against a build with (safety 0) in the engine
 # (:player-unchecked-engine, src/control/timeline/agenda.lisp), in an SBCL of
 # its own with its own fasl cache (build/unchecked-engine/): `make test' runs
-# it after the full suite, so the engine is tested both ways.  Its last line
-# is 'unchecked engine: N passed, N failed'; a failure fails the target.
+# it before the full suite, so the engine is tested both ways.  Its last line
+# is 'unchecked-engine: N passed, N failed, N skipped'; a failure fails the target.
 test-unchecked-engine: deps
 	$(LISP) --load bin/load-system.lisp --load t/unchecked-engine.lisp --eval '(run-unchecked-engine-suites)'
 

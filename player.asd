@@ -54,6 +54,7 @@ run the resulting state machine as Lisp closures or embedded C++."
    (:module "planner" :depends-on ("base" "spec")
     :serial t
     :components ((:file "package")
+                 (:file "bitmaps")
                  (:file "encoding")
                  (:file "solved-states")
                  (:file "reachable")

@@ -80,7 +80,9 @@
                      (map 'list (lambda (plan) (cons (player.planner::plan-condition plan)
                                                      (mapcar #'player::op-name (player.planner::plan-ops plan))))
                           (player.planner::goal-plans goal))
-                     (player.planner::goal-solved goal) (player.planner::goal-truncatedp goal)))
+                     (player.planner::bitmap-bits (player.planner::goal-solved goal)
+                                                  (player.planner::machine-state-count machine))
+                     (player.planner::goal-truncatedp goal)))
        (player.planner::machine-goal-table machine)))
 
 (defun mutated-spec-forms (seed)

@@ -91,7 +91,7 @@ MAX-DEPTH truncated, and states unreachable from the initial state."
                           (format nil "goal ~A is unreachable from ~D of ~D states, e.g. ~A"
                                   (goal-description goal) missing total
                                   (lisp-text (cube-expression
-                                              (dense-to-state (position 0 (goal-solved goal))
+                                              (dense-to-state (bitmap-first-clear (goal-solved goal) total)
                                                               (machine-layout machine))
                                               spec))))
                       (goal-expression goal))

@@ -36,17 +36,17 @@
 (defstruct (state-set (:constructor %make-state-set (bits count words)))
   "Some states of a reachable index: BITS, a bit per state number; COUNT, how
 many; WORDS, a bit per 64-bit word of BITS, set when the word holds one."
-  (bits nil :type simple-bit-vector)
+  (bits nil :type bitmap)
   (count 0 :type fixnum)
-  (words nil :type simple-bit-vector))
+  (words nil :type bitmap))
 
 (defun make-state-set (bits)
-  "The STATE-SET of the states whose bits are set in BITS."
-  (let ((words (make-array (ceiling (length bits) 64) :element-type 'bit :initial-element 0)))
-    (dotimes (word (length words))
-      (unless (zerop (raw-word bits word))
-        (setf (sbit words word) 1)))
-    (%make-state-set bits (count 1 bits) words)))
+  "The STATE-SET of the states whose bits are set in BITS (a BITMAP)."
+  (let ((words (make-bitmap (length bits))))
+    (dotimes (word (length bits))
+      (unless (zerop (bitmap-word bits word))
+        (setf (bitmap-bit words word) 1)))
+    (%make-state-set bits (count-marked bits) words)))
 
 (defstruct (reachable-index (:constructor %make-reachable-index))
   "The reachable states of a spec, numbered, with their STATE-SET per one-hot bit."
@@ -198,13 +198,13 @@ position. REACHABLE-SPACE-TOO-LARGE past LIMIT states."
   "For each of BIT-COUNT one-hot bits, the STATE-SET of the positions of
 STATES of those that have it."
   (let ((sets (coerce (loop repeat bit-count
-                            collect (make-array (length states) :element-type 'bit :initial-element 0))
+                            collect (make-bitmap (length states)))
                       'simple-vector)))
     (loop for state across states
           for number from 0
           do (loop for bit below (integer-length state)
                    when (logbitp bit state)
-                     do (setf (sbit (svref sets bit) number) 1)))
+                     do (setf (bitmap-bit (svref sets bit) number) 1)))
     (map 'simple-vector #'make-state-set sets)))
 
 (defun add-reachable-index (layout)
@@ -221,7 +221,7 @@ STATES of those that have it."
                                           nconc (make-list size :initial-element k))
                                     'simple-vector)
              :top (top-cube spec)
-             :all (make-state-set (make-array (length states) :element-type 'bit :initial-element 1))
+             :all (make-state-set (make-bitmap (length states) :initial-bit 1))
              :signature (list roots (mapcar (lambda (op)
                                               (list (planner-op-precondition op)
                                                     (planner-op-effect-mask op)
@@ -238,12 +238,11 @@ has one of the values of FIELD; made once per field."
   (let ((key (cons offset field)))
     (or (gethash key (reachable-index-choices index))
         (setf (gethash key (reachable-index-choices index))
-              (let ((union (make-array (length (reachable-index-states index)) :element-type 'bit
-                                                                                :initial-element 0)))
+              (let ((union (make-bitmap (length (reachable-index-states index)))))
                 (loop for value below size
                       when (logbitp value field)
-                        do (bit-ior union (state-set-bits (svref (reachable-index-bit-sets index) (+ offset value)))
-                                    union))
+                        do (bitmap-ior-into union (state-set-bits (svref (reachable-index-bit-sets index)
+                                                                         (+ offset value)))))
                 (make-state-set union))))))
 
 (defun cube-sets (cube layout)
@@ -312,23 +311,23 @@ is full) is clear are read."
     `(let* ((,sets (cube-sets ,cube ,layout))
             (,count (length ,sets)))
        (declare (type simple-vector ,sets) (type fixnum ,count))
-       (dotimes (,group (ceiling (length (state-set-words (svref ,sets 0))) 64))
-         (let ((,open (logandc2 +full-word+ (raw-word ,full ,group))))
+       (dotimes (,group (length (state-set-words (svref ,sets 0))))
+         (let ((,open (logandc2 +full-word+ (bitmap-word ,full ,group))))
            (declare (type (unsigned-byte 64) ,open))
            (loop for ,k of-type fixnum from 0 below ,count
                  until (zerop ,open)
-                 do (setf ,open (logand ,open (raw-word (state-set-words (svref ,sets ,k)) ,group))))
+                 do (setf ,open (logand ,open (bitmap-word (state-set-words (svref ,sets ,k)) ,group))))
            (loop until (zerop ,open)
                  do (let* ((,low (logand ,open (ldb (byte 64 0) (- ,open))))
                            (,position (1- (integer-length ,low)))
                            (,word (+ (* ,group 64) ,position))
                            (,pattern (logand (the (unsigned-byte 64) ,within)
-                                             (raw-word (state-set-bits (svref ,sets 0)) ,word))))
+                                             (bitmap-word (state-set-bits (svref ,sets 0)) ,word))))
                       (declare (type (unsigned-byte 64) ,low ,pattern) (type fixnum ,position ,word))
                       (setf ,open (logxor ,open ,low))
                       (loop for ,k of-type fixnum from 1 below ,count
                             until (zerop ,pattern)
-                            do (setf ,pattern (logand ,pattern (raw-word (state-set-bits (svref ,sets ,k)) ,word))))
+                            do (setf ,pattern (logand ,pattern (bitmap-word (state-set-bits (svref ,sets ,k)) ,word))))
                       (unless (zerop ,pattern)
                         ,@body))))))))
 
@@ -338,22 +337,22 @@ its bit per full word up to date; return how many were not in it before."
   (declare (optimize speed))
   (let* ((bitmap (solved-states-bits solved-states))
          (full (solved-states-full-words solved-states))
-         (last (1- (length full)))
+         (last (1- (length bitmap)))
          ;; the bits of the last word that stand for states
-         (last-states (let ((rest (mod (length bitmap) 64)))
+         (last-states (let ((rest (mod (layout-state-count layout) 64)))
                         (if (zerop rest) +full-word+ (1- (ash 1 rest)))))
          (new 0))
-    (declare (type simple-bit-vector bitmap full) (type fixnum new last)
+    (declare (type bitmap bitmap full) (type fixnum new last)
              (type (unsigned-byte 64) last-states))
     (do-cube-words (word pattern cube layout full)
-      (let* ((old (raw-word bitmap word))
+      (let* ((old (bitmap-word bitmap word))
              (now (logior old pattern)))
         (declare (type (unsigned-byte 64) now))
         (unless (= old now)
           (incf new (logcount (logxor old now)))
-          (setf (sb-kernel:%vector-raw-bits bitmap word) now)
+          (setf (bitmap-word bitmap word) now)
           (when (= now (if (= word last) last-states +full-word+))
-            (setf (sbit full word) 1)))))
+            (setf (bitmap-bit full word) 1)))))
     new))
 
 (defun reachable-cube-has-unmarked-p (solved-states cube layout)
@@ -361,10 +360,10 @@ its bit per full word up to date; return how many were not in it before."
 SOLVED-STATES?"
   (declare (optimize speed))
   (let ((bitmap (solved-states-bits solved-states)))
-    (declare (type simple-bit-vector bitmap))
+    (declare (type bitmap bitmap))
     ;; Starting from the clear bits, a word that is already full costs one read.
-    (do-cube-words (word pattern cube layout (the simple-bit-vector (solved-states-full-words solved-states))
-                    :within (logandc2 +full-word+ (raw-word bitmap word)))
+    (do-cube-words (word pattern cube layout (the bitmap (solved-states-full-words solved-states))
+                    :within (logandc2 +full-word+ (bitmap-word bitmap word)))
       (return-from reachable-cube-has-unmarked-p (plusp pattern))))
   nil)
 

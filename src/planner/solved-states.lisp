@@ -19,33 +19,27 @@ them all past that).")
 
 (defstruct (solved-states (:constructor %make-solved-states (bits full-words)))
   "A set of dense states of a layout."
-  (bits nil :type simple-bit-vector)
+  (bits nil :type bitmap)
   ;; a bit per word of BITS, set when the word is full; NIL without groups
   ;; (and with a reachable index, see reachable.lisp)
-  (full-words nil :type (or null simple-bit-vector))
+  (full-words nil :type (or null bitmap))
   ;; cubes known to lie inside
   (known (make-hash-table) :type hash-table))
 
 (defun make-solved-states (layout)
   "An empty SolvedStates for LAYOUT."
   (let ((count (layout-state-count layout)))
-    (%make-solved-states (make-array count :element-type 'bit :initial-element 0)
+    (%make-solved-states (make-bitmap count)
                          (cond ((layout-reachable layout) ; a bit per word, the last one partial
-                                (make-array (ceiling count 64) :element-type 'bit :initial-element 0))
+                                (make-bitmap (ceiling count 64)))
                                ((layout-group-prefix layout)
-                                (make-array (floor count 64) :element-type 'bit :initial-element 0))))))
+                                (make-bitmap (floor count 64)))))))
 
 (defun copy-solved-states-deeply (solved-states)
   "A fresh SolvedStates holding the same states (and remembering no cube)."
   (%make-solved-states (copy-seq (solved-states-bits solved-states))
                        (when-let ((full (solved-states-full-words solved-states)))
                          (copy-seq full))))
-
-(defmacro raw-word (bitmap index)
-  "Word INDEX of the simple-bit-vector BITMAP, as an (unsigned-byte 64)."
-  `(the (unsigned-byte 64) (sb-kernel:%vector-raw-bits ,bitmap ,index)))
-
-(defconstant +full-word+ (1- (ash 1 64)) "A word with every bit set.")
 
 (defun known-inside-p (solved-states cube)
   "True when CUBE is remembered to lie inside SOLVED-STATES."
@@ -94,46 +88,42 @@ them all past that).")
 
 (defun mark-range (bitmap start end)
   "Set bits [START, END) of BITMAP; return how many of them were clear."
-  (declare (type simple-bit-vector bitmap) (type fixnum start end) (optimize speed))
+  (declare (type bitmap bitmap) (type fixnum start end) (optimize speed))
   (let ((new 0))
     (declare (type fixnum new))
     (loop while (< start end)
           do (multiple-value-bind (word mask count) (range-word-mask start end)
                (declare (type (unsigned-byte 64) mask) (type fixnum count))
-               (let ((old (raw-word bitmap word)))
+               (let ((old (bitmap-word bitmap word)))
                  (incf new (logcount (logandc1 old mask)))
-                 (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old mask))
+                 (setf (bitmap-word bitmap word) (logior old mask))
                  (incf start count))))
     new))
 
 (defun range-has-clear-p (bitmap start end)
   "True when some bit of [START, END) in BITMAP is clear."
-  (declare (type simple-bit-vector bitmap) (type fixnum start end) (optimize speed))
+  (declare (type bitmap bitmap) (type fixnum start end) (optimize speed))
   (loop while (< start end)
         do (multiple-value-bind (word mask count) (range-word-mask start end)
              (declare (type (unsigned-byte 64) mask) (type fixnum count))
-             (unless (zerop (logandc1 (raw-word bitmap word) mask))
+             (unless (zerop (logandc1 (bitmap-word bitmap word) mask))
                (return-from range-has-clear-p t))
              (incf start count)))
   nil)
 
 (defun mark-cube-runs (bitmap cube layout)
   "MARK-CUBE on the bits of BITMAP, run by run."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (declare (type bitmap bitmap) (optimize speed))
   (let ((new 0))
     (declare (type fixnum new))
+    ;; A run within one word is one masked store, like a long run's words.
     (do-cube-runs (start end cube layout)
-      (if (< (- end start) 64)
-          (loop for dense of-type fixnum from start below end
-                when (zerop (sbit bitmap dense))
-                  do (setf (sbit bitmap dense) 1)
-                     (incf new))
-          (incf new (mark-range bitmap start end))))
+      (incf new (mark-range bitmap start end)))
     new))
 
 (defun cube-runs-have-unmarked-p (bitmap cube layout)
   "CUBE-HAS-UNMARKED-P on the bits of BITMAP, run by run."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (declare (type bitmap bitmap) (optimize speed))
   (do-cube-runs (start end cube layout)
     (when (range-has-clear-p bitmap start end)
       (return-from cube-runs-have-unmarked-p t)))
@@ -143,23 +133,23 @@ them all past that).")
 
 (defun mark-cube-words (bitmap cube layout)
   "MARK-CUBE on the bits of BITMAP, word by word."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (declare (type bitmap bitmap) (optimize speed))
   (let ((pattern (cube-word-pattern cube layout))
         (new 0))
     (declare (type (unsigned-byte 64) pattern) (type fixnum new))
     (do-cube-indices (word cube layout :from (layout-word-prefix layout) :unit 64)
-      (let ((old (raw-word bitmap word)))
+      (let ((old (bitmap-word bitmap word)))
         (incf new (logcount (logandc1 old pattern)))
-        (setf (sb-kernel:%vector-raw-bits bitmap word) (logior old pattern))))
+        (setf (bitmap-word bitmap word) (logior old pattern))))
     new))
 
 (defun cube-words-have-unmarked-p (bitmap cube layout)
   "CUBE-HAS-UNMARKED-P on the bits of BITMAP, word by word."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
+  (declare (type bitmap bitmap) (optimize speed))
   (let ((pattern (cube-word-pattern cube layout)))
     (declare (type (unsigned-byte 64) pattern))
     (do-cube-indices (word cube layout :from (layout-word-prefix layout) :unit 64)
-      (unless (zerop (logandc1 (raw-word bitmap word) pattern))
+      (unless (zerop (logandc1 (bitmap-word bitmap word) pattern))
         (return-from cube-words-have-unmarked-p t))))
   nil)
 
@@ -182,7 +172,7 @@ them all past that).")
 vector) whose bit in FULL is clear, and GROUP-BIT to that bit's mask in the
 group's word of FULL."
   (with-gensyms (full-word position)
-    `(let ((,full-word (raw-word ,full ,group)))
+    `(let ((,full-word (bitmap-word ,full ,group)))
        (unless (= ,full-word +full-word+)
          (loop for ,position of-type (integer 0 63) across ,positions
                unless (logbitp ,position ,full-word)
@@ -200,20 +190,20 @@ group's word of FULL."
         (pattern (cube-word-pattern cube layout))
         (positions (pattern-positions (cube-group-pattern cube layout)))
         (new 0))
-    (declare (type simple-bit-vector bits full) (type (unsigned-byte 64) pattern)
+    (declare (type bitmap bits full) (type (unsigned-byte 64) pattern)
              (type (simple-array fixnum (*)) positions) (type fixnum new))
     (do-cube-indices (group cube layout :from (+ (layout-word-prefix layout) (layout-group-prefix layout))
                                         :unit 4096)
       (do-open-words (word group-bit full group positions)
-        (let* ((old (raw-word bits word))
+        (let* ((old (bitmap-word bits word))
                (now (logior old pattern)))
           (declare (type (unsigned-byte 64) now))
           (unless (= old now)
             (incf new (logcount (logxor old now)))
-            (setf (sb-kernel:%vector-raw-bits bits word) now)
+            (setf (bitmap-word bits word) now)
             (when (= now +full-word+)
-              (setf (sb-kernel:%vector-raw-bits full group)
-                    (logior (raw-word full group) group-bit)))))))
+              (setf (bitmap-word full group)
+                    (logior (bitmap-word full group) group-bit)))))))
     new))
 
 (defun cube-groups-have-unmarked-p (solved-states cube layout)
@@ -223,20 +213,11 @@ group's word of FULL."
         (full (solved-states-full-words solved-states))
         (pattern (cube-word-pattern cube layout))
         (positions (pattern-positions (cube-group-pattern cube layout))))
-    (declare (type simple-bit-vector bits full) (type (unsigned-byte 64) pattern)
+    (declare (type bitmap bits full) (type (unsigned-byte 64) pattern)
              (type (simple-array fixnum (*)) positions))
     (do-cube-indices (group cube layout :from (+ (layout-word-prefix layout) (layout-group-prefix layout))
                                         :unit 4096)
       (do-open-words (word group-bit full group positions)
-        (unless (zerop (logandc1 (raw-word bits word) pattern))
+        (unless (zerop (logandc1 (bitmap-word bits word) pattern))
           (return-from cube-groups-have-unmarked-p t)))))
   nil)
-
-(defun count-marked (bitmap)
-  "How many bits of BITMAP are set, a word at a time."
-  (declare (type simple-bit-vector bitmap) (optimize speed))
-  (multiple-value-bind (words rest) (floor (length bitmap) 64)
-    (+ (loop for i of-type fixnum below words
-             sum (logcount (raw-word bitmap i)) of-type fixnum)
-       (loop for i of-type fixnum from (* words 64) below (+ (* words 64) rest)
-             count (= 1 (sbit bitmap i))))))
