@@ -13,9 +13,10 @@
 (in-package #:player-build)
 
 (defun component-being-compiled ()
-  "The namestring of the file ASDF is compiling now, or \"?\"."
-  (let ((file (or *compile-file-truename* *load-truename*)))
-    (if file (enough-namestring file (truename "./")) "?")))
+  "The namestring of the file being compiled now; warnings SBCL defers to the
+end of the build (undefined functions, conflicting derived types) have none."
+  (let ((file *compile-file-truename*))
+    (if file (enough-namestring file (truename "./")) "at the end of the build")))
 
 (defun warning-text (condition)
   "CONDITION's report on one line."
