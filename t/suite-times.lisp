@@ -66,5 +66,7 @@ and exit 1 when a check failed."
       (multiple-value-bind (p f) (time-children suite)
         (incf passed p)
         (incf failed f)))
+    (format t "~&garbage collection: ~,2F s of the run~%"
+            (/ sb-ext:*gc-run-time* internal-time-units-per-second))
     (format t "~&~D passed, ~D failed~%" passed failed)
     (uiop:quit (if (zerop failed) 0 1))))
