@@ -10,10 +10,11 @@
 ;;;;         asks the same questions of fewer cases; it proves less, so run
 ;;;;         `make test` before a commit.
 ;;;; The tier is read once, when the tests are loaded (*TEST-TIER*), so a sweep
-;;;; whose cases are a DEFPARAMETER takes its size then. Sweeps that build C++
-;;;; sample the runs they play, not the programs they build: both tiers then
-;;;; share the compiled programs in the C++ cache. `make test-times` prints what
-;;;; each suite costs (t/suite-times.lisp).
+;;;; whose cases are a DEFPARAMETER takes its size then. A sweep that builds C++
+;;;; builds in the fast tier nothing the full tier does not (it samples the runs
+;;;; played on a shared program, or the specs built one program each), so both
+;;;; tiers share the compiled programs in the C++ cache. `make test-times` prints
+;;;; what each suite costs (t/suite-times.lisp).
 
 (defpackage #:player-tests
   (:use #:cl #:player #:fiveam)

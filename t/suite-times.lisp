@@ -3,9 +3,11 @@
 ;;;; Runs the suites of PLAYER-TESTS one at a time, in the order `make test`
 ;;;; runs them, each under GET-INTERNAL-REAL-TIME, and prints a table of
 ;;;; seconds and shares of the whole, dearest first, then the usual line
-;;;; "N passed, N failed". PLAYER_TIMES_SUITE=NAME (e.g. reachable) prints the
-;;;; same table for the tests of that one suite instead. The times are wall
-;;;; clock: on a shared machine read the shares, not the seconds.
+;;;; "N passed, N failed". PLAYER_TIMES_SUITE=NAME (e.g. reachable), or
+;;;; several names separated by commas, or "all" (every top-level suite),
+;;;; prints the same table for the tests of each of those suites instead.
+;;;; PLAYER_TEST_TIER=fast times the fast tier. The times are wall clock: on a
+;;;; shared machine, read the shares, not the seconds.
 ;;;; Loaded after the player/tests system:
 ;;;;   sbcl ... --load t/suite-times.lisp --eval '(player-tests::suite-times)'
 
