@@ -29,13 +29,15 @@
 
 (defun print-times-table (rows total)
   "Print ROWS, lists (NAME SECONDS PASSED FAILED), dearest first, with each one's share of TOTAL seconds."
-  (format t "~&~30A ~9@A ~7@A ~8@A~%" "suite" "seconds" "share" "checks")
-  (dolist (row (sort (copy-list rows) #'> :key #'second))
-    (destructuring-bind (name seconds passed failed) row
-      (format t "~30A ~9,2F ~6,1F% ~8D~:[~; (~D failed)~]~%"
-              (string-downcase name) seconds (* 100 (/ seconds (max total 1/1000)))
-              (+ passed failed) (plusp failed) failed)))
-  (format t "~30A ~9,2F~%" "total" total))
+  (let ((width (reduce #'max rows :key (lambda (row) (length (symbol-name (first row))))
+                                  :initial-value 10)))
+    (format t "~&~vA ~9@A ~7@A ~8@A~%" width "suite" "seconds" "share" "checks")
+    (dolist (row (sort (copy-list rows) #'> :key #'second))
+      (destructuring-bind (name seconds passed failed) row
+        (format t "~vA ~9,2F ~6,1F% ~8D~:[~; (~D failed)~]~%"
+                width (string-downcase name) seconds (* 100 (/ seconds (max total 1/1000)))
+                (+ passed failed) (plusp failed) failed)))
+    (format t "~vA ~9,2F~%" width "total" total)))
 
 (defun suites-to-time ()
   "The suites PLAYER_TIMES_SUITE names (comma-separated, e.g. \"reachable,fuzz\"),
