@@ -277,9 +277,12 @@ bad scenarios are argument errors."
   (destructuring-bind (&optional machine . runner) (batch-runner-or-fail :flicker)
     (when machine
       (signals timeline-error (lisp-timed-trace machine '() '((ev-set . 0)) :until 1))
-      (let ((message (handler-case (progn (funcall runner '() '((ev-set . 0)) 1 nil) nil)
-                       (player-error (e) (princ-to-string e)))))
-        (is (search "does not move on at time 0" message) "message: ~A" message))))
+      ;; The C++ takes about 5 s to reach its limit of 100,000 items at one
+      ;; instant (the Lisp 0.03 s), a tenth of the fast tier: only `make test` runs it.
+      (when (eq *test-tier* :full)
+        (let ((message (handler-case (progn (funcall runner '() '((ev-set . 0)) 1 nil) nil)
+                         (player-error (e) (princ-to-string e)))))
+          (is (search "does not move on at time 0" message) "message: ~A" message)))))
   (call-with-fly-sit
    (lambda (spec)
      (let ((machine (compile-spec spec)))
