@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle demo-dialogue test test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-dialogue test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -65,6 +65,24 @@ test: deps
 # is 'unchecked-engine: N passed, N failed, N skipped'; a failure fails the target.
 test-unchecked-engine: deps
 	$(LISP) --load bin/load-system.lisp --load t/unchecked-engine.lisp --eval '(run-unchecked-engine-suites)'
+
+# The fast tier, under a minute, for between edits: every suite and every test
+# runs, the heavy sweeps (random seeds, specs, streams, fuzz cases) on a sample
+# (SWEEP-COUNT and SWEEP-SAMPLE in t/package.lisp, which documents the tiers).
+# It proves less than `make test`, which stays the suite to run before a commit.
+test-fast: deps
+	PLAYER_TEST_TIER=fast $(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
+	  --eval '(asdf:test-system "player")' \
+	  --eval '(sb-ext:exit :code (if (symbol-value (find-symbol "*LAST-RUN-FAILED*" "PLAYER-TESTS")) 1 0))'
+
+# What each top-level suite costs, seconds and share of the whole (t/suite-times.lisp).
+# PLAYER_TEST_TIER=fast times the fast tier; PLAYER_TIMES_SUITE=reachable (or
+# a,b,c, or all) breaks those suites down test by test. Wall clock: on a shared
+# machine, compare the shares.
+test-times: deps
+	PLAYER_TEST_TIER='$(PLAYER_TEST_TIER)' PLAYER_TIMES_SUITE='$(PLAYER_TIMES_SUITE)' \
+	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
+	  --load t/suite-times.lisp --eval '(player-tests::suite-times)'
 
 # A bigger heap than SBCL's default 1 GB: (newton-cradle 8)'s merge has 20 M edges
 # (bench/cradle.lisp skips a build the machine's free memory cannot hold).

@@ -1,4 +1,21 @@
 ;;;; package.lisp -- the test package, the root suite and the runner `make test` uses.
+;;;;
+;;;; Two tiers run the same suites:
+;;;;   full  `make test`, the one the README and .ci/run use: every check at its
+;;;;         full size. PLAYER_TEST_TIER unset (or "full").
+;;;;   fast  `make test-fast` (PLAYER_TEST_TIER=fast), for a contributor between
+;;;;         edits: every suite and every test still runs, but the heavy sweeps
+;;;;         (random seeds, specs, streams, fuzz cases) play a sample, chosen by
+;;;;         SWEEP-COUNT and SWEEP-SAMPLE below. A sweep sampled in the fast tier
+;;;;         asks the same questions of fewer cases; it proves less, so run
+;;;;         `make test` before a commit. One single check is left out of the
+;;;;         fast tier, with a comment saying why (C++-TIMED-ERRORS' 5 s run).
+;;;; The tier is read once, when the tests are loaded (*TEST-TIER*), so a sweep
+;;;; whose cases are a DEFPARAMETER takes its size then. A sweep that builds C++
+;;;; builds in the fast tier nothing the full tier does not (it samples the runs
+;;;; played on a shared program, or the specs built one program each), so both
+;;;; tiers share the compiled programs in the C++ cache. `make test-times` prints
+;;;; what each suite costs (t/suite-times.lisp).
 
 (defpackage #:player-tests
   (:use #:cl #:player #:fiveam)
@@ -10,6 +27,36 @@
 
 (defvar *last-run-failed* nil
   "True when the last RUN-TESTS-AND-REPORT saw a failure; the Makefile exits 1 on it.")
+
+(defun tier-from-environment ()
+  "The tier PLAYER_TEST_TIER names: :FAST for \"fast\", :FULL when unset or empty.
+Any other value is an error, so a typo cannot quietly run the wrong tier."
+  (let ((name (uiop:getenv "PLAYER_TEST_TIER")))
+    (cond ((or (null name) (string= name "") (string-equal name "full")) :full)
+          ((string-equal name "fast") :fast)
+          (t (error "PLAYER_TEST_TIER is ~S; it must be fast or full." name)))))
+
+(defvar *test-tier* (tier-from-environment)
+  "The tier of this run, :FULL (`make test`) or :FAST (`make test-fast`); see the
+top of this file. Read from PLAYER_TEST_TIER when the tests are loaded.")
+
+(defun sweep-count (full fast)
+  "FULL in the full tier, FAST in the fast one: the size of a heavy sweep (how
+many seeds, cases, streams or rounds), or its stride. Both positive integers."
+  (check-type full (integer 1))
+  (check-type fast (integer 1))
+  (if (eq *test-tier* :fast) fast full))
+
+(defun sweep-sample (cases fast)
+  "CASES (a list) in the full tier; in the fast one, FAST of them spread evenly
+from the first to the last, so a sample still meets every family of a sweep
+whose cases come in runs (seeds with one set of options, then another)."
+  (check-type fast (integer 1))
+  (let ((count (length cases)))
+    (if (or (eq *test-tier* :full) (<= count fast))
+        cases
+        (loop for i below fast
+              collect (nth (floor (* i (1- count)) (max 1 (1- fast))) cases)))))
 
 (defparameter *root* (asdf:system-source-directory "player")
   "The checkout the tests run from.")

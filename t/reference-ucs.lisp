@@ -386,7 +386,7 @@ with :max-depth 2 only b-d (10 s, 1 op) leaves room for a-b before it."
   "On the random models of the property test, the reference Dijkstra finds the
 same costs as trying every plan length (a check of the reference itself)."
   (let ((problems 0))
-    (loop for (seed . options) in *timed-property-cases*
+    (loop for (seed . options) in (sweep-sample *timed-property-cases* 40)
           for model = (nth-value 1 (apply #'random-spec seed options))
           for durations = (random-durations seed model)
           for predecessors = (reference-timed-predecessors model durations)
@@ -405,7 +405,7 @@ the reference Dijkstra's cheapest plan of at most :max-depth ops costs; a state
 the reference cannot solve has no plan."
   (let ((problems '()) (failing 0)
         (totals (list :checked 0 :unreachable 0 :longest 0 :not-fewest 0)))
-    (loop for (seed . options) in *timed-property-cases*
+    (loop for (seed . options) in (sweep-sample *timed-property-cases* 40)
           do (multiple-value-bind (found statistics) (check-timed-random-spec seed :generator-options options)
                (when found
                  (incf failing)

@@ -277,9 +277,12 @@ bad scenarios are argument errors."
   (destructuring-bind (&optional machine . runner) (batch-runner-or-fail :flicker)
     (when machine
       (signals timeline-error (lisp-timed-trace machine '() '((ev-set . 0)) :until 1))
-      (let ((message (handler-case (progn (funcall runner '() '((ev-set . 0)) 1 nil) nil)
-                       (player-error (e) (princ-to-string e)))))
-        (is (search "does not move on at time 0" message) "message: ~A" message))))
+      ;; The C++ takes about 5 s to reach its limit of 100,000 items at one
+      ;; instant (the Lisp 0.03 s), a tenth of the fast tier: only `make test` runs it.
+      (when (eq *test-tier* :full)
+        (let ((message (handler-case (progn (funcall runner '() '((ev-set . 0)) 1 nil) nil)
+                         (player-error (e) (princ-to-string e)))))
+          (is (search "does not move on at time 0" message) "message: ~A" message)))))
   (call-with-fly-sit
    (lambda (spec)
      (let ((machine (compile-spec spec)))
@@ -296,8 +299,9 @@ bad scenarios are argument errors."
 (defparameter *c++-channel-seeds* (loop for seed from 1 to 6 collect seed)
   "The seeds of the random specs with ops on channels compared across backends.")
 
-(defparameter *c++-timeline-runs-per-spec* 16
-  "Random scenarios played on each random timed spec.")
+(defparameter *c++-timeline-runs-per-spec* (sweep-count 16 4)
+  "Random scenarios played on each random timed spec, 4 in the fast tier (which
+builds the same programs, so both tiers share them in the C++ cache).")
 
 (defun form-head-p (form name)
   "Is FORM a list headed by a symbol named NAME?"
@@ -554,4 +558,4 @@ beside those playing, the others meet them and their policies apply; the C++
 trace equals the Lisp trace line for line."
   (multiple-value-bind (problems counts) (compare-random-timed :channels)
     (let ((parallel (report-random-timed :channels problems counts)))
-      (is (>= parallel 30) "only ~D events started beside others" parallel))))
+      (is (>= parallel (sweep-count 30 10)) "only ~D events started beside others" parallel))))

@@ -17,8 +17,8 @@
 (defparameter *fuzz-test-seed* (fuzz-environment-integer "FUZZ_SEED" 11)
   "The seed `make test` fuzzes with (FUZZ_SEED overrides it).")
 
-(defparameter *fuzz-test-cases* (fuzz-environment-integer "FUZZ_TEST_CASES" 2000)
-  "How many cases `make test` runs (FUZZ_TEST_CASES overrides it).")
+(defparameter *fuzz-test-cases* (fuzz-environment-integer "FUZZ_TEST_CASES" (sweep-count 2000 200))
+  "How many cases `make test` runs, 200 in the fast tier (FUZZ_TEST_CASES overrides both).")
 
 (defparameter *fuzz-test-timeout* 10
   "Seconds a case may take before it counts as a hang.")

@@ -70,7 +70,7 @@ order, each pattern's choice numbered apart so artists and titles vary."
   (with-speech-libraries ("the round trip at the event and slot level")
     (let* ((dialogue (jukebox))
            (grammar (dialogue-jsgf dialogue))
-           (sentences (jukebox-sentences))
+           (sentences (sweep-sample (jukebox-sentences) 12))
            (wrong '()))
       (loop for text in sentences
             for k from 1

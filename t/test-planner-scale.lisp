@@ -139,7 +139,7 @@ the property test's two families and 40 wide specs (12 to 14 variables)."
 plans of the planner before issue 13, in the same order, for every goal
 (with a bit per full word of SolvedStates wherever the layout allows one)."
   (let ((problems '()) (cases (scale-test-cases)))
-    (loop for (seed . options) in cases
+    (loop for (seed . options) in (sweep-sample cases 40)
           do (let ((problem (let ((player.planner::*group-threshold* 0)) ; groups however few the states
                               (compare-with-scanning-planner (apply #'random-spec seed options)
                                                              (rs-symbol "scale-~D" seed)))))
@@ -190,7 +190,7 @@ enumerated variable), and with neither; the full-word bits stay exact."
                    (naive (make-array (player.planner::layout-state-count layout) :element-type 'bit
                                                                             :initial-element 0))
                    (agree t))
-               (loop repeat 400
+               (loop repeat (sweep-count 400 100)
                      for cube = (random-cube prng layout :free-probability free-probability)
                      do (unless (and (eq (player.planner::cube-has-unmarked-p solved cube layout)
                                          (naive-cube-has-unmarked-p naive cube layout))
