@@ -152,7 +152,8 @@ and the run goes on with the next case in a new process."
                           (3 (loop (sleep 1)))))
                       (make-fz-case :seed 0 :index index :target :spec :mode :text :base "test"
                                     :text "(in-package :player-user)" :base-text ""))))
-    (setf (fzrun-patience run) 3)
+    ;; Long enough for a forked child to answer a trivial case, even on a busy machine.
+    (setf (fzrun-patience run) (sweep-count 3 2))
     (unwind-protect (fz-run-forked run make-case 0 5 (lambda (result) (push result results)))
       (fz-close-run run))
     (setf results (reverse results))

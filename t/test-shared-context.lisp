@@ -69,7 +69,7 @@ returns a list of what went wrong (NIL when nothing did)."
         (right (uninterned-specs "RIGHT" 20000))
         (results '()))
     (unwind-protect
-         (dotimes (round 20)
+         (dotimes (round (sweep-count 20 4))
            (setf player.spec::*specs* (make-hash-table :test 'equal))
            (let ((threads (list (bt:make-thread (registry-worker left) :name "registry test left")
                                 (bt:make-thread (registry-worker right) :name "registry test right"))))
