@@ -172,19 +172,23 @@ event is installed, and the controller plays on."
                 (event ev-c :state pos.c))
      ,@body))
 
+(defparameter *reentry-trace*
+  '("(:event ev-b :time 0)"
+    "(:op go-b :script go-b :start 0 :end 1)"
+    "(:state (pos . b))"
+    "(:event ev-c :time 1)"
+    "(:op go-c :script go-c :start 1 :end 2)"
+    "(:state (pos . c))")
+  "The trace of ev-b, whose :code sends ev-c to its own controller, on either
+controller: ev-b's op whole, then ev-c's from the state ev-b left.")
+
 (test code-sending-to-its-own-controller-is-deferred
   "A whole-event controller's :code sending an event to it: the outer event
 plays whole, then the one sent, from the state the outer left."
   (with-reentry-spec (spec)
     (let ((c (make-controller spec)))
       (is (eq t (send-event c 'ev-b)))
-      (is (equal '("(:event ev-b :time 0)"
-                   "(:op go-b :script go-b :start 0 :end 1)"
-                   "(:state (pos . b))"
-                   "(:event ev-c :time 1)"
-                   "(:op go-c :script go-c :start 1 :end 2)"
-                   "(:state (pos . c))")
-                 (trace-of c)))
+      (is (equal *reentry-trace* (trace-of c)))
       (is (eq 'c (state-value c 'pos)))
       (is (= 2 (controller-clock c))))))
 
@@ -196,13 +200,7 @@ for it (its policy, :queue)."
     (let ((c (make-controller spec :timed t)))
       (is (eq t (send-event c 'ev-b)))
       (is (= 2 (finish-events c)))
-      (is (equal '("(:event ev-b :time 0)"
-                   "(:op go-b :script go-b :start 0 :end 1)"
-                   "(:state (pos . b))"
-                   "(:event ev-c :time 1)"
-                   "(:op go-c :script go-c :start 1 :end 2)"
-                   "(:state (pos . c))")
-                 (trace-of c)))
+      (is (equal *reentry-trace* (trace-of c)))
       (is (eq 'c (state-value c 'pos))))))
 
 (test deferred-sends-are-checked-where-they-are-sent
