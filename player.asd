@@ -164,6 +164,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "pronunciation")
                  (:file "recognition")
                  (:file "playback")))
+   ;; Models artists make, imported through Assimp: meshes, skins, skeletons, animations, morph targets and textures.
+   (:module "model" :depends-on ("base")
+    :serial t
+    :components ((:file "package")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t
@@ -318,7 +322,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "chat")
                  (:file "speak")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "body" "performance" "render" "cast" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
