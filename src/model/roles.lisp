@@ -154,11 +154,6 @@ A joint whose normalised name a row lists may be that PART; the earlier its
 scheme and name, the likelier.  Schemes share names (Mixamo's leg is the shin,
 a plain leg the thigh): order settles it, and the chains settle the rest.")
 
-(defparameter *sided-parts*
-  '(:eye :upper-lid :brow :upper-arm :forearm :hand :thigh :shin :foot :toe
-    :thumb :index :middle :ring :pinky)
-  "The parts that come in pairs, and so need a side marker; the others must have none.")
-
 (defparameter *spinal-names*
   '("spine" "spine1" "spine2" "spine3" "spine4" "spine5" "chest" "upperchest"
     "lowerback" "vl5" "vl4" "vl3" "vl2" "vl1" "vt12" "vt11" "vt10" "vt9" "vt8" "vt7"
@@ -194,9 +189,10 @@ building the spine when no parents say how they link.")
             finally (return depth))))
 
 (defun descendant-p (joint ancestor parents)
-  "Is JOINT (an index) below ANCESTOR in PARENTS?  True when PARENTS is NIL: without
-parent links every pairing is allowed."
-  (or (null parents)
+  "Is JOINT (an index) below ANCESTOR in PARENTS?  Without PARENTS: does JOINT come
+after ANCESTOR, as importers list a parent before its children?"
+  (if (null parents)
+      (> joint ancestor)
       (loop for current = (aref parents joint) then (aref parents current)
             repeat (length parents)
             while (and (integerp current) (>= current 0))
@@ -249,13 +245,13 @@ found, later ones are kept when found.  NIL when no chain exists."
 ;;; Roles from parts
 
 (defparameter *single-roles*
-  '((:head :head nil :neck) (:neck :neck nil nil) (:hips :hips nil nil)
+  '((:neck :neck nil nil) (:head :head nil :neck) (:hips :hips nil nil)
     (:left-eye :eye :left :head) (:right-eye :eye :right :head)
     (:left-upper-lid :upper-lid :left :head) (:right-upper-lid :upper-lid :right :head)
     (:left-brow :brow :left :head) (:right-brow :brow :right :head)
     (:jaw :jaw nil :head) (:crest :crest nil :head) (:tail :tail nil :hips))
   "Roles of one joint: (ROLE PART SIDE ANCHOR-ROLE), the joint preferred below the
-ANCHOR-ROLE's joint when names tie.  :NECK and :HIPS are roles Player's own
+ANCHOR-ROLE's joint (a row above) when names tie.  :NECK and :HIPS are roles Player's own
 skeletons do not declare; imported rigs have them and the head and facing
 drivers want them.")
 
@@ -328,7 +324,9 @@ there is no base or no top."
                 (append (list base)
                         (loop for joint in joints
                               for index = (named-joint-index joint)
-                              when (and (< base index top) (spinal-joint-p joint)) collect index)
+                              when (and (< base index top) (not (eql index neck))
+                                        (spinal-joint-p joint))
+                                collect index)
                         (and head neck (< base neck) (list neck))
                         (list top)))))))))
 
