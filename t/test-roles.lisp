@@ -1,7 +1,7 @@
 ;;;; test-roles.lisp -- guessed roles (src/model/roles.lisp): one realistic
 ;;;; skeleton per naming scheme with the roles it should get, explicit roles,
 ;;;; sides never swapped, the drivers the roles enable, and Player's own
-;;;; humanoid guessed to the roles its file declares.
+;;;; skeletons guessed to the roles their files declare.
 
 (in-package #:player-tests)
 
@@ -264,8 +264,8 @@
   '((:neck . "Neck") (:hips . "Pelvis") (:tail . "Tail01")))
 
 ;;; BCN_Epileptic's root is B_Root_Pelvis_L, whose L is no side but reads as
-;;; one, so it gets no :hips; its head joint is B_Neck (the eyes hang off it),
-;;; so the neck is found and the head is not.
+;;; one: no name gives the hips, so the one root is taken for them.  Its head
+;;; joint is B_Neck (the eyes hang off it), so the neck is found, not the head.
 (defparameter *bcn-skeleton*
   '(("B_Root_Pelvis_L" nil) ("B_LowerPelvis" "B_Root_Pelvis_L")
     ("B_Hip_Left" "B_LowerPelvis") ("B_Knee_Left" "B_Hip_Left") ("B_Ankle_Left" "B_Knee_Left")
@@ -291,7 +291,7 @@
     ("B_MouthCorner_Right" "B_Neck") ("B_Cheek_Left" "B_Neck") ("B_Cheek_Right" "B_Neck")))
 
 (defparameter *bcn-roles*
-  '((:neck . "B_Neck") (:jaw . "B_Jaw")
+  '((:neck . "B_Neck") (:hips . "B_Root_Pelvis_L") (:jaw . "B_Jaw")
     (:left-eye . "B_Eye_Left") (:right-eye . "B_Eye_Right")
     (:left-upper-lid . "B_UpperEyeLid_Left") (:right-upper-lid . "B_UpperEyeLid_Right")
     (:left-brow . "B_EyeBrow_Left") (:right-brow . "B_EyeBrow_Right")
@@ -467,26 +467,37 @@ capital (LThumb, Bip01 L Hand, eye.l, Hand_R)."
                  (:visemes :jaw :mouth-morphs) (:blink :left-upper-lid :right-upper-lid :blink-morphs))
                disabled)))
   (multiple-value-bind (enabled disabled) (guessed-drivers *bcn-skeleton*)
-    (is (equal '(:gaze :reach :visemes :blink) enabled))
-    (is (equal '((:head :head) (:facing :hips)) disabled)))
+    (is (equal '(:gaze :facing :reach :visemes :blink) enabled))
+    (is (equal '((:head :head)) disabled)))
   (is (equal '(:visemes) (player.model:roles-enabling-drivers '() :morphs '("A" "I" "U" "E" "O")))))
 
-(test roles-of-players-humanoid
-  ;; Player's own humanoid (H-Anim names, uppercase as its file is read) is
-  ;; guessed to every role its file declares.
-  (let* ((skeleton (player.body::load-skeleton 'humanoid))
+(defun players-skeleton-roles (name)
+  "Two values for Player's skeleton NAME: the roles its file declares and the
+roles guessed from its joints, each an alist from role to joint name(s)."
+  (let* ((skeleton (player.body::load-skeleton name))
          (joints (player.body::skeleton-joints skeleton))
          (names (map 'vector (lambda (joint) (symbol-name (player.body::body-joint-name joint))) joints))
          (parents (map 'vector (lambda (joint)
                                  (let ((parent (player.body::body-joint-parent joint)))
                                    (if parent (player.body::body-joint-index parent) -1)))
-                       joints))
-         (guessed (roles-by-name (player.model:guess-roles names :parents parents) names)))
-    (dolist (role (player.body::skeleton-role-names skeleton))
-      (let* ((target (player.body::skeleton-role skeleton role))
-             (declared (if (listp target)
-                           (mapcar (lambda (j) (symbol-name (player.body::body-joint-name j))) target)
-                           (symbol-name (player.body::body-joint-name target)))))
-        (is (equal declared (cdr (assoc role guessed)))
-            "humanoid ~S: declared ~S, guessed ~S" role declared (cdr (assoc role guessed)))))
-    (is (equal "HUMANOID-ROOT" (cdr (assoc :hips guessed))) "the root turns for facing")))
+                       joints)))
+    (flet ((joint-name (joint) (symbol-name (player.body::body-joint-name joint))))
+      (values (loop for role in (player.body::skeleton-role-names skeleton)
+                    for target = (player.body::skeleton-role skeleton role)
+                    collect (cons role (if (listp target) (mapcar #'joint-name target) (joint-name target))))
+              (roles-by-name (player.model:guess-roles names :parents parents) names)))))
+
+(test roles-of-players-skeletons
+  ;; Player's own skeletons (H-Anim names, uppercase as their files are read)
+  ;; are guessed to every role their files declare, but the parrot's hands: its
+  ;; wing tips, named primaries, which no scheme calls a hand.
+  (dolist (case '((humanoid) (parrot :left-hand :right-hand)))
+    (multiple-value-bind (declared guessed) (players-skeleton-roles (first case))
+      (loop for (role . target) in declared
+            unless (member role (rest case))
+              do (is (equal target (cdr (assoc role guessed)))
+                     "~(~A~) ~S: declared ~S, guessed ~S" (first case) role target
+                     (cdr (assoc role guessed))))
+      (is (equal (if (eq (first case) 'humanoid) "HUMANOID-ROOT" "PARROT-ROOT")
+                 (cdr (assoc :hips guessed)))
+          "the root turns for facing"))))

@@ -147,7 +147,7 @@ its SIDE, :LEFT, :RIGHT or NIL."
      (:upper-arm "upperarm" "uparm" "arm") (:forearm "forearm" "lowerarm" "elbow")
      (:hand "hand" "wrist") (:thigh "thigh" "upperleg" "leg")
      (:shin "shin" "calf" "lowerleg" "knee") (:foot "foot" "ankle")
-     (:toe "toe" "toes" "ball") (:thumb "thumb" "thumb1") (:index "index" "index1")
+     (:toe "toe" "toes" "ball" "foot") (:thumb "thumb" "thumb1") (:index "index" "index1")
      (:middle "middle" "middle1") (:ring "ring" "ring1") (:pinky "pinky" "pinky1" "little")))
   "Each naming scheme, earliest first, as (SCHEME (PART NORMALISED-NAME ...) ...).
 A joint whose normalised name a row lists may be that PART; the earlier its
@@ -226,9 +226,9 @@ after ANCESTOR, as importers list a parent before its children?"
 
 (defun find-chain (parts joints side parents &key (required (length parts)))
   "Indices of a joint for each of PARTS on SIDE, each below the one before (when
-PARENTS are known), the likeliest such chain; the first REQUIRED parts must be
-found, later ones are kept when found.  NIL when no chain exists."
-  (labels ((extend (parts previous found)
+PARENTS are known), the likeliest such chain, a whole one if there is one; else
+the first REQUIRED parts with what follows them.  NIL when no chain exists."
+  (labels ((extend (parts previous found required)
              (if (null parts)
                  (reverse found)
                  (or (loop for joint in (part-candidates (first parts) joints side :anchor previous
@@ -236,10 +236,12 @@ found, later ones are kept when found.  NIL when no chain exists."
                            for index = (named-joint-index joint)
                            when (and (not (member index found))
                                      (or (null previous) (descendant-p index previous parents)))
-                             do (let ((chain (extend (rest parts) index (cons index found))))
+                             do (let ((chain (extend (rest parts) index (cons index found) required)))
                                   (when chain (return chain))))
                      (and (>= (length found) required) (reverse found))))))
-    (extend parts nil '())))
+    ;; A whole chain first: a bird's ankle then foot beats its foot alone.
+    (or (extend parts nil '() (length parts))
+        (extend parts nil '() required))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Roles from parts
@@ -275,6 +277,14 @@ first REQUIRED parts must all be there (a leg's toe may be missing).")
           when index do (push (cons role index) roles))
     (nreverse roles)))
 
+(defun with-root-as-hips (roles parents)
+  "ROLES, with the skeleton's one root as :HIPS when no name gave the hips: the
+facing driver turns the whole figure by its root, whatever it is called."
+  (let ((root (root-joint parents)))
+    (if (or (assoc :hips roles) (null root))
+        roles
+        (append roles (list (cons :hips root))))))
+
 (defun guess-chain-roles (joints parents)
   "An alist of the guessed limb chains (*CHAIN-ROLES*) of JOINTS, with the hands."
   (loop for (role parts side required) in *chain-roles*
@@ -307,28 +317,41 @@ be the second joint of Finger1, not Biped's middle finger."
   "Is JOINT named as a vertebra or spine segment (*SPINAL-NAMES*)?"
   (member (named-joint-core joint) *spinal-names* :test #'equal))
 
+(defun spine-base (joints parents top neck)
+  "The index of the spine's lowest joint below TOP: the likeliest spine base, else
+the neck when TOP is a head above it (a bird's spine is its neck); or NIL."
+  (let ((base (find-if (lambda (joint) (descendant-p top (named-joint-index joint) parents))
+                       (part-candidates :spine-base joints nil :parents parents))))
+    (cond (base (named-joint-index base))
+          ((and neck (/= neck top) (descendant-p top neck parents)) neck))))
+
+(defun spine-path (joints parents base top neck)
+  "The indices from BASE up to TOP: through the parent links when known, else
+through the joints between them named as vertebrae, then NECK."
+  (if parents
+      (nreverse (loop for joint = top then (aref parents joint)
+                      collect joint
+                      until (= joint base)))
+      (append (list base)
+              (loop for joint in joints
+                    for index = (named-joint-index joint)
+                    when (and (< base index top) (not (eql index neck)) (spinal-joint-p joint))
+                      collect index)
+              (and neck (< base neck top) (list neck))
+              (list top))))
+
 (defun guess-spine (joints parents head neck)
-  "The spine chain: the likeliest spine base up to the head (or the neck), through
-the parent links when known, else through the spinal names in between; NIL when
-there is no base or no top."
-  (let ((top (or head neck)))
-    (when top
-      (let ((base (find-if (lambda (joint) (descendant-p top (named-joint-index joint) parents))
-                           (part-candidates :spine-base joints nil :parents parents))))
-        (when base
-          (let ((base (named-joint-index base)))
-            (if parents
-                (nreverse (loop for joint = top then (aref parents joint)
-                                collect joint
-                                until (= joint base)))
-                (append (list base)
-                        (loop for joint in joints
-                              for index = (named-joint-index joint)
-                              when (and (< base index top) (not (eql index neck))
-                                        (spinal-joint-p joint))
-                                collect index)
-                        (and head neck (< base neck) (list neck))
-                        (list top)))))))))
+  "The spine chain, from its lowest joint up to the head (or the neck when there is
+no head), or NIL."
+  (let* ((top (or head neck))
+         (base (and top (spine-base joints parents top neck))))
+    (and base (spine-path joints parents base top neck))))
+
+(defun root-joint (parents)
+  "The index of the one root in PARENTS, or NIL when there are none, several, or no PARENTS."
+  (and parents
+       (= 1 (count -1 parents))
+       (position -1 parents)))
 
 (defun named-joints (joint-names parents)
   "JOINT-NAMES (a sequence of strings) as a list of NAMED-JOINTs."
@@ -375,7 +398,7 @@ EXPLICIT, an alist from a role to a joint name or a list of names, wins over the
 guesses; a name it gives that is not a joint signals a ROLE-ERROR."
   (let* ((parents (and parents (coerce parents 'vector)))
          (joints (named-joints joint-names parents))
-         (singles (guess-single-roles joints parents))
+         (singles (with-root-as-hips (guess-single-roles joints parents) parents))
          (chains (guess-chain-roles joints parents))
          (hands (loop for (role side) in '((:left-hand :left) (:right-hand :right))
                       for hand = (guess-hand side chains joints parents)
