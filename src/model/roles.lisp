@@ -253,9 +253,9 @@ the first REQUIRED parts with what follows them.  NIL when no chain exists."
     (:left-brow :brow :left :head) (:right-brow :brow :right :head)
     (:jaw :jaw nil :head) (:crest :crest nil :head) (:tail :tail nil :hips))
   "Roles of one joint: (ROLE PART SIDE ANCHOR-ROLE), the joint preferred below the
-ANCHOR-ROLE's joint (a row above) when names tie.  :NECK and :HIPS are roles Player's own
-skeletons do not declare; imported rigs have them and the head and facing
-drivers want them.")
+ANCHOR-ROLE's joint (a row above) when names tie.  :NECK and :HIPS are roles
+Player's own skeletons do not declare; imported rigs have them and the head and
+facing drivers want them.")
 
 (defparameter *chain-roles*
   '((:left-arm (:upper-arm :forearm :hand) :left 3)
@@ -286,7 +286,7 @@ facing driver turns the whole figure by its root, whatever it is called."
         (append roles (list (cons :hips root))))))
 
 (defun guess-chain-roles (joints parents)
-  "An alist of the guessed limb chains (*CHAIN-ROLES*) of JOINTS, with the hands."
+  "An alist of the guessed limb chains (*CHAIN-ROLES*) of JOINTS."
   (loop for (role parts side required) in *chain-roles*
         for chain = (find-chain parts joints side parents :required required)
         when chain collect (cons role chain)))
@@ -392,9 +392,10 @@ ROLE-ERROR naming ROLE when there is none."
 an imported skeleton's joints.  JOINT-NAMES is a vector of strings, the joints in
 order; PARENTS, when given, a vector of each joint's parent index (-1 for a
 root), used to keep chains linked (the elbow below the shoulder) and to break
-ties.  A chain role (:left-arm, :right-leg, :spine) or a set (:left-fingers)
-maps to a list of indices, root end first; any other role to one index.
-EXPLICIT, an alist from a role to a joint name or a list of names, wins over the
+ties.  The roles are *SKELETON-ROLES*' (src/body/skeleton.lisp) and :NECK and
+:HIPS; with PARENTS and no joint named as hips, the one root is the :HIPS.  A
+chain role (:left-arm, :right-leg, :spine) or a set (:left-fingers) maps to a
+list of indices, root end first; any other role to one index.  EXPLICIT, an alist from a role to a joint name or a list of names, wins over the
 guesses; a name it gives that is not a joint signals a ROLE-ERROR."
   (let* ((parents (and parents (coerce parents 'vector)))
          (joints (named-joints joint-names parents))
