@@ -167,7 +167,8 @@ run the resulting state machine as Lisp closures or embedded C++."
    ;; Models artists make, imported through Assimp: meshes, skins, skeletons, animations, morph targets and textures.
    (:module "model" :depends-on ("base")
     :serial t
-    :components ((:file "package")))
+    :components ((:file "package")
+                 (:file "roles")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t
@@ -416,5 +417,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-dialogue")
                  (:file "test-dialogue-errors")
                  (:file "test-dialogue-cli")
-                 (:file "test-persona-loop"))))
+                 (:file "test-persona-loop")
+                 (:file "test-roles"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -8,4 +8,5 @@
                 #:when-let #:if-let #:ensure-list #:hash-table-keys
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)
   (:documentation "Models artists make, imported through Assimp: meshes, skins, skeletons, animations, morph targets and textures.")
-  (:export))
+  (:export
+   #:guess-roles #:role-error #:role-error-joint #:role-error-role #:roles-enabling-drivers))
