@@ -167,7 +167,11 @@ run the resulting state machine as Lisp closures or embedded C++."
    ;; Models artists make, imported through Assimp: meshes, skins, skeletons, animations, morph targets and textures.
    (:module "model" :depends-on ("base")
     :serial t
-    :components ((:file "package")))
+    :components ((:file "package")
+                 (:file "conditions")
+                 (:file "assimp-raw")
+                 (:file "model")
+                 (:file "import")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t
@@ -300,7 +304,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "body" "performance" "render" "cast" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -320,7 +324,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "record")
                  (:file "verify")
                  (:file "chat")
-                 (:file "speak")))
+                 (:file "speak")
+                 (:file "model")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
    (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
@@ -416,5 +421,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-dialogue")
                  (:file "test-dialogue-errors")
                  (:file "test-dialogue-cli")
-                 (:file "test-persona-loop"))))
+                 (:file "test-persona-loop")
+                 (:file "test-model"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
