@@ -100,7 +100,7 @@ floats at POINTER; a MODEL-ERROR naming WHAT when one is not finite."
 
 (defun copy-matrix (pointer what)
   "The 16 floats of the aiMatrix4x4 at POINTER as a DOUBLE-VECTOR (row-major)."
-  (map 'double-vector (lambda (x) (float x 1d0)) (copy-floats pointer 16 16 16 what)))
+  (map 'double-vector (lambda (x) (float x 1d0)) (copy-floats pointer 1 16 16 what)))
 
 ;;;# The node tree and the joints
 
@@ -154,7 +154,7 @@ scale, three DOUBLE-VECTORs; a MODEL-ERROR when it is not finite."
                             scaling rotation position))
     (flet ((doubles (pointer count)
              (map 'double-vector (lambda (x) (float x 1d0))
-                  (copy-floats pointer count count count "a node's decomposed transform"))))
+                  (copy-floats pointer 1 count count "a node's decomposed transform"))))
       (values (doubles position 3) (doubles rotation 4) (doubles scaling 3)))))
 
 (defun make-joints (nodes joint-of inverse-binds)
