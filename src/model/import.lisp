@@ -485,7 +485,7 @@ installed."
     (load-assimp-library file)
     (let ((scene (with-assimp-traps-masked (%ai-import-file (uiop:native-namestring path) flags))))
       (when (cffi:null-pointer-p scene)
-        (fail "Assimp cannot read it (~A)" (assimp-error-string)))
+        (fail "Assimp cannot read it: ~A" (string-right-trim ". " (assimp-error-string))))
       (let ((model (unwind-protect (copy-scene scene path)
                      (with-assimp-traps-masked (%ai-release-import scene)))))
         (when texture-path
