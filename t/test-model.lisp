@@ -34,19 +34,15 @@
   "The counts `assimp info FILE` (with -r when RAW) prints, as a plist:
 :meshes :vertices :faces :bones :animations :channels."
   (let ((text (apply #'assimp-output "info" file (and raw '("-r")))))
-    (flet ((count-of (label)
+    ;; Each count follows its label after some spaces.
+    (flet ((field (label)
              (let ((start (search label text)))
-               (and start (parse-integer text :start (+ start (length label)) :junk-allowed t)))))
-      ;; parse-integer skips no leading spaces: find the first digit.
-      (flet ((field (label)
-               (let ((start (search label text)))
-                 (when start
-                   (let ((digit (position-if #'digit-char-p text :start (+ start (length label)))))
-                     (parse-integer text :start digit :junk-allowed t))))))
-        (declare (ignorable #'count-of))
+               (when start
+                 (let ((digit (position-if #'digit-char-p text :start (+ start (length label)))))
+                   (parse-integer text :start digit :junk-allowed t))))))
         (list :meshes (field (format nil "~%Meshes:")) :vertices (field "Vertices:")
               :faces (field "Faces:") :bones (field "Bones:")
-              :animations (field (format nil "~%Animations:")) :channels (field "Animation Channels:"))))))
+              :animations (field (format nil "~%Animations:")) :channels (field "Animation Channels:")))))
 
 (defun attribute (line name)
   "The value of the XML attribute NAME in LINE, or NIL."
@@ -241,3 +237,48 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
     (is (string= "" out))
     (is (= 1 (length (lines err))))
     (is (search "player: error: cannot import the model /nonexistent/wuson.x" err))))
+
+;;;# Textures, morph targets, and Assimp's own broken models
+
+(test textures-resolve-against-the-model-folder
+  (with-assimp-models
+    (let ((model (player.model:import-model (assimp-model "glTF2/BoxTextured-glTF/BoxTextured.gltf"))))
+      (is (equal (list (assimp-model "glTF2/BoxTextured-glTF/CesiumLogoFlat.png"))
+                 (player.model:model-textures model))))
+    ;; A texture inside the file is named as Assimp names it.
+    (is (equal '("*0") (player.model:model-textures
+                        (player.model:import-model (assimp-model "glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf")))))
+    ;; --texture (:texture) replaces every mesh's texture.
+    (is (equal (list (assimp-model "glTF2/BoxTextured-glTF/CesiumLogoFlat.png"))
+               (player.model:model-textures
+                (player.model:import-model (assimp-model "X/Testwuson.X")
+                                           :texture (assimp-model "glTF2/BoxTextured-glTF/CesiumLogoFlat.png")))))))
+
+(test morph-targets-are-named
+  (with-assimp-models
+    (is (= 2 (length (player.model:model-morph-targets
+                      (player.model:import-model
+                       (assimp-model "glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf"))))))))
+
+(test broken-test-models-are-model-errors
+  ;; Assimp's own hostile models: infinities in the positions, a node that is
+  ;; its own child, a buffer file that is missing.
+  (with-assimp-models
+    (dolist (name '("glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb"
+                    "glTF2/RecursiveNodes/RecursiveNodes.gltf"
+                    "glTF2/MissingBin/BoxTextured.gltf"))
+      (let ((e (model-error-of (assimp-model name))))
+        (is (typep e 'player.model:model-error) "~A imported without an error" name)
+        (is (and e (names-file-p e (assimp-model name))))))))
+
+(test model-command-refuses-a-text-file
+  (let ((file (temporary-model-file "notes.txt"
+                                    (lambda (out) (write-sequence (sb-ext:string-to-octets "not a model") out)))))
+    (unwind-protect
+         (multiple-value-bind (out err code) (player-command "model" file)
+           (is (= 1 code))
+           (is (string= "" out))
+           (is (equal (list (format nil "player: error: cannot import the model ~A: Assimp cannot read it: ~
+No suitable reader found for the file format of file \"~A\"" file file))
+                      (lines err))))
+      (delete-file file))))

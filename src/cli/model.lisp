@@ -46,8 +46,8 @@ is one error."
   "Print MODEL's joint count and its joints as a tree, two spaces a level, bones marked."
   (let* ((joints (model-joints model))
          (depths (make-array (length joints) :initial-element 0)))
-    (format t "~D joint~:P (~D bone~:P):~%" (length joints)
-            (count-if #'joint-inverse-bind joints))
+    (format t "~D joint~:P (~D bone~:P)~:[~;:~]~%" (length joints)
+            (count-if #'joint-inverse-bind joints) (plusp (length joints)))
     (loop for joint across joints
           for i from 0
           for parent = (joint-parent joint)

@@ -38,19 +38,15 @@ NaNs and infinities inside (degenerate normals, empty bounding boxes)."
 
 ;;;# Constants (postprocess.h, scene.h, material.h, types.h)
 
-(defconstant +ai-process-join-identical-vertices+ #x2)
-(defconstant +ai-process-triangulate+ #x8)
-(defconstant +ai-process-limit-bone-weights+ #x200)
-(defconstant +ai-process-validate-data-structure+ #x400)
-(defconstant +ai-process-sort-by-p-type+ #x8000)
-(defconstant +ai-scene-flags-incomplete+ #x1 "AI_SCENE_FLAGS_INCOMPLETE.")
-(defconstant +ai-primitive-type-triangle+ #x4)
-(defconstant +ai-texture-type-diffuse+ 1)
+(defconstant +ai-process-join-identical-vertices+ #x2 "aiProcess_JoinIdenticalVertices: one vertex for equal ones.")
+(defconstant +ai-process-triangulate+ #x8 "aiProcess_Triangulate: polygons cut into triangles.")
+(defconstant +ai-process-limit-bone-weights+ #x200 "aiProcess_LimitBoneWeights: at most 4 bones a vertex (AI_LMW_MAX_WEIGHTS).")
+(defconstant +ai-process-validate-data-structure+ #x400 "aiProcess_ValidateDataStructure: Assimp checks its own scene.")
+(defconstant +ai-process-sort-by-p-type+ #x8000 "aiProcess_SortByPType: one primitive type a mesh.")
+(defconstant +ai-texture-type-diffuse+ 1 "aiTextureType_DIFFUSE.")
 (defconstant +ai-texture-type-base-color+ 12 "glTF 2's base colour, where its diffuse map goes.")
-(defconstant +ai-return-success+ 0)
+(defconstant +ai-return-success+ 0 "aiReturn_SUCCESS.")
 (defconstant +ai-string-capacity+ 1024 "MAXLEN: an aiString's bytes, its NUL included.")
-(defconstant +ai-max-texture-coords+ 8)
-(defconstant +ai-max-color-sets+ 8)
 
 ;;;# Structs
 
