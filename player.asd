@@ -168,6 +168,10 @@ run the resulting state machine as Lisp closures or embedded C++."
    (:module "model" :depends-on ("base")
     :serial t
     :components ((:file "package")
+                 (:file "conditions")
+                 (:file "assimp-raw")
+                 (:file "model")
+                 (:file "import")
                  (:file "roles")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
@@ -301,7 +305,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "body" "performance" "render" "cast" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -321,7 +325,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "record")
                  (:file "verify")
                  (:file "chat")
-                 (:file "speak")))
+                 (:file "speak")
+                 (:file "model")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
    (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
@@ -418,5 +423,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-dialogue-errors")
                  (:file "test-dialogue-cli")
                  (:file "test-persona-loop")
-                 (:file "test-roles"))))
+                 (:file "test-roles")
+                 (:file "test-model"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -61,6 +61,21 @@
    #:sound-rate #:sound-samples #:speech-error #:speech-unavailable #:synthesize-speech
    #:utterance #:utterance-duration #:utterance-phonemes #:utterance-sound #:utterance-text
    #:utterance-visemes #:write-wav)
+  (:import-from #:player.model
+   #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint
+   #:import-model #:model-error #:model-error-file #:model-library-missing
+   #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
+   #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
+   #:model #:model-file #:model-meshes #:model-joints #:model-animations
+   #:model-vertex-count #:model-triangle-count #:model-bone-count #:model-textures
+   #:model-morph-targets #:find-model-joint
+   #:model-mesh #:mesh-name #:mesh-positions #:mesh-normals #:mesh-uvs #:mesh-colours
+   #:mesh-triangles #:mesh-joints #:mesh-weights #:mesh-bones #:mesh-texture
+   #:mesh-morph-targets #:mesh-vertex-count #:mesh-triangle-count
+   #:joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
+   #:joint-inverse-bind #:animation #:animation-name #:animation-duration #:animation-channels
+   #:channel #:channel-joint #:channel-position-times #:channel-positions
+   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales)
   (:import-from #:player.body
    #:*default-blend-time* #:add-object #:add-slave #:anim-control-error #:anim-error
    #:arbitration-error #:body #:body-add-driver #:body-evaluate #:body-joint-position
@@ -173,6 +188,21 @@
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
    #:performance-say #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
+   ;; Models imported through Assimp (doc/models.md)
+   #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint
+   #:import-model #:model-error #:model-error-file #:model-library-missing
+   #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
+   #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
+   #:model #:model-file #:model-meshes #:model-joints #:model-animations
+   #:model-vertex-count #:model-triangle-count #:model-bone-count #:model-textures
+   #:model-morph-targets #:find-model-joint
+   #:model-mesh #:mesh-name #:mesh-positions #:mesh-normals #:mesh-uvs #:mesh-colours
+   #:mesh-triangles #:mesh-joints #:mesh-weights #:mesh-bones #:mesh-texture
+   #:mesh-morph-targets #:mesh-vertex-count #:mesh-triangle-count
+   #:joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
+   #:joint-inverse-bind #:animation #:animation-name #:animation-duration #:animation-channels
+   #:channel #:channel-joint #:channel-position-times #:channel-positions
+   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
    #:compile-shader-program #:write-png #:png-octets

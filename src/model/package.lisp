@@ -9,4 +9,18 @@
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)
   (:documentation "Models artists make, imported through Assimp: meshes, skins, skeletons, animations, morph targets and textures.")
   (:export
+   #:import-model #:model-error #:model-error-file #:model-library-missing
+   #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
+   #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
+   #:model #:model-p #:model-file #:model-meshes #:model-joints #:model-animations
+   #:model-vertex-count #:model-triangle-count #:model-bone-count #:model-textures
+   #:model-morph-targets #:find-model-joint
+   #:model-mesh #:mesh-name #:mesh-positions #:mesh-normals #:mesh-uvs #:mesh-colours
+   #:mesh-triangles #:mesh-joints #:mesh-weights #:mesh-bones #:mesh-texture
+   #:mesh-morph-targets #:mesh-vertex-count #:mesh-triangle-count
+   #:joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
+   #:joint-inverse-bind
+   #:animation #:animation-name #:animation-duration #:animation-channels
+   #:channel #:channel-joint #:channel-position-times #:channel-positions
+   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    #:guess-roles #:role-error #:role-error-joint #:role-error-role #:roles-enabling-drivers))

@@ -1,0 +1,66 @@
+;;;; model.lisp -- `player model`: what an imported model holds, summarised:
+;;;; meshes, vertices and triangles, the skeleton as an indented tree, the
+;;;; animation clips, textures and morph targets.
+
+(in-package #:player.cli)
+
+(define-command "model" (file &key texture)
+    (:summary "import a model through Assimp and summarise it"
+     :description "Imports MODEL-FILE (glTF, FBX, COLLADA, .x, BVH... whatever Assimp
+reads; see doc/models.md) and prints its meshes with their vertices and
+triangles, its joints as an indented tree (bones marked), its animation clips
+with their durations in seconds, its textures (marked when the file is
+missing) and its morph targets. A file that is missing, that Assimp cannot
+read, or that holds numbers that are not finite or more than Player's limits
+is one error."
+     :arguments ("MODEL-FILE")
+     :options (("--texture" :string "FILE" "use FILE as every mesh's diffuse texture instead of the model's own"))
+     :output "the summary on standard output")
+  (print-model-summary (import-model file :texture texture)))
+
+(defun print-model-summary (model)
+  "Print MODEL's summary: meshes, joints, animations, textures, morph targets."
+  (format t "model ~A~%" (model-file model))
+  (print-model-meshes model)
+  (print-model-joints model)
+  (print-model-animations model)
+  (format t "textures: ~:[none~;~:*~{~A~^, ~}~]~%"
+          (mapcar (lambda (path)
+                    (if (or (char= (char path 0) #\*) (probe-file path))
+                        path
+                        (format nil "~A (missing)" path)))
+                  (model-textures model)))
+  (format t "morph targets: ~:[none~;~:*~{~A~^, ~}~]~%" (model-morph-targets model)))
+
+(defun print-model-meshes (model)
+  "Print MODEL's mesh, vertex and triangle totals, then one line per mesh."
+  (format t "~D mesh~:*~[es~;~:;es~], ~D vertices, ~D triangles~%"
+          (length (model-meshes model)) (model-vertex-count model) (model-triangle-count model))
+  (dolist (mesh (model-meshes model))
+    (format t "  mesh ~:[~S~;(unnamed)~*~]: ~D vertices, ~D triangles~@[, skinned by ~D bones~]~%"
+            (string= (mesh-name mesh) "") (mesh-name mesh)
+            (mesh-vertex-count mesh) (mesh-triangle-count mesh)
+            (and (mesh-joints mesh) (length (mesh-bones mesh))))))
+
+(defun print-model-joints (model)
+  "Print MODEL's joint count and its joints as a tree, two spaces a level, bones marked."
+  (let* ((joints (model-joints model))
+         (depths (make-array (length joints) :initial-element 0)))
+    (format t "~D joint~:P (~D bone~:P)~:[~;:~]~%" (length joints)
+            (count-if #'joint-inverse-bind joints) (plusp (length joints)))
+    (loop for joint across joints
+          for i from 0
+          for parent = (joint-parent joint)
+          do (when parent (setf (aref depths i) (1+ (aref depths parent))))
+             (format t "  ~A~A~:[~; (bone)~]~%" (make-string (* 2 (aref depths i)) :initial-element #\Space)
+                     (joint-name joint)
+                     (joint-inverse-bind joint)))))
+
+(defun print-model-animations (model)
+  "Print MODEL's animation count and one line per clip: name, seconds, channels."
+  (format t "~D animation~:P~:[~;:~]~%" (length (model-animations model)) (model-animations model))
+  (dolist (animation (model-animations model))
+    (format t "  ~:[~S~;(unnamed)~*~]: ~A s, ~D channel~:P~%"
+            (string= (animation-name animation) "") (animation-name animation)
+            (format-number (animation-duration animation))
+            (length (animation-channels animation)))))

@@ -1,0 +1,45 @@
+;;;; conditions.lisp -- the model layer's condition and the limits on what it
+;;;; imports.  Every way an import can fail (a missing file, a file Assimp
+;;;; refuses, data that is not finite, a model past a limit) is one MODEL-ERROR
+;;;; naming the file, so the CLI prints it as one line.
+
+(in-package #:player.model)
+
+(define-condition model-error (player-error)
+  ((file :initarg :file :reader model-error-file
+         :documentation "The model file, as given.")
+   (message :initarg :message :reader model-error-message
+            :documentation "What is wrong with it, a clause without a capital."))
+  (:report (lambda (condition stream)
+             (format stream "cannot import the model ~A: ~A"
+                     (model-error-file condition) (model-error-message condition))))
+  (:documentation "A model file could not be imported: it is missing or
+unreadable, Assimp refused it, or what it holds is not finite or past a limit."))
+
+(define-condition model-library-missing (model-error)
+  ((package :initarg :package :reader model-library-missing-package
+            :documentation "The Debian package that provides the library."))
+  (:documentation "libassimp is not installed; the message names the Debian package."))
+
+(defun model-fail (file control &rest arguments)
+  "Signal a MODEL-ERROR about FILE whose message is CONTROL applied to ARGUMENTS."
+  (error 'model-error :file file :message (apply #'format nil control arguments)))
+
+;;;# Limits
+;;; Bounds on what one import may hold, so a hostile or broken file is a
+;;; clear error instead of an exhausted heap or a skeleton no body can drive.
+
+(defparameter *model-vertex-limit* 2000000
+  "The most vertices (summed over meshes) a model may have.")
+
+(defparameter *model-triangle-limit* 4000000
+  "The most triangles (summed over meshes) a model may have.")
+
+(defparameter *model-joint-limit* 300
+  "The most joints a model's skeleton may have.")
+
+(defparameter *model-key-limit* 5000000
+  "The most animation keys (positions, rotations and scales, over all clips) a model may have.")
+
+(defparameter *model-node-limit* 100000
+  "The most nodes a scene's node tree may have (joints are a subset of them).")

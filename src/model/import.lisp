@@ -1,0 +1,494 @@
+;;;; import.lisp -- IMPORT-MODEL, the checked layer over assimp-raw.lisp: the
+;;;; file is checked before Assimp sees it, Assimp's scene is copied into the
+;;;; Lisp structs of model.lisp and released, and everything taken from C is
+;;;; checked on the way (indices in range, numbers finite, counts within the
+;;;; limits of conditions.lisp).  Any failure is one MODEL-ERROR naming the file.
+
+(in-package #:player.model)
+
+(defparameter *model-post-processing*
+  '(:triangulate :join-identical-vertices :limit-bone-weights :sort-by-primitive-type)
+  "The Assimp post-processing steps IMPORT-MODEL asks for by default.  UVs are
+not flipped: they stay as the file has them (origin bottom left, as GL reads
+textures).  Assimp's validation always runs too.")
+
+(defparameter *post-processing-flags*
+  `((:triangulate . ,+ai-process-triangulate+)
+    (:join-identical-vertices . ,+ai-process-join-identical-vertices+)
+    (:limit-bone-weights . ,+ai-process-limit-bone-weights+)
+    (:sort-by-primitive-type . ,+ai-process-sort-by-p-type+))
+  "Each post-processing step IMPORT-MODEL knows, with its aiProcess flag.")
+
+(defun post-processing-flags (steps)
+  "The aiProcess flags for the post-processing STEPS (keywords of
+*POST-PROCESSING-FLAGS*), with Assimp's own validation of the scene always on."
+  (reduce #'logior steps
+          :key (lambda (step)
+                 (or (cdr (assoc step *post-processing-flags*))
+                     (error 'player-error-with-message
+                            :message (format nil "no post-processing step ~S (known: ~{~S~^ ~})"
+                                             step (mapcar #'car *post-processing-flags*)))))
+          :initial-value +ai-process-validate-data-structure+))
+
+(defvar *model-file* nil
+  "While a model is imported: the file as given, which every MODEL-ERROR names.")
+
+(defvar *key-count* 0 "While a model is imported: the animation keys copied so far.")
+
+(defun fail (control &rest arguments)
+  "Signal a MODEL-ERROR about the model being imported (*MODEL-FILE*)."
+  (apply #'model-fail *model-file* control arguments))
+
+;;;# The file, before Assimp sees it
+
+(defun check-readable-file (file what)
+  "FILE's truename when it is a readable, non-empty file; else a MODEL-ERROR
+naming FILE, which is WHAT (\"the model\", \"the texture\")."
+  (let ((path (ignore-errors (probe-file file))))
+    (cond ((null path) (model-fail file "~A file does not exist" what))
+          ((null (pathname-name path)) (model-fail file "~A is a folder, not a file" what)))
+    (handler-case (with-open-file (in path :element-type '(unsigned-byte 8))
+                    (when (zerop (file-length in))
+                      (model-fail file "~A file is empty" what)))
+      (file-error () (model-fail file "~A file cannot be read" what)))
+    path))
+
+;;;# Reading C data, checked
+
+(declaim (inline finite-single-p finite-double-p))
+(defun finite-single-p (x)
+  "Is the single-float X neither NaN nor infinite?  (Tested on its bits, so a
+NaN never reaches a comparison that could trap.)"
+  (/= 255 (ldb (byte 8 23) (sb-kernel:single-float-bits x))))
+
+(defun finite-double-p (x)
+  "Is the double-float X neither NaN nor infinite?"
+  (/= 2047 (ldb (byte 11 20) (sb-kernel:double-float-high-bits x))))
+
+(defun ai-string (pointer)
+  "The text of the aiString at POINTER (UTF-8, its length bounded by the struct)."
+  (let* ((length (min (cffi:foreign-slot-value pointer '(:struct %ai-string) 'length)
+                      (1- +ai-string-capacity+)))
+         (data (cffi:foreign-slot-pointer pointer '(:struct %ai-string) 'data))
+         (octets (make-array length :element-type '(unsigned-byte 8))))
+    (dotimes (i length)
+      (setf (aref octets i) (cffi:mem-aref data :uint8 i)))
+    (sb-ext:octets-to-string octets :external-format '(:utf-8 :replacement #\?))))
+
+(defun slot-string (pointer type slot)
+  "The aiString in SLOT of the struct TYPE at POINTER."
+  (ai-string (cffi:foreign-slot-pointer pointer (list :struct type) slot)))
+
+(defun foreign-array (pointer count what)
+  "POINTER, the C array of COUNT elements holding WHAT; a MODEL-ERROR when it
+is NULL but COUNT says there is something there."
+  (when (and (plusp count) (cffi:null-pointer-p pointer))
+    (fail "Assimp gave ~D ~A but no array holding them" count what))
+  pointer)
+
+(defun copy-floats (pointer count stride width what)
+  "A FLOAT-VECTOR of WIDTH floats from each of the COUNT records of STRIDE
+floats at POINTER; a MODEL-ERROR naming WHAT when one is not finite."
+  (declare (type (unsigned-byte 32) count) (type (integer 1 16) stride width))
+  (let ((vector (make-array (* count width) :element-type 'single-float)))
+    (dotimes (i count vector)
+      (dotimes (k width)
+        (let ((x (cffi:mem-aref pointer :float (+ (* i stride) k))))
+          (unless (finite-single-p x)
+            (fail "~A hold a value that is not finite (NaN or infinite)" what))
+          (setf (aref vector (+ (* i width) k)) x))))))
+
+(defun copy-matrix (pointer what)
+  "The 16 floats of the aiMatrix4x4 at POINTER as a DOUBLE-VECTOR (row-major)."
+  (map 'double-vector (lambda (x) (float x 1d0)) (copy-floats pointer 1 16 16 what)))
+
+;;;# The node tree and the joints
+
+(defun scene-nodes (root)
+  "The nodes under ROOT in preorder (parents before children), as a vector of
+(POINTER NAME PARENT-INDEX); a MODEL-ERROR past *MODEL-NODE-LIMIT*.  Walked
+with a stack, not recursion, so a deep tree cannot exhaust Lisp's stack."
+  (let ((nodes (make-array 64 :adjustable t :fill-pointer 0))
+        (stack (list (cons root nil))))
+    (loop while stack
+          do (destructuring-bind (pointer . parent) (pop stack)
+               (when (>= (fill-pointer nodes) *model-node-limit*)
+                 (fail "its scene has more than ~:D nodes" *model-node-limit*))
+               (let ((index (vector-push-extend (list pointer (slot-string pointer '%ai-node 'name) parent)
+                                                nodes))
+                     (count (cffi:foreign-slot-value pointer '(:struct %ai-node) 'num-children))
+                     (children (cffi:foreign-slot-value pointer '(:struct %ai-node) 'children)))
+                 (foreign-array children count "child nodes")
+                 ;; Pushed last to first, so they come off the stack in order.
+                 (loop for i from (1- count) downto 0
+                       for child = (cffi:mem-aref children :pointer i)
+                       do (when (cffi:null-pointer-p child)
+                            (fail "a node of its scene has a NULL child"))
+                          (push (cons child index) stack)))))
+    nodes))
+
+(defun joint-nodes (nodes names)
+  "Which of NODES (see SCENE-NODES) are joints: those whose name is in the
+hash table NAMES (bones and animated nodes), and their ancestors.  Returns a
+vector of each node's joint index or NIL, and the joint count."
+  (let ((marked (make-array (length nodes) :initial-element nil)))
+    ;; Preorder puts a parent before its children, so one backward pass
+    ;; marks every ancestor of a marked node.
+    (loop for i from (1- (length nodes)) downto 0
+          for (nil name parent) = (aref nodes i)
+          when (or (aref marked i) (gethash name names))
+            do (setf (aref marked i) t)
+               (when parent (setf (aref marked parent) t)))
+    (let ((count 0))
+      (values (map 'vector (lambda (mark) (when mark (prog1 count (incf count)))) marked)
+              count))))
+
+(defun decomposed-transform (node)
+  "The rest local transform of NODE as translation, rotation (w x y z) and
+scale, three DOUBLE-VECTORs; a MODEL-ERROR when it is not finite."
+  (copy-matrix (cffi:foreign-slot-pointer node '(:struct %ai-node) 'transformation)
+               "a node's transform")
+  (cffi:with-foreign-objects ((scaling :float 3) (rotation :float 4) (position :float 3))
+    (with-assimp-traps-masked
+      (%ai-decompose-matrix (cffi:foreign-slot-pointer node '(:struct %ai-node) 'transformation)
+                            scaling rotation position))
+    (flet ((doubles (pointer count)
+             (map 'double-vector (lambda (x) (float x 1d0))
+                  (copy-floats pointer 1 count count "a node's decomposed transform"))))
+      (values (doubles position 3) (doubles rotation 4) (doubles scaling 3)))))
+
+(defun make-joints (nodes joint-of inverse-binds)
+  "The joints: each node of NODES that JOINT-OF gives an index, with its
+parent's joint index, its rest transform and, from the hash table
+INVERSE-BINDS (bone name to matrix), its inverse bind matrix."
+  (coerce (loop for (pointer name parent) across nodes
+                for joint across joint-of
+                when joint
+                  collect (multiple-value-bind (translation rotation scale) (decomposed-transform pointer)
+                            (make-joint name (and parent (aref joint-of parent))
+                                        translation rotation scale (gethash name inverse-binds))))
+          'simple-vector))
+
+;;;# Meshes
+
+(defun scene-array (scene count-slot array-slot what)
+  "The elements (pointers) of SCENE's array ARRAY-SLOT of COUNT-SLOT elements, as a list."
+  (let ((count (cffi:foreign-slot-value scene '(:struct %ai-scene) count-slot))
+        (array (cffi:foreign-slot-value scene '(:struct %ai-scene) array-slot)))
+    (foreign-array array count what)
+    (loop for i below count
+          for element = (cffi:mem-aref array :pointer i)
+          do (when (cffi:null-pointer-p element) (fail "Assimp gave a NULL among its ~A" what))
+          collect element)))
+
+(defun mesh-bone-pointers (mesh)
+  "MESH's aiBone pointers, as a list."
+  (let ((count (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-bones))
+        (bones (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'bones)))
+    (foreign-array bones count "bones")
+    (loop for i below count
+          for bone = (cffi:mem-aref bones :pointer i)
+          do (when (cffi:null-pointer-p bone) (fail "a mesh has a NULL bone"))
+          collect bone)))
+
+(defun copy-triangles (mesh vertex-count)
+  "MESH's faces as triangles (an INDEX-VECTOR, 3 per triangle): triangles as
+they are, polygons as fans, points and lines dropped (they are not drawn as
+surfaces).  A MODEL-ERROR when an index is not one of the VERTEX-COUNT vertices."
+  (let* ((count (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-faces))
+         (faces (foreign-array (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'faces) count "faces"))
+         (triangles (loop for i below count
+                          sum (max 0 (- (cffi:foreign-slot-value (cffi:mem-aptr faces '(:struct %ai-face) i)
+                                                                 '(:struct %ai-face) 'num-indices)
+                                        2))))
+         (vector (make-array (* 3 triangles) :element-type '(unsigned-byte 32)))
+         (fill 0))
+    (when (> triangles *model-triangle-limit*)
+      (fail "a mesh has ~:D triangles, more than the limit of ~:D" triangles *model-triangle-limit*))
+    (dotimes (i count vector)
+      (let* ((face (cffi:mem-aptr faces '(:struct %ai-face) i))
+             (n (cffi:foreign-slot-value face '(:struct %ai-face) 'num-indices))
+             (indices (foreign-array (cffi:foreign-slot-value face '(:struct %ai-face) 'indices) n "face indices")))
+        (flet ((vertex (k)
+                 (let ((index (cffi:mem-aref indices :unsigned-int k)))
+                   (unless (< index vertex-count)
+                     (fail "a face names vertex ~D of a mesh with ~D" index vertex-count))
+                   index)))
+          (loop for k from 1 below (1- n)
+                do (setf (aref vector fill) (vertex 0)
+                         (aref vector (+ fill 1)) (vertex k)
+                         (aref vector (+ fill 2)) (vertex (1+ k)))
+                   (incf fill 3)))))))
+
+(defun add-influence (joints weights vertex joint weight)
+  "Record that JOINT moves VERTEX with WEIGHT in the 4 slots of JOINTS and
+WEIGHTS, keeping the 4 largest weights."
+  (let* ((base (* 4 vertex))
+         (smallest (loop with best = base
+                         for slot from base below (+ base 4)
+                         when (< (aref weights slot) (aref weights best)) do (setf best slot)
+                         finally (return best))))
+    (when (> weight (aref weights smallest))
+      (setf (aref joints smallest) joint
+            (aref weights smallest) weight))))
+
+(defun copy-skin (bones vertex-count joint-index fallback)
+  "The skin of a mesh with BONES (aiBone pointers) and VERTEX-COUNT vertices:
+JOINTS and WEIGHTS, 4 per vertex, weights normalised to sum 1; a vertex no
+bone moves follows the joint FALLBACK (the mesh's node's).  JOINT-INDEX maps
+a bone's name to its joint."
+  (let ((joints (make-array (* 4 vertex-count) :element-type '(unsigned-byte 32) :initial-element 0))
+        (weights (make-array (* 4 vertex-count) :element-type 'double-float :initial-element 0d0)))
+    (dolist (bone bones)
+      (let* ((joint (gethash (slot-string bone '%ai-bone 'name) joint-index))
+             (count (cffi:foreign-slot-value bone '(:struct %ai-bone) 'num-weights))
+             (array (foreign-array (cffi:foreign-slot-value bone '(:struct %ai-bone) 'weights) count "bone weights")))
+        (dotimes (i count)
+          (let* ((record (cffi:mem-aptr array '(:struct %ai-vertex-weight) i))
+                 (vertex (cffi:foreign-slot-value record '(:struct %ai-vertex-weight) 'vertex-id))
+                 (weight (cffi:foreign-slot-value record '(:struct %ai-vertex-weight) 'weight)))
+            (unless (< vertex vertex-count)
+              (fail "bone ~A weighs vertex ~D of a mesh with ~D" (slot-string bone '%ai-bone 'name) vertex vertex-count))
+            (unless (and (finite-single-p weight) (>= weight 0))
+              (fail "bone ~A has a weight that is negative or not finite" (slot-string bone '%ai-bone 'name)))
+            (add-influence joints weights vertex joint (float weight 1d0))))))
+    (dotimes (vertex vertex-count)
+      (let* ((base (* 4 vertex))
+             (sum (loop for slot from base below (+ base 4) sum (aref weights slot))))
+        (if (plusp sum)
+            (loop for slot from base below (+ base 4) do (setf (aref weights slot) (/ (aref weights slot) sum)))
+            (setf (aref joints base) fallback (aref weights base) 1d0))))
+    (values joints weights)))
+
+(defun mesh-channel (mesh slot index stride width what)
+  "MESH's INDEXth array in SLOT (colours or UVs) as a FLOAT-VECTOR of WIDTH of
+each STRIDE floats, or NIL when the mesh has none."
+  (let ((pointer (cffi:mem-aref (cffi:foreign-slot-pointer mesh '(:struct %ai-mesh) slot) :pointer index)))
+    (unless (cffi:null-pointer-p pointer)
+      (copy-floats pointer (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-vertices) stride width what))))
+
+(defun material-texture (material directory)
+  "The diffuse (or glTF base colour) texture path of MATERIAL, resolved
+against DIRECTORY (\"*N\", a texture embedded in the file, as it is), or NIL."
+  (cffi:with-foreign-object (path '(:struct %ai-string))
+    (loop for type in (list +ai-texture-type-diffuse+ +ai-texture-type-base-color+)
+          when (= +ai-return-success+
+                  (with-assimp-traps-masked
+                    (%ai-get-material-texture material type 0 path
+                                              (cffi:null-pointer) (cffi:null-pointer) (cffi:null-pointer)
+                                              (cffi:null-pointer) (cffi:null-pointer) (cffi:null-pointer))))
+            do (let ((text (substitute #\/ #\\ (ai-string path))))
+                 (return (cond ((string= text "") nil)
+                               ((char= (char text 0) #\*) text)
+                               (t (or (ignore-errors
+                                       (namestring (merge-pathnames (uiop:parse-unix-namestring text) directory)))
+                                      text))))))))
+
+(defun morph-target-names (mesh)
+  "The names of MESH's morph targets (aiAnimMesh), \"target N\" for an unnamed one."
+  (let* ((count (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-anim-meshes))
+         (array (foreign-array (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'anim-meshes) count "morph targets")))
+    (loop for i below count
+          for target = (cffi:mem-aref array :pointer i)
+          for name = (if (cffi:null-pointer-p target) "" (slot-string target '%ai-anim-mesh 'name))
+          collect (if (string= name "") (format nil "target ~D" i) name))))
+
+(defun copy-mesh (mesh materials directory joint-index fallback)
+  "The MODEL-MESH copied from the aiMesh at MESH.  MATERIALS is the scene's
+list of aiMaterial pointers, DIRECTORY the model's folder, JOINT-INDEX maps
+bone names to joints, FALLBACK is the joint its unweighted vertices follow."
+  (let* ((vertex-count (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-vertices))
+         (positions (foreign-array (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'vertices) vertex-count "vertices"))
+         (normals (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'normals))
+         (material (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'material-index))
+         (bones (mesh-bone-pointers mesh)))
+    (multiple-value-bind (joints weights)
+        (when bones (copy-skin bones vertex-count joint-index fallback))
+      (make-model-mesh
+       :name (slot-string mesh '%ai-mesh 'name)
+       :positions (copy-floats positions vertex-count 3 3 "a mesh's vertex positions")
+       :normals (unless (cffi:null-pointer-p normals)
+                  (copy-floats normals vertex-count 3 3 "a mesh's normals"))
+       :uvs (mesh-channel mesh 'texture-coords 0 3 2 "a mesh's UVs")
+       :colours (mesh-channel mesh 'colors 0 4 4 "a mesh's vertex colours")
+       :triangles (copy-triangles mesh vertex-count)
+       :joints joints :weights weights
+       :bones (map 'index-vector (lambda (bone) (gethash (slot-string bone '%ai-bone 'name) joint-index)) bones)
+       :texture (when (< material (length materials))
+                  (material-texture (nth material materials) directory))
+       :morph-targets (morph-target-names mesh)))))
+
+;;;# Animations
+
+(defun copy-keys (keys count width ticks-per-second what)
+  "The COUNT keys at KEYS (aiVectorKey or aiQuatKey) as two DOUBLE-VECTORs:
+their times in seconds and their values, WIDTH each."
+  (foreign-array keys count what)
+  (let ((times (make-array count :element-type 'double-float))
+        (values (make-array (* count width) :element-type 'double-float)))
+    (dotimes (i count)
+      (let* ((key (cffi:mem-aptr keys '(:struct %ai-key) i))
+             (time (cffi:foreign-slot-value key '(:struct %ai-key) 'time))
+             (value (cffi:foreign-slot-pointer key '(:struct %ai-key) 'value)))
+        (unless (finite-double-p time) (fail "an animation has a key whose time is not finite"))
+        (when (minusp time) (fail "an animation has a key before its start (at ~A ticks)" time))
+        (setf (aref times i) (/ time ticks-per-second))
+        (dotimes (k width)
+          (let ((x (cffi:mem-aref value :float k)))
+            (unless (finite-single-p x) (fail "an animation's ~A hold a value that is not finite" what))
+            (setf (aref values (+ (* i width) k)) (float x 1d0))))))
+    (values times values)))
+
+(defun import-channel (channel ticks-per-second joint-index)
+  "The CHANNEL (an aiNodeAnim) as a CHANNEL struct; JOINT-INDEX maps node names to joints."
+  (flet ((keys (count-slot keys-slot width what)
+           (let ((count (cffi:foreign-slot-value channel '(:struct %ai-node-anim) count-slot)))
+             (when (> (incf *key-count* count) *model-key-limit*)
+               (fail "its animations have more than ~:D keys" *model-key-limit*))
+             (copy-keys (cffi:foreign-slot-value channel '(:struct %ai-node-anim) keys-slot)
+                        count width ticks-per-second what))))
+    (multiple-value-call #'make-channel
+      (values (gethash (slot-string channel '%ai-node-anim 'node-name) joint-index))
+      (keys 'num-position-keys 'position-keys 3 "position keys")
+      (keys 'num-rotation-keys 'rotation-keys 4 "rotation keys")
+      (keys 'num-scaling-keys 'scaling-keys 3 "scale keys"))))
+
+(defun ai-animation-channels (animation)
+  "The aiNodeAnim pointers of ANIMATION, as a list."
+  (let ((count (cffi:foreign-slot-value animation '(:struct %ai-animation) 'num-channels))
+        (array (cffi:foreign-slot-value animation '(:struct %ai-animation) 'channels)))
+    (foreign-array array count "animation channels")
+    (loop for i below count
+          for channel = (cffi:mem-aref array :pointer i)
+          do (when (cffi:null-pointer-p channel) (fail "an animation has a NULL channel"))
+          collect channel)))
+
+(defun import-animation (animation joint-index)
+  "The ANIMATION (an aiAnimation) as an ANIMATION struct, times in seconds:
+ticks over ticks per second, Assimp's 0 ticks per second meaning 25.  Its
+duration covers its last key, should the file's be shorter."
+  (let* ((ticks (cffi:foreign-slot-value animation '(:struct %ai-animation) 'duration))
+         (rate (cffi:foreign-slot-value animation '(:struct %ai-animation) 'ticks-per-second))
+         (ticks-per-second (if (and (finite-double-p rate) (plusp rate)) rate 25d0))
+         (name (slot-string animation '%ai-animation 'name)))
+    (unless (and (finite-double-p ticks) (>= ticks 0))
+      (fail "animation ~S has a duration that is negative or not finite" name))
+    (let* ((channels (mapcar (lambda (channel) (import-channel channel ticks-per-second joint-index))
+                             (ai-animation-channels animation)))
+           (last-key (loop for channel in channels
+                           maximize (max (last-time (channel-position-times channel))
+                                         (last-time (channel-rotation-times channel))
+                                         (last-time (channel-scale-times channel))))))
+      (make-animation name (max (/ ticks ticks-per-second) last-key) channels))))
+
+(defun last-time (times)
+  "The largest of TIMES (a DOUBLE-VECTOR), or 0 when there are none."
+  (reduce #'max times :initial-value 0d0))
+
+;;;# The scene
+
+(defun name-table (names)
+  "An EQUAL hash table holding NAMES (strings) as keys."
+  (let ((table (make-hash-table :test 'equal)))
+    (dolist (name names table) (setf (gethash name table) t))))
+
+(defun mesh-nodes (nodes mesh-count)
+  "For each of MESH-COUNT meshes, the index of the first of NODES that holds it, or NIL."
+  (let ((holders (make-array mesh-count :initial-element nil)))
+    (loop for (pointer) across nodes
+          for node from 0
+          for count = (cffi:foreign-slot-value pointer '(:struct %ai-node) 'num-meshes)
+          for array = (foreign-array (cffi:foreign-slot-value pointer '(:struct %ai-node) 'meshes) count "node meshes")
+          do (dotimes (i count)
+               (let ((mesh (cffi:mem-aref array :unsigned-int i)))
+                 (unless (< mesh mesh-count) (fail "a node names mesh ~D of ~D" mesh mesh-count))
+                 (unless (aref holders mesh) (setf (aref holders mesh) node)))))
+    holders))
+
+(defun nearest-joint (nodes joint-of node)
+  "The joint of NODE or of its nearest ancestor that is a joint, or 0."
+  (loop while node
+        do (when (aref joint-of node) (return (aref joint-of node)))
+           (setf node (third (aref nodes node)))
+        finally (return 0)))
+
+(defun check-vertex-total (meshes)
+  "A MODEL-ERROR when MESHES (aiMesh pointers) have more vertices than *MODEL-VERTEX-LIMIT*."
+  (let ((total (loop for mesh in meshes sum (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-vertices))))
+    (when (> total *model-vertex-limit*)
+      (fail "it has ~:D vertices, more than the limit of ~:D" total *model-vertex-limit*))))
+
+(defun copy-scene (scene path)
+  "The MODEL copied from the aiScene at SCENE, imported from PATH."
+  (let ((root (cffi:foreign-slot-value scene '(:struct %ai-scene) 'root-node))
+        (meshes (scene-array scene 'num-meshes 'meshes "meshes"))
+        (materials (scene-array scene 'num-materials 'materials "materials"))
+        (animations (scene-array scene 'num-animations 'animations "animations"))
+        (inverse-binds (make-hash-table :test 'equal)))
+    (when (cffi:null-pointer-p root) (fail "its scene has no nodes"))
+    (check-vertex-total meshes)
+    (dolist (mesh meshes)
+      (dolist (bone (mesh-bone-pointers mesh))
+        (let ((name (slot-string bone '%ai-bone 'name)))
+          (unless (gethash name inverse-binds)
+            (setf (gethash name inverse-binds)
+                  (copy-matrix (cffi:foreign-slot-pointer bone '(:struct %ai-bone) 'offset-matrix)
+                               "a bone's inverse bind matrix"))))))
+    (let* ((nodes (scene-nodes root))
+           (animated (loop for animation in animations
+                           nconc (mapcar (lambda (channel) (slot-string channel '%ai-node-anim 'node-name))
+                                         (ai-animation-channels animation))))
+           (names (name-table (append (alexandria:hash-table-keys inverse-binds) animated))))
+      (dolist (name (alexandria:hash-table-keys names))
+        (unless (find name nodes :key #'second :test #'string=)
+          (fail "a bone or animation channel names ~S, which no node of its scene is called" name)))
+      (multiple-value-bind (joint-of joint-count) (joint-nodes nodes names)
+        (when (> joint-count *model-joint-limit*)
+          (fail "its skeleton has ~:D joints, more than the limit of ~:D" joint-count *model-joint-limit*))
+        (let ((joints (make-joints nodes joint-of inverse-binds))
+              (joint-index (make-hash-table :test 'equal))
+              (holders (mesh-nodes nodes (length meshes)))
+              (*key-count* 0))
+          (loop for joint across joints for i from 0
+                do (unless (gethash (joint-name joint) joint-index)
+                     (setf (gethash (joint-name joint) joint-index) i)))
+          (make-model (namestring path)
+                      (loop for mesh in meshes for i from 0
+                            collect (copy-mesh mesh materials (uiop:pathname-directory-pathname path) joint-index
+                                               (nearest-joint nodes joint-of (aref holders i))))
+                      joints
+                      (mapcar (lambda (animation) (import-animation animation joint-index)) animations)))))))
+
+(defun assimp-error-string ()
+  "Assimp's message about the last import that failed."
+  (let ((text (with-assimp-traps-masked (%ai-get-error-string))))
+    (if (and text (string/= text "")) text "no reason given")))
+
+(defun import-model (file &key (post-processing *model-post-processing*) texture
+                            (vertex-limit *model-vertex-limit*) (triangle-limit *model-triangle-limit*)
+                            (joint-limit *model-joint-limit*) (key-limit *model-key-limit*))
+  "Import the model FILE (glTF, FBX, COLLADA, .x, BVH... whatever Assimp
+reads) as a MODEL, applying the Assimp POST-PROCESSING steps (keywords of
+*POST-PROCESSING-FLAGS*; default *MODEL-POST-PROCESSING*).  TEXTURE, when
+given, is a texture file that replaces every mesh's diffuse texture.  The
+limits default to *MODEL-VERTEX-LIMIT*, *MODEL-TRIANGLE-LIMIT*,
+*MODEL-JOINT-LIMIT* and *MODEL-KEY-LIMIT*.  Signals MODEL-ERROR, naming the
+file, when it is missing, unreadable or refused by Assimp, when what it holds
+is not finite or is past a limit; MODEL-LIBRARY-MISSING when Assimp is not
+installed."
+  (let* ((*model-file* file)
+         (path (check-readable-file file "the model"))
+         (texture-path (and texture (namestring (check-readable-file texture "the texture"))))
+         (flags (post-processing-flags post-processing))
+         (*model-vertex-limit* vertex-limit) (*model-triangle-limit* triangle-limit)
+         (*model-joint-limit* joint-limit) (*model-key-limit* key-limit))
+    (load-assimp-library file)
+    (let ((scene (with-assimp-traps-masked (%ai-import-file (uiop:native-namestring path) flags))))
+      (when (cffi:null-pointer-p scene)
+        (fail "Assimp cannot read it: ~A" (string-right-trim ". " (assimp-error-string))))
+      (let ((model (unwind-protect (copy-scene scene path)
+                     (with-assimp-traps-masked (%ai-release-import scene)))))
+        (when texture-path
+          (dolist (mesh (model-meshes model))
+            (setf (mesh-texture mesh) texture-path)))
+        model))))

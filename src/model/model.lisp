@@ -1,0 +1,109 @@
+;;;; model.lisp -- an imported model as Lisp data: meshes with their skins,
+;;;; the joint tree, animation clips and morph target names.  Everything is
+;;;; copied out of Assimp's scene before it is released; no foreign pointer
+;;;; survives an import.  Geometry is single-float (what GL draws), skin
+;;;; weights, transforms and keys double-float.
+
+(in-package #:player.model)
+
+(deftype float-vector () "A flat vector of single-floats (3 per position, 2 per UV...)." '(simple-array single-float (*)))
+(deftype double-vector () "A flat vector of double-floats." '(simple-array double-float (*)))
+(deftype index-vector () "A flat vector of vertex or joint indices." '(simple-array (unsigned-byte 32) (*)))
+
+(defstruct (model-mesh (:conc-name mesh-))
+  "One mesh: its NAME; POSITIONS and NORMALS (3 per vertex), UVS (the first
+UV set, 2 per vertex) and COLOURS (the first colour set, RGBA), each NIL when
+absent; TRIANGLES (3 vertex indices each); for a skinned mesh, JOINTS and
+WEIGHTS (4 per vertex: joint indices into the model's joints and weights
+summing to 1, unused slots weight 0), else NIL; BONES, the joint indices of
+the mesh's own bones; TEXTURE, its diffuse texture's path resolved against the
+model's folder (or \"*N\" for a texture embedded in the file), or NIL; and
+MORPH-TARGETS, the names of its morph targets."
+  (name "" :type string)
+  (positions nil :type float-vector)
+  (normals nil :type (or null float-vector))
+  (uvs nil :type (or null float-vector))
+  (colours nil :type (or null float-vector))
+  (triangles nil :type index-vector)
+  (joints nil :type (or null index-vector))
+  (weights nil :type (or null double-vector))
+  (bones nil :type index-vector)
+  (texture nil :type (or null string))
+  (morph-targets '() :type list))
+
+(defun mesh-vertex-count (mesh)
+  "How many vertices MESH has."
+  (floor (length (mesh-positions mesh)) 3))
+
+(defun mesh-triangle-count (mesh)
+  "How many triangles MESH has."
+  (floor (length (mesh-triangles mesh)) 3))
+
+(defstruct (joint (:constructor make-joint (name parent translation rotation scale inverse-bind)))
+  "A joint of the skeleton: its NAME (the node's), the index of its PARENT
+joint (NIL for the root), its rest local transform as TRANSLATION (x y z),
+ROTATION (a unit quaternion w x y z) and SCALE (x y z), and for a bone its
+INVERSE-BIND matrix (16 doubles, row-major as Assimp writes it: model space to
+the bone's space), else NIL."
+  (name "" :type string)
+  (parent nil :type (or null (integer 0)))
+  (translation nil :type double-vector)
+  (rotation nil :type double-vector)
+  (scale nil :type double-vector)
+  (inverse-bind nil :type (or null double-vector)))
+
+(defstruct (channel (:constructor make-channel (joint position-times positions rotation-times rotations
+                                                scale-times scales)))
+  "One joint's keys in a clip: JOINT, its index; POSITION-TIMES, ROTATION-TIMES
+and SCALE-TIMES in seconds from the clip's start, with POSITIONS (3 per key),
+ROTATIONS (w x y z per key) and SCALES (3 per key)."
+  (joint 0 :type (integer 0))
+  (position-times nil :type double-vector)
+  (positions nil :type double-vector)
+  (rotation-times nil :type double-vector)
+  (rotations nil :type double-vector)
+  (scale-times nil :type double-vector)
+  (scales nil :type double-vector))
+
+(defstruct (animation (:constructor make-animation (name duration channels)))
+  "An animation clip: its NAME (\"\" when the file gives none), its DURATION in
+seconds, and its CHANNELS, one per animated joint."
+  (name "" :type string)
+  (duration 0d0 :type double-float)
+  (channels '() :type list))
+
+(defstruct (model (:constructor make-model (file meshes joints animations)))
+  "A model imported from FILE (its truename, a string): its MESHES, its JOINTS
+(a vector, parents before children; the skeleton is the nodes that are bones
+or are animated, and their ancestors up to the scene's root) and its
+ANIMATIONS."
+  (file "" :type string)
+  (meshes '() :type list)
+  (joints #() :type simple-vector)
+  (animations '() :type list))
+
+(defun model-vertex-count (model)
+  "How many vertices MODEL's meshes have together."
+  (reduce #'+ (model-meshes model) :key #'mesh-vertex-count))
+
+(defun model-triangle-count (model)
+  "How many triangles MODEL's meshes have together."
+  (reduce #'+ (model-meshes model) :key #'mesh-triangle-count))
+
+(defun model-bone-count (model)
+  "How many bones MODEL's meshes have together (a joint that skins two meshes counts twice, as Assimp counts)."
+  (reduce #'+ (model-meshes model) :key (lambda (mesh) (length (mesh-bones mesh)))))
+
+(defun model-textures (model)
+  "The distinct texture paths MODEL's meshes use, in order."
+  (remove-duplicates (remove nil (mapcar #'mesh-texture (model-meshes model)))
+                     :test #'string= :from-end t))
+
+(defun model-morph-targets (model)
+  "The distinct morph target names of MODEL's meshes, in order."
+  (remove-duplicates (mapcan (lambda (mesh) (copy-list (mesh-morph-targets mesh))) (model-meshes model))
+                     :test #'string= :from-end t))
+
+(defun find-model-joint (model name)
+  "The index of MODEL's joint called NAME, or NIL."
+  (position name (model-joints model) :key #'joint-name :test #'string=))
