@@ -231,6 +231,22 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
         (is (search clip out) "no ~A in ~A" clip out))
       (is (search (format nil "~%            Pelvis (bone)~%") out)))))
 
+(test model-command-prints-guessed-roles-and-their-drivers
+  "The roles are guessed among the skeleton's joints, not the nodes that only
+hold a mesh, and each driver they leave out names the role it lacks."
+  (with-assimp-models
+    ;; CMU motion capture: the hips carry no skin weights in Assimp's import, yet are the hips.
+    (let ((out (player-command "model" (assimp-model "BVH/01_01.bvh"))))
+      (dolist (line '("  :hips: Hips" "  :left-arm: LeftArm LeftForeArm LeftHand"
+                      "  :right-leg: RightUpLeg RightLeg RightFoot RightToeBase"
+                      "drivers: gaze, head, facing, reach" "  no visemes: needs :jaw or :mouth-morphs"))
+        (is (member line (lines out) :test #'string=) "no line ~S in~%~A" line out)))
+    ;; BCN: a jaw and lids, but only a mesh node is called Head.
+    (let ((out (player-command "model" (assimp-model "X/BCN_Epileptic.X"))))
+      (dolist (line '("  :jaw: B_Jaw" "drivers: gaze, facing, reach, visemes, blink" "  no head: needs :head"))
+        (is (member line (lines out) :test #'string=) "no line ~S in~%~A" line out))
+      (is (notany (lambda (line) (search ": Head" line)) (lines out)) "the mesh node Head taken for a role"))))
+
 (test model-command-bad-file-is-one-error-line
   (multiple-value-bind (out err code) (player-command "model" "/nonexistent/wuson.x")
     (is (= 1 code))

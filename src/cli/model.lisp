@@ -1,6 +1,7 @@
 ;;;; model.lisp -- `player model`: what an imported model holds, summarised:
 ;;;; meshes, vertices and triangles, the skeleton as an indented tree, the
-;;;; animation clips, textures and morph targets.
+;;;; animation clips, textures and morph targets, and the roles guessed from
+;;;; the joints' names with the drivers they enable.
 
 (in-package #:player.cli)
 
@@ -10,7 +11,8 @@
 reads; see doc/models.md) and prints its meshes with their vertices and
 triangles, its joints as an indented tree (bones marked), its animation clips
 with their durations in seconds, its textures (marked when the file is
-missing) and its morph targets. A file that is missing, that Assimp cannot
+missing) and its morph targets, then the roles guessed from the joints' names (see
+doc/models.md) and which drivers they enable. A file that is missing, that Assimp cannot
 read, or that holds numbers that are not finite or more than Player's limits
 is one error."
      :arguments ("MODEL-FILE")
@@ -30,7 +32,8 @@ is one error."
                         path
                         (format nil "~A (missing)" path)))
                   (model-textures model)))
-  (format t "morph targets: ~:[none~;~:*~{~A~^, ~}~]~%" (model-morph-targets model)))
+  (format t "morph targets: ~:[none~;~:*~{~A~^, ~}~]~%" (model-morph-targets model))
+  (print-model-roles model))
 
 (defun print-model-meshes (model)
   "Print MODEL's mesh, vertex and triangle totals, then one line per mesh."
@@ -64,3 +67,50 @@ is one error."
             (string= (animation-name animation) "") (animation-name animation)
             (format-number (animation-duration animation))
             (length (animation-channels animation)))))
+
+(defun role-joints (model)
+  "The indices of MODEL's joints roles are guessed among: every joint but the
+nodes that only hold a mesh (no bone themselves, none below them), so that a
+mesh named \"Head\" is not taken for the head, while a BVH's hips, which
+Assimp gives no skin weights, still count."
+  (let* ((joints (model-joints model))
+         (skeletal (make-array (length joints) :initial-element nil)))
+    ;; A joint is part of the skeleton when it or a joint below it is a bone:
+    ;; mark each bone and its ancestors, stopping at one already marked.
+    (loop for i below (length joints)
+          when (joint-inverse-bind (aref joints i))
+            do (loop for at = i then (joint-parent (aref joints at))
+                     while (and at (not (aref skeletal at)))
+                     do (setf (aref skeletal at) t)))
+    (let ((kept (loop for i below (length joints) when (aref skeletal i) collect i)))
+      (coerce (or kept (loop for i below (length joints) collect i)) 'vector))))
+
+(defun subset-parents (model subset)
+  "For each joint of SUBSET (indices into MODEL's joints), the position in
+SUBSET of its nearest ancestor there, or -1."
+  (let ((joints (model-joints model)))
+    (map 'vector (lambda (index)
+                   (loop for parent = (joint-parent (aref joints index))
+                           then (joint-parent (aref joints parent))
+                         while parent
+                         do (let ((at (position parent subset)))
+                              (when at (return at)))
+                         finally (return -1)))
+         subset)))
+
+(defun print-model-roles (model)
+  "Print the roles guessed from the names of MODEL's bones, one line each (a
+chain's joints in order), then the drivers they enable and those they do
+not, with the roles each lacks."
+  (let* ((subset (role-joints model))
+         (names (map 'vector (lambda (index) (joint-name (aref (model-joints model) index))) subset))
+         (roles (guess-roles names :parents (subset-parents model subset))))
+    (format t "~D guessed role~:P~:[~;:~]~%" (length roles) roles)
+    (loop for (role . where) in roles
+          do (format t "  ~(~S~): ~{~A~^ ~}~%" role
+                     (mapcar (lambda (index) (aref names index)) (ensure-list where))))
+    (multiple-value-bind (enabled disabled)
+        (roles-enabling-drivers roles :morphs (model-morph-targets model))
+      (format t "drivers: ~:[none~;~:*~(~{~A~^, ~}~)~]~%" enabled)
+      (loop for (driver . lacking) in disabled
+            do (format t "  no ~(~A~): needs ~(~{~S~^ or ~}~)~%" driver lacking)))))
