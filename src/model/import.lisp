@@ -171,25 +171,25 @@ INVERSE-BINDS (bone name to matrix), its inverse bind matrix."
 
 ;;;# Meshes
 
-(defun scene-array (scene count-slot array-slot what)
-  "The elements (pointers) of SCENE's array ARRAY-SLOT of COUNT-SLOT elements, as a list."
-  (let ((count (cffi:foreign-slot-value scene '(:struct %ai-scene) count-slot))
-        (array (cffi:foreign-slot-value scene '(:struct %ai-scene) array-slot)))
+(defun pointer-list (object struct count-slot array-slot what)
+  "The pointers of OBJECT's (a STRUCT, e.g. '(:struct %ai-scene)) array
+ARRAY-SLOT of COUNT-SLOT elements, as a list; the array checked with
+FOREIGN-ARRAY, a NULL among them a MODEL-ERROR naming WHAT."
+  (let ((count (cffi:foreign-slot-value object struct count-slot))
+        (array (cffi:foreign-slot-value object struct array-slot)))
     (foreign-array array count what)
     (loop for i below count
           for element = (cffi:mem-aref array :pointer i)
           do (when (cffi:null-pointer-p element) (fail "Assimp gave a NULL among its ~A" what))
           collect element)))
 
+(defun scene-array (scene count-slot array-slot what)
+  "The elements (pointers) of SCENE's array ARRAY-SLOT of COUNT-SLOT elements, as a list."
+  (pointer-list scene '(:struct %ai-scene) count-slot array-slot what))
+
 (defun mesh-bone-pointers (mesh)
   "MESH's aiBone pointers, as a list."
-  (let ((count (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-bones))
-        (bones (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'bones)))
-    (foreign-array bones count "bones")
-    (loop for i below count
-          for bone = (cffi:mem-aref bones :pointer i)
-          do (when (cffi:null-pointer-p bone) (fail "a mesh has a NULL bone"))
-          collect bone)))
+  (pointer-list mesh '(:struct %ai-mesh) 'num-bones 'bones "bones"))
 
 (defun copy-triangles (mesh vertex-count)
   "MESH's faces as triangles (an INDEX-VECTOR, 3 per triangle): triangles as
@@ -355,13 +355,7 @@ their times in seconds and their values, WIDTH each."
 
 (defun ai-animation-channels (animation)
   "The aiNodeAnim pointers of ANIMATION, as a list."
-  (let ((count (cffi:foreign-slot-value animation '(:struct %ai-animation) 'num-channels))
-        (array (cffi:foreign-slot-value animation '(:struct %ai-animation) 'channels)))
-    (foreign-array array count "animation channels")
-    (loop for i below count
-          for channel = (cffi:mem-aref array :pointer i)
-          do (when (cffi:null-pointer-p channel) (fail "an animation has a NULL channel"))
-          collect channel)))
+  (pointer-list animation '(:struct %ai-animation) 'num-channels 'channels "animation channels"))
 
 (defun import-animation (animation joint-index)
   "The ANIMATION (an aiAnimation) as an ANIMATION struct, times in seconds:
