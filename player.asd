@@ -172,6 +172,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "assimp-raw")
                  (:file "model")
                  (:file "import")
+                 (:file "images")
                  (:file "roles")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
@@ -424,5 +425,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-dialogue-cli")
                  (:file "test-persona-loop")
                  (:file "test-roles")
-                 (:file "test-model"))))
+                 (:file "test-model")
+                 (:file "test-images"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -64,6 +64,9 @@
   (:import-from #:player.model
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint
    #:import-model #:model-error #:model-error-file #:model-library-missing
+   #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
+   #:image-error #:image-error-file #:image-error-reason #:image-library-missing
+   #:*image-pixel-limit* #:model-texture-images
    #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
    #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
    #:model #:model-file #:model-meshes #:model-joints #:model-animations
@@ -191,6 +194,9 @@
    ;; Models imported through Assimp (doc/models.md)
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint
    #:import-model #:model-error #:model-error-file #:model-library-missing
+   #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
+   #:image-error #:image-error-file #:image-error-reason #:image-library-missing
+   #:*image-pixel-limit* #:model-texture-images
    #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
    #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
    #:model #:model-file #:model-meshes #:model-joints #:model-animations

@@ -10,8 +10,8 @@
      :description "Imports MODEL-FILE (glTF, FBX, COLLADA, .x, BVH... whatever Assimp
 reads; see doc/models.md) and prints its meshes with their vertices and
 triangles, its joints as an indented tree (bones marked), its animation clips
-with their durations in seconds, its textures (marked when the file is
-missing) and its morph targets, then the roles guessed from the joints' names (see
+with their durations in seconds, its textures (each with its size in
+pixels, or marked missing or undecodable) and its morph targets, then the roles guessed from the joints' names (see
 doc/models.md) and which drivers they enable. A file that is missing, that Assimp cannot
 read, or that holds numbers that are not finite or more than Player's limits
 is one error."
@@ -27,13 +27,22 @@ is one error."
   (print-model-joints model)
   (print-model-animations model)
   (format t "textures: ~:[none~;~:*~{~A~^, ~}~]~%"
-          (mapcar (lambda (path)
-                    (if (or (char= (char path 0) #\*) (probe-file path))
-                        path
-                        (format nil "~A (missing)" path)))
-                  (model-textures model)))
+          (let ((decoded (model-texture-images model)))
+            (mapcar (lambda (path)
+                      (texture-description path (cdr (assoc path decoded :test #'string=))))
+                    (model-textures model))))
   (format t "morph targets: ~:[none~;~:*~{~A~^, ~}~]~%" (model-morph-targets model))
   (print-model-roles model))
+
+(defun texture-description (path result)
+  "PATH with what decoding it gave, RESULT (see MODEL-TEXTURE-IMAGES): its size,
+\"(missing)\" or \"(undecodable: REASON)\"; an embedded texture (no RESULT) as it is."
+  (typecase result
+    (image (format nil "~A ~Dx~D" path (image-width result) (image-height result)))
+    (image-error (if (probe-file path)
+                     (format nil "~A (undecodable: ~A)" path (image-error-reason result))
+                     (format nil "~A (missing)" path)))
+    (t path)))
 
 (defun print-model-meshes (model)
   "Print MODEL's mesh, vertex and triangle totals, then one line per mesh."

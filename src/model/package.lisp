@@ -23,4 +23,7 @@
    #:animation #:animation-name #:animation-duration #:animation-channels
    #:channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
+   #:image-error #:image-error-file #:image-error-reason #:image-library-missing
+   #:*image-pixel-limit* #:model-texture-images
    #:guess-roles #:role-error #:role-error-joint #:role-error-role #:roles-enabling-drivers))
