@@ -137,6 +137,27 @@ CHANNELS outside 1 to 4 is an argument error before any file is read."
         (is (search "more than 63 pixels" (princ-to-string (image-error-for path)))))
       (signals player.base:argument-error (player.model:read-image path :channels 5)))))
 
+(test a-huge-image-is-refused-from-its-header
+  "A grey PNG whose header states 20000 x 20000 pixels, over a 1 x 1 image's
+data, is refused from its header alone, before stb_image decodes it: past
+*IMAGE-PIXEL-LIMIT* (stb_image's own header check lets a grey image of up to
+2^30 pixels through)."
+  (with-stb
+    (let ((octets (player.render:png-octets 1 1 (make-array 4 :element-type '(unsigned-byte 8)
+                                                               :initial-element 0))))
+      ;; Signature (8 bytes), IHDR's length and type (8), then width, height,
+      ;; bit depth and colour type (0: grey).  stb_image reads no CRC.
+      (flet ((put-u32 (at value)
+               (loop for k from 0 below 4
+                     do (setf (aref octets (+ at k)) (ldb (byte 8 (* 8 (- 3 k))) value)))))
+        (put-u32 16 20000)
+        (put-u32 20 20000)
+        (setf (aref octets 24) 8 (aref octets 25) 0))
+      (with-image-file (path "png")
+        (with-open-file (out path :direction :output :if-exists :supersede :element-type '(unsigned-byte 8))
+          (write-sequence octets out))
+        (is (search "it is 20000x20000, more than" (princ-to-string (image-error-for path))))))))
+
 (test model-texture-images-decodes-or-reports
   "A textured glTF's texture is decoded; a texture that is missing is
 reported as an IMAGE-ERROR in its entry instead of signalled."

@@ -62,6 +62,12 @@ FILE, naming the Debian package libstb0, when it is not installed."
   (buffer :pointer) (length :int) (x :pointer) (y :pointer) (channels-in-file :pointer) (desired-channels :int))
 (cffi:defcfun ("stbi_image_free" %stbi-image-free) :void (pixels :pointer))
 (cffi:defcfun ("stbi_failure_reason" %stbi-failure-reason) :string)
+(cffi:defcfun ("stbi_info" %stbi-info) :int
+  (filename :string) (x :pointer) (y :pointer) (channels-in-file :pointer))
+
+(defvar *stb-lock* (bt:make-lock "player stb_image")
+  "Held around each use of stb_image: its failure reason is one global of the
+library, which two threads decoding at once would each read as their own.")
 
 ;;;# Images, checked
 
@@ -112,16 +118,34 @@ not installed; an ARGUMENT-ERROR for CHANNELS outside 1 to 4."
   (check-argument 'read-image 'channels channels (lambda (x) (typep x '(integer 1 4))) "an integer from 1 to 4")
   (let ((name (check-image-file file)))
     (load-stb-library file)
-    (cffi:with-foreign-objects ((width :int) (height :int) (in-file :int))
-      (let ((pointer (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
-                       (%stbi-load name width height in-file channels))))
-        (when (cffi:null-pointer-p pointer)
-          (image-fail file "stb_image cannot decode it: ~A"
-                      (or (%stbi-failure-reason) "no reason given")))
-        ;; Freed whatever happens: a refused size must not leak the decoded pixels.
-        (unwind-protect
-             (copy-stb-pixels file pointer (cffi:mem-ref width :int) (cffi:mem-ref height :int) channels)
-          (%stbi-image-free pointer))))))
+    (bt:with-lock-held (*stb-lock*)
+      (check-stb-header file name)
+      (cffi:with-foreign-objects ((width :int) (height :int) (in-file :int))
+        (let ((pointer (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
+                         (%stbi-load name width height in-file channels))))
+          (when (cffi:null-pointer-p pointer)
+            (image-fail file "stb_image cannot decode it: ~A"
+                        (or (%stbi-failure-reason) "no reason given")))
+          ;; Freed whatever happens: a refused size must not leak the decoded pixels.
+          (unwind-protect
+               (copy-stb-pixels file pointer (cffi:mem-ref width :int) (cffi:mem-ref height :int) channels)
+            (%stbi-image-free pointer)))))))
+
+(defun check-stb-header (file name)
+  "Read only the header of the image NAME (FILE's native namestring) and refuse
+it, as an IMAGE-ERROR naming FILE, when stb cannot tell its size or it is
+more than *IMAGE-PIXEL-LIMIT* pixels: a huge image is refused before a byte
+of it is decoded.  Called with *STB-LOCK* held."
+  (cffi:with-foreign-objects ((width :int) (height :int) (in-file :int))
+    (when (zerop (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
+                   (%stbi-info name width height in-file)))
+      (image-fail file "stb_image cannot decode it: ~A" (or (%stbi-failure-reason) "no reason given")))
+    (let ((width (cffi:mem-ref width :int)) (height (cffi:mem-ref height :int)))
+      (unless (and (plusp width) (plusp height))
+        (image-fail file "stb_image gave a size of ~Dx~D" width height))
+      (when (> (* width height) *image-pixel-limit*)
+        (image-fail file "it is ~Dx~D, more than ~:D pixels (*image-pixel-limit*)"
+                    width height *image-pixel-limit*)))))
 
 ;;;# A model's textures
 
