@@ -16,7 +16,8 @@
    #:class-cycle-error #:condition-line #:directory-pathname #:domain-error
    #:duplicate-definition #:effect-error #:find-executable #:finite-form-p
    #:finite-number-p #:finite-real-p #:form #:form-label #:format-number #:goal-error
-   #:head #:inexact-macro-error #:int64-p #:label-error #:lisp-text #:name-designator-p
+   #:head #:inexact-macro-error #:int64-p #:label-error #:lisp-text
+   #:load-first-foreign-library #:name-designator-p
    #:number-text #:out-of-range-number #:output-stream-designator-p #:pathname-designator-p
    #:plain-seconds-p #:player-error #:player-error-with-message #:position-line
    #:proper-form-list-p #:reachable-space-too-large #:report-spec-error-safely #:seconds-p

@@ -23,3 +23,12 @@ first file of that name in a directory of PATH; NIL when there is none."
         (file name)
         (loop for directory in (split-list (or (sb-ext:posix-getenv "PATH") "") :separator #\:)
               thereis (file (concatenate 'string (string-right-trim "/" directory) "/" name))))))
+
+(defun load-first-foreign-library (sonames)
+  "Load the first of SONAMES (strings: a library's versioned names, best first)
+that CFFI can load, and return it; NIL when none can be, so the caller can
+signal its own error naming the Debian package to install."
+  (some (lambda (soname)
+          (handler-case (cffi:load-foreign-library soname)
+            (cffi:load-foreign-library-error () nil)))
+        sonames))

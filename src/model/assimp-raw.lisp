@@ -21,10 +21,7 @@ comes only with the -dev package).")
 FILE, naming the Debian package libassimp5, when it is not installed."
   (or *assimp-library*
       (setf *assimp-library*
-            (or (some (lambda (soname)
-                        (handler-case (cffi:load-foreign-library soname)
-                          (cffi:load-foreign-library-error () nil)))
-                      *assimp-library-names*)
+            (or (load-first-foreign-library *assimp-library-names*)
                 (error 'model-library-missing
                        :file file :package "libassimp5"
                        :message (format nil "importing models needs Assimp, which is not installed: install the Debian package libassimp5 (tried ~{~A~^, ~})"

@@ -47,10 +47,7 @@ comes only with libstb-dev).")
 FILE, naming the Debian package libstb0, when it is not installed."
   (or *stb-library*
       (setf *stb-library*
-            (or (some (lambda (soname)
-                        (handler-case (cffi:load-foreign-library soname)
-                          (cffi:load-foreign-library-error () nil)))
-                      *stb-library-names*)
+            (or (load-first-foreign-library *stb-library-names*)
                 (error 'image-library-missing
                        :file file :package "libstb0"
                        :reason (format nil "decoding images needs stb_image, which is not installed: install the Debian package libstb0 (tried ~{~A~^, ~})"
