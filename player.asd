@@ -172,6 +172,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "assimp-raw")
                  (:file "model")
                  (:file "import")
+                 (:file "joints")
+                 (:file "animations")
                  (:file "images")
                  (:file "roles")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
