@@ -215,7 +215,18 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "eyebrows")
                                (:file "reach")))))
    ;; Scripts played on a body: script libraries, directors, the performance, the body presenter, simulation.
-   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "body")
+   ;; Characters from imported models: skeletons and skins made from a model's joints, clips, retargeting.
+   (:module "rig" :depends-on ("base" "spec" "model" "body")
+    :serial t
+    :components ((:file "package")
+                 (:file "matrices")
+                 (:file "euler")
+                 (:file "rig")
+                 (:file "skins")
+                 (:file "model-skeleton")
+                 (:file "clips")
+                 (:file "clip-driver")))
+   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig")
     :serial t
     :components ((:file "package")
                  (:module "scripts"
@@ -236,7 +247,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "simulation")
                  (:file "library-reload")))
    ;; Pictures: meshes, OpenGL through OSMesa and GLFW, PNG, the viewer and live authoring.
-   (:module "render" :depends-on ("base" "spec" "planner" "inspect" "control" "speech" "body" "performance")
+   (:module "render" :depends-on ("base" "spec" "planner" "inspect" "control" "speech" "model" "body" "rig" "performance")
     :serial t
     :components ((:file "package")
                  (:module "live"
@@ -267,7 +278,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "live-viewer")
                  (:file "view-session")))
    ;; Several characters in one scene: DEFSCENE, event addresses, ensembles, scenes simulated and drawn.
-   (:module "cast" :depends-on ("base" "spec" "control" "speech" "body" "performance" "render")
+   (:module "cast" :depends-on ("base" "spec" "control" "speech" "model" "body" "rig" "performance" "render")
     :serial t
     :components ((:file "package")
                  (:file "conditions")
@@ -278,7 +289,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
    ;; Persona's dialogue manager: sentences to input events, transitions, templates, memory, speaking.
-   (:module "dialogue" :depends-on ("base" "spec" "control" "speech" "body" "performance")
+   (:module "dialogue" :depends-on ("base" "spec" "control" "speech" "model" "body" "rig" "performance")
     :serial t
     :components ((:file "package")
                  (:file "names")
@@ -298,7 +309,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "turns")
                  (:file "speaking")))
    ;; Recorded traces as regression tests: record a scenario, verify a replay.
-   (:module "traces" :depends-on ("base" "spec" "control" "body" "performance")
+   (:module "traces" :depends-on ("base" "spec" "control" "model" "body" "rig" "performance")
     :serial t
     :components ((:file "package")
                  (:file "conditions")
@@ -308,7 +319,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -331,7 +342,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "speak")
                  (:file "model")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "performance" "render" "cast" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"

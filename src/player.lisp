@@ -72,12 +72,12 @@
    #:model #:model-file #:model-meshes #:model-joints #:model-animations
    #:model-vertex-count #:model-triangle-count #:model-bone-count #:model-textures
    #:model-morph-targets #:find-model-joint
-   #:model-mesh #:mesh-name #:mesh-positions #:mesh-normals #:mesh-uvs #:mesh-colours
-   #:mesh-triangles #:mesh-joints #:mesh-weights #:mesh-bones #:mesh-texture
-   #:mesh-morph-targets #:mesh-vertex-count #:mesh-triangle-count
-   #:joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
-   #:joint-inverse-bind #:animation #:animation-name #:animation-duration #:animation-channels
-   #:channel #:channel-joint #:channel-position-times #:channel-positions
+   #:model-mesh #:model-mesh-name #:model-mesh-positions #:model-mesh-normals #:model-mesh-uvs #:model-mesh-colours
+   #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
+   #:model-mesh-morph-targets #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
+   #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
+   #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales)
   (:import-from #:player.body
    #:*default-blend-time* #:add-object #:add-slave #:anim-control-error #:anim-error
@@ -202,12 +202,12 @@
    #:model #:model-file #:model-meshes #:model-joints #:model-animations
    #:model-vertex-count #:model-triangle-count #:model-bone-count #:model-textures
    #:model-morph-targets #:find-model-joint
-   #:model-mesh #:mesh-name #:mesh-positions #:mesh-normals #:mesh-uvs #:mesh-colours
-   #:mesh-triangles #:mesh-joints #:mesh-weights #:mesh-bones #:mesh-texture
-   #:mesh-morph-targets #:mesh-vertex-count #:mesh-triangle-count
-   #:joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
-   #:joint-inverse-bind #:animation #:animation-name #:animation-duration #:animation-channels
-   #:channel #:channel-joint #:channel-position-times #:channel-positions
+   #:model-mesh #:model-mesh-name #:model-mesh-positions #:model-mesh-normals #:model-mesh-uvs #:model-mesh-colours
+   #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
+   #:model-mesh-morph-targets #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
+   #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
+   #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string

@@ -81,7 +81,7 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
 (defun channel-count (model)
   "How many channels MODEL's animations have together."
   (reduce #'+ (player.model:model-animations model)
-          :key (lambda (a) (length (player.model:animation-channels a)))))
+          :key (lambda (a) (length (player.model:model-animation-channels a)))))
 
 (test model-counts-agree-with-assimp-info
   (with-assimp-models
@@ -117,11 +117,11 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
         (is (= (length reference) (length (player.model:model-animations model))) "~A: clips" name)
         (loop for (clip-name seconds channels) in reference
               for animation in (player.model:model-animations model)
-              do (is (string= clip-name (player.model:animation-name animation)) "~A: clip name" name)
-                 (is (< (abs (- seconds (player.model:animation-duration animation))) 1d-4)
+              do (is (string= clip-name (player.model:model-animation-name animation)) "~A: clip name" name)
+                 (is (< (abs (- seconds (player.model:model-animation-duration animation))) 1d-4)
                      "~A: ~A lasts ~A s, Assimp says ~A" name clip-name
-                     (player.model:animation-duration animation) seconds)
-                 (is (= channels (length (player.model:animation-channels animation)))
+                     (player.model:model-animation-duration animation) seconds)
+                 (is (= channels (length (player.model:model-animation-channels animation)))
                      "~A: ~A's channels" name clip-name))))))
 
 (test testwuson-has-its-skeleton-and-clips
@@ -129,7 +129,7 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
     (let ((model (player.model:import-model (assimp-model "X/Testwuson.X"))))
       (is (= 37 (count-if #'player.model:joint-inverse-bind (player.model:model-joints model))))
       (is (equal '("Wuson_Run" "Wuson_Walk" "Wuson_Bind")
-                 (mapcar #'player.model:animation-name (player.model:model-animations model))))
+                 (mapcar #'player.model:model-animation-name (player.model:model-animations model))))
       ;; Parents come before their children, and exactly one joint is the root.
       (is (= 1 (count nil (player.model:model-joints model) :key #'player.model:joint-parent)))
       (is (every (lambda (joint i) (or (null (player.model:joint-parent joint))
@@ -142,10 +142,10 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
     (dolist (name (sweep-sample *reference-models* 2))
       (let ((model (player.model:import-model (assimp-model name))))
         (dolist (mesh (player.model:model-meshes model))
-          (let ((weights (player.model:mesh-weights mesh))
-                (joints (player.model:mesh-joints mesh)))
+          (let ((weights (player.model:model-mesh-weights mesh))
+                (joints (player.model:model-mesh-joints mesh)))
             (when weights
-              (is (= (* 4 (player.model:mesh-vertex-count mesh)) (length weights)))
+              (is (= (* 4 (player.model:model-mesh-vertex-count mesh)) (length weights)))
               (is (every (lambda (j) (< j (length (player.model:model-joints model)))) joints)
                   "~A: a joint index out of range" name)
               (is (loop for base from 0 below (length weights) by 4
@@ -153,20 +153,20 @@ seconds are its duration over its ticks per second (25 when it gives 0)."
                                                  (aref weights (+ base 2)) (aref weights (+ base 3)))))
                                   1d-6))
                   "~A: mesh ~A has a vertex whose weights do not sum to 1" name
-                  (player.model:mesh-name mesh)))))))))
+                  (player.model:model-mesh-name mesh)))))))))
 
 (test key-times-lie-within-their-animation
   (with-assimp-models
     (dolist (name (sweep-sample *reference-models* 2))
       (dolist (animation (player.model:model-animations (player.model:import-model (assimp-model name))))
-        (let ((duration (player.model:animation-duration animation)))
+        (let ((duration (player.model:model-animation-duration animation)))
           (is (every (lambda (channel)
                        (every (lambda (times) (every (lambda (time) (<= 0d0 time duration)) times))
                               (list (player.model:channel-position-times channel)
                                     (player.model:channel-rotation-times channel)
                                     (player.model:channel-scale-times channel))))
-                     (player.model:animation-channels animation))
-              "~A: ~A has a key outside 0 to ~A s" name (player.model:animation-name animation) duration))))))
+                     (player.model:model-animation-channels animation))
+              "~A: ~A has a key outside 0 to ~A s" name (player.model:model-animation-name animation) duration))))))
 
 ;;;# Bad input: one MODEL-ERROR naming the file, never a crash
 

@@ -38,7 +38,10 @@
    #:reparent-object #:request-channels #:resolve-pose #:resolve-target #:rotation
    #:sacroiliac #:scene #:scene-caption #:scene-object #:scene-objects
    #:shipped-pose-library #:skeleton #:skeleton-dof #:skeleton-error #:skeleton-fail
-   #:skeleton-joints #:skeleton-name #:skeleton-p #:skeleton-role #:skullbase
+   #:skeleton-joints #:skeleton-name #:skeleton-rig #:parse-skeleton #:skeleton-dof-count
+   #:skeleton-roles #:body-joint #:body-joint-p #:body-dof #:body-dof-min #:body-dof-max #:body-dof-axis
+   #:skeleton-channels #:skeleton-joint-names #:driver-frame-fail #:driver-local-time #:driver-real #:driver-start #:transform-compose
+   #:copy-vec3 #:quat-p #:skeleton-p #:skeleton-role #:skullbase
    #:slave-drivers #:target-form-p #:temporomandibular #:transform-invert #:transform-point
    #:transform-rotation #:transform-translation #:transform-vector #:transforms #:v* #:v+
    #:v- #:value-kind-of #:vcross #:vdistance #:vdot #:vec3 #:vec3-p #:vec3-x #:vec3-y

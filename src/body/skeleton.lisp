@@ -110,7 +110,10 @@ the offending clause."))
   (dof-count 0 :type fixnum)
   (joint-table (make-hash-table :test #'equalp) :type hash-table)
   (roles '() :type list)
-  (source nil))
+  (source nil)
+  ;; Set by PLAYER.RIG for a skeleton made from an imported model: its RIG
+  ;; (the model, its placement, skins and clips).  The body layer never reads it.
+  (rig nil))
 
 (defmethod print-object ((skeleton skeleton) stream)
   (print-unreadable-object (skeleton stream :type t)

@@ -50,9 +50,9 @@ is one error."
           (length (model-meshes model)) (model-vertex-count model) (model-triangle-count model))
   (dolist (mesh (model-meshes model))
     (format t "  mesh ~:[~S~;(unnamed)~*~]: ~D vertices, ~D triangles~@[, skinned by ~D bones~]~%"
-            (string= (mesh-name mesh) "") (mesh-name mesh)
-            (mesh-vertex-count mesh) (mesh-triangle-count mesh)
-            (and (mesh-joints mesh) (length (mesh-bones mesh))))))
+            (string= (model-mesh-name mesh) "") (model-mesh-name mesh)
+            (model-mesh-vertex-count mesh) (model-mesh-triangle-count mesh)
+            (and (model-mesh-joints mesh) (length (model-mesh-bones mesh))))))
 
 (defun print-model-joints (model)
   "Print MODEL's joint count and its joints as a tree, two spaces a level, bones marked."
@@ -73,9 +73,9 @@ is one error."
   (format t "~D animation~:P~:[~;:~]~%" (length (model-animations model)) (model-animations model))
   (dolist (animation (model-animations model))
     (format t "  ~:[~S~;(unnamed)~*~]: ~A s, ~D channel~:P~%"
-            (string= (animation-name animation) "") (animation-name animation)
-            (format-number (animation-duration animation))
-            (length (animation-channels animation)))))
+            (string= (model-animation-name animation) "") (model-animation-name animation)
+            (format-number (model-animation-duration animation))
+            (length (model-animation-channels animation)))))
 
 (defun role-joints (model)
   "The indices of MODEL's joints roles are guessed among: every joint but the

@@ -58,7 +58,7 @@ duration covers its last key, should the file's be shorter."
                            maximize (max (last-time (channel-position-times channel))
                                          (last-time (channel-rotation-times channel))
                                          (last-time (channel-scale-times channel))))))
-      (make-animation name (max (/ ticks ticks-per-second) last-key) channels))))
+      (make-model-animation name (max (/ ticks ticks-per-second) last-key) channels))))
 
 (defun last-time (times)
   "The largest of TIMES (a DOUBLE-VECTOR), or 0 when there are none."

@@ -226,10 +226,11 @@ against DIRECTORY (\"*N\", a texture embedded in the file, as it is), or NIL."
           for name = (if (cffi:null-pointer-p target) "" (slot-string target '%ai-anim-mesh 'name))
           collect (if (string= name "") (format nil "target ~D" i) name))))
 
-(defun copy-mesh (mesh materials directory joint-index fallback)
+(defun copy-mesh (mesh materials directory joint-index fallback transform)
   "The MODEL-MESH copied from the aiMesh at MESH.  MATERIALS is the scene's
 list of aiMaterial pointers, DIRECTORY the model's folder, JOINT-INDEX maps
-bone names to joints, FALLBACK is the joint its unweighted vertices follow."
+bone names to joints, FALLBACK is the joint its unweighted vertices follow,
+TRANSFORM its node's world matrix at rest."
   (let* ((vertex-count (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-vertices))
          (positions (foreign-array (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'vertices) vertex-count "vertices"))
          (normals (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'normals))
@@ -247,6 +248,7 @@ bone names to joints, FALLBACK is the joint its unweighted vertices follow."
        :triangles (copy-triangles mesh vertex-count)
        :joints joints :weights weights
        :bones (map 'index-vector (lambda (bone) (gethash (slot-string bone '%ai-bone 'name) joint-index)) bones)
+       :holder fallback :transform transform
        :texture (when (< material (length materials))
                   (material-texture (nth material materials) directory))
        :morph-targets (morph-target-names mesh)))))
@@ -321,7 +323,8 @@ bone names to joints, FALLBACK is the joint its unweighted vertices follow."
           (make-model (namestring path)
                       (loop for mesh in meshes for i from 0
                             collect (copy-mesh mesh materials (uiop:pathname-directory-pathname path) joint-index
-                                               (nearest-joint nodes joint-of (aref holders i))))
+                                               (nearest-joint nodes joint-of (aref holders i))
+                                               (node-world-matrix nodes (aref holders i))))
                       joints
                       (mapcar (lambda (animation) (import-animation animation joint-index)) animations)))))))
 
@@ -356,5 +359,5 @@ installed."
                      (with-assimp-traps-masked (%ai-release-import scene)))))
         (when texture-path
           (dolist (mesh (model-meshes model))
-            (setf (mesh-texture mesh) texture-path)))
+            (setf (model-mesh-texture mesh) texture-path)))
         model))))

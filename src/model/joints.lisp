@@ -70,3 +70,28 @@ INVERSE-BINDS (bone name to matrix), its inverse bind matrix."
                             (make-joint name (and parent (aref joint-of parent))
                                         translation rotation scale (gethash name inverse-binds))))
           'simple-vector))
+
+;;;# World matrices
+
+(defun matrix* (a b)
+  "The product A B of two 4x4 matrices, each 16 doubles row-major, as a new DOUBLE-VECTOR."
+  (let ((product (make-array 16 :element-type 'double-float :initial-element 0d0)))
+    (dotimes (row 4 product)
+      (dotimes (column 4)
+        (setf (aref product (+ (* 4 row) column))
+              (loop for k below 4
+                    sum (* (aref a (+ (* 4 row) k)) (aref b (+ (* 4 k) column)))))))))
+
+(defun node-world-matrix (nodes index)
+  "The world matrix at rest (16 doubles, row-major) of the node INDEX of NODES
+(see SCENE-NODES): its transform times its ancestors', up to the scene's
+root; the identity for INDEX NIL (a mesh no node holds)."
+  (let ((world (make-array 16 :element-type 'double-float :initial-contents
+                           '(1d0 0d0 0d0 0d0 0d0 1d0 0d0 0d0 0d0 0d0 1d0 0d0 0d0 0d0 0d0 1d0))))
+    (loop for node = index then (third (aref nodes node))
+          while node
+          do (setf world (matrix* (copy-matrix (cffi:foreign-slot-pointer (first (aref nodes node))
+                                                                          '(:struct %ai-node) 'transformation)
+                                               "a node's transform")
+                                  world)))
+    world))

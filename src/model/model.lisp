@@ -10,13 +10,16 @@
 (deftype double-vector () "A flat vector of double-floats." '(simple-array double-float (*)))
 (deftype index-vector () "A flat vector of vertex or joint indices." '(simple-array (unsigned-byte 32) (*)))
 
-(defstruct (model-mesh (:conc-name mesh-))
+(defstruct model-mesh
   "One mesh: its NAME; POSITIONS and NORMALS (3 per vertex), UVS (the first
 UV set, 2 per vertex) and COLOURS (the first colour set, RGBA), each NIL when
 absent; TRIANGLES (3 vertex indices each); for a skinned mesh, JOINTS and
 WEIGHTS (4 per vertex: joint indices into the model's joints and weights
 summing to 1, unused slots weight 0), else NIL; BONES, the joint indices of
-the mesh's own bones; TEXTURE, its diffuse texture's path resolved against the
+the mesh's own bones; HOLDER, the joint its node is or hangs below (what an
+unskinned vertex follows); TRANSFORM, its node's world matrix at rest (16
+doubles, row-major, the scene's space: where its vertices are for an unskinned
+mesh); TEXTURE, its diffuse texture's path resolved against the
 model's folder (or \"*N\" for a texture embedded in the file), or NIL; and
 MORPH-TARGETS, the names of its morph targets."
   (name "" :type string)
@@ -28,18 +31,20 @@ MORPH-TARGETS, the names of its morph targets."
   (joints nil :type (or null index-vector))
   (weights nil :type (or null double-vector))
   (bones nil :type index-vector)
+  (holder 0 :type (integer 0))
+  (transform nil :type (or null double-vector))
   (texture nil :type (or null string))
   (morph-targets '() :type list))
 
-(defun mesh-vertex-count (mesh)
+(defun model-mesh-vertex-count (mesh)
   "How many vertices MESH has."
-  (floor (length (mesh-positions mesh)) 3))
+  (floor (length (model-mesh-positions mesh)) 3))
 
-(defun mesh-triangle-count (mesh)
+(defun model-mesh-triangle-count (mesh)
   "How many triangles MESH has."
-  (floor (length (mesh-triangles mesh)) 3))
+  (floor (length (model-mesh-triangles mesh)) 3))
 
-(defstruct (joint (:constructor make-joint (name parent translation rotation scale inverse-bind)))
+(defstruct (model-joint (:conc-name joint-) (:constructor make-joint (name parent translation rotation scale inverse-bind)))
   "A joint of the skeleton: its NAME (the node's), the index of its PARENT
 joint (NIL for the root), its rest local transform as TRANSLATION (x y z),
 ROTATION (a unit quaternion w x y z) and SCALE (x y z), and for a bone its
@@ -52,7 +57,7 @@ the bone's space), else NIL."
   (scale nil :type double-vector)
   (inverse-bind nil :type (or null double-vector)))
 
-(defstruct (channel (:constructor make-channel (joint position-times positions rotation-times rotations
+(defstruct (model-channel (:conc-name channel-) (:constructor make-channel (joint position-times positions rotation-times rotations
                                                 scale-times scales)))
   "One joint's keys in a clip: JOINT, its index; POSITION-TIMES, ROTATION-TIMES
 and SCALE-TIMES in seconds from the clip's start, with POSITIONS (3 per key),
@@ -65,7 +70,7 @@ ROTATIONS (w x y z per key) and SCALES (3 per key)."
   (scale-times nil :type double-vector)
   (scales nil :type double-vector))
 
-(defstruct (animation (:constructor make-animation (name duration channels)))
+(defstruct (model-animation (:constructor make-model-animation (name duration channels)))
   "An animation clip: its NAME (\"\" when the file gives none), its DURATION in
 seconds, and its CHANNELS, one per animated joint."
   (name "" :type string)
@@ -84,24 +89,24 @@ ANIMATIONS."
 
 (defun model-vertex-count (model)
   "How many vertices MODEL's meshes have together."
-  (reduce #'+ (model-meshes model) :key #'mesh-vertex-count))
+  (reduce #'+ (model-meshes model) :key #'model-mesh-vertex-count))
 
 (defun model-triangle-count (model)
   "How many triangles MODEL's meshes have together."
-  (reduce #'+ (model-meshes model) :key #'mesh-triangle-count))
+  (reduce #'+ (model-meshes model) :key #'model-mesh-triangle-count))
 
 (defun model-bone-count (model)
   "How many bones MODEL's meshes have together (a joint that skins two meshes counts twice, as Assimp counts)."
-  (reduce #'+ (model-meshes model) :key (lambda (mesh) (length (mesh-bones mesh)))))
+  (reduce #'+ (model-meshes model) :key (lambda (mesh) (length (model-mesh-bones mesh)))))
 
 (defun model-textures (model)
   "The distinct texture paths MODEL's meshes use, in order."
-  (remove-duplicates (remove nil (mapcar #'mesh-texture (model-meshes model)))
+  (remove-duplicates (remove nil (mapcar #'model-mesh-texture (model-meshes model)))
                      :test #'string= :from-end t))
 
 (defun model-morph-targets (model)
   "The distinct morph target names of MODEL's meshes, in order."
-  (remove-duplicates (mapcan (lambda (mesh) (copy-list (mesh-morph-targets mesh))) (model-meshes model))
+  (remove-duplicates (mapcan (lambda (mesh) (copy-list (model-mesh-morph-targets mesh))) (model-meshes model))
                      :test #'string= :from-end t))
 
 (defun find-model-joint (model name)

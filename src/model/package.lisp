@@ -15,13 +15,13 @@
    #:model #:model-p #:model-file #:model-meshes #:model-joints #:model-animations
    #:model-vertex-count #:model-triangle-count #:model-bone-count #:model-textures
    #:model-morph-targets #:find-model-joint
-   #:model-mesh #:mesh-name #:mesh-positions #:mesh-normals #:mesh-uvs #:mesh-colours
-   #:mesh-triangles #:mesh-joints #:mesh-weights #:mesh-bones #:mesh-texture
-   #:mesh-morph-targets #:mesh-vertex-count #:mesh-triangle-count
-   #:joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
+   #:model-mesh #:model-mesh-name #:model-mesh-positions #:model-mesh-normals #:model-mesh-uvs #:model-mesh-colours
+   #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
+   #:model-mesh-morph-targets #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind
-   #:animation #:animation-name #:animation-duration #:animation-channels
-   #:channel #:channel-joint #:channel-position-times #:channel-positions
+   #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
+   #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
