@@ -233,6 +233,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                   :serial t
                   :components ((:file "scripts")
                                (:file "audio-items")
+                               (:file "clip-items")
+                               (:file "model-form")
                                (:file "directors")
                                (:file "script-library")
                                (:file "pose-when")))

@@ -267,7 +267,7 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
           into parsed
         finally (return parsed)))
 
-(defparameter *script-item-kinds* '(:motor :animate :set :play :attach :say :sound)
+(defparameter *script-item-kinds* '(:motor :animate :set :play :attach :say :sound :clip)
   "The kinds of script item, each parsed by PARSE-<KIND>-ITEM.")
 
 (defun parse-script-item (item critical duration)
@@ -292,7 +292,7 @@ times and DURATION (NIL when inferred)."
                                (:motor #'parse-motor-item) (:animate #'parse-animate-item)
                                (:set #'parse-set-item) (:play #'parse-play-item)
                                (:attach #'parse-attach-item) (:say #'parse-say-item)
-                               (:sound #'parse-sound-item))
+                               (:sound #'parse-sound-item) (:clip #'parse-clip-item))
                              item at arguments)))
         (when (and duration (script-item-end parsed) (> (script-item-end parsed) duration))
           (script-fail item "the item ends at ~A, after the script's duration ~A"
