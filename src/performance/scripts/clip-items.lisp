@@ -9,15 +9,13 @@
   "The options a :clip item takes besides its clip's name.")
 
 (defun clip-item-frame (item name options)
-  "The :clip motor frame of ITEM playing the clip NAME with OPTIONS: :fade is
-the call's :blend (the crossfade when it takes its channels), the others pass
-through."
+  "The :clip motor frame of ITEM playing the clip NAME with OPTIONS (all but :for)."
   (unless (or (stringp name) (and name (symbolp name) (not (keywordp name))))
     (script-fail item ":clip takes a clip's name (a symbol or string), not ~A" (argument-value-text name)))
   (append (list :clip :name (if (stringp name) name (string-downcase (symbol-name name))))
           (loop for (key value) on options by #'cddr
                 unless (eq key :for)
-                  append (list (if (eq key :fade) :blend key) value))))
+                  append (list key value))))
 
 (defun parse-clip-item (item at arguments)
   "(:at T :clip NAME [:loop B] [:speed S] [:fade SECONDS] [:weight W] [:joints (JOINT-OR-ROLE ...)]
