@@ -442,5 +442,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-roles")
                  (:file "test-model")
                  (:file "test-images")
+                 (:file "fuzz-models")
+                 (:file "test-model-fuzz")
                  (:file "test-rig"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
