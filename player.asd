@@ -443,5 +443,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-persona-loop")
                  (:file "test-roles")
                  (:file "test-model")
-                 (:file "test-images"))))
+                 (:file "test-images")
+                 (:file "test-skinned-render"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

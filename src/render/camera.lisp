@@ -83,12 +83,8 @@ pixel column and row (top-down, fractional) as two values, and its clip w."
 (defun model-rest-extent (body)
   "The box around BODY's skin in its bind pose (its rig's bounds) at its
 placement, as two vec3s MIN and MAX."
-  (let* ((bounds (rig-bounds (skeleton-rig (body-skeleton body))))
-         (corners (loop for corner below 8
-                        collect (transform-point (object-world-transform body)
-                                                 (make-vec3 (vec3-x (if (logbitp 0 corner) (cdr bounds) (car bounds)))
-                                                            (vec3-y (if (logbitp 1 corner) (cdr bounds) (car bounds)))
-                                                            (vec3-z (if (logbitp 2 corner) (cdr bounds) (car bounds))))))))
+  (let ((corners (mapcar (lambda (corner) (transform-point (object-world-transform body) corner))
+                         (box-corners (rig-bounds (skeleton-rig (body-skeleton body)))))))
     (values (reduce (lambda (a b) (vec3 (min (vec3-x a) (vec3-x b)) (min (vec3-y a) (vec3-y b)) (min (vec3-z a) (vec3-z b))))
                     corners)
             (reduce (lambda (a b) (vec3 (max (vec3-x a) (vec3-x b)) (max (vec3-y a) (vec3-y b)) (max (vec3-z a) (vec3-z b))))
@@ -148,25 +144,48 @@ fills 85% of the height of a FOV-degree view."
            (distance (/ radius (* 0.85d0 (tan (* 0.5d0 fov (/ pi 180)))))))
       (make-transform :rotation rotation :translation (v+ centre (v* back distance))))))
 
+(defun box-corners (bounds)
+  "The 8 corners of the box BOUNDS, (MIN . MAX) vec3s, as a list of vec3s."
+  (loop for corner below 8
+        collect (vec3 (vec3-x (if (logbitp 0 corner) (cdr bounds) (car bounds)))
+                      (vec3-y (if (logbitp 1 corner) (cdr bounds) (car bounds)))
+                      (vec3-z (if (logbitp 2 corner) (cdr bounds) (car bounds))))))
+
+(defun corners-fit-p (corners camera tangent aspect fill)
+  "Do all CORNERS (vec3s) lie in front of the CAMERA transform and within FILL
+of a view whose vertical half-field has the TANGENT, width over height ASPECT?"
+  (let ((view (transform-invert camera)))
+    (every (lambda (corner)
+             (let* ((p (transform-point view corner))
+                    (depth (- (vec3-z p))))
+               (and (> depth *near-plane*)
+                    (<= (abs (vec3-y p)) (* fill tangent depth))
+                    (<= (abs (vec3-x p)) (* fill tangent aspect depth)))))
+           corners)))
+
 (defun frame-bounds-camera (bounds &key (aspect 4/3) (fov *default-fov*) (fill 0.85d0))
   "A camera transform looking at the box BOUNDS, a (MIN . MAX) pair of vec3s
 \(a rig's bind-pose bounds moved to where its body stands), from its front
 \(+z towards the viewer), a little above and looking *DEFAULT-CAMERA-PITCH*
-degrees down, far enough back that the box's front face fills FILL of the
-height or of the width of a FOV-degree view of width over height ASPECT,
-whichever is tighter.  Unlike DEFAULT-CAMERA-TRANSFORM's sphere, the box
-frames a long model (a quadruped, a snake) without standing far off."
-  (let* ((low (car bounds)) (high (cdr bounds))
-         (centre (vlerp low high 0.5d0))
-         (half-width (* 0.5d0 (- (vec3-x high) (vec3-x low))))
-         (half-height (* 0.5d0 (- (vec3-y high) (vec3-y low))))
-         (half-depth (* 0.5d0 (- (vec3-z high) (vec3-z low))))
+degrees down at its centre, as near as lets every corner of the box lie
+within FILL of the height and width of a FOV-degree view of width over
+height ASPECT.  Unlike DEFAULT-CAMERA-TRANSFORM's sphere, the box frames a
+long model (a quadruped, a snake) without standing far off."
+  (let* ((centre (vlerp (car bounds) (cdr bounds) 0.5d0))
+         (corners (box-corners bounds))
+         (aspect (float aspect 1d0))
          (tangent (tan (* 0.5d0 (float fov 1d0) (/ pi 180))))
-         (distance (+ half-depth (/ (max half-height (/ half-width (float aspect 1d0)) 0.01d0)
-                                    (* fill tangent))))
          (rotation (quat-from-axis-angle (vec3 1d0 0d0 0d0) (* *default-camera-pitch* (/ pi 180))))
-         (back (qrotate rotation (vec3 0d0 0d0 1d0))))
-    (make-transform :rotation rotation :translation (v+ centre (v* back distance)))))
+         (back (qrotate rotation (vec3 0d0 0d0 1d0)))
+         (size (max 0.01d0 (vdistance (car bounds) (cdr bounds)))))
+    (flet ((camera (distance)
+             (make-transform :rotation rotation :translation (v+ centre (v* back distance)))))
+      ;; Step back from a tenth of the box's diagonal until it fits: 2% steps,
+      ;; finer than a pixel's worth of framing at any size Player renders.
+      (loop for distance = (* 0.1d0 size) then (* distance 1.02d0)
+            for camera = (camera distance)
+            when (or (corners-fit-p corners camera tangent aspect fill) (> distance (* 100 size)))
+              return camera))))
 
 (defun scene-model-bounds (scene)
   "The box, (MIN . MAX) vec3s, around SCENE's visible imported models in their

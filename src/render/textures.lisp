@@ -8,8 +8,8 @@
 ;;; first row it is given as t = 0.  Assimp leaves UVs as the file has them,
 ;;; which for the formats it reads is OpenGL's way (v = 0 at the image's
 ;;; bottom; Assimp's aiProcess_FlipUVs exists to turn them into Direct3D's).
-;;; So the rows are uploaded bottom first.  Checked on glTF2's BoxTextured,
-;;; whose logo reads the right way round, and on LWO2's uvtest.
+;;; So the rows are uploaded bottom first.  Checked on Collada's duck.dae,
+;;; whose eye, beak and wing land where they belong (flipped, they do not).
 
 (define-gl-constants
   +gl-linear-mipmap-linear+ #x2703  +gl-repeat+ #x2901  +gl-texture0+ #x84C0)
