@@ -8,7 +8,8 @@
   :height 0.8
   :roles ((:head "Neck") (:jaw "Mouth") (:tail "Tail01")))
 
-(defobject camera :kind :camera :position (0.6 0.6 2.6))
+;;; The camera looks at Wuson three-quarters on, from its front left.
+(defobject camera :kind :camera :position (1.75 0.95 2.5) :rotation (:euler -10 35 0))
 
 ;;; The gaits loop while the controller is in them; the ops between them fade
 ;;; from one clip to the other.
