@@ -175,7 +175,17 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "joints")
                  (:file "animations")
                  (:file "images")
-                 (:file "roles")))
+                 (:file "roles")
+                 ;; Writing glTF 2.0: JSON, the binary buffer, the model's parts, the files.
+                 (:file "json")
+                 (:file "gltf-buffer")
+                 (:file "gltf-files")
+                 (:file "gltf-shape")
+                 (:file "gltf-numbers")
+                 (:file "gltf-skins")
+                 (:file "gltf-animations")
+                 (:file "gltf-materials")
+                 (:file "gltf-write")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t

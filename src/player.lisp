@@ -78,7 +78,9 @@
    #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
-   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales)
+   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
+   #:write-gltf #:model-write-error)
   (:import-from #:player.body
    #:*default-blend-time* #:add-object #:add-slave #:anim-control-error #:anim-error
    #:arbitration-error #:body #:body-add-driver #:body-evaluate #:body-joint-position
@@ -209,6 +211,8 @@
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
+   #:write-gltf #:model-write-error
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
    #:compile-shader-program #:write-png #:png-octets
