@@ -298,6 +298,13 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "ensemble")
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
+   ;; A performance exported as glTF: each frame's poses baked, each body a model, one animation.
+   (:module "export" :depends-on ("base" "model" "body" "rig" "performance" "render")
+    :serial t
+    :components ((:file "package")
+                 (:file "bake")
+                 (:file "character-model")
+                 (:file "export")))
    ;; Persona's dialogue manager: sentences to input events, transitions, templates, memory, speaking.
    (:module "dialogue" :depends-on ("base" "spec" "control" "speech" "model" "body" "rig" "performance")
     :serial t
@@ -329,7 +336,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -350,9 +357,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "verify")
                  (:file "chat")
                  (:file "speak")
-                 (:file "model")))
+                 (:file "model")
+                 (:file "export")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -449,5 +457,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-persona-loop")
                  (:file "test-roles")
                  (:file "test-model")
-                 (:file "test-images"))))
+                 (:file "test-images")
+                 (:file "test-export"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

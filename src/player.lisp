@@ -121,6 +121,8 @@
    #:remove-cast #:replicate-cast #:scene-error #:scene-simulation #:scene-simulation-member
    #:scene-simulation-p #:send-scene-event #:simulate-scene #:unknown-member-error
    #:write-ensemble-trace #:write-scene-simulation)
+  (:import-from #:player.export
+   #:export-performance #:performance-model #:character-model #:bake-simulation)
   (:import-from #:player.dialogue
    #:*say-function* #:begin-conversation #:call-with-speaker #:choose-template
    #:context-value #:conversation #:conversation-controller #:conversation-dialogue
@@ -274,6 +276,8 @@
    #:scene-error #:missing-member-spec-error #:duplicate-member-error #:unknown-member-error
    #:make-ensemble #:ensemble #:ensemble-p #:ensemble-cast #:ensemble-controller
    #:send-scene-event #:play-scene-events #:ensemble-trace-lines #:write-ensemble-trace
+   ;; Export
+   #:export-performance #:performance-model #:character-model #:bake-simulation
    #:simulate-scene #:scene-simulation #:scene-simulation-p #:scene-simulation-member
    #:write-scene-simulation #:simulation-scene-at
    #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*
