@@ -15,6 +15,6 @@
    #:motion-clip #:motion-clip-p #:clip-name #:clip-duration #:clip-tracks #:find-clip #:rig-clip-names
    #:clip-angles #:clip-joint-indices #:make-animation-clip #:cut-clip #:clip-name-from-animation
    #:mesh-skin #:skin-mesh #:skin-palette-joints #:skin-palette-matrices #:skin-palette
-   #:skin-vertices #:skin-rest-positions
+   #:skin-vertices #:skin-rest-positions #:skin-slots #:skin-weights
    #:quat-to-xyz-degrees #:rig-error #:clip-driver #:clip-root-offset #:*clip-resolvers*
    #:make-motion-clip #:make-track #:clip-track #:track-joint #:track-times #:track-quats #:add-rig-clip))
