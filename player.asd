@@ -438,5 +438,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-persona-loop")
                  (:file "test-roles")
                  (:file "test-model")
-                 (:file "test-images"))))
+                 (:file "test-images")
+                 (:file "test-gltf-write"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
