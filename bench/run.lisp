@@ -426,6 +426,8 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-speech)
         (format t "~&  model import...~%") (finish-output)
         (bench-model-import)
+        (format t "~&  glTF export...~%") (finish-output)
+        (bench-gltf-write)
         (format t "~&  dialogue...~%") (finish-output)
         (bench-dialogue)
         (rule)
