@@ -458,5 +458,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-roles")
                  (:file "test-model")
                  (:file "test-images")
+                 (:file "test-gltf-write")
                  (:file "test-export"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

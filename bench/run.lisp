@@ -428,6 +428,8 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-model-import)
         (format t "~&  export...~%") (finish-output)
         (bench-export)
+        (format t "~&  glTF export...~%") (finish-output)
+        (bench-gltf-write)
         (format t "~&  dialogue...~%") (finish-output)
         (bench-dialogue)
         (rule)

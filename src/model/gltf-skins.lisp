@@ -86,7 +86,7 @@ its ancestors' local transforms and its own), row-major: L_k^-1 ... L_root^-1."
                         :start1 start)))
     floats))
 
-(defun tree-root-joint (joints index)
+(defun skin-tree-root (joints index)
   "The root of the joint tree holding joint INDEX."
   (loop for parent = (joint-parent (aref joints index))
         while parent do (setf index parent)
@@ -96,7 +96,7 @@ its ancestors' local transforms and its own), row-major: L_k^-1 ... L_root^-1."
   "The glTF skin of SKIN-JOINTS (indices into the model's JOINTS, which are
 also their node indices), its inverse bind matrices stored in BUFFER; its
 skeleton is the root of their tree when they share one."
-  (let ((roots (remove-duplicates (map 'list (lambda (joint) (tree-root-joint joints joint)) skin-joints))))
+  (let ((roots (remove-duplicates (map 'list (lambda (joint) (skin-tree-root joints joint)) skin-joints))))
     (json-object "inverseBindMatrices" (add-floats buffer (inverse-bind-singles joints skin-joints) 16
                                                    "inverse bind matrices")
                  "skeleton" (and (= 1 (length roots)) (first roots))
