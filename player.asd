@@ -304,6 +304,7 @@ run the resulting state machine as Lisp closures or embedded C++."
     :components ((:file "package")
                  (:file "bake")
                  (:file "character-model")
+                 (:file "props")
                  (:file "export")))
    ;; Persona's dialogue manager: sentences to input events, transitions, templates, memory, speaking.
    (:module "dialogue" :depends-on ("base" "spec" "control" "speech" "model" "body" "rig" "performance")

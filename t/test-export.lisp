@@ -39,15 +39,23 @@
            (frames (simulation-frame-count simulation))
            (skeleton (player.body::body-skeleton (player.performance::simulation-body simulation)))
            (original (player.export:performance-model simulation))
-           ;; Assimp gives the scene a root node, ROOT, above the file's own.
+           ;; Assimp gives the scene a root node, ROOT, above the file's own;
+           ;; the props' nodes, prop/NAME, follow the body's joints.
            (model (exported-and-imported simulation "glb"))
-           (joints (remove "ROOT" (model-joints model) :key #'joint-name :test #'string=)))
+           (props (remove-if-not (lambda (name) (alexandria:starts-with-subseq "prop/" name))
+                                 (map 'list #'joint-name (model-joints model))))
+           (joints (remove-if (lambda (joint) (or (string= (joint-name joint) "ROOT")
+                                                  (member (joint-name joint) props :test #'string=)))
+                              (model-joints model))))
       (is (= (length (player.body::skeleton-joints skeleton)) (length joints)))
       (is (equal (map 'list (lambda (j) (string-downcase (symbol-name (player.body::body-joint-name j))))
                       (player.body::skeleton-joints skeleton))
                  (map 'list #'joint-name joints)))
       (is (= (model-vertex-count original) (model-vertex-count model)))
       (is (plusp (model-vertex-count model)))
+      ;; Peedy's scene has props (his desk, the note): each is a node.
+      (is (= (length (nth-value 1 (player.export:bake-simulation simulation))) (length props)))
+      (is (plusp (length props)))
       (is (= 1 (length (model-animations model))))
       ;; Keys at I/FPS: the last frame's, (FRAMES - 1)/FPS, is where the clip ends.
       (is (< (abs (- (model-animation-duration (first (model-animations model)))
@@ -126,6 +134,20 @@
     (declare (ignore out))
     (is (= 2 code))
     (is (= 1 (length (lines err))))))
+
+(test a-scene-exports-every-member
+  ;; Two Peedys in one file: their joints named MEMBER/JOINT.
+  (with-assimp-models
+    (call-with-export-file "gltf"
+      (lambda (path)
+        (multiple-value-bind (out err code)
+            (player-command "export" (namestring (checkout-file "specs/peedy.lisp")) "--cast" "peedy:2"
+                            "--events" "all/ev-search" "--fps" "10" "--out" path)
+          (declare (ignore out))
+          (is (= 0 code) "export failed: ~A" err)
+          (let ((names (map 'list #'joint-name (model-joints (import-model path)))))
+            (is (member "peedy1/neck" names :test #'string=))
+            (is (member "peedy2/neck" names :test #'string=))))))))
 
 (test exported-peedy-is-a-file-assimp-reads
   (with-assimp-models

@@ -58,24 +58,31 @@ body's placement carrying the root's centre and rotation."
 
 (defun bake-simulation (simulation)
   "Sample SIMULATION (from SIMULATE, or a scene's from SIMULATE-SCENE) at each
-of its frames: a list of BAKED-BODYs, one per body of its scene, in scene
-order.  Frame I is at I/FPS seconds, as RENDER and SIMULATE sample."
+of its frames.  Returns a list of BAKED-BODYs, one per body of its scene, in
+scene order, and a list of BAKED-PROPs, one per prop seen in any frame.
+Frame I is at I/FPS seconds, as RENDER and SIMULATE sample."
   (check-argument 'bake-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
   (let ((frames (simulation-frame-count simulation))
-        (baked '()))
+        (bodies '())
+        (props (make-hash-table :test 'eq))
+        (prop-order '()))
     (map-simulation-frames
      (lambda (index time scene)
        (declare (ignore time))
-       (let ((bodies (scene-bodies scene)))
-         (when (zerop index)
-           (setf baked (mapcar (lambda (body)
-                                 (cons body (%make-baked-body (object-name body) (body-skeleton body) frames)))
-                               bodies)))
-         ;; A body is the same object every frame; one added later is not exported.
-         (loop for (body . record) in baked
-               do (sample-body record body index))))
+       (when (zerop index)
+         (setf bodies (mapcar (lambda (body)
+                                (cons body (%make-baked-body (object-name body) (body-skeleton body) frames)))
+                              (scene-bodies scene))))
+       ;; A body is the same object every frame; one added later is not exported.
+       (loop for (body . record) in bodies
+             do (sample-body record body index))
+       (sample-props props scene index frames)
+       (dolist (object (scene-objects scene))
+         (when (and (gethash object props) (not (member object prop-order)))
+           (push object prop-order))))
      simulation)
-    (mapcar #'cdr baked)))
+    (values (mapcar #'cdr bodies)
+            (mapcar (lambda (object) (gethash object props)) (reverse prop-order)))))
 
 (defun baked-frame-count (baked)
   "How many frames BAKED (a BAKED-BODY) holds."

@@ -1,8 +1,9 @@
 ;;;; export.lisp -- EXPORT-PERFORMANCE: a played performance as one glTF file.
 ;;;; Every body of the simulation's scene becomes a skeleton of the model
-;;;; (CHARACTER-MODEL's joints and meshes), and the performance one animation
-;;;; named "performance": per joint its local rotation at every frame, the
-;;;; root's world place too, LINEAR keys at I/FPS seconds.
+;;;; (CHARACTER-MODEL's joints and meshes), every prop a node with its mesh
+;;;; (props.lisp), and the performance one animation named "performance": per
+;;;; joint its local rotation at every frame, the root's and each prop's world
+;;;; place too, LINEAR keys at I/FPS seconds.
 
 (in-package #:player.export)
 
@@ -36,24 +37,29 @@ and a slash when SEVERAL bodies share the file (so names stay distinct)."
 
 (defun performance-model (simulation &key (file ""))
   "SIMULATION (from SIMULATE or SIMULATE-SCENE) baked into a MODEL named FILE:
-the joints and meshes of each of its bodies (CHARACTER-MODEL), and one
-animation, *ANIMATION-NAME*, keying every frame (BAKE-SIMULATION)."
-  (let* ((bodies (bake-simulation simulation))
-         (several (rest bodies))
-         (fps (simulation-fps simulation))
-         (frames (simulation-frame-count simulation))
-         (times (frame-times frames fps))
-         (joints '()) (meshes '()) (channels '()) (first 0))
-    (dolist (baked bodies)
-      (let ((skeleton (baked-body-skeleton baked))
-            (prefix (body-prefix baked several)))
-        (setf joints (append joints (skeleton-model-joints skeleton :first first :prefix prefix))
-              meshes (append meshes (skeleton-model-meshes
-                                     skeleton (string-downcase (string (baked-body-name baked))) first))
-              channels (append channels (body-channels baked first times)))
-        (incf first (length (skeleton-joints skeleton)))))
-    (make-model file meshes (coerce joints 'simple-vector)
-                (list (make-model-animation *animation-name* (aref times (1- frames)) channels)))))
+the joints and meshes of each of its bodies (CHARACTER-MODEL), a joint and
+a mesh for each prop, and one animation, *ANIMATION-NAME*, keying every
+frame (BAKE-SIMULATION)."
+  (multiple-value-bind (bodies props) (bake-simulation simulation)
+    (let* ((several (rest bodies))
+           (frames (simulation-frame-count simulation))
+           (times (frame-times frames (simulation-fps simulation)))
+           (joints '()) (meshes '()) (channels '()) (first 0))
+      (dolist (baked bodies)
+        (let ((skeleton (baked-body-skeleton baked))
+              (prefix (body-prefix baked several)))
+          (setf joints (append joints (skeleton-model-joints skeleton :first first :prefix prefix))
+                meshes (append meshes (skeleton-model-meshes
+                                       skeleton (string-downcase (string (baked-body-name baked))) first))
+                channels (append channels (body-channels baked first times)))
+          (incf first (length (skeleton-joints skeleton)))))
+      (dolist (baked props)
+        (setf joints (append joints (list (prop-model-joint baked)))
+              meshes (append meshes (list (prop-model-mesh baked first)))
+              channels (append channels (list (prop-channel baked first times))))
+        (incf first))
+      (make-model file meshes (coerce joints 'simple-vector)
+                  (list (make-model-animation *animation-name* (aref times (1- frames)) channels))))))
 
 (defun export-performance (simulation path)
   "Write SIMULATION (from SIMULATE or SIMULATE-SCENE) as a glTF 2.0 file at

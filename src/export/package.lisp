@@ -10,4 +10,6 @@
    #:export-performance #:performance-model #:character-model
    #:bake-simulation #:baked-body #:baked-body-p #:baked-body-name #:baked-body-skeleton
    #:baked-body-rotations #:baked-body-root-translations #:baked-body-root-rotations
-   #:baked-frame-count))
+   #:baked-frame-count
+   #:baked-prop #:baked-prop-p #:baked-prop-object #:baked-prop-translations #:baked-prop-rotations
+   #:baked-prop-scales))

@@ -19,4 +19,4 @@
    #:viewer-performance #:viewer-scene #:viewer-session #:with-gl-traps-masked
    #:with-offscreen-context #:write-png
    #:make-body-mesh #:body-mesh-positions #:body-mesh-normals #:body-mesh-colours #:body-mesh-indices
-   #:body-mesh-joints #:body-mesh-starts #:body-mesh-ends))
+   #:body-mesh-joints #:body-mesh-starts #:body-mesh-ends #:object-prop-mesh #:prop-body-mesh))
