@@ -17,8 +17,9 @@ given and names a .glb or .gltf file."
      :description "Writes one glTF 2.0 file: every body's skeleton (a node per joint), the
 mesh it is drawn with, skinned to those joints, and the performance as one
 animation named \"performance\", keying each joint's rotation (and the
-root's position) at every frame, LINEAR.  A scene exports all its members
-into one file, their joints named MEMBER/JOINT.  Nothing sounds."
+root's position) at every frame, LINEAR; every prop is a node of its own,
+prop/NAME, keyed with its place.  A scene exports all its members into one
+file, their joints named MEMBER/JOINT.  Nothing sounds."
      :arguments ("SPEC-FILE")
      :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" "--fps" "--seed" "--scripts" "--body" "--cast"
                ("--out" :string "FILE.glb|FILE.gltf" "the file to write: binary glTF (.glb) or JSON glTF with its buffer embedded (.gltf)"))
