@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle demo-dialogue test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-dialogue demo-model test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -34,6 +34,14 @@ demo-policies: deps
 demo-cradle: deps
 	bin/player render specs/newtons-cradle.lisp --events ev-lift-two-left --out demo/cradle \
 	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/cradle.mp4)
+
+# A character nobody here made (examples/wuson/): Assimp's Testwuson.X walks,
+# looks at the camera, runs and is stopped mid-stride (ev-stop preempts);
+# drawn into demo/model/ with demo/model/wuson.mp4 when ffmpeg is installed.
+demo-model: deps
+	bin/player render examples/wuson/wuson.lisp --events ev-walk@0,ev-look@1.5,ev-run@3,ev-stop@4.2 \
+	  --at 5.5 --out demo/model \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/model/wuson.mp4)
 
 # Persona's loop end to end (examples/jukebox-conversation.txt): espeak-ng says each
 # request into demo/dialogue/request-NN.wav, chat --wav hears them with pocketsphinx,
@@ -101,10 +109,11 @@ bench-profile: deps
 	SBCL=$(SBCL) sh bench/instructions-profile.sh
 
 # The fuzzer's long run (t/fuzz-main.lisp): 50,000 mutated specs and script libraries
-# through the Lisp API, 400 through bin/player, g++ on the C++ of hostile names.
-# FUZZ_SEED=N picks other cases; FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_GXX_CASES size the run.
+# through the Lisp API, 400 through bin/player, 300 mutated models (.gltf, .glb, .x)
+# through bin/player model, g++ on the C++ of hostile names.  FUZZ_SEED=N picks
+# other cases; FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_MODEL_CASES, FUZZ_GXX_CASES size the run.
 fuzz: deps
-	FUZZ_SEED='$(FUZZ_SEED)' FUZZ_CASES='$(FUZZ_CASES)' FUZZ_CLI_CASES='$(FUZZ_CLI_CASES)' FUZZ_GXX_CASES='$(FUZZ_GXX_CASES)' \
+	FUZZ_SEED='$(FUZZ_SEED)' FUZZ_CASES='$(FUZZ_CASES)' FUZZ_CLI_CASES='$(FUZZ_CLI_CASES)' FUZZ_MODEL_CASES='$(FUZZ_MODEL_CASES)' FUZZ_GXX_CASES='$(FUZZ_GXX_CASES)' \
 	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --load t/fuzz-main.lisp --eval '(player-tests::fuzz-main)'
 

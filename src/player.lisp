@@ -74,13 +74,17 @@
    #:model-morph-targets #:find-model-joint
    #:model-mesh #:model-mesh-name #:model-mesh-positions #:model-mesh-normals #:model-mesh-uvs #:model-mesh-colours
    #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
-   #:model-mesh-morph-targets #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:model-mesh-morph-targets #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
    #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
    #:write-gltf #:model-write-error)
+  (:import-from #:player.rig
+   #:model-skeleton #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
+   #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
+   #:mesh-skin #:skin-vertices #:skin-palette-matrices)
   (:import-from #:player.body
    #:*default-blend-time* #:add-object #:add-slave #:anim-control-error #:anim-error
    #:arbitration-error #:body #:body-add-driver #:body-evaluate #:body-joint-position
@@ -208,13 +212,17 @@
    #:model-morph-targets #:find-model-joint
    #:model-mesh #:model-mesh-name #:model-mesh-positions #:model-mesh-normals #:model-mesh-uvs #:model-mesh-colours
    #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
-   #:model-mesh-morph-targets #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:model-mesh-morph-targets #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
    #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
    #:write-gltf #:model-write-error
+   ;; Characters from models (doc/models.md)
+   #:model-skeleton #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
+   #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
+   #:mesh-skin #:skin-vertices #:skin-palette-matrices
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
    #:compile-shader-program #:write-png #:png-octets

@@ -85,6 +85,59 @@ long run does not grow without bound."
   path)
 
 ;;; ---------------------------------------------------------------------------
+;;; Child processes (the command line and g++ run as these)
+
+(defun fz-make-directory (prefix)
+  "A fresh directory /tmp/PREFIX-PID-N/."
+  (let ((directory (pathname (format nil "/tmp/~A-~D-~D-~D/" prefix (sb-posix:getpid)
+                                     (get-universal-time) (incf *fz-run-counter*)))))
+    (ensure-directories-exist directory)
+    directory))
+
+(defun fz-delete-tree (directory)
+  "Delete DIRECTORY, one of ours under /tmp."
+  (uiop:delete-directory-tree directory :validate (lambda (p) (search "/tmp/player-fuzz" (namestring p)))
+                                        :if-does-not-exist :ignore))
+
+(defparameter *fz-build-line* "player: building Player once"
+  "The line bin/player prints on stderr while it builds its core (allowed).")
+
+(defun fz-file-text (path &optional (limit 20000))
+  "The first LIMIT characters of the file PATH (bytes that are not UTF-8 replaced), or \"\"."
+  (or (ignore-errors
+       (with-open-file (in path :external-format '(:utf-8 :replacement #\?))
+         (let* ((buffer (make-string limit))
+                (end (read-sequence buffer in)))
+           (subseq buffer 0 end))))
+      ""))
+
+(defun fz-run-process (program arguments directory timeout)
+  "Run PROGRAM with ARGUMENTS in DIRECTORY, its output and error output into
+files there. Returns (VALUES EXIT-CODE STDOUT STDERR STATUS), EXIT-CODE :TIMEOUT when
+it was still running after TIMEOUT seconds (then it is killed); STATUS is
+:EXITED, :SIGNALED (EXIT-CODE is then the signal's number) or :TIMEOUT."
+  (let* ((out (merge-pathnames "stdout.txt" directory))
+         (err (merge-pathnames "stderr.txt" directory))
+         (process (sb-ext:run-program program arguments :search nil :wait nil :input nil
+                                      :output out :if-output-exists :supersede
+                                      :error err :if-error-exists :supersede
+                                      :directory (namestring directory)))
+         (deadline (+ (get-internal-real-time) (* timeout internal-time-units-per-second))))
+    (loop while (and (eq (sb-ext:process-status process) :running)
+                     (< (get-internal-real-time) deadline))
+          do (sleep 0.005))
+    (let* ((status (if (eq (sb-ext:process-status process) :running)
+                       (progn (sb-ext:process-kill process 9)
+                              (sb-ext:process-wait process)
+                              :timeout)
+                       (sb-ext:process-status process)))
+           (code (if (eq status :timeout) :timeout (sb-ext:process-exit-code process))))
+      (sb-ext:process-close process)
+      (multiple-value-prog1 (values code (fz-file-text out) (fz-file-text err) status)
+        (ignore-errors (delete-file out))
+        (ignore-errors (delete-file err))))))
+
+;;; ---------------------------------------------------------------------------
 ;;; Running one case, protected
 
 (defvar *fz-phase* nil "What the case is doing: :load, :compile, :send-event...")

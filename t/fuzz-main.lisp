@@ -7,7 +7,11 @@
 ;;;;      check and emit-c++ (and check --scripts for libraries): each must exit
 ;;;;      0, 1 or 2 and print on stderr nothing or exactly one line
 ;;;;      "player: error: ...", never a backtrace or the debugger;
-;;;;   3. when g++ is installed, the C++ emitted for up to FUZZ_GXX_CASES (40)
+;;;;   3. FUZZ_MODEL_CASES (300) mutated .gltf, .glb and .x files through
+;;;;      bin/player model (fuzz-models.lisp): each must exit 0, or 1 with one
+;;;;      "player: error: ..." line naming the file; never a signal, a memory
+;;;;      fault, SBCL's fatal error, a Lisp object printed or a hang (20 s);
+;;;;   4. when g++ is installed, the C++ emitted for up to FUZZ_GXX_CASES (40)
 ;;;;      accepted specs with hostile names, compiled with -fsyntax-only and the
 ;;;;      project's warnings as errors.
 ;;;; It prints the tables and every kind of failure with one reproducer, made
@@ -20,58 +24,7 @@
 (in-package #:player-tests)
 
 ;;; ---------------------------------------------------------------------------
-;;; Files and processes
-
-(defun fz-make-directory (prefix)
-  "A fresh directory /tmp/PREFIX-PID-N/."
-  (let ((directory (pathname (format nil "/tmp/~A-~D-~D-~D/" prefix (sb-posix:getpid)
-                                     (get-universal-time) (incf *fz-run-counter*)))))
-    (ensure-directories-exist directory)
-    directory))
-
-(defun fz-delete-tree (directory)
-  "Delete DIRECTORY, one of ours under /tmp."
-  (uiop:delete-directory-tree directory :validate (lambda (p) (search "/tmp/player-fuzz" (namestring p)))
-                                        :if-does-not-exist :ignore))
-
-(defun fz-file-text (path &optional (limit 20000))
-  "The first LIMIT characters of the file PATH (bytes that are not UTF-8 replaced), or \"\"."
-  (or (ignore-errors
-       (with-open-file (in path :external-format '(:utf-8 :replacement #\?))
-         (let* ((buffer (make-string limit))
-                (end (read-sequence buffer in)))
-           (subseq buffer 0 end))))
-      ""))
-
-(defun fz-run-process (program arguments directory timeout)
-  "Run PROGRAM with ARGUMENTS in DIRECTORY, its output and error output into
-files there. Returns (VALUES EXIT-CODE STDOUT STDERR), EXIT-CODE :TIMEOUT when
-it was still running after TIMEOUT seconds (then it is killed)."
-  (let* ((out (merge-pathnames "stdout.txt" directory))
-         (err (merge-pathnames "stderr.txt" directory))
-         (process (sb-ext:run-program program arguments :search nil :wait nil :input nil
-                                      :output out :if-output-exists :supersede
-                                      :error err :if-error-exists :supersede
-                                      :directory (namestring directory)))
-         (deadline (+ (get-internal-real-time) (* timeout internal-time-units-per-second))))
-    (loop while (and (eq (sb-ext:process-status process) :running)
-                     (< (get-internal-real-time) deadline))
-          do (sleep 0.005))
-    (let ((code (if (eq (sb-ext:process-status process) :running)
-                    (progn (sb-ext:process-kill process 9)
-                           (sb-ext:process-wait process)
-                           :timeout)
-                    (sb-ext:process-exit-code process))))
-      (sb-ext:process-close process)
-      (multiple-value-prog1 (values code (fz-file-text out) (fz-file-text err))
-        (ignore-errors (delete-file out))
-        (ignore-errors (delete-file err))))))
-
-;;; ---------------------------------------------------------------------------
 ;;; The command line
-
-(defparameter *fz-build-line* "player: building Player once"
-  "The line bin/player prints on stderr while it builds its core (allowed).")
 
 (defstruct (fz-cli-result (:conc-name fzcli-))
   "One command-line case: COMMAND (a string), EXIT (a code or :TIMEOUT),
@@ -274,11 +227,12 @@ each to /tmp/player-fuzz-repro-SEED/N.lisp (the marker file named
   (let* ((seed (fuzz-environment-integer "FUZZ_SEED" 1))
          (cases (fuzz-environment-integer "FUZZ_CASES" 50000))
          (cli-cases (fuzz-environment-integer "FUZZ_CLI_CASES" 400))
+         (model-cases (fuzz-environment-integer "FUZZ_MODEL_CASES" 300))
          (gxx-cases (if (probe-file "/usr/bin/g++") (fuzz-environment-integer "FUZZ_GXX_CASES" 40) 0))
          (gxx-directory (fz-make-directory "player-fuzz-gxx"))
          (failed 0))
-    (format t "~&Fuzzing Player with seed ~D: ~:D cases through the Lisp API, ~:D through bin/player~@[, g++ on up to ~D~].~%(FUZZ_SEED, FUZZ_CASES, FUZZ_CLI_CASES and FUZZ_GXX_CASES change that.)~%"
-            seed cases cli-cases (and (plusp gxx-cases) gxx-cases))
+    (format t "~&Fuzzing Player with seed ~D: ~:D cases through the Lisp API, ~:D through bin/player, ~:D models~@[, g++ on up to ~D~].~%(FUZZ_SEED, FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_MODEL_CASES and FUZZ_GXX_CASES change that.)~%"
+            seed cases cli-cases model-cases (and (plusp gxx-cases) gxx-cases))
     (unwind-protect
          (progn
            (let ((summary (fuzz-run :seed seed :cases cases :progress *standard-output*
@@ -293,6 +247,13 @@ each to /tmp/player-fuzz-repro-SEED/N.lisp (the marker file named
                     (seconds (/ (- (get-internal-real-time) start) internal-time-units-per-second)))
                (fz-cli-report results seconds)
                (incf failed (count-if #'fzcli-problems results))))
+           (when (plusp model-cases)
+             (let* ((start (get-internal-real-time))
+                    (results (fuzz-models :seed seed :cases model-cases :progress *standard-output*))
+                    (seconds (/ (- (get-internal-real-time) start) internal-time-units-per-second)))
+               (if results
+                   (incf failed (fzm-report results seconds))
+                   (format t "~%Models not fuzzed: Assimp's test models are not installed (Debian assimp-testmodels).~%"))))
            (when (plusp gxx-cases)
              (multiple-value-bind (failures count) (fz-gxx-check gxx-directory seed)
                (format t "~%g++ -fsyntax-only on the C++ of ~D accepted spec~:P with hostile names: ~D rejected~%"

@@ -132,7 +132,7 @@ NaNs and infinities inside (degenerate normals, empty bounding boxes)."
 (cffi:defcfun ("aiImportFile" %ai-import-file) :pointer
   (file :string) (flags :unsigned-int))
 (cffi:defcfun ("aiReleaseImport" %ai-release-import) :void (scene :pointer))
-(cffi:defcfun ("aiGetErrorString" %ai-get-error-string) :string)
+(cffi:defcfun ("aiGetErrorString" %ai-get-error-string) :pointer) ; read with C-MESSAGE
 (cffi:defcfun ("aiDecomposeMatrix" %ai-decompose-matrix) :void
   (matrix :pointer) (scaling :pointer) (rotation :pointer) (position :pointer))
 (cffi:defcfun ("aiGetMaterialTexture" %ai-get-material-texture) :int

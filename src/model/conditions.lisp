@@ -44,6 +44,20 @@ hold), or the file cannot be created where it was asked for."))
   "Signal a MODEL-WRITE-ERROR about the file being written (*MODEL-OUTPUT*)
 whose message is CONTROL applied to ARGUMENTS."
   (error 'model-write-error :file *model-output* :message (apply #'format nil control arguments)))
+;;;# Messages from C
+
+(defun c-message (pointer &optional (limit 300))
+  "The NUL-terminated message a C library left at POINTER as one line: at most
+LIMIT bytes, decoded as UTF-8 with any invalid byte replaced, line breaks and
+other control characters made spaces; NIL for a NULL POINTER.  C libraries'
+messages quote the input they choke on, which is not always UTF-8 or one line,
+and a Player error is one line."
+  (unless (cffi:null-pointer-p pointer)
+    (let* ((length (loop for i below limit until (zerop (cffi:mem-aref pointer :uint8 i)) count t))
+           (octets (make-array length :element-type '(unsigned-byte 8))))
+      (dotimes (i length) (setf (aref octets i) (cffi:mem-aref pointer :uint8 i)))
+      (substitute-if #\Space (lambda (char) (< (char-code char) 32))
+                     (sb-ext:octets-to-string octets :external-format '(:utf-8 :replacement #\?))))))
 
 ;;;# Limits
 ;;; Bounds on what one import may hold, so a hostile or broken file is a

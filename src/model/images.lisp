@@ -58,7 +58,7 @@ FILE, naming the Debian package libstb0, when it is not installed."
 (cffi:defcfun ("stbi_load_from_memory" %stbi-load-from-memory) :pointer
   (buffer :pointer) (length :int) (x :pointer) (y :pointer) (channels-in-file :pointer) (desired-channels :int))
 (cffi:defcfun ("stbi_image_free" %stbi-image-free) :void (pixels :pointer))
-(cffi:defcfun ("stbi_failure_reason" %stbi-failure-reason) :string)
+(cffi:defcfun ("stbi_failure_reason" %stbi-failure-reason) :pointer) ; read with C-MESSAGE
 (cffi:defcfun ("stbi_info" %stbi-info) :int
   (filename :string) (x :pointer) (y :pointer) (channels-in-file :pointer))
 
@@ -122,7 +122,7 @@ not installed; an ARGUMENT-ERROR for CHANNELS outside 1 to 4."
                          (%stbi-load name width height in-file channels))))
           (when (cffi:null-pointer-p pointer)
             (image-fail file "stb_image cannot decode it: ~A"
-                        (or (%stbi-failure-reason) "no reason given")))
+                        (or (c-message (%stbi-failure-reason)) "no reason given")))
           ;; Freed whatever happens: a refused size must not leak the decoded pixels.
           (unwind-protect
                (copy-stb-pixels file pointer (cffi:mem-ref width :int) (cffi:mem-ref height :int) channels)
@@ -136,7 +136,7 @@ of it is decoded.  Called with *STB-LOCK* held."
   (cffi:with-foreign-objects ((width :int) (height :int) (in-file :int))
     (when (zerop (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
                    (%stbi-info name width height in-file)))
-      (image-fail file "stb_image cannot decode it: ~A" (or (%stbi-failure-reason) "no reason given")))
+      (image-fail file "stb_image cannot decode it: ~A" (or (c-message (%stbi-failure-reason)) "no reason given")))
     (let ((width (cffi:mem-ref width :int)) (height (cffi:mem-ref height :int)))
       (unless (and (plusp width) (plusp height))
         (image-fail file "stb_image gave a size of ~Dx~D" width height))

@@ -40,6 +40,15 @@ PRESENTER-PERFORMANCE gives the frames."))
   "The skeleton SPEC's (:body NAME) option names, or NIL."
   (getf (spec-options spec) :body))
 
+(defun library-character-body (library spec body)
+  "What SPEC's character's body is: BODY when given, else the skeleton of
+LIBRARY's (model \"FILE\" ...) form (LIBRARY may be NIL), else SPEC's (:body
+NAME), else *DEFAULT-BODY*: a skeleton or a name for CHARACTER-SKELETON."
+  (or body
+      (and library (script-library-skeleton library))
+      (spec-body-name spec)
+      *default-body*))
+
 (defun spec-script-names (spec)
   "Every script or director SPEC's ops and autoscripts need, each once, in spec order."
   (remove-duplicates
@@ -98,7 +107,8 @@ ARGUMENT-ERROR of FUNCTION for the first that is of the wrong kind."
                                       (blend-time *default-blend-time*)
                                       name origin (check t) silent)
   "A body presenter for SPEC: its character, named NAME (default: after SPEC), has the skeleton
-BODY (else SPEC's (:body NAME), else *DEFAULT-BODY*) and plays the library
+BODY (else the library's (model \"FILE\" ...), else SPEC's (:body NAME), else
+*DEFAULT-BODY*) and plays the library
 SCRIPTS (else SPEC's (:scripts FILE), else placeholders: a gesture per op with
 its name as a caption, see MAKE-PLACEHOLDER-LIBRARY).  Trace lines go to STREAM when given.
 With ORIGIN (a vec3) the whole scene, props and camera included, stands
@@ -114,13 +124,12 @@ ARGUMENT-ERROR for an argument of the wrong kind."
   (check-argument 'make-body-presenter :name name (lambda (x) (or (null x) (string-designator-p x)))
                   "NIL or a character's name (a symbol or string)")
   (let* ((spec (if (spec-p spec) spec (find-spec spec)))
-         (body (or body (spec-body-name spec) *default-body*))
+         (placeholder (not (or scripts (spec-names-scripts-p spec))))
+         (loaded (unless placeholder (spec-script-library spec :scripts scripts)))
+         (body (library-character-body loaded spec body))
          ;; (:body none): a stand-in skeleton, not drawn (CHARACTER-SKELETON).
          (skeleton (values (character-skeleton body)))
-         (placeholder (not (or scripts (spec-names-scripts-p spec))))
-         (library (if placeholder
-                      (make-placeholder-library spec skeleton)
-                      (spec-script-library spec :scripts scripts)))
+         (library (or loaded (make-placeholder-library spec skeleton)))
          (performance (progn
                         (check-spec-scripts spec library)
                         (make-performance library (list (list (or name (spec-name spec))
@@ -279,7 +288,7 @@ missing scripts and durations that disagree.  NIL when SPEC names no library."
                        (return-from script-diagnostics (list (library-failure-diagnostic condition)))))))
       (let* ((needed (spec-script-names spec))
              (missing (missing-scripts library needed))
-             (skeleton (values (character-skeleton (or (spec-body-name spec) *default-body*))))
+             (skeleton (values (character-skeleton (library-character-body library spec nil))))
              (poses (and (script-library-poses library)
                          (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton)
                            (spec-error (condition)

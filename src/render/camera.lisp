@@ -80,10 +80,23 @@ pixel column and row (top-down, fractional) as two values, and its clip w."
   (remove-if-not (lambda (object) (and (typep object 'body) (property-value object 'visible)))
                  (scene-objects scene)))
 
+(defun model-rest-extent (body)
+  "The box around BODY's skin in its bind pose (its rig's bounds) at its
+placement, as two vec3s MIN and MAX."
+  (let ((corners (mapcar (lambda (corner) (transform-point (object-world-transform body) corner))
+                         (box-corners (rig-bounds (skeleton-rig (body-skeleton body)))))))
+    (values (reduce (lambda (a b) (vec3 (min (vec3-x a) (vec3-x b)) (min (vec3-y a) (vec3-y b)) (min (vec3-z a) (vec3-z b))))
+                    corners)
+            (reduce (lambda (a b) (vec3 (max (vec3-x a) (vec3-x b)) (max (vec3-y a) (vec3-y b)) (max (vec3-z a) (vec3-z b))))
+                    corners))))
+
 (defun body-rest-extent (body)
   "The box around BODY's joints in its skeleton's rest pose at its placement,
-each joint grown by its radius, as two vec3s MIN and MAX.  The default camera
-frames this, not the current pose, so that it holds still while the body moves."
+each joint grown by its radius, as two vec3s MIN and MAX; for an imported
+model, the box around its skin in the bind pose.  The default camera frames
+this, not the current pose, so that it holds still while the body moves."
+  (when (skeleton-rig (body-skeleton body))
+    (return-from body-rest-extent (model-rest-extent body)))
   (let ((placement (object-world-transform body))
         (low (list most-positive-double-float most-positive-double-float most-positive-double-float))
         (high (list most-negative-double-float most-negative-double-float most-negative-double-float)))
@@ -131,6 +144,61 @@ fills 85% of the height of a FOV-degree view."
            (distance (/ radius (* 0.85d0 (tan (* 0.5d0 fov (/ pi 180)))))))
       (make-transform :rotation rotation :translation (v+ centre (v* back distance))))))
 
+(defun box-corners (bounds)
+  "The 8 corners of the box BOUNDS, (MIN . MAX) vec3s, as a list of vec3s."
+  (loop for corner below 8
+        collect (vec3 (vec3-x (if (logbitp 0 corner) (cdr bounds) (car bounds)))
+                      (vec3-y (if (logbitp 1 corner) (cdr bounds) (car bounds)))
+                      (vec3-z (if (logbitp 2 corner) (cdr bounds) (car bounds))))))
+
+(defun corners-fit-p (corners camera tangent aspect fill)
+  "Do all CORNERS (vec3s) lie in front of the CAMERA transform and within FILL
+of a view whose vertical half-field has the TANGENT, width over height ASPECT?"
+  (let ((view (transform-invert camera)))
+    (every (lambda (corner)
+             (let* ((p (transform-point view corner))
+                    (depth (- (vec3-z p))))
+               (and (> depth *near-plane*)
+                    (<= (abs (vec3-y p)) (* fill tangent depth))
+                    (<= (abs (vec3-x p)) (* fill tangent aspect depth)))))
+           corners)))
+
+(defun frame-bounds-camera (bounds &key (aspect 4/3) (fov *default-fov*) (fill 0.85d0))
+  "A camera transform looking at the box BOUNDS, a (MIN . MAX) pair of vec3s
+\(a rig's bind-pose bounds moved to where its body stands), from its front
+\(+z towards the viewer), a little above and looking *DEFAULT-CAMERA-PITCH*
+degrees down at its centre, as near as lets every corner of the box lie
+within FILL of the height and width of a FOV-degree view of width over
+height ASPECT.  Unlike DEFAULT-CAMERA-TRANSFORM's sphere, the box frames a
+long model (a quadruped, a snake) without standing far off."
+  (let* ((centre (vlerp (car bounds) (cdr bounds) 0.5d0))
+         (corners (box-corners bounds))
+         (aspect (float aspect 1d0))
+         (tangent (tan (* 0.5d0 (float fov 1d0) (/ pi 180))))
+         (rotation (quat-from-axis-angle (vec3 1d0 0d0 0d0) (* *default-camera-pitch* (/ pi 180))))
+         (back (qrotate rotation (vec3 0d0 0d0 1d0)))
+         (size (max 0.01d0 (vdistance (car bounds) (cdr bounds)))))
+    (flet ((camera (distance)
+             (make-transform :rotation rotation :translation (v+ centre (v* back distance)))))
+      ;; Step back from a tenth of the box's diagonal until it fits: 2% steps,
+      ;; finer than a pixel's worth of framing at any size Player renders.
+      (loop for distance = (* 0.1d0 size) then (* distance 1.02d0)
+            for camera = (camera distance)
+            when (or (corners-fit-p corners camera tangent aspect fill) (> distance (* 100 size)))
+              return camera))))
+
+(defun scene-model-bounds (scene)
+  "The box, (MIN . MAX) vec3s, around SCENE's visible imported models in their
+bind poses where they stand, or NIL when none of its bodies is one."
+  (let ((boxes (loop for body in (scene-bodies scene)
+                     when (skeleton-rig (body-skeleton body))
+                       collect (multiple-value-list (model-rest-extent body)))))
+    (when boxes
+      (cons (reduce (lambda (a b) (vec3 (min (vec3-x a) (vec3-x b)) (min (vec3-y a) (vec3-y b)) (min (vec3-z a) (vec3-z b))))
+                    (mapcar #'first boxes))
+            (reduce (lambda (a b) (vec3 (max (vec3-x a) (vec3-x b)) (max (vec3-y a) (vec3-y b)) (max (vec3-z a) (vec3-z b))))
+                    (mapcar #'second boxes))))))
+
 (defun orbit-transform (camera focus orbit)
   "The camera transform CAMERA moved by ORBIT around the point FOCUS metres in
 front of it: yawed about world +y, pitched about its own x, its distance scaled."
@@ -153,10 +221,15 @@ characters' centre, or 1.5 m when they are behind it or absent."
 (defun scene-view (scene aspect &key orbit camera)
   "The VIEW of SCENE for a frame of width over height ASPECT: through CAMERA (a
 camera object, default the scene's first), or a default camera framing the
-characters, moved by ORBIT when given."
+characters (FRAME-BOUNDS-CAMERA when they are imported models), moved by
+ORBIT when given."
   (let* ((object (or camera (scene-camera scene)))
          (fov (camera-fov object))
-         (transform (if object (object-world-transform object) (default-camera-transform scene fov)))
+         (models (and (null object) (scene-model-bounds scene)))
+         ;; Scenes of Player's own skeletons keep the sphere framing they always had.
+         (transform (cond (object (object-world-transform object))
+                          (models (frame-bounds-camera models :aspect aspect :fov fov))
+                          (t (default-camera-transform scene fov))))
          (transform (if orbit
                         (orbit-transform transform (camera-focus-distance transform scene) orbit)
                         transform)))

@@ -53,6 +53,10 @@ INDEX-VECTOR) into new GL buffers; USAGE is the vertex buffer's hint."
   (gl-delete-object #'gl-delete-buffers (gpu-mesh-index-buffer mesh))
   (gl-delete-object #'gl-delete-vertex-arrays (gpu-mesh-vao mesh)))
 
+(defgeneric delete-drawable (drawable)
+  (:documentation "Free the GL objects of DRAWABLE, what the renderer made to draw a scene mesh.")
+  (:method ((mesh gpu-mesh)) (delete-gpu-mesh mesh)))
+
 ;;;# The renderer
 
 (defclass renderer ()
@@ -67,7 +71,11 @@ INDEX-VECTOR) into new GL buffers; USAGE is the vertex buffer's hint."
    (meshes :initform (make-hash-table :test #'eq :weakness :key) :reader renderer-meshes
            :documentation "SCENE-MESHES' cache: CPU meshes and buffers per scene object.")
    (buffers :initform (make-hash-table :test #'eq) :reader renderer-buffers
-            :documentation "SCENE-MESH to its GPU-MESH, for the objects of the last frame.")
+            :documentation "SCENE-MESH to its GPU-MESH (a GPU-MODEL when skinned), for the objects of the last frame.")
+   (textures :initform (make-hash-table :test #'equal) :reader renderer-textures
+             :documentation "Texture file path (or :WHITE) to its GL texture.")
+   (skinning :initform :cpu :accessor renderer-skinning
+             :documentation ":GPU when skins are skinned in the vertex shader, :CPU when GL cannot (SETUP-MODEL-PROGRAMS).")
    (floor :initform nil :accessor renderer-floor :documentation "The floor grid's GPU-MESH.")
    (empty :initform 0 :accessor renderer-empty
           :documentation "A vertex array without attributes, for the screen-covering passes.")
@@ -103,6 +111,7 @@ Signals a RENDER-ERROR when a shader does not build or GL refuses the target."
             (:fxaa (make-fxaa-source width height))
             (:msaa (make-msaa-target width height 4))
             ((nil) nil)))
+    (setup-model-programs renderer)
     (check-gl-error "making the renderer")
     renderer))
 
@@ -110,9 +119,11 @@ Signals a RENDER-ERROR when a shader does not build or GL refuses the target."
   "Free RENDERER's GL objects (in the context it was made in)."
   (loop for (nil entry) on (renderer-programs renderer) by #'cddr
         do (gl-delete-program (car entry)))
-  (loop for mesh being the hash-values of (renderer-buffers renderer) do (delete-gpu-mesh mesh))
+  (loop for mesh being the hash-values of (renderer-buffers renderer) do (delete-drawable mesh))
+  (loop for texture being the hash-values of (renderer-textures renderer) do (delete-texture texture))
   (setf (renderer-programs renderer) '())
   (clrhash (renderer-buffers renderer))
+  (clrhash (renderer-textures renderer))
   (delete-gpu-mesh (renderer-floor renderer))
   (gl-delete-object #'gl-delete-vertex-arrays (renderer-empty renderer))
   (let ((target (renderer-target renderer)))
@@ -171,15 +182,18 @@ from the scene, or a scene replayed from the start with fresh objects."
     (when (> (hash-table-count buffers) (length drawn))
       (loop for scene-mesh in (loop for key being the hash-keys of buffers
                                     unless (member key drawn) collect key)
-            do (delete-gpu-mesh (gethash scene-mesh buffers))
+            do (delete-drawable (gethash scene-mesh buffers))
                (remhash scene-mesh buffers)))))
 
 (defun draw-meshes (renderer scene-meshes view lights)
-  "Draw SCENE-MESHES, lit."
+  "Draw SCENE-MESHES, lit: those posed on the CPU here, the skinned ones by
+DRAW-SKINNED-MESHES."
   (let ((uniforms (use-program renderer :mesh)))
     (set-shading uniforms view lights)
     (dolist (scene-mesh scene-meshes)
-      (draw-gpu-mesh (mesh-buffer renderer scene-mesh)))))
+      (unless (skinned-scene-mesh-p scene-mesh)
+        (draw-gpu-mesh (mesh-buffer renderer scene-mesh)))))
+  (draw-skinned-meshes renderer (remove-if-not #'skinned-scene-mesh-p scene-meshes) view lights))
 
 (defun draw-floor (renderer view lights height)
   "Draw the floor at HEIGHT, fading into the horizon from 4 to 25 m from the eye."

@@ -92,8 +92,11 @@ buffers are built once and only posed afterwards."
 
 (defun cached-scene-mesh (object cache)
   "OBJECT's SCENE-MESH from CACHE, made on first use; bodies with one skeleton
-share its BODY-MESH, each with its own buffer."
+share its BODY-MESH, each with its own buffer.  A body whose skeleton has a
+rig (an imported model) is drawn from its skins (MAKE-SKINNED-SCENE-MESH)."
   (or (gethash object cache)
+      (and (typep object 'body) (skeleton-rig (body-skeleton object))
+           (setf (gethash object cache) (make-skinned-scene-mesh object)))
       (let ((body-mesh (if (typep object 'body)
                            (let ((skeleton (body-skeleton object)))
                              (or (gethash skeleton cache)
@@ -102,8 +105,10 @@ share its BODY-MESH, each with its own buffer."
         (setf (gethash object cache)
               (make-scene-mesh object body-mesh (make-body-mesh-buffer body-mesh))))))
 
-(defun pose-scene-mesh (scene-mesh transforms)
-  "Pose SCENE-MESH's buffer in place by TRANSFORMS; return SCENE-MESH."
+(defgeneric pose-scene-mesh (scene-mesh transforms)
+  (:documentation "Pose SCENE-MESH in place by TRANSFORMS (joint world MAT4s); return SCENE-MESH."))
+
+(defmethod pose-scene-mesh ((scene-mesh scene-mesh) transforms)
   (pose-body-mesh (scene-mesh-body-mesh scene-mesh) transforms (scene-mesh-vertices scene-mesh))
   scene-mesh)
 

@@ -1,9 +1,12 @@
 ;;;; clip-driver.lisp -- the :clip motor function: an animation clip played on
 ;;;; a body, requesting its joints' channels at a priority like any driver,
 ;;;; so arbitration, cuts and policies treat clips as they treat gestures.
-;;;; Its call fades it in (:blend, which the :clip item's :fade sets), masks it
-;;;; to some joints (:joints), weighs it against what lies under it (:weight),
-;;;; and plays it at a speed, once or looping.
+;;;; It fades itself in over :fade: while it fades, each of its channels is
+;;;; (1 - w) times what lies under it -- the clip it replaces, still playing
+;;;; at a lower priority or written before it -- plus w times the clip, w
+;;;; rising smoothly from 0 to :weight.  So two clips cross-fade live, not
+;;;; from a frozen pose.  It masks itself to some joints (:joints) and plays
+;;;; at a speed, once or looping.
 
 (in-package #:player.rig)
 
@@ -20,6 +23,7 @@ and the mask lets through, follows the clip's rotations."))
   (:name (:or :symbol :string) :required "the clip's name (an animation of the model, or a clip its (model ...) form cuts)")
   (:loop :boolean nil "repeat the clip until stopped")
   (:speed :positive 1 "how fast the clip plays: 2 is twice as fast")
+  (:fade :non-negative 0.2 "seconds to fade in over what lies under it")
   (:weight :non-negative 1 "how much of the clip shows over what lies under it, 0 to 1")
   (:joints :list nil "only these joints (names or roles; a role means each of its joints), NIL for all")
   (:root (:member :in-place :move) :in-place "whether the clip moves the character (:move) or plays in place")
@@ -94,7 +98,7 @@ retargeting of clips :from another file registers one).")
 (defmethod driver-drive ((driver clip-driver) time pose)
   (let ((angles (clip-angles (clip-driver-clip driver) (clip-local-time driver time)
                              (clip-driver-angles driver)))
-        (weight (min 1d0 (driver-real driver :weight))))
+        (weight (clip-fade-weight driver time)))
     (loop for index across (clip-driver-outputs driver)
           for angle across angles
           unless (minusp index)
@@ -102,6 +106,16 @@ retargeting of clips :from another file registers one).")
                      (if (= weight 1d0)
                          angle
                          (+ (aref pose index) (* weight (- angle (aref pose index)))))))))
+
+(defun clip-fade-weight (driver time)
+  "The weight DRIVER's clip has at TIME: its :weight, times its fade-in."
+  (* (min 1d0 (driver-real driver :weight))
+     (ramp (driver-local-time driver time) 0d0 (driver-real driver :fade))))
+
+(defmethod driver-default-blend ((driver clip-driver))
+  ;; It fades itself in over what lies under it; a crossfade from a frozen
+  ;; pose on top would only slow it.
+  0d0)
 
 (defmethod driver-end-time ((driver clip-driver))
   (unless (driver-arg driver :loop)

@@ -19,6 +19,7 @@ and the file it came from (or NIL)."
   (source nil :read-only t)
   (definitions '() :type list)          ; scripts and directors, in file order
   (pose-whens '() :type list)           ; (:pose-when ...) entries, in file order (pose-when.lisp)
+  (skeleton nil)                        ; the skeleton of its (model "FILE" ...) form, or NIL (model-form.lisp)
   (places nil))                         ; the *SUB-FORM-PLACES* of its forms, or NIL
 
 (defmethod print-object ((library script-library) stream)
@@ -144,8 +145,9 @@ SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
              (push object (script-library-objects library))))
           ((equal head "poses") (set-pose-library library form))
           ((equal head "pose-when") (push (parse-pose-when form) (script-library-pose-whens library)))
+          ((equal head "model") (set-library-model library form))
           (t (script-fail form "a script library may contain defscript, defdirector, defobject, ~
-                                poses and :pose-when forms, not ~:[this~;~:*a ~A form~]"
+                                model, poses and :pose-when forms, not ~:[this~;~:*a ~A form~]"
                           head)))))
 
 (defun add-definition (library definition name-of table-of what form)
@@ -272,6 +274,9 @@ declared objects and properties, director schedules."
       (dolist (script scripts)
         (check-play-cycles library script '() checked)))
     (dolist (script scripts)
+      (with-script-context (script)
+        (check-clip-items library script)))
+    (dolist (script scripts)
       (resolve-script-duration library script))
     (check-object-parents library)
     (dolist (script scripts)
@@ -317,6 +322,8 @@ checks critical times and looping against it.  Nested cycles were ruled out."
   (let ((at (script-item-at item)))
     (cond ((script-item-end item))
           ((sound-item-p item) (+ at (sound-duration (sound-item-sound item))))
+          ((and (motor-item-p item) (clip-item-length library item))
+           (+ at (clip-item-length library item)))
           ((play-item-p item)
            (+ at (resolve-script-duration library (find-script library (play-item-script item)))))
           ((and (animate-item-p item) (keys-control-p (animate-item-control item))

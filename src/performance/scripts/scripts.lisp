@@ -59,6 +59,15 @@
 ;;;   (:at T :sound "FILE.wav" [:for D])
 ;;;       Play a sound effect (Persona's snore), a PCM WAV file named relative
 ;;;       to the library file, read when the library is.
+;;;   (:at T :clip NAME [:loop B] [:speed S] [:fade SECONDS] [:weight W]
+;;;        [:joints (JOINT-OR-ROLE ...)] [:root :in-place|:move] [:priority P] [:for D])
+;;;       Play an animation clip of the library's model (see below): its
+;;;       joints follow the file's keys (slerped), fading in over :fade
+;;;       (default 0.2) from whatever lies under them, so two clips
+;;;       cross-fade; :weight (0 to 1) how much of it shows; :joints masks it
+;;;       (a role means its joints); it requests its channels at :priority
+;;;       (default 10) like any motor call.  Without :loop it ends with the
+;;;       clip, and its length counts for the script's inferred duration.
 ;;;   Speech and sounds play to their end, cut only by :for or a stop of
 ;;;   their script (an op cut short), not by the end of the script.
 ;;;
@@ -90,6 +99,13 @@
 ;;; in DEGREES; PROPERTIES ((NAME TYPE VALUE) ...) with TYPE :number, :vector
 ;;; (X Y Z), :rotation (as ROTATION), :colour (R G B), each in [0, 1], or
 ;;; :boolean (T or NIL).
+;;;
+;;;   (model "FILE" &key texture height scale up roles clips limits)
+;;;
+;;; makes the character an imported model (glTF, FBX, COLLADA, .x, BVH...,
+;;; through Assimp), in place of the spec's (:body NAME): see model-form.lisp
+;;; and doc/models.md.  Each of its animations is a clip, named in lower case
+;;; with other characters turned to -; :clips cuts more by frame range.
 ;;;
 ;;;   (poses "FILE")
 ;;;
@@ -267,7 +283,7 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
           into parsed
         finally (return parsed)))
 
-(defparameter *script-item-kinds* '(:motor :animate :set :play :attach :say :sound)
+(defparameter *script-item-kinds* '(:motor :animate :set :play :attach :say :sound :clip)
   "The kinds of script item, each parsed by PARSE-<KIND>-ITEM.")
 
 (defun parse-script-item (item critical duration)
@@ -292,7 +308,7 @@ times and DURATION (NIL when inferred)."
                                (:motor #'parse-motor-item) (:animate #'parse-animate-item)
                                (:set #'parse-set-item) (:play #'parse-play-item)
                                (:attach #'parse-attach-item) (:say #'parse-say-item)
-                               (:sound #'parse-sound-item))
+                               (:sound #'parse-sound-item) (:clip #'parse-clip-item))
                              item at arguments)))
         (when (and duration (script-item-end parsed) (> (script-item-end parsed) duration))
           (script-fail item "the item ends at ~A, after the script's duration ~A"

@@ -1,0 +1,86 @@
+;;;; skinned-scene-mesh.lisp -- what SCENE-MESHES keeps of a body whose skeleton
+;;;; is an imported model's (it has a RIG): each skin's palette at the current
+;;;; pose and a box around the posed skin.  No posed vertices: the renderer
+;;;; skins them itself, on the GPU or, as a fallback, on the CPU.
+
+(in-package #:player.render)
+
+;;; The box stands in for the vertices wherever the renderer only needs to
+;;; know where a body is (its contact shadow, the floor, the antialiased part
+;;; of the frame).  It must hold the whole skin in any pose without skinning
+;;; it: a vertex moved rigidly by palette entry k stays within |B_k v| (its
+;;; rest distance from that joint's centre) of the joint, and a blended vertex
+;;; is a convex sum of such points, so the box around each entry's joint grown
+;;; by the largest such distance, the entry's REACH, holds it.  (One reach for
+;;; the whole skin would be simpler, but a bison's reaches its length: the box
+;;; then passed behind the camera, and the antialiasing pass took the whole
+;;; frame, 40 ms on llvmpipe.)
+
+(defstruct (skinned-scene-mesh (:include scene-mesh) (:constructor %make-skinned-scene-mesh))
+  "A body drawn from its rig's SKINS (a list of MESH-SKINs): PALETTES, per skin
+a simple-vector of its palette's MAT4s at the last pose (SKIN-PALETTE-MATRICES);
+REACHES, per skin a vector of how far (metres) a vertex lies at most from the
+joint of each palette entry weighing it.  VERTICES
+holds the 8 corners of a box around the posed skin, +VERTEX-FLOATS+ each."
+  (skins '() :type list)
+  (palettes '() :type list)
+  (reaches '() :type list))
+
+(defun skin-reaches (skin)
+  "For each palette entry k of SKIN, the farthest a vertex it weighs lies, at
+rest, from the centre of its joint: the largest |B_k v|, a vector of doubles."
+  (let ((positions (model-mesh-positions (skin-mesh skin)))
+        (slots (skin-slots skin))
+        (weights (skin-weights skin))
+        (palette (skin-palette skin))
+        (reaches (make-array (length (skin-palette skin)) :element-type 'double-float :initial-element 0d0)))
+    (dotimes (v (floor (length positions) 3) reaches)
+      (dotimes (k 4)
+        (when (plusp (aref weights (+ (* 4 v) k)))
+          (let* ((slot (aref slots (+ (* 4 v) k)))
+                 (m (svref palette slot)))
+            (setf (aref reaches slot) (max (aref reaches slot)
+                             (sqrt (loop for row below 3
+                                         sum (expt (+ (loop for column below 3
+                                                            sum (* (aref m row column)
+                                                                   (aref positions (+ (* 3 v) column))))
+                                                      (aref m row 3))
+                                                   2)))))))))))
+
+(defun make-skinned-scene-mesh (body)
+  "The SKINNED-SCENE-MESH of BODY, whose skeleton has a RIG."
+  (let ((skins (rig-skins (skeleton-rig (body-skeleton body)))))
+    (%make-skinned-scene-mesh
+     :object body :body-mesh nil
+     :vertices (make-array (* 8 +vertex-floats+) :element-type 'single-float :initial-element 0f0)
+     :skins skins
+     :palettes (mapcar (lambda (skin) (make-array (length (skin-palette skin)) :initial-element nil)) skins)
+     :reaches (mapcar #'skin-reaches skins))))
+
+(defun write-box-corners (vertices low high)
+  "Write the 8 corners of the box from LOW to HIGH (lists X Y Z) as positions
+into the interleaved VERTICES, normals up."
+  (dotimes (corner 8)
+    (let ((at (* corner +vertex-floats+)))
+      (dotimes (axis 3)
+        (setf (aref vertices (+ at axis))
+              (float (nth axis (if (logbitp axis corner) high low)) 1f0)))
+      (setf (aref vertices (+ at 4)) 1f0))))
+
+(defmethod pose-scene-mesh ((mesh skinned-scene-mesh) transforms)
+  "Compute each skin's palette at TRANSFORMS and the box around the posed skin."
+  (loop for skin in (skinned-scene-mesh-skins mesh)
+        for palette in (skinned-scene-mesh-palettes mesh)
+        do (skin-palette-matrices skin transforms palette))
+  (let ((low (list most-positive-double-float most-positive-double-float most-positive-double-float))
+        (high (list most-negative-double-float most-negative-double-float most-negative-double-float)))
+    (loop for skin in (skinned-scene-mesh-skins mesh)
+          for reaches in (skinned-scene-mesh-reaches mesh)
+          do (loop for joint across (skin-palette-joints skin)
+                   for reach across reaches
+                   for p = (transform-translation (svref transforms joint))
+                   for xyz = (list (vec3-x p) (vec3-y p) (vec3-z p))
+                   do (setf low (mapcar (lambda (a b) (min a (- b reach))) low xyz)
+                            high (mapcar (lambda (a b) (max a (+ b reach))) high xyz))))
+    (write-box-corners (scene-mesh-vertices mesh) low high))
+  mesh)
