@@ -122,6 +122,26 @@
             (is (= (length (model-joints source)) (length (model-joints back))))
             (is (= (model-vertex-count source) (model-vertex-count back)))))))))
 
+(test an-imported-character-exports-through-the-command
+  ;; examples/wuson (Testwuson.X by the model form) played and exported: the
+  ;; file holds the model's joints by their own names, its 3,205 vertices,
+  ;; and a key per frame.
+  (with-assimp-models
+    (call-with-export-file "glb"
+      (lambda (path)
+        (multiple-value-bind (out err code)
+            (player-command "export" (namestring (checkout-file "examples/wuson/wuson.lisp"))
+                            "--events" "ev-walk@0,ev-run@1.5" "--at" "3" "--fps" "15" "--out" path)
+          (is (= 0 code) "export failed: ~A" err)
+          (is (search "; 46 frames at 15 fps" out))
+          (let ((source (import-model (assimp-model "X/Testwuson.X")))
+                (back (import-model path)))
+            (is (= (model-vertex-count source) (model-vertex-count back)))
+            (is (equal (map 'list #'joint-name (model-joints source))
+                       (remove "ROOT" (map 'list #'joint-name (model-joints back)) :test #'string=)))
+            (is (every (lambda (channel) (= 46 (length (channel-rotation-times channel))))
+                       (model-animation-channels (first (model-animations back)))))))))))
+
 (test export-refuses-a-wrong-out-type
   (multiple-value-bind (out err code)
       (player-command "export" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-search" "--out" "/tmp/peedy.obj")
