@@ -175,7 +175,17 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "joints")
                  (:file "animations")
                  (:file "images")
-                 (:file "roles")))
+                 (:file "roles")
+                 ;; Writing glTF 2.0: JSON, the binary buffer, the model's parts, the files.
+                 (:file "json")
+                 (:file "gltf-buffer")
+                 (:file "gltf-files")
+                 (:file "gltf-shape")
+                 (:file "gltf-numbers")
+                 (:file "gltf-skins")
+                 (:file "gltf-animations")
+                 (:file "gltf-materials")
+                 (:file "gltf-write")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t
@@ -294,6 +304,14 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "ensemble")
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
+   ;; A performance exported as glTF: each frame's poses baked, each body a model, one animation.
+   (:module "export" :depends-on ("base" "model" "body" "rig" "performance" "render")
+    :serial t
+    :components ((:file "package")
+                 (:file "bake")
+                 (:file "character-model")
+                 (:file "props")
+                 (:file "export")))
    ;; Persona's dialogue manager: sentences to input events, transitions, templates, memory, speaking.
    (:module "dialogue" :depends-on ("base" "spec" "control" "speech" "model" "body" "rig" "performance")
     :serial t
@@ -325,7 +343,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -346,9 +364,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "verify")
                  (:file "chat")
                  (:file "speak")
-                 (:file "model")))
+                 (:file "model")
+                 (:file "export")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -449,5 +468,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "fuzz-models")
                  (:file "test-model-fuzz")
                  (:file "test-rig")
-                 (:file "test-skinned-render"))))
+                 (:file "test-skinned-render")
+                 (:file "test-gltf-write")
+                 (:file "test-export"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -20,7 +20,7 @@
 (handler-bind ((warning #'muffle-warning)
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
-    (dolist (file '("synthetic" "naive" "dispatch" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "model" "dialogue"
+    (dolist (file '("synthetic" "naive" "dispatch" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "model" "export" "dialogue"
                     "strips"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
@@ -426,6 +426,10 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-speech)
         (format t "~&  model import...~%") (finish-output)
         (bench-model-import)
+        (format t "~&  export...~%") (finish-output)
+        (bench-export)
+        (format t "~&  glTF export...~%") (finish-output)
+        (bench-gltf-write)
         (format t "~&  dialogue...~%") (finish-output)
         (bench-dialogue)
         (rule)

@@ -78,7 +78,9 @@
    #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
-   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales)
+   #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
+   #:write-gltf #:model-write-error)
   (:import-from #:player.rig
    #:model-skeleton #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
@@ -123,6 +125,8 @@
    #:remove-cast #:replicate-cast #:scene-error #:scene-simulation #:scene-simulation-member
    #:scene-simulation-p #:send-scene-event #:simulate-scene #:unknown-member-error
    #:write-ensemble-trace #:write-scene-simulation)
+  (:import-from #:player.export
+   #:export-performance #:performance-model #:character-model #:bake-simulation)
   (:import-from #:player.dialogue
    #:*say-function* #:begin-conversation #:call-with-speaker #:choose-template
    #:context-value #:conversation #:conversation-controller #:conversation-dialogue
@@ -213,6 +217,8 @@
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
+   #:write-gltf #:model-write-error
    ;; Characters from models (doc/models.md)
    #:model-skeleton #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
@@ -278,6 +284,8 @@
    #:scene-error #:missing-member-spec-error #:duplicate-member-error #:unknown-member-error
    #:make-ensemble #:ensemble #:ensemble-p #:ensemble-cast #:ensemble-controller
    #:send-scene-event #:play-scene-events #:ensemble-trace-lines #:write-ensemble-trace
+   ;; Export
+   #:export-performance #:performance-model #:character-model #:bake-simulation
    #:simulate-scene #:scene-simulation #:scene-simulation-p #:scene-simulation-member
    #:write-scene-simulation #:simulation-scene-at
    #:record-scenario #:write-recording #:read-recording #:verify-recording #:recording #:recording-p #:recording-lines #:recording-frames #:recording-error #:recording-mismatch #:verification #:verification-ok-p #:verification-difference #:verification-message #:recording-difference-kind #:recording-difference-message #:*default-frame-tolerance*

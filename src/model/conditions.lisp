@@ -1,7 +1,8 @@
-;;;; conditions.lisp -- the model layer's condition and the limits on what it
+;;;; conditions.lisp -- the model layer's conditions and the limits on what it
 ;;;; imports.  Every way an import can fail (a missing file, a file Assimp
 ;;;; refuses, data that is not finite, a model past a limit) is one MODEL-ERROR
-;;;; naming the file, so the CLI prints it as one line.
+;;;; naming the file, so the CLI prints it as one line; every way a write can
+;;;; fail is one MODEL-WRITE-ERROR, a MODEL-ERROR naming the file written.
 
 (in-package #:player.model)
 
@@ -14,7 +15,8 @@
              (format stream "cannot import the model ~A: ~A"
                      (model-error-file condition) (model-error-message condition))))
   (:documentation "A model file could not be imported: it is missing or
-unreadable, Assimp refused it, or what it holds is not finite or past a limit."))
+unreadable, Assimp refused it, or what it holds is not finite or past a limit.
+(MODEL-WRITE-ERROR, its subclass, is a model that could not be written.)"))
 
 (define-condition model-library-missing (model-error)
   ((package :initarg :package :reader model-library-missing-package
@@ -25,6 +27,23 @@ unreadable, Assimp refused it, or what it holds is not finite or past a limit.")
   "Signal a MODEL-ERROR about FILE whose message is CONTROL applied to ARGUMENTS."
   (error 'model-error :file file :message (apply #'format nil control arguments)))
 
+(define-condition model-write-error (model-error)
+  ()
+  (:report (lambda (condition stream)
+             (format stream "cannot write the model ~A: ~A"
+                     (model-error-file condition) (model-error-message condition))))
+  (:documentation "A model could not be written to FILE: what it holds cannot
+be put in the file's format (a number that is not finite, a skin past the
+format's limits, a texture that is missing or of a kind the format cannot
+hold), or the file cannot be created where it was asked for."))
+
+(defvar *model-output* nil
+  "While a model is written: the file as given, which every MODEL-WRITE-ERROR names.")
+
+(defun write-fail (control &rest arguments)
+  "Signal a MODEL-WRITE-ERROR about the file being written (*MODEL-OUTPUT*)
+whose message is CONTROL applied to ARGUMENTS."
+  (error 'model-write-error :file *model-output* :message (apply #'format nil control arguments)))
 ;;;# Messages from C
 
 (defun c-message (pointer &optional (limit 300))

@@ -23,6 +23,8 @@
    #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
+   #:write-gltf #:model-write-error
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
    #:*image-pixel-limit* #:model-texture-images

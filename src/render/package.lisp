@@ -17,4 +17,6 @@
    #:view-event-keys #:view-running-p #:view-send-event #:view-spec #:view-title #:viewer
    #:viewer-clips #:viewer-controller #:viewer-name #:viewer-now #:viewer-paused-at
    #:viewer-performance #:viewer-scene #:viewer-session #:with-gl-traps-masked
-   #:with-offscreen-context #:write-png))
+   #:with-offscreen-context #:write-png
+   #:make-body-mesh #:body-mesh-positions #:body-mesh-normals #:body-mesh-colours #:body-mesh-indices
+   #:body-mesh-joints #:body-mesh-starts #:body-mesh-ends #:object-prop-mesh #:prop-body-mesh))
