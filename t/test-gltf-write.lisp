@@ -27,13 +27,13 @@ and a .x of 3 meshes skinned by different bones.")
      (unwind-protect (progn ,@body)
        (uiop:delete-directory-tree ,directory :validate t :if-does-not-exist :ignore))))
 
-(defun near (a b)
+(defun read-back-near (a b)
   "Are the numbers A and B within *ROUND-TRIP-TOLERANCE* of each other?"
   (<= (abs (- a b)) *round-trip-tolerance*))
 
 (defun vectors-near (a b)
   "Are the vectors A and B of one length and near element by element?"
-  (and (= (length a) (length b)) (every #'near a b)))
+  (and (= (length a) (length b)) (every #'read-back-near a b)))
 
 (defun quaternions-near (a b &key (start 0))
   "Are the quaternions at START of A and B near as rotations: each made unit
@@ -43,7 +43,7 @@ by up to 2e-4 in simple_skin.gltf), q and -q being one rotation."
            (let ((norm (sqrt (loop for k from start below (+ start 4) sum (expt (aref q k) 2)))))
              (loop for k from start below (+ start 4) collect (/ (aref q k) norm)))))
     (let ((p (unit a)) (q (unit b)))
-      (or (every #'near p q) (every #'near p (mapcar #'- q))))))
+      (or (every #'read-back-near p q) (every #'read-back-near p (mapcar #'- q))))))
 
 (defun key-rotations-near (a b)
   "Are the rotation keys A and B (w x y z each) of one length and near key by key?"
@@ -82,7 +82,7 @@ the others' parents shifted; every other joint must then come back in order."
 (defun weights-near (a b)
   "Are the alists A and B of joint names and weights alike, the weights near?"
   (and (= (length a) (length b))
-       (every (lambda (x y) (and (string= (car x) (car y)) (near (cdr x) (cdr y)))) a b)))
+       (every (lambda (x y) (and (string= (car x) (car y)) (read-back-near (cdr x) (cdr y)))) a b)))
 
 (defun check-meshes-read-back (name original reread)
   "Each mesh of REREAD (a model read back) against ORIGINAL's: counts, positions, UVs, skin weights."
@@ -136,7 +136,7 @@ channel does not animate)."
   (loop for clip in (player:model-animations original)
         for back in (player:model-animations reread)
         do (is (string= (player:model-animation-name clip) (player:model-animation-name back)) "~A: clip names" name)
-           (is (near (player:model-animation-duration clip) (player:model-animation-duration back))
+           (is (read-back-near (player:model-animation-duration clip) (player:model-animation-duration back))
                "~A: ~S lasts ~A s, read back ~A s" name (player:model-animation-name clip)
                (player:model-animation-duration clip) (player:model-animation-duration back))
            (dolist (channel (player:model-animation-channels clip))
