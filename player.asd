@@ -225,7 +225,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "skins")
                  (:file "model-skeleton")
                  (:file "clips")
-                 (:file "clip-driver")))
+                 (:file "dof-layouts")
+                 (:file "clip-driver")
+                 (:file "retarget")
+                 (:file "clip-files")))
    (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig")
     :serial t
     :components ((:file "package")

@@ -95,6 +95,8 @@
    #:reparent-object #:request-channels #:resolve-target #:scene #:scene-object
    #:scene-objects #:skeleton-error #:skeleton-joints #:skeleton-role #:slave-drivers #:vec3
    #:world-transforms #:write-bvh #:write-bvh-file)
+  (:import-from #:player.rig
+   #:model-skeleton #:retarget-clip #:clip-angles #:clip-duration #:rig-error)
   (:import-from #:player.performance
    #:body-presenter #:controller-simulation #:director-schedule #:find-director
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
@@ -209,6 +211,8 @@
    #:joint-inverse-bind #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
+   ;; Characters from models, motion capture retargeted (doc/models.md)
+   #:model-skeleton #:retarget-clip #:clip-angles #:clip-duration #:rig-error
    ;; Rendering
    #:render-simulation #:view-spec #:render-error #:with-offscreen-context #:read-frame-pixels #:gl-version-string
    #:compile-shader-program #:write-png #:png-octets
