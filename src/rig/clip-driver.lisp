@@ -70,14 +70,12 @@ retargeting of clips :from another file registers one).")
                            (t (driver-frame-fail driver ":joints holds joint names and roles, not ~A" (lisp-text name))))))))
 
 (defun track-pose-indices (skeleton track)
-  "The pose indices the three angles of TRACK's slots go to: an x/y/z joint's
-x, y and z DOFs; any other joint's own DOFs in their order (see
-DOF-LAYOUTS.LISP), -1 for the slots it lacks."
+  "The pose indices the three angle slots of TRACK go to: its joint's DOFs in
+their order (x, y and z for an imported joint; see DOF-LAYOUTS.LISP), -1 for
+the slots of the axes it lacks."
   (let ((joint (svref (skeleton-joints skeleton) (track-joint track))))
-    (if (xyz-joint-p joint)
-        (loop for n below 3 collect (+ (body-joint-dof-start joint) n))
-        (loop for n below 3
-              collect (if (< n (length (body-joint-dofs joint))) (+ (body-joint-dof-start joint) n) -1)))))
+    (loop for n below 3
+          collect (if (< n (length (body-joint-dofs joint))) (+ (body-joint-dof-start joint) n) -1))))
 
 (defmethod driver-setup ((driver clip-driver))
   (let* ((clip (driver-clip driver))

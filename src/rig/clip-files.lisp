@@ -8,8 +8,9 @@
 ;;;; skeleton nobody uses any more takes its clips with it.
 ;;;;
 ;;;; A clip of the file is named as the (model "FILE") form names it: each
-;;;; animation's name made a clip name (CLIP-NAME-FROM-ANIMATION: CMU's BVH
-;;;; files call theirs "motion"), "animation" for an unnamed one.
+;;;; animation's name made a clip name (CLIP-NAME-FROM-ANIMATION), "animation"
+;;;; for an unnamed one.  Assimp names a BVH file's one animation "Motion", so
+;;;; a BVH file's clip is "motion".
 
 (in-package #:player.rig)
 

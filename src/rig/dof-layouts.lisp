@@ -27,9 +27,12 @@ per kept angle its SIGN (-1 about a negative axis) and limits MINS and MAXS
   (ecase axis ((:x :-x) 0) ((:y :-y) 1) ((:z :-z) 2)))
 
 (defun xyz-joint-p (joint)
-  "Does JOINT turn about +x, +y and +z in that order, as every imported joint
-does?  Such a joint takes the fast path (no layout)."
-  (equal (mapcar #'body-dof-axis (body-joint-dofs joint)) '(:x :y :z)))
+  "Does JOINT turn about +x, +y and +z in that order, each a full turn either
+way, as an imported joint does unless :limits narrows it?  Such a joint takes
+the fast path (no layout): no clamp is needed."
+  (and (equal (mapcar #'body-dof-axis (body-joint-dofs joint)) '(:x :y :z))
+       (every (lambda (dof) (and (<= (body-dof-min dof) -180) (>= (body-dof-max dof) 180)))
+              (body-joint-dofs joint))))
 
 (defun joint-dof-layout (joint)
   "The DOF-LAYOUT of the skeleton JOINT, or NIL when it is an x/y/z joint
