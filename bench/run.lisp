@@ -426,6 +426,7 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-speech)
         (format t "~&  model import...~%") (finish-output)
         (bench-model-import)
+        (bench-clip-pose)
         (format t "~&  dialogue...~%") (finish-output)
         (bench-dialogue)
         (rule)
