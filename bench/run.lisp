@@ -430,6 +430,7 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-export)
         (format t "~&  glTF export...~%") (finish-output)
         (bench-gltf-write)
+        (bench-clip-pose)
         (format t "~&  dialogue...~%") (finish-output)
         (bench-dialogue)
         (rule)

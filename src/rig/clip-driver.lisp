@@ -14,13 +14,16 @@
   ((clip :initform nil :accessor clip-driver-clip :documentation "The CLIP it plays.")
    (outputs :initform nil :accessor clip-driver-outputs
             :documentation "Per angle CLIP-ANGLES gives, the pose index it drives, or -1 where masked.")
-   (angles :initform nil :accessor clip-driver-angles :documentation "CLIP-ANGLES' buffer."))
+   (angles :initform nil :accessor clip-driver-angles :documentation "CLIP-ANGLES' buffer.")
+   (layouts :initform nil :accessor clip-driver-layouts
+            :documentation "CLIP-LAYOUTS of the clip on the body's skeleton: NIL when every joint is x/y/z."))
   (:documentation "Plays a CLIP of the body's model: each joint the clip moves,
 and the mask lets through, follows the clip's rotations."))
 
 (define-motor-function :clip clip-driver
   "Play an animation clip of the body's imported model; ends after the clip unless :loop."
   (:name (:or :symbol :string) :required "the clip's name (an animation of the model, or a clip its (model ...) form cuts)")
+  (:from (:or :string (:member nil)) nil "a BVH or model file whose clip NAME is retargeted onto the body, NIL for the body's model")
   (:loop :boolean nil "repeat the clip until stopped")
   (:speed :positive 1 "how fast the clip plays: 2 is twice as fast")
   (:fade :non-negative 0.2 "seconds to fade in over what lies under it")
@@ -67,11 +70,12 @@ retargeting of clips :from another file registers one).")
                            (t (driver-frame-fail driver ":joints holds joint names and roles, not ~A" (lisp-text name))))))))
 
 (defun track-pose-indices (skeleton track)
-  "The pose indices of TRACK's joint's x, y and z DOFs, in that order."
+  "The pose indices the three angle slots of TRACK go to: its joint's DOFs in
+their order (x, y and z for an imported joint; see DOF-LAYOUTS.LISP), -1 for
+the slots of the axes it lacks."
   (let ((joint (svref (skeleton-joints skeleton) (track-joint track))))
-    (loop for axis in '(:x :y :z)
-          collect (let ((dof (position axis (body-joint-dofs joint) :key #'body-dof-axis)))
-                    (if dof (+ (body-joint-dof-start joint) dof) -1)))))
+    (loop for n below 3
+          collect (if (< n (length (body-joint-dofs joint))) (+ (body-joint-dof-start joint) n) -1))))
 
 (defmethod driver-setup ((driver clip-driver))
   (let* ((clip (driver-clip driver))
@@ -82,6 +86,7 @@ retargeting of clips :from another file registers one).")
                                    (track-pose-indices skeleton track)
                                    (list -1 -1 -1)))))
     (setf (clip-driver-clip driver) clip
+          (clip-driver-layouts driver) (clip-layouts clip skeleton)
           (clip-driver-outputs driver) (coerce outputs '(simple-array fixnum (*)))
           (clip-driver-angles driver) (make-array (length outputs) :element-type 'double-float))
     (sort (remove -1 outputs) #'<)))
@@ -96,8 +101,11 @@ retargeting of clips :from another file registers one).")
         local)))
 
 (defmethod driver-drive ((driver clip-driver) time pose)
-  (let ((angles (clip-angles (clip-driver-clip driver) (clip-local-time driver time)
-                             (clip-driver-angles driver)))
+  (let ((angles (if (clip-driver-layouts driver)
+                    (clip-dof-angles (clip-driver-clip driver) (clip-local-time driver time)
+                                     (clip-driver-layouts driver) (clip-driver-angles driver))
+                    (clip-angles (clip-driver-clip driver) (clip-local-time driver time)
+                                 (clip-driver-angles driver))))
         (weight (clip-fade-weight driver time)))
     (loop for index across (clip-driver-outputs driver)
           for angle across angles

@@ -39,3 +39,42 @@ unit quaternion Q (a QUAT); three values (see %QUAT-TO-XYZ-DEGREES)."
                   "a nonzero quat of finite numbers")
   (let ((q (qnormalize q)))
     (%quat-to-xyz-degrees (quat-w q) (quat-x q) (quat-y q) (quat-z q))))
+
+;;;# Any order of axes
+
+;;; A Player joint of its own (a shipped skeleton's) turns about one to three
+;;; signed axes in a declared order, so a clip played on it needs the
+;;; decomposition in that order.  It is QUAT-TO-EULER's (src/body/bvh.lisp),
+;;; inlined and without consing, since the clip driver runs it per joint per frame.
+
+(declaim (inline %quat-to-euler-degrees))
+
+(defun %quat-to-euler-degrees (w x y z i j k)
+  "The angles (A B C), in degrees, with R(I, A) R(J, B) R(K, C) = the unit
+quaternion W X Y Z, where I J K (0 for x, 1 for y, 2 for z) are a permutation
+of the axes, the first outermost; three values.  B lies in [-90, 90], A and C
+in [-180, 180]; at gimbal lock C takes what A leaves, as in QUAT-TO-EULER."
+  (declare (type double-float w x y z) (type (integer 0 2) i j k) (optimize (speed 3) (safety 1)))
+  (let ((r (make-array 9 :element-type 'double-float)))
+    (declare (dynamic-extent r))
+    (setf (aref r 0) (- 1d0 (* 2d0 (+ (* y y) (* z z))))
+          (aref r 1) (* 2d0 (- (* x y) (* w z)))
+          (aref r 2) (* 2d0 (+ (* x z) (* w y)))
+          (aref r 3) (* 2d0 (+ (* x y) (* w z)))
+          (aref r 4) (- 1d0 (* 2d0 (+ (* x x) (* z z))))
+          (aref r 5) (* 2d0 (- (* y z) (* w x)))
+          (aref r 6) (* 2d0 (- (* x z) (* w y)))
+          (aref r 7) (* 2d0 (+ (* y z) (* w x)))
+          (aref r 8) (- 1d0 (* 2d0 (+ (* x x) (* y y)))))
+    (flet ((m (row column) (aref r (+ (* 3 row) column))))
+      (declare (inline m))
+      ;; Relabelled so (I J K) reads (x y z); an odd permutation is a
+      ;; reflection, which reverses every angle (see QUAT-TO-EULER).
+      (let* ((sign (if (= (mod (- j i) 3) 1) 1d0 -1d0))
+             (a (atan (- (m j k)) (m k k)))
+             (b (atan (m i k) (sqrt (+ (expt (m i i) 2) (expt (m i j) 2)))))
+             (ca (cos a)) (sa (sin a))
+             (c (atan (+ (* ca (m j i)) (* sa (m k i)))
+                      (+ (* ca (m j j)) (* sa (m k j)))))
+             (degrees (* sign (/ 180d0 pi))))
+        (values (* degrees a) (* degrees b) (* degrees c))))))
