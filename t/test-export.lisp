@@ -9,7 +9,7 @@
 (defparameter *export-events* '(ev-search ev-bad-speech)
   "The events the Peedy export tests play.")
 
-(defun peedy-simulation (&key (fps 30) (events *export-events*))
+(defun export-peedy-simulation (&key (fps 30) (events *export-events*))
   "Peedy's spec played on his body, silently, sampled at FPS."
   (simulate (first (load-spec (checkout-file "specs/peedy.lisp")))
             :events events :fps fps :silent t))
@@ -35,7 +35,7 @@
 
 (test export-round-trip-keeps-joints-vertices-and-length
   (with-assimp-models
-    (let* ((simulation (peedy-simulation))
+    (let* ((simulation (export-peedy-simulation))
            (frames (simulation-frame-count simulation))
            (skeleton (player.body::body-skeleton (player.performance::simulation-body simulation)))
            (original (player.export:performance-model simulation))
@@ -68,7 +68,7 @@
   ;; Every joint's local rotation read back from the file's keys at every
   ;; frame is the one the performance had (the root's with the placement).
   (with-assimp-models
-    (let* ((simulation (peedy-simulation))
+    (let* ((simulation (export-peedy-simulation))
            (baked (first (player.export:bake-simulation simulation)))
            (skeleton (player.export:baked-body-skeleton baked))
            (model (exported-and-imported simulation "gltf"))
@@ -91,7 +91,7 @@
 (test exported-rotations-are-the-poses-the-performance-had
   ;; Independently of the file: the baked keys are JOINT-LOCAL-ROTATION of
   ;; the pose at each frame time.
-  (let* ((simulation (peedy-simulation :fps 10))
+  (let* ((simulation (export-peedy-simulation :fps 10))
          (baked (first (player.export:bake-simulation simulation)))
          (worst 0d0))
     (map-simulation-frames

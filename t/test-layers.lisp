@@ -133,3 +133,41 @@ PACKAGE-NAME upper-cased, for every PLAYER: PLAYER:: PLAYER.X: or PLAYER.X::."
                    (not (eq (symbol-package symbol) (find-package '#:player))))
         (push symbol strays)))
     (is (null strays) "PLAYER exports names no layer defines: ~S" strays)))
+
+;;; The test files share one package, PLAYER-TESTS: a helper one file defines
+;;; silently replaces another's of the same name (a suite then fails, or worse
+;;; passes, far from the cause).  So no two test files may define one name.
+
+(defun test-file-definitions (path)
+  "The (NAME . LINE) of each top-level definition in the test file PATH: defun,
+defmacro, defgeneric, defstruct, defclass, define-condition, deftype and
+defparameter, and a defvar that gives a value (one without is a declaration
+another file's definition completes)."
+  (with-open-file (in path)
+    (loop for line = (read-line in nil)
+          for number from 1
+          while line
+          for start = (and (> (length line) 1) (char= (char line 0) #\()
+                           (let ((space (position #\Space line)))
+                             (and space (subseq line 1 space))))
+          when (and start (member start '("defun" "defmacro" "defgeneric" "defstruct" "defclass"
+                                          "define-condition" "deftype" "defparameter" "defvar")
+                                  :test #'string-equal))
+            nconc (let* ((rest (string-left-trim "( " (subseq line (1+ (length start)))))
+                         (end (position-if (lambda (c) (member c '(#\Space #\) #\())) rest))
+                         (name (string-downcase (subseq rest 0 end))))
+                    (unless (and (string-equal start "defvar")
+                                 (string= (string-trim " )" (subseq rest (length name))) ""))
+                      (list (cons name number)))))))
+
+(test no-two-test-files-define-one-name
+  (let ((homes (make-hash-table :test #'equal)))
+    (dolist (path (directory (merge-pathnames "t/*.lisp" *root*)))
+      (loop for (name . line) in (test-file-definitions path)
+            do (push (format nil "~A:~D" (file-namestring path) line) (gethash name homes))))
+    (maphash (lambda (name places)
+               (let ((files (remove-duplicates (mapcar (lambda (p) (subseq p 0 (position #\: p))) places)
+                                               :test #'string=)))
+                 (is (null (rest files)) "~A is defined in ~{~A~^ and ~}: the later load replaces the earlier"
+                     name (reverse places))))
+             homes)))

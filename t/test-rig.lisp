@@ -76,7 +76,7 @@ the test's own sampling of the file's keys."
                  (player.body::qslerp (key i) (key (1+ i))
                                       (/ (- time (aref times i)) (- (aref times (1+ i)) (aref times i))))))))))
 
-(defun clip-pose (skeleton clip time)
+(defun rig-clip-pose (skeleton clip time)
   "A pose of SKELETON with every joint CLIP moves at its angles at TIME."
   (let ((pose (player.body::make-pose skeleton))
         (angles (player.rig:clip-angles clip time)))
@@ -102,7 +102,7 @@ the test's own sampling of the file's keys."
         (let ((times (player:channel-rotation-times channel)))
           (loop for i below (length times) by 7
                 for time = (aref times i)
-                do (let* ((pose (clip-pose skeleton clip time))
+                do (let* ((pose (rig-clip-pose skeleton clip time))
                           (joint (svref (player.body:skeleton-joints skeleton)
                                         (svref (player.rig::rig-joint-map rig) (player:channel-joint channel))))
                           (local (player.body:joint-local-rotation joint pose))
@@ -162,7 +162,7 @@ transform)."
                             :key #'player:model-animation-name :test #'string=))
            (clip (player.rig:find-clip rig "wuson-run")))
       (dolist (time '(0d0 0.3d0 0.55d0))
-        (let* ((transforms (player.body:pose-world-transforms skeleton (clip-pose skeleton clip time)))
+        (let* ((transforms (player.body:pose-world-transforms skeleton (rig-clip-pose skeleton clip time)))
                (skinned (player.rig:skin-vertices skin (player.rig:skin-palette-matrices skin transforms)
                                                   (make-array (length (player:model-mesh-positions (player.rig:skin-mesh skin)))
                                                               :element-type 'single-float)
@@ -173,7 +173,7 @@ transform)."
           (is (< worst 1d-5) "at ~A s skinned vertices differ from the reference by ~A m" time worst)))
       ;; And the clip moves them: the run at 0.3 s is not the bind pose.
       (let ((rest (player.rig:skin-rest-positions skin (player.body:pose-world-transforms skeleton (player.body::make-pose skeleton))))
-            (run (player.rig:skin-rest-positions skin (player.body:pose-world-transforms skeleton (clip-pose skeleton clip 0.3d0)))))
+            (run (player.rig:skin-rest-positions skin (player.body:pose-world-transforms skeleton (rig-clip-pose skeleton clip 0.3d0)))))
         (is (> (loop for a across rest for b across run maximize (abs (- a b))) 0.01d0))))))
 
 (test clips-cross-fade-live-with-weights-summing-to-one
@@ -190,8 +190,8 @@ transform)."
       (dolist (time '(1.1d0 1.2d0 1.3d0 1.5d0))
         (let* ((pose (player.body:body-evaluate body time))
                (w (player.body:ramp (- time 1) 0d0 0.4d0))
-               (under (clip-pose skeleton walk (mod time (player.rig:clip-duration walk))))
-               (over (clip-pose skeleton run (mod (- time 1) (player.rig:clip-duration run))))
+               (under (rig-clip-pose skeleton walk (mod time (player.rig:clip-duration walk))))
+               (over (rig-clip-pose skeleton run (mod (- time 1) (player.rig:clip-duration run))))
                (worst (loop for index below (length pose)
                             maximize (abs (- (aref pose index)
                                              (+ (* (- 1 w) (aref under index)) (* w (aref over index))))))))
@@ -210,7 +210,7 @@ transform)."
   (handler-case (progn (player:load-script-library (write-library directory text)) nil)
     (player:player-error (condition) (princ-to-string condition))))
 
-(defmacro with-temporary-directory ((var) &body body)
+(defmacro with-rig-directory ((var) &body body)
   "Run BODY with VAR bound to a fresh directory, deleted afterwards."
   `(let ((,var (uiop:ensure-directory-pathname
                 (format nil "/tmp/player-rig-test-~D-~D/" (sb-posix:getpid) (random 1000000)))))
@@ -220,7 +220,7 @@ transform)."
 
 (test model-form-and-clip-items-load
   (with-assimp-models
-    (with-temporary-directory (dir)
+    (with-rig-directory (dir)
       (let* ((library (player:load-script-library
                        (write-library dir (format nil "(model ~S :height 0.8 :clips ((stride :from 10 :to 40 :fps 30 :animation \"Wuson_Walk\")))
 (defscript walk-once () (:at 0.5 :clip wuson-walk :fade 0.3))
@@ -242,7 +242,7 @@ transform)."
 
 (test model-form-errors-name-the-file-and-line
   (with-assimp-models
-    (with-temporary-directory (dir)
+    (with-rig-directory (dir)
       (let ((wuson (assimp-model "X/Testwuson.X")))
         (with-open-file (out (merge-pathnames "not-a-model.x" dir) :direction :output)
           (write-string "this is not a model" out))
