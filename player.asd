@@ -174,6 +174,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "import")
                  (:file "joints")
                  (:file "animations")
+                 (:file "morphs")
                  (:file "images")
                  (:file "roles")
                  ;; Writing glTF 2.0: JSON, the binary buffer, the model's parts, the files.

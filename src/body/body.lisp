@@ -42,7 +42,7 @@ POSITION and ROTATION place the skeleton's rest frame in the world."))
 
 (defmethod initialize-instance :after ((body body) &key)
   (let* ((skeleton (body-skeleton body))
-         (count (skeleton-dof-count skeleton)))
+         (count (skeleton-channel-count skeleton)))
     (flet ((angles () (make-pose skeleton))
            (slots (initial) (make-array count :initial-element initial)))
       (setf (slot-value body 'arbitrator) (make-arbitrator :blend-time (body-blend-time body))

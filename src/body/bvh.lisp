@@ -177,7 +177,7 @@ seconds and PLACEMENTS NIL or as many MAT4s as there are FRAMES."
          (sequence-p (x) (or (vectorp x) (alexandria:proper-list-p x))))
     (unless (skeleton-p skeleton)
       (fail 'skeleton skeleton "a skeleton (from load-skeleton)"))
-    (let ((count (skeleton-dof-count skeleton)))
+    (let ((count (skeleton-channel-count skeleton)))
       (unless (and (sequence-p frames)
                    (every (lambda (pose) (and (vectorp pose) (= (length pose) count)
                                               (every #'finite-number-p pose)))

@@ -41,6 +41,7 @@
    #:skeleton-joints #:skeleton-name #:skeleton-rig #:parse-skeleton #:skeleton-dof-count
    #:skeleton-roles #:body-joint #:body-joint-p #:body-dof #:body-dof-min #:body-dof-max #:body-dof-axis
    #:skeleton-channels #:skeleton-joint-names #:driver-frame-fail #:driver-local-time #:driver-real #:driver-start #:transform-compose #:ramp #:driver-default-blend
+   #:skeleton-morphs #:skeleton-channel-count #:morph-index #:channel-limits
    #:copy-vec3 #:quat-p #:skeleton-p #:skeleton-role #:skullbase
    #:slave-drivers #:target-form-p #:temporomandibular #:transform-invert #:transform-point
    #:transform-rotation #:transform-translation #:transform-vector #:transforms #:v* #:v+

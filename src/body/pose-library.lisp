@@ -15,6 +15,10 @@
 ;;;   CLAUSE = (JOINT-OR-ROLE DOF ANGLE [DOF ANGLE ...])   set DOFs, in degrees
 ;;;          | (:include POSE)                            another pose's angles
 ;;;          | (:mirror POSE)                             another pose, left <-> right
+;;;          | (:morph NAME WEIGHT)                       a morph target's weight, 0 to 1
+;;;
+;;; A joint's name may be written as a string, as an imported model's must
+;;; when it is no symbol ("mixamorig:LeftArm").
 ;;;
 ;;; JOINT-OR-ROLE is a joint name, or a role keyword (see *SKELETON-ROLES*); a
 ;;; :chain or :set role sets the DOF on each of its joints, so
@@ -83,19 +87,26 @@ none: a POSE-ERROR naming the known poses, or NIL without ERRORP."
 
 (defun check-pose-clause (clause)
   "Signal a POSE-ERROR unless CLAUSE is a well-formed pose clause (see the file format)."
-  (unless (and (consp clause) (alexandria:proper-list-p clause) (symbolp (first clause))
+  (unless (and (consp clause) (alexandria:proper-list-p clause)
+               (or (stringp (first clause)) (symbolp (first clause)))
                (first clause))
-    (pose-fail clause "a pose clause is written (JOINT-OR-ROLE DOF ANGLE ...), (:include POSE) or (:mirror POSE)"))
-  (if (member (first clause) '(:include :mirror))
-      (unless (and (= (length clause) 2) (symbolp (second clause)) (second clause))
-        (pose-fail clause "~A names one pose: (~A POSE)" (lisp-text (first clause))
-                   (lisp-text (first clause))))
-      (let ((pairs (rest clause)))
-        (unless (and pairs (evenp (length pairs))
-                     (loop for (dof angle) on pairs by #'cddr
-                           always (and dof (symbolp dof) (realp angle))))
-          (pose-fail clause "~A must be followed by DOF ANGLE pairs (a DOF name, then degrees)"
-                     (lisp-text (first clause))))))
+    (pose-fail clause "a pose clause is written (JOINT-OR-ROLE DOF ANGLE ...), (:include POSE), (:mirror POSE) or (:morph NAME WEIGHT)"))
+  (cond
+    ((eq (first clause) :morph)
+     (unless (and (= (length clause) 3) (or (stringp (second clause)) (and (second clause) (symbolp (second clause))))
+                  (realp (third clause)) (<= 0 (third clause) 1))
+       (pose-fail clause "a morph target's weight is written (:morph NAME WEIGHT), WEIGHT from 0 to 1")))
+    ((member (first clause) '(:include :mirror))
+     (unless (and (= (length clause) 2) (symbolp (second clause)) (second clause))
+       (pose-fail clause "~A names one pose: (~A POSE)" (lisp-text (first clause))
+                  (lisp-text (first clause)))))
+    (t
+     (let ((pairs (rest clause)))
+       (unless (and pairs (evenp (length pairs))
+                    (loop for (dof angle) on pairs by #'cddr
+                          always (and dof (symbolp dof) (realp angle))))
+         (pose-fail clause "~A must be followed by DOF ANGLE pairs (a DOF name, then degrees)"
+                    (lisp-text (first clause)))))))
   clause)
 
 (defun add-pose-form (library form position)
@@ -250,8 +261,18 @@ cycles.  Signals POSE-ERROR for anything that does not fit SKELETON."
                      (pose-fail clause "pose ~A includes itself" (lisp-text (second clause))))
                    (let ((included (resolve-pose other skeleton visiting)))
                      (if (eq (first clause) :mirror)
-                         (mapcar (lambda (entry) (mirror-entry entry skeleton clause)) included)
+                         (mapcar (lambda (entry)
+                                   ;; A morph target's weight has no side to mirror.
+                                   (if (>= (car entry) (skeleton-dof-count skeleton))
+                                       entry
+                                       (mirror-entry entry skeleton clause)))
+                                 included)
                          included))))
+                (:morph (list (cons (or (morph-index skeleton (second clause))
+                                        (pose-fail clause "skeleton ~A has no morph target ~A (it has ~:[none~;~:*~{~A~^, ~}~])"
+                                                   (lisp-text (skeleton-name skeleton)) (lisp-text (second clause))
+                                                   (coerce (skeleton-morphs skeleton) 'list)))
+                                    (float (third clause) 1d0))))
                 (t (dof-clause-angles clause skeleton)))))
         (dolist (entry more)
           (setf entries (cons entry (remove (car entry) entries :key #'car))))))

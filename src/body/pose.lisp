@@ -6,6 +6,9 @@
 ;;; A pose is a vector of double-floats, one per DOF of a skeleton, in degrees,
 ;;; in SKELETON-CHANNELS order: joints parent first, each joint's DOFs in file
 ;;; order, so the DOFs of JOINT are the BODY-JOINT-DOF-START-th and following.
+;;; After the DOFs come the weights of its morph targets (SKELETON-MORPHS, an
+;;; imported model's blend shapes), each from 0 to 1: channels the drivers,
+;;; arbitration and blending treat like any other, which no joint turns by.
 ;;; A joint's local rotation is the product of its DOF rotations in file order,
 ;;; the first outermost: R = R(dof1) R(dof2) ... (as BVH channels compose).
 ;;; Its local translation is its centre minus its parent's centre, so the zero
@@ -17,19 +20,19 @@
 
 (defun pose-of-p (skeleton x)
   "Is X a POSE of SKELETON: a double-float vector of its DOF count, every angle finite?"
-  (and (typep x 'pose) (= (length x) (skeleton-dof-count skeleton))
+  (and (typep x 'pose) (= (length x) (skeleton-channel-count skeleton))
        (every #'finite-number-p x)))
 
 (defun pose-phrase (skeleton)
   "How argument errors describe a pose of SKELETON."
   (format nil "a pose of skeleton ~A (a (simple-array double-float (~D)) of finite angles, from make-pose)"
-          (lisp-text (skeleton-name skeleton)) (skeleton-dof-count skeleton)))
+          (lisp-text (skeleton-name skeleton)) (skeleton-channel-count skeleton)))
 
 (defun make-pose (skeleton)
   "The rest pose of SKELETON: every DOF at zero (clamped into its limits when
 zero lies outside them)."
   (check-argument 'make-pose 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
-  (%clamp-pose skeleton (make-array (skeleton-dof-count skeleton)
+  (%clamp-pose skeleton (make-array (skeleton-channel-count skeleton)
                                    :element-type 'double-float :initial-element 0d0)))
 
 (defun copy-pose (pose)
@@ -84,16 +87,26 @@ case-insensitively).  When there is none: a SKELETON-ERROR, or NIL without ERROR
                  do (setf (aref pose i)
                           (max (float (body-dof-min dof) 1d0)
                                (min (float (body-dof-max dof) 1d0) (aref pose i))))))
+  (loop for i from (skeleton-dof-count skeleton) below (length pose)
+        do (setf (aref pose i) (max 0d0 (min 1d0 (aref pose i)))))
   pose)
+
+(defun channel-limits (skeleton index)
+  "The least and greatest value of SKELETON's pose channel INDEX, two values:
+its DOF's limits in degrees, or 0 and 1 for a morph target's weight."
+  (if (>= index (skeleton-dof-count skeleton))
+      (values 0d0 1d0)
+      (let ((dof (nth-value 1 (skeleton-dof skeleton index))))
+        (values (float (body-dof-min dof) 1d0) (float (body-dof-max dof) 1d0)))))
 
 (defun pose-within-limits-p (skeleton pose &optional (tolerance 1d-9))
   "True when every angle of POSE lies within its DOF's limits, give or take TOLERANCE degrees."
   (check-argument 'pose-within-limits-p 'skeleton skeleton #'skeleton-p "a skeleton (from load-skeleton)")
   (check-argument 'pose-within-limits-p 'pose pose
-                  (lambda (x) (and (vectorp x) (= (length x) (skeleton-dof-count skeleton))
+                  (lambda (x) (and (vectorp x) (= (length x) (skeleton-channel-count skeleton))
                                    (every #'finite-number-p x)))
                   (format nil "a vector of ~D finite angles, a pose of skeleton ~A"
-                          (skeleton-dof-count skeleton) (lisp-text (skeleton-name skeleton))))
+                          (skeleton-channel-count skeleton) (lisp-text (skeleton-name skeleton))))
   (check-real 'pose-within-limits-p 'tolerance tolerance :minimum 0)
   (loop for joint across (skeleton-joints skeleton)
         always (loop for dof in (body-joint-dofs joint)

@@ -113,7 +113,10 @@ the offending clause."))
   (source nil)
   ;; Set by PLAYER.RIG for a skeleton made from an imported model: its RIG
   ;; (the model, its placement, skins and clips).  The body layer never reads it.
-  (rig nil))
+  (rig nil)
+  ;; The names (strings) of its morph targets: channels after the DOFs, each a
+  ;; weight from 0 to 1 (see pose.lisp).  Set by PLAYER.RIG; empty otherwise.
+  (morphs #() :type simple-vector))
 
 (defmethod print-object ((skeleton skeleton) stream)
   (print-unreadable-object (skeleton stream :type t)
@@ -169,6 +172,21 @@ NIL if there is none, unless ERRORP, when a SKELETON-ERROR is signalled."
 (defun skeleton-role-names (skeleton)
   "The roles SKELETON fills, in file order."
   (mapcar #'car (skeleton-roles skeleton)))
+
+(defun skeleton-channel-count (skeleton)
+  "How many channels SKELETON's poses hold: its DOFs, then its morph targets."
+  (+ (skeleton-dof-count skeleton) (length (skeleton-morphs skeleton))))
+
+(defun morph-index (skeleton name &optional errorp)
+  "The pose index of SKELETON's morph target NAME (a string or symbol, compared
+case-insensitively); NIL when it has none, unless ERRORP, when a SKELETON-ERROR
+lists its morph targets."
+  (let ((position (position (string name) (skeleton-morphs skeleton) :test #'string-equal)))
+    (cond (position (+ (skeleton-dof-count skeleton) position))
+          (errorp (skeleton-fail name "skeleton ~A has no morph target ~A (it has ~:[none~;~:*~{~A~^, ~}~])"
+                                 (lisp-text (skeleton-name skeleton)) (lisp-text name)
+                                 (coerce (skeleton-morphs skeleton) 'list)))
+          (t nil))))
 
 (defun skeleton-channels (skeleton)
   "Every DOF of SKELETON as a channel name (JOINT-NAME . DOF-NAME), parent first."

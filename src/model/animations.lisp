@@ -42,10 +42,12 @@ their times in seconds and their values, WIDTH each."
   "The aiNodeAnim pointers of ANIMATION, as a list."
   (pointer-list animation '(:struct %ai-animation) 'num-channels 'channels "animation channels"))
 
-(defun import-animation (animation joint-index)
+(defun import-animation (animation joint-index &optional (meshes-of (make-hash-table :test 'equal)))
   "The ANIMATION (an aiAnimation) as an ANIMATION struct, times in seconds:
 ticks over ticks per second, Assimp's 0 ticks per second meaning 25.  Its
-duration covers its last key, should the file's be shorter."
+duration covers its last key, should the file's be shorter.  MESHES-OF maps
+node and mesh names to the meshes whose morph weights it may animate (see
+IMPORT-MORPH-CHANNEL)."
   (let* ((ticks (cffi:foreign-slot-value animation '(:struct %ai-animation) 'duration))
          (rate (cffi:foreign-slot-value animation '(:struct %ai-animation) 'ticks-per-second))
          (ticks-per-second (if (and (finite-double-p rate) (plusp rate)) rate 25d0))
@@ -57,8 +59,14 @@ duration covers its last key, should the file's be shorter."
            (last-key (loop for channel in channels
                            maximize (max (last-time (channel-position-times channel))
                                          (last-time (channel-rotation-times channel))
-                                         (last-time (channel-scale-times channel))))))
-      (make-model-animation name (max (/ ticks ticks-per-second) last-key) channels))))
+                                         (last-time (channel-scale-times channel)))))
+           (morph-channels (loop for channel in (ai-morph-channels animation)
+                                 for imported = (import-morph-channel channel ticks-per-second meshes-of)
+                                 when imported collect imported))
+           (last-morph-key (loop for channel in morph-channels
+                                 maximize (last-time (morph-channel-times channel)))))
+      (make-model-animation name (max (/ ticks ticks-per-second) last-key last-morph-key)
+                            channels morph-channels))))
 
 (defun last-time (times)
   "The largest of TIMES (a DOUBLE-VECTOR), or 0 when there are none."

@@ -103,14 +103,32 @@ NaNs and infinities inside (degenerate normals, empty bounding boxes)."
 
 (cffi:defcstruct (%ai-anim-mesh :size 1200)
   (name (:struct %ai-string) :offset 0)
-  (num-vertices :unsigned-int :offset 1192))
+  (vertices :pointer :offset 1032)              ; aiVector3D[num-vertices]: the target's positions
+  (normals :pointer :offset 1040)               ; its normals, or NULL
+  (num-vertices :unsigned-int :offset 1192)
+  (weight :float :offset 1196))
 
 (cffi:defcstruct (%ai-animation :size 1096)
   (name (:struct %ai-string) :offset 0)
   (duration :double :offset 1032)               ; in ticks
   (ticks-per-second :double :offset 1040)       ; 0 when the file does not say
   (num-channels :unsigned-int :offset 1048)
-  (channels :pointer :offset 1056))             ; aiNodeAnim*[num-channels]
+  (channels :pointer :offset 1056)              ; aiNodeAnim*[num-channels]
+  (num-morph-mesh-channels :unsigned-int :offset 1080)
+  (morph-mesh-channels :pointer :offset 1088))  ; aiMeshMorphAnim*[num-morph-mesh-channels]
+
+;;; aiMeshMorphAnim: the node (or mesh) it animates, and its keys.
+(cffi:defcstruct (%ai-mesh-morph-anim :size 1040)
+  (name (:struct %ai-string) :offset 0)
+  (num-keys :unsigned-int :offset 1028)
+  (keys :pointer :offset 1032))                 ; aiMeshMorphKey[num-keys]
+
+;;; aiMeshMorphKey: at TIME (ticks), the targets VALUES (indices) have WEIGHTS.
+(cffi:defcstruct (%ai-mesh-morph-key :size 32)
+  (time :double :offset 0)
+  (values :pointer :offset 8)                   ; unsigned int[num-values-and-weights]
+  (weights :pointer :offset 16)                 ; double[num-values-and-weights]
+  (num-values-and-weights :unsigned-int :offset 24))
 
 (cffi:defcstruct (%ai-node-anim :size 1080)
   (node-name (:struct %ai-string) :offset 0)

@@ -238,9 +238,11 @@ TRANSFORM its node's world matrix at rest."
          (bones (mesh-bone-pointers mesh)))
     (multiple-value-bind (joints weights)
         (when bones (copy-skin bones vertex-count joint-index fallback))
+      (let ((base (copy-floats positions vertex-count 3 3 "a mesh's vertex positions")))
       (make-model-mesh
        :name (slot-string mesh '%ai-mesh 'name)
-       :positions (copy-floats positions vertex-count 3 3 "a mesh's vertex positions")
+       :positions base
+       :morphs (copy-morph-targets mesh base vertex-count)
        :normals (unless (cffi:null-pointer-p normals)
                   (copy-floats normals vertex-count 3 3 "a mesh's normals"))
        :uvs (mesh-channel mesh 'texture-coords 0 3 2 "a mesh's UVs")
@@ -251,7 +253,7 @@ TRANSFORM its node's world matrix at rest."
        :holder fallback :transform transform
        :texture (when (< material (length materials))
                   (material-texture (nth material materials) directory))
-       :morph-targets (morph-target-names mesh)))))
+       :morph-targets (morph-target-names mesh))))))
 
 ;;;# The scene
 
@@ -326,7 +328,24 @@ TRANSFORM its node's world matrix at rest."
                                                (nearest-joint nodes joint-of (aref holders i))
                                                (node-world-matrix nodes (aref holders i))))
                       joints
-                      (mapcar (lambda (animation) (import-animation animation joint-index)) animations)))))))
+                      (let ((meshes-of (node-meshes-table nodes holders meshes)))
+                        (mapcar (lambda (animation) (import-animation animation joint-index meshes-of))
+                                animations))))))))
+
+(defun node-meshes-table (nodes holders meshes)
+  "A table from each node's name, and each mesh's, to the (MESH-INDEX .
+TARGET-COUNT) of the meshes it holds (or is) that have morph targets: what a
+morph animation channel names.  HOLDERS gives each mesh's node."
+  (let ((table (make-hash-table :test 'equal)))
+    (loop for mesh in meshes
+          for index from 0
+          for targets = (cffi:foreign-slot-value mesh '(:struct %ai-mesh) 'num-anim-meshes)
+          for holder = (aref holders index)
+          when (plusp targets)
+            do (when holder
+                 (push (cons index targets) (gethash (second (aref nodes holder)) table)))
+               (push (cons index targets) (gethash (slot-string mesh '%ai-mesh 'name) table)))
+    table))
 
 (defun assimp-error-string ()
   "Assimp's message about the last import that failed."

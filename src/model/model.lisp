@@ -20,8 +20,9 @@ the mesh's own bones; HOLDER, the joint its node is or hangs below (what an
 unskinned vertex follows); TRANSFORM, its node's world matrix at rest (16
 doubles, row-major, the scene's space: where its vertices are for an unskinned
 mesh); TEXTURE, its diffuse texture's path resolved against the
-model's folder (or \"*N\" for a texture embedded in the file), or NIL; and
-MORPH-TARGETS, the names of its morph targets."
+model's folder (or \"*N\" for a texture embedded in the file), or NIL;
+MORPH-TARGETS, the names of its morph targets, and MORPHS, the MORPH-TARGETs
+themselves (names and position deltas)."
   (name "" :type string)
   (positions nil :type float-vector)
   (normals nil :type (or null float-vector))
@@ -34,7 +35,8 @@ MORPH-TARGETS, the names of its morph targets."
   (holder 0 :type (integer 0))
   (transform nil :type (or null double-vector))
   (texture nil :type (or null string))
-  (morph-targets '() :type list))
+  (morph-targets '() :type list)
+  (morphs '() :type list))
 
 (defun model-mesh-vertex-count (mesh)
   "How many vertices MESH has."
@@ -70,12 +72,14 @@ ROTATIONS (w x y z per key) and SCALES (3 per key)."
   (scale-times nil :type double-vector)
   (scales nil :type double-vector))
 
-(defstruct (model-animation (:constructor make-model-animation (name duration channels)))
+(defstruct (model-animation (:constructor make-model-animation (name duration channels &optional morph-channels)))
   "An animation clip: its NAME (\"\" when the file gives none), its DURATION in
-seconds, and its CHANNELS, one per animated joint."
+seconds, its CHANNELS, one per animated joint, and its MORPH-CHANNELS, the
+keys of morph target weights (see morphs.lisp)."
   (name "" :type string)
   (duration 0d0 :type double-float)
-  (channels '() :type list))
+  (channels '() :type list)
+  (morph-channels '() :type list))
 
 (defstruct (model (:constructor make-model (file meshes joints animations)))
   "A model imported from FILE (its truename, a string): its MESHES, its JOINTS

@@ -17,13 +17,15 @@
    #:model-morph-targets #:find-model-joint
    #:model-mesh #:model-mesh-name #:model-mesh-positions #:model-mesh-normals #:model-mesh-uvs #:model-mesh-colours
    #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
-   #:model-mesh-morph-targets #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:model-mesh-morph-targets #:model-mesh-morphs #:morph-target #:morph-target-name #:morph-target-deltas
+   #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
+   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
    #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind
    #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
-   #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
+   #:copy-model #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
    #:write-gltf #:model-write-error
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing

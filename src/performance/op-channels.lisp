@@ -83,7 +83,13 @@ and as a second value whether any of them places the character itself."
 
 (defun channel-joint-names (skeleton channels)
   "The names of the joints of SKELETON owning the pose indices CHANNELS, sorted."
-  (sort (remove-duplicates (mapcar (lambda (index) (joint-text (skeleton-dof skeleton index)))
+  (sort (remove-duplicates (mapcar (lambda (index)
+                                     (let ((joint (skeleton-dof skeleton index)))
+                                       (if joint
+                                           (joint-text joint)
+                                           ;; A morph target's weight: no joint owns it.
+                                           (format nil "morph ~A" (svref (skeleton-morphs skeleton)
+                                                                         (- index (skeleton-dof-count skeleton)))))))
                                    channels)
                            :test #'string=)
         #'string<))

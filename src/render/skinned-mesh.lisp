@@ -102,8 +102,10 @@ or no UVs to place it."
 palette fits +PALETTE-SIZE+, else on the CPU."
   (let* ((mesh (skin-mesh skin))
          (count (model-mesh-vertex-count mesh))
+         ;; Morph targets are added on the CPU, before skinning.
          (mode (if (and (eq (renderer-skinning renderer) :gpu)
-                        (<= (length (skin-palette skin)) +palette-size+))
+                        (<= (length (skin-palette skin)) +palette-size+)
+                        (null (skin-morphs skin)))
                    :gpu :cpu))
          (normals (or (model-mesh-normals mesh) (filled-floats count '(0 1 0))))
          (texture (mesh-texture renderer mesh))
@@ -162,10 +164,12 @@ palette fits +PALETTE-SIZE+, else on the CPU."
                          (float (aref m row column) 1f0)))))
       (gl-uniform-matrix4fv location n +gl-false+ floats))))
 
-(defun pose-on-cpu (gpu skin palette)
-  "Skin SKIN's vertices by PALETTE on the CPU into GPU's buffers."
+(defun pose-on-cpu (gpu skin palette pose)
+  "Skin SKIN's vertices by PALETTE on the CPU into GPU's buffers, its morph
+targets first added at their weights in POSE (the body's)."
   (skin-vertices skin palette (gpu-skin-positions gpu) (and (model-mesh-normals (skin-mesh skin))
-                                                            (gpu-skin-normals gpu)))
+                                                            (gpu-skin-normals gpu))
+                 pose)
   (loop for (buffer data) in (list (list (gpu-skin-position-buffer gpu) (gpu-skin-positions gpu))
                                    (list (gpu-skin-normal-buffer gpu) (gpu-skin-normals gpu)))
         do (gl-bind-buffer +gl-array-buffer+ buffer)
@@ -191,7 +195,7 @@ palette fits +PALETTE-SIZE+, else on the CPU."
                    (push name shaded))
                  (if (eq (gpu-skin-mode gpu) :gpu)
                      (upload-matrices (uniform uniforms "palette") palette)
-                     (pose-on-cpu gpu skin palette))
+                     (pose-on-cpu gpu skin palette (body-pose (scene-mesh-object scene-mesh))))
                  (gl-bind-texture +gl-texture-2d+ (gpu-skin-texture gpu))
                  (gl-bind-vertex-array (gpu-skin-vao gpu))
                  (gl-draw-elements +gl-triangles+ (gpu-skin-count gpu) +gl-unsigned-int+

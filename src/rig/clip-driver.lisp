@@ -16,7 +16,9 @@
             :documentation "Per angle CLIP-ANGLES gives, the pose index it drives, or -1 where masked.")
    (angles :initform nil :accessor clip-driver-angles :documentation "CLIP-ANGLES' buffer.")
    (layouts :initform nil :accessor clip-driver-layouts
-            :documentation "CLIP-LAYOUTS of the clip on the body's skeleton: NIL when every joint is x/y/z."))
+            :documentation "CLIP-LAYOUTS of the clip on the body's skeleton: NIL when every joint is x/y/z.")
+   (morph-tracks :initform '() :accessor clip-driver-morph-tracks
+                 :documentation "The clip's morph tracks it plays (see MASKED-MORPH-TRACKS)."))
   (:documentation "Plays a CLIP of the body's model: each joint the clip moves,
 and the mask lets through, follows the clip's rotations."))
 
@@ -62,6 +64,8 @@ retargeting of clips :from another file registers one).")
                                 (driver-frame-fail driver ":joints names the role ~A, which skeleton ~A does not fill"
                                                    (lisp-text name) (lisp-text (skeleton-name skeleton))))
                               (mapcar #'body-joint-index (ensure-list filled))))
+                           ;; A morph target's name: its weight, not a joint (MASKED-MORPH-TRACKS).
+                           ((and (stringp name) (morph-index skeleton name)) '())
                            ((and name (or (symbolp name) (stringp name)))
                             (list (body-joint-index
                                    (or (find-joint skeleton name)
@@ -88,8 +92,22 @@ the slots of the axes it lacks."
     (setf (clip-driver-clip driver) clip
           (clip-driver-layouts driver) (clip-layouts clip skeleton)
           (clip-driver-outputs driver) (coerce outputs '(simple-array fixnum (*)))
-          (clip-driver-angles driver) (make-array (length outputs) :element-type 'double-float))
-    (sort (remove -1 outputs) #'<)))
+          (clip-driver-angles driver) (make-array (length outputs) :element-type 'double-float)
+          (clip-driver-morph-tracks driver) (masked-morph-tracks driver clip))
+    (sort (append (remove -1 outputs) (mapcar #'first (clip-driver-morph-tracks driver))) #'<)))
+
+(defun masked-morph-tracks (driver clip)
+  "CLIP's morph tracks DRIVER plays: all of them without :joints, else those
+whose morph target :joints names (in a string)."
+  (let ((names (driver-arg driver :joints))
+        (skeleton (driver-skeleton driver)))
+    (if (null names)
+        (clip-morph-tracks clip)
+        (remove-if-not (lambda (track)
+                         (let ((name (svref (skeleton-morphs skeleton)
+                                            (- (first track) (skeleton-dof-count skeleton)))))
+                           (member name names :test (lambda (a b) (and (stringp b) (string-equal a b))))))
+                       (clip-morph-tracks clip)))))
 
 (defun clip-local-time (driver time)
   "Seconds into DRIVER's clip at the absolute TIME: scaled by :speed, wrapped when looping."
@@ -113,7 +131,12 @@ the slots of the axes it lacks."
             do (setf (aref pose index)
                      (if (= weight 1d0)
                          angle
-                         (+ (aref pose index) (* weight (- angle (aref pose index)))))))))
+                         (+ (aref pose index) (* weight (- angle (aref pose index)))))))
+    (let ((local (clip-local-time driver time)))
+      (dolist (track (clip-driver-morph-tracks driver))
+        (let ((index (first track)))
+          (setf (aref pose index)
+                (+ (aref pose index) (* weight (- (clip-morph-weight track local) (aref pose index))))))))))
 
 (defun clip-fade-weight (driver time)
   "The weight DRIVER's clip has at TIME: its :weight, times its fade-in."

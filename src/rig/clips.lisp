@@ -18,16 +18,19 @@ so that consecutive keys are within 180 degrees (slerp takes the short way)."
   (times nil :type doubles)
   (quats nil :type doubles))
 
-(defstruct (motion-clip (:conc-name clip-) (:constructor make-motion-clip (name duration tracks &key root-times root-offsets source)))
+(defstruct (motion-clip (:conc-name clip-) (:constructor make-motion-clip (name duration tracks &key root-times root-offsets source morph-tracks)))
   "A clip: NAME (a string), DURATION (seconds), TRACKS (a simple-vector of
 TRACKs, by increasing joint), and the root's travel: ROOT-TIMES and
 ROOT-OFFSETS (x y z per key, metres in Player's space from where the root
-rests), or NIL when the clip does not move it.  SOURCE says where it came from."
+rests), or NIL when the clip does not move it; MORPH-TRACKS, the weights of
+morph targets it keys, (POSE-INDEX TIMES WEIGHTS) each.  SOURCE says where it
+came from."
   (name "" :type string)
   (duration 0d0 :type double-float)
   (tracks #() :type simple-vector)
   (root-times nil :type (or null doubles))
   (root-offsets nil :type (or null doubles))
+  (morph-tracks '() :type list)
   (source nil))
 
 (defmethod print-object ((clip motion-clip) stream)
@@ -144,6 +147,33 @@ the highest joint with position keys; NIL when no joint has any."
                                              collect (loop for k below 3 sum (* (aref frame row k) (nth k d))))))
                                    values))))))))
 
+(defun morph-tracks (rig animation start end)
+  "The (POSE-INDEX TIMES WEIGHTS) of each morph target ANIMATION keys between
+START and END, times from 0; one per target, the first channel naming it winning."
+  (let ((model (rig-model rig))
+        (tracks '()))
+    (dolist (channel (model-animation-morph-channels animation) (nreverse tracks))
+      (let ((count (morph-channel-target-count channel)))
+        (dolist (mesh-index (morph-channel-meshes channel))
+          (loop for target in (model-mesh-morphs (nth mesh-index (model-meshes model)))
+                for k below count
+                for index = (+ (rig-morph-base rig)
+                               (position (morph-target-name target) (model-morph-targets model) :test #'string=))
+                unless (find index tracks :key #'first)
+                  do (let ((weights (make-array (length (morph-channel-times channel)) :element-type 'double-float)))
+                       (dotimes (i (length weights))
+                         (setf (aref weights i) (aref (morph-channel-weights channel) (+ (* i count) k))))
+                       (multiple-value-bind (times values)
+                           (keys-between (morph-channel-times channel) weights 1 start end)
+                         (push (list index (doubles times) (doubles values)) tracks)))))))))
+
+(defun clip-morph-weight (track time)
+  "The weight a morph TRACK, (POSE-INDEX TIMES WEIGHTS), keys at TIME, linearly
+interpolated and held outside its keys."
+  (destructuring-bind (index times weights) track
+    (declare (ignore index))
+    (first (sample-keys times weights 1 time))))
+
 (defun make-animation-clip (rig animation &key name (start 0d0) end source)
   "The CLIP of RIG's model's ANIMATION from START to END seconds (default: all
 of it), named NAME (default: the animation's, see CLIP-NAME-FROM-ANIMATION)."
@@ -163,6 +193,7 @@ of it), named NAME (default: the animation's, see CLIP-NAME-FROM-ANIMATION)."
                  (- end start)
                  (coerce (sort tracks #'< :key #'track-joint) 'simple-vector)
                  :root-times root-times :root-offsets root-offsets
+                 :morph-tracks (morph-tracks rig animation start end)
                  :source (or source (format nil "~A, animation ~S" (file-namestring (model-file (rig-model rig)))
                                             (model-animation-name animation)))))))
 

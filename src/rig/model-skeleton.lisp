@@ -180,7 +180,11 @@ not fit the model."
   (unless (alexandria:proper-list-p clips)
     (rig-fail clips ":clips is a list of (NAME :from FRAME :to FRAME :fps N [:animation NAME-OR-INDEX])"))
   (when (zerop (length (model-joints model)))
-    (rig-fail (model-file model) "~A has no joints" (file-namestring (model-file model))))
+    (if (model-morph-targets model)
+        ;; Morph targets and no joints (a face of blend shapes): one joint
+        ;; carries the meshes, the morphs move them.
+        (setf model (with-root-joint model))
+        (rig-fail (model-file model) "~A has no joints: it is a prop, not a character" (file-namestring (model-file model)))))
   (let* ((joints (model-joints model))
          (parents (map 'vector #'joint-parent joints))
          (names (unique-joint-names model))
@@ -213,21 +217,34 @@ not fit the model."
                                                          (mapcar (lambda (i) (svref symbols i)) target)
                                                          (svref symbols target))))))
              (skeleton (parse-skeleton form (model-file model))))
+        ;; Morph weights are channels after the DOFs: set before any pose is made.
+        (setf (skeleton-morphs skeleton) (coerce (model-morph-targets model) 'simple-vector))
         (multiple-value-bind (rest-rotations parent-rotations) (joint-rest-rotations model up)
           (let ((rig (%make-rig :model model :placement placement :scale s
+                                :morph-base (skeleton-dof-count skeleton)
                                 :world-rest worlds :rest-rotations rest-rotations
                                 :parent-rotations parent-rotations
                                 :joint-map (map 'simple-vector
                                                 (lambda (n) (body-joint-index (find-joint skeleton n)))
                                                 names))))
-            (setf (rig-skins rig) (make-skins rig palettes)
+            (setf (rig-skins rig) (make-skins rig palettes skeleton)
                   (rig-bounds rig) (rig-bind-bounds rig skeleton)
                   (skeleton-rig skeleton) rig)
             (add-animation-clips rig)
             (dolist (clip clips) (cut-clip rig clip))
             skeleton))))))
 
-(defun make-skins (rig palettes)
+(defun with-root-joint (model)
+  "A copy of MODEL, which has no joints, with one at the scene's root that every mesh hangs from."
+  (let ((copy (copy-model model)))
+    (setf (model-joints copy)
+          (vector (make-joint "root" nil (make-array 3 :element-type 'double-float :initial-element 0d0)
+                              (make-array 4 :element-type 'double-float :initial-contents '(1d0 0d0 0d0 0d0))
+                              (make-array 3 :element-type 'double-float :initial-element 1d0)
+                              nil)))
+    copy))
+
+(defun make-skins (rig palettes skeleton)
   "The SKINs of RIG's model's meshes, from PALETTES ((JOINTS . BINDS) per mesh)."
   (loop for mesh in (model-meshes (rig-model rig))
         for (joints . binds) in palettes
@@ -243,7 +260,10 @@ not fit the model."
                                                           (make-vec3 (- (aref world 0 3)) (- (aref world 1 3)) (- (aref world 2 3))))
                                                          (affine* (rig-placement rig) bind))))
                                             joints binds)
-                              :slots slots :weights weights))))
+                              :slots slots :weights weights
+                              :morphs (loop for target in (model-mesh-morphs mesh)
+                                            collect (cons (morph-index skeleton (morph-target-name target) t)
+                                                          (morph-target-deltas target)))))))
 
 (defun rig-bind-bounds (rig skeleton)
   "The (MIN . MAX) vec3s of RIG's skins at rest on SKELETON (its joints, for a model without meshes)."

@@ -17,7 +17,7 @@
    #:mesh-skin #:skin-mesh #:skin-palette-joints #:skin-palette-matrices #:skin-palette
    #:skin-vertices #:skin-rest-positions #:skin-slots #:skin-weights
    #:quat-to-xyz-degrees #:rig-error #:clip-driver #:clip-root-offset #:*clip-resolvers*
-   #:make-motion-clip #:make-track #:clip-track #:track-joint #:track-times #:track-quats #:add-rig-clip
+   #:make-motion-clip #:make-track #:clip-track #:track-joint #:track-times #:track-quats #:add-rig-clip #:skin-morphs #:clip-morph-tracks #:clip-morph-weight #:rig-morph-base
    #:clip-root-times #:clip-root-offsets #:clip-source
    #:clip-dof-angles #:clip-layouts #:joint-dof-layout #:dof-layout
    #:retarget-clip #:retargeted-clip #:clip-file-clip #:clip-file-source))

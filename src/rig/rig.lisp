@@ -42,7 +42,9 @@ bind pose's (MIN . MAX) vec3s in Player's space."
   (joint-map #() :type simple-vector)
   (skins '() :type list)
   (clips (make-hash-table :test #'equalp) :type hash-table)
-  (bounds nil))
+  (bounds nil)
+  ;; The pose index of the first morph target's weight (the skeleton's DOF count).
+  (morph-base 0 :type fixnum))
 
 (defmethod print-object ((rig rig) stream)
   (print-unreadable-object (rig stream :type t)

@@ -21,7 +21,10 @@ vertex (palette entries and their weights)."
   (palette-joints (make-array 0 :element-type 'fixnum) :type (simple-array fixnum (*)))
   (palette #() :type simple-vector)
   (slots nil :type palette-slots)
-  (weights nil :type skin-weights))
+  (weights nil :type skin-weights)
+  ;; Its mesh's morph targets: (POSE-INDEX . DELTAS) each, the pose channel
+  ;; holding the target's weight and its position deltas (3 per vertex).
+  (morphs '() :type list))
 
 ;;;# Building
 
@@ -96,14 +99,33 @@ Stored into RESULT (a simple-vector of MAT4s, or NIL slots filled anew)."
              (setf (svref result k) target)))
   result)
 
-(defun skin-vertices (skin palette positions-out normals-out)
+(defun morphed-positions (skin pose)
+  "SKIN's mesh positions with its morph targets added at their weights in POSE
+(a fresh vector), or the mesh's own positions when no weight is above 0."
+  (let ((positions (model-mesh-positions (skin-mesh skin)))
+        (active (and pose (remove-if-not (lambda (morph) (> (aref pose (car morph)) 0d0))
+                                         (skin-morphs skin)))))
+    (if (null active)
+        positions
+        (let ((morphed (copy-seq positions)))
+          (declare (type (simple-array single-float (*)) morphed))
+          (loop for (index . deltas) in active
+                for weight = (float (aref pose index) 1f0)
+                do (let ((deltas deltas))
+                     (declare (type (simple-array single-float (*)) deltas))
+                     (dotimes (k (length morphed))
+                       (incf (aref morphed k) (* weight (aref deltas k))))))
+          morphed))))
+
+(defun skin-vertices (skin palette positions-out normals-out &optional pose)
   "Write SKIN's mesh vertices posed by PALETTE (from SKIN-PALETTE-MATRICES)
 into POSITIONS-OUT and NORMALS-OUT (single-float vectors, 3 per vertex;
 NORMALS-OUT may be NIL): linear-blend skinning, normals by the blended
-linear part, renormalised.  Returns POSITIONS-OUT."
+linear part, renormalised.  With POSE (the body's pose), the mesh's morph
+targets are first added at their weights.  Returns POSITIONS-OUT."
   (declare (type simple-vector palette) (optimize (speed 3) (safety 1)))
   (let* ((mesh (skin-mesh skin))
-         (positions (model-mesh-positions mesh))
+         (positions (morphed-positions skin pose))
          (normals (model-mesh-normals mesh))
          (slots (skin-slots skin))
          (weights (skin-weights skin)))

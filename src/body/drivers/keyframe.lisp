@@ -97,8 +97,8 @@ pose into one named pose and holding it."))
         (setf (keyframe-limits driver)
               (map 'simple-vector
                    (lambda (index)
-                     (let ((dof (nth-value 1 (skeleton-dof (driver-skeleton driver) index))))
-                       (cons (float (body-dof-min dof) 1d0) (float (body-dof-max dof) 1d0))))
+                     (multiple-value-bind (low high) (channel-limits (driver-skeleton driver) index)
+                       (cons low high)))
                    channels))
         channels))))
 
