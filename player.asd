@@ -224,7 +224,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "blink")
                                (:file "facing")
                                (:file "eyebrows")
-                               (:file "reach")))))
+                               (:file "reach")
+                               (:file "face-morphs")))))
    ;; Scripts played on a body: script libraries, directors, the performance, the body presenter, simulation.
    ;; Characters from imported models: skeletons and skins made from a model's joints, clips, retargeting.
    (:module "rig" :depends-on ("base" "spec" "model" "body")
@@ -476,5 +477,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-gltf-write")
                  (:file "test-export")
                  ;; motion capture retargeted (issue 26, item 5)
-                 (:file "test-retarget"))))
+                 (:file "test-retarget")
+                 (:file "test-rig-faces"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -80,7 +80,10 @@
    #:model-channel #:channel-joint #:channel-position-times #:channel-positions
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
-   #:write-gltf #:model-write-error)
+   #:write-gltf #:model-write-error
+   #:make-morph-target #:morph-target #:morph-target-name #:morph-target-deltas #:model-mesh-morphs
+   #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
+   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count)
   (:import-from #:player.rig
    #:model-skeleton #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
@@ -219,6 +222,9 @@
    #:channel-rotation-times #:channel-rotations #:channel-scale-times #:channel-scales
    #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
    #:write-gltf #:model-write-error
+   #:make-morph-target #:morph-target #:morph-target-name #:morph-target-deltas #:model-mesh-morphs
+   #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
+   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count
    ;; Characters from models (doc/models.md)
    #:model-skeleton #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees

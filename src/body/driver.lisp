@@ -121,10 +121,15 @@ seconds, STOP not before START."
 naming DRIVER's frame when the skeleton leaves ROLE unfilled, unless ERRORP is NIL."
   (or (skeleton-role (driver-skeleton driver) role)
       (and errorp
-           (motor-fail (motor-call-frame (driver-call driver))
-                       "skeleton ~A has no ~A (motor function ~A needs it)"
-                       (lisp-text (skeleton-name (driver-skeleton driver))) (lisp-text role)
-                       (lisp-text (motor-call-function (driver-call driver)))))))
+           (let ((skeleton (driver-skeleton driver)))
+             (motor-fail (motor-call-frame (driver-call driver))
+                         "skeleton ~A~@[ (the model ~A)~] has no ~A (motor function ~A needs it)"
+                         (lisp-text (skeleton-name skeleton))
+                         ;; An imported model's skeleton: name the file the user gave.
+                         (and (skeleton-rig skeleton) (skeleton-source skeleton)
+                              (file-namestring (skeleton-source skeleton)))
+                         (lisp-text role)
+                         (lisp-text (motor-call-function (driver-call driver))))))))
 
 (defun ramp (time start duration)
   "0 before START, rising smoothly (smoothstep) to 1 at START + DURATION."

@@ -92,11 +92,13 @@ the first DOF, so the beat still shows."
         (amplitude (driver-arg driver :amplitude)))
     (setf (beat-from driver) (capture-angles pose (driver-channels driver)))
     (multiple-value-bind (elbow wrist) (beat-arm-joints driver)
-      ;; The forearm flexes or extends at the elbow's first DOF; the hand
-      ;; takes whichever wrist DOF lowers it (deviation, with the palm in).
+      ;; The forearm takes whichever elbow DOF lowers the hand (flexion on
+      ;; Player's own skeletons; an imported arm may be anyhow turned: a
+      ;; T-pose's x is a twist), the first when none does; the hand
+      ;; whichever wrist DOF lowers it (deviation, with the palm in).
       (setf (beat-flicks driver)
             (list (choose-flick skeleton pose wrist placement
-                                (list (body-joint-dof-start elbow))
+                                (joint-dof-indices elbow)
                                 (* amplitude *beat-elbow-degrees*))
                   (choose-flick skeleton pose wrist placement (joint-dof-indices wrist)
                                 (* amplitude *beat-wrist-degrees*)))))))

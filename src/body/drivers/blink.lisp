@@ -31,7 +31,8 @@ SEED and MEAN-INTERVAL, as a list."
 ;;;# The driver
 
 (defclass blink-driver (driver)
-  ((lids :accessor blink-lids :documentation "The close DOFs of the two upper lids.")
+  ((lids :accessor blink-lids :documentation "Per channel, its value when shut: each upper
+lid's close DOF's limit, or 1 for a morph target that closes the eyes.")
    (open :accessor blink-open :documentation "Each lid's angle between blinks.")
    (times :initform (make-array 16 :adjustable t :fill-pointer 0) :reader blink-reflex-times
           :documentation "The reflex blinks' absolute times found so far, increasing.")
@@ -44,7 +45,12 @@ its start, and at the start of each later gaze shift, until stopped."))
   (unless (integerp (driver-arg driver :seed))
     (motor-fail (motor-call-frame (driver-call driver)) "blink :seed must be an integer, not ~A"
                 (lisp-text (driver-arg driver :seed))))
-  (let ((skeleton (driver-skeleton driver)))
+  (let ((skeleton (driver-skeleton driver))
+        (morphs (blink-morph-indices (driver-skeleton driver))))
+    ;; A face of morph targets without lid joints closes its eyes with them.
+    (when (and morphs (not (skeleton-role skeleton :left-upper-lid)))
+      (setf (blink-lids driver) (mapcar (constantly 1d0) morphs))
+      (return-from driver-setup morphs))
     (setf (blink-lids driver)
           (loop for role in '(:left-upper-lid :right-upper-lid)
                 for joint = (role-joint driver role)
@@ -54,7 +60,7 @@ its start, and at the start of each later gaze shift, until stopped."))
                                  "lid ~A of skeleton ~A has no DOF close"
                                  (lisp-text (body-joint-name joint))
                                  (lisp-text (skeleton-name skeleton)))
-                collect dof))
+                collect (float (body-dof-max dof) 1d0)))
     (loop for role in '(:left-upper-lid :right-upper-lid)
           collect (dof-index skeleton (body-joint-name (role-joint driver role)) 'close))))
 
@@ -121,9 +127,8 @@ eased shut by the middle, eased open by the end."
 (defmethod driver-drive ((driver blink-driver) time pose)
   (let ((closure (blink-closure-at driver time)))
     (loop for index in (driver-channels driver)
-          for dof in (blink-lids driver)
+          for shut in (blink-lids driver)
           for open in (blink-open driver)
-          for shut = (float (body-dof-max dof) 1d0)
           do (setf (aref pose index) (+ open (* closure (- shut open)))))))
 
 (define-motor-function :blink blink-driver

@@ -1,6 +1,7 @@
 ;;;; lips.lisp -- Pantomime's LipDriver: move the jaw (a parrot's lower beak)
 ;;;; through a timed list of visemes, the mouth shapes of speech, easing from
-;;;; each to the next as speech coarticulates.
+;;;; each to the next as speech coarticulates.  A face without a jaw joint but
+;;;; with viseme or mouth morph targets (face-morphs.lisp) moves those instead.
 
 (in-package #:player.body)
 
@@ -34,11 +35,13 @@ rounding and spreading show as their openings.")
   ((times :initform '() :accessor lips-times
           :documentation "Viseme times, seconds from the start, increasing.")
    (angles :initform '() :accessor lips-angles
-           :documentation "The jaw angle of each viseme.")
-   (from :initform 0d0 :accessor lips-from
-         :documentation "The jaw angle at the start."))
-  (:documentation "Drives the jaw's open DOF through timed visemes; each viseme's
-opening is reached at its time after a :ramp-second ease that starts before it."))
+           :documentation "Per viseme, the value of each of its channels (the jaw's open
+angle, or the weights of the mouth's morph targets), a vector in channel order.")
+   (from :initform #() :accessor lips-from
+         :documentation "Each channel's value at the start."))
+  (:documentation "Drives the jaw's open DOF (or the mouth's morph targets) through
+timed visemes; each viseme's shape is reached at its time after a
+:ramp-second ease that starts before it."))
 
 (define-motor-function :lips lips-driver
   "Move the jaw (a parrot's beak) through timed visemes; ends when the last is formed.
@@ -51,20 +54,58 @@ Visemes and their openings (fractions of the jaw's range): :rest :mm 0, :ff 0.1,
   (:scale :non-negative 1.0 "multiplies every opening (capped at the jaw's limit)")
   (:priority :real 25 "arbitration priority; higher wins"))
 
-(defun jaw-open-dof (driver)
-  "The jaw joint and its open DOF for DRIVER's skeleton, as two values; a MOTOR-ERROR if missing."
-  (let* ((jaw (role-joint driver :jaw))
-         (dof (body-joint-dof jaw 'open)))
-    (unless dof
-      (driver-frame-fail driver "the jaw ~A has no DOF called open" (lisp-text (body-joint-name jaw))))
-    (values jaw dof)))
+(defparameter *imported-jaw-opening* 25
+  "Degrees an imported model's jaw (a joint without an open DOF) turns about x
+to open the mouth wide: a 45-50 mm incisal opening on a human.")
 
-(defun viseme-angle (dof opening scale)
-  "The angle of the jaw's open DOF for an OPENING fraction scaled by SCALE."
-  (let* ((low (float (body-dof-min dof) 1d0))
-         (high (float (body-dof-max dof) 1d0))
-         (closed (max low (min high 0d0))))
+(defun jaw-open-channel (driver jaw)
+  "The pose index of JAW's opening and its closed-to-open range, three values
+INDEX LOW HIGH: its DOF called open, or for an imported joint its x DOF
+opening up to *IMPORTED-JAW-OPENING* degrees.  A MOTOR-ERROR when it has neither."
+  (let ((open (body-joint-dof jaw 'open))
+        (x (find :x (body-joint-dofs jaw) :key #'body-dof-axis)))
+    (cond (open (values (+ (body-joint-dof-start jaw) (position open (body-joint-dofs jaw)))
+                        (float (body-dof-min open) 1d0) (float (body-dof-max open) 1d0)))
+          (x (values (+ (body-joint-dof-start jaw) (position x (body-joint-dofs jaw)))
+                     (float (body-dof-min x) 1d0)
+                     (min (float (body-dof-max x) 1d0) (float *imported-jaw-opening* 1d0))))
+          (t (driver-frame-fail driver "the jaw ~A has no DOF called open" (lisp-text (body-joint-name jaw)))))))
+
+(defun viseme-angle (low high opening scale)
+  "The angle of a jaw opening between LOW and HIGH for an OPENING fraction scaled by SCALE."
+  (let ((closed (max low (min high 0d0))))
     (min high (+ closed (* (float (* opening scale) 1d0) (- high closed))))))
+
+(defun check-viseme (driver viseme)
+  "VISEME's opening; a MOTOR-ERROR naming the known visemes when it is none."
+  (or (viseme-opening viseme)
+      (driver-frame-fail driver "unknown viseme ~A (known: ~{~A~^ ~})" (lisp-text viseme)
+                         (mapcar (lambda (v) (lisp-text (first v))) *visemes*))))
+
+(defun lips-shapes (driver visemes)
+  "The channels DRIVER drives and each of VISEMES' values on them, two values:
+the jaw's opening when the skeleton has a :jaw, else the mouth's morph
+targets (VISEME-MORPH-TABLE); a MOTOR-ERROR when it has neither."
+  (let* ((skeleton (driver-skeleton driver))
+         (jaw (skeleton-role skeleton :jaw))
+         (scale (driver-arg driver :scale))
+         (table (and (not jaw) (viseme-morph-table skeleton))))
+    (cond (table
+           (values (mapcar #'car (cdr (first table)))
+                   (map 'simple-vector
+                        (lambda (viseme)
+                          (check-viseme driver viseme)
+                          (map '(simple-array double-float (*))
+                               (lambda (entry) (min 1d0 (* (cdr entry) (float scale 1d0))))
+                               (cdr (assoc viseme table))))
+                        visemes)))
+          (t (multiple-value-bind (index low high) (jaw-open-channel driver (role-joint driver :jaw))
+               (values (list index)
+                       (map 'simple-vector
+                            (lambda (viseme)
+                              (make-array 1 :element-type 'double-float
+                                            :initial-element (viseme-angle low high (check-viseme driver viseme) scale)))
+                            visemes)))))))
 
 (defmethod driver-setup ((driver lips-driver))
   (let ((visemes (driver-arg driver :visemes)))
@@ -73,22 +114,15 @@ Visemes and their openings (fractions of the jaw's range): :rest :mm 0, :ff 0.1,
                         visemes))
       (driver-frame-fail driver ":visemes must be a nonempty list of (SECONDS VISEME) pairs"))
     (check-increasing-times driver (mapcar #'first visemes) "viseme times")
-    (multiple-value-bind (jaw dof) (jaw-open-dof driver)
+    (multiple-value-bind (channels shapes) (lips-shapes driver (mapcar #'second visemes))
       (setf (lips-times driver) (map 'simple-vector (lambda (entry) (float (first entry) 1d0)) visemes)
-            (lips-angles driver)
-            (map 'simple-vector (lambda (entry)
-                      (let ((opening (viseme-opening (second entry))))
-                        (unless opening
-                          (driver-frame-fail driver "unknown viseme ~A (known: ~{~A~^ ~})"
-                                             (lisp-text (second entry))
-                                             (mapcar (lambda (v) (lisp-text (first v))) *visemes*)))
-                        (viseme-angle dof opening (driver-arg driver :scale))))
-                    visemes))
-      (list (+ (body-joint-dof-start jaw) (position dof (body-joint-dofs jaw)))))))
+            (lips-angles driver) shapes)
+      channels)))
 
 (defmethod driver-begin ((driver lips-driver) pose time)
   (declare (ignore time))
-  (setf (lips-from driver) (aref pose (first (driver-channels driver)))))
+  (setf (lips-from driver) (map '(simple-array double-float (*)) (lambda (index) (aref pose index))
+                                (driver-channels driver))))
 
 (defun viseme-ramp-start (time ramp)
   "When the ease into a viseme at TIME (local seconds) begins: RAMP before it, not before the start."
@@ -106,17 +140,20 @@ Visemes and their openings (fractions of the jaw's range): :rest :mm 0, :ff 0.1,
   (let* ((local (driver-local-time driver time))
          (ramp (float (driver-arg driver :ramp) 1d0))
          (times (lips-times driver))
-         (angles (lips-angles driver))
-         (next (first-time-after times local))
-         (previous (if (plusp next) (svref angles (1- next)) (lips-from driver)))
-         (angle previous))
-    (loop for i from next below (length times)
-          for at = (svref times i)
-          while (< (viseme-ramp-start at ramp) local)
-          do (incf angle (* (eased-fraction local (viseme-ramp-start at ramp) ramp)
-                            (- (svref angles i) previous)))
-             (setf previous (svref angles i)))
-    (setf (aref pose (first (driver-channels driver))) angle)))
+         (shapes (lips-angles driver))
+         (next (first-time-after times local)))
+    (loop for index in (driver-channels driver)
+          for c from 0
+          do (let* ((previous (if (plusp next) (aref (svref shapes (1- next)) c) (aref (lips-from driver) c)))
+                    (angle previous))
+               (loop for i from next below (length times)
+                     for at = (svref times i)
+                     for value = (aref (svref shapes i) c)
+                     while (< (viseme-ramp-start at ramp) local)
+                     do (incf angle (* (eased-fraction local (viseme-ramp-start at ramp) ramp)
+                                       (- value previous)))
+                        (setf previous value))
+               (setf (aref pose index) angle)))))
 
 (defmethod driver-end-time ((driver lips-driver))
   (let ((ramp (float (driver-arg driver :ramp) 1d0)))
