@@ -183,8 +183,31 @@ of MORPH-NAMES moves up by 1 cm times its position in the list (+1)."
       (let ((dip (player.body:vdistance rest (progn (player.body:body-evaluate body 0.5d0)
                                                     (player.body:body-joint-position body :right-hand)))))
         (is (> dip 0.01d0) "a beat moves CMU's right hand (~A m)" dip)))
-    ;; Gaze needs eyes, which CMU's skeleton has not: refused, naming the file.
+    ;; Gaze without eye joints: the head turns to the target.
+    (let* ((body (cmu-body))
+           (skeleton (player.body:body-skeleton body))
+           (head (player.body:skeleton-role skeleton :head))
+           (target (player.body:vec3 1.5d0 1.6d0 1d0)))
+      (evaluate-call body '(:gaze :target (:point 1.5 1.6 1)) 0 0)
+      (player.body:body-evaluate body 2d0)
+      (let* ((frame (svref (player.body:body-transforms body) (player.body:body-joint-index head)))
+             (front (player.body:transform-vector frame (player.body:vec3 0d0 0d0 1d0)))
+             (to (player.body:v- target (player.body:transform-translation frame)))
+             (degrees (* (/ 180 pi) (acos (/ (player.body:vdot front to) (player.body:vnorm to))))))
+        (is (< degrees 10) "the head looks ~,1F degrees off the target" degrees)))
+    ;; Lips need a jaw or mouth morphs, which CMU's skeleton has not: refused, naming the file.
     (let ((body (cmu-body)))
       (is (search "01_01.bvh"
-                  (handler-case (progn (player.body:make-driver (player.body:parse-motor-frame '(:gaze :target (:point 0 1 2))) body 0) "")
+                  (handler-case (progn (player.body:make-driver (player.body:parse-motor-frame '(:lips :visemes ((0.1 :aa)))) body 0) "")
                     (player:player-error (e) (princ-to-string e))))))))
+
+(test keyframe-poses-name-imported-joints-directly
+  (with-assimp-models
+    (let* ((body (player.body:make-body 'wuson (wuson-skeleton)))
+           (skeleton (player.body:body-skeleton body))
+           (neck (player.body:find-joint skeleton "Neck")))
+      ;; A joint named in a string, as a model's names often must be, and an :x DOF.
+      (evaluate-call body '(:keyframe :keys ((0.5 (("Neck" :x 20 :y -10))))) 0 0)
+      (let ((pose (player.body:body-evaluate body 0.5d0)))
+        (is (< (abs (- (aref pose (player.body:body-joint-dof-start neck)) 20)) 1d-6))
+        (is (< (abs (- (aref pose (1+ (player.body:body-joint-dof-start neck))) -10)) 1d-6))))))

@@ -2,7 +2,8 @@
 ;;;; a saccade of both eyes to a target, each eye aiming from where it is (so
 ;;;; the eyes converge), the head joining large shifts through a head-follow
 ;;;; slave (head.lisp) while the eyes counter-rotate to stay on the target, and
-;;;; smooth pursuit of a moving target.
+;;;; smooth pursuit of a moving target.  A body with a head but no eye joints
+;;;; (many imported models) gazes with its head alone.
 
 (in-package #:player.body)
 
@@ -45,10 +46,17 @@
 for a large shift the head (and trunk) follows; with :track the eyes pursue a
 moving target.  Runs until stopped."))
 
+(defun head-only-gaze-p (driver)
+  "Does DRIVER gaze with the head alone: its skeleton has a :head but no eyes?"
+  (let ((skeleton (driver-skeleton driver)))
+    (and (skeleton-role skeleton :head)
+         (not (and (skeleton-role skeleton :left-eye) (skeleton-role skeleton :right-eye))))))
+
 (defmethod driver-setup ((driver gaze-driver))
   (setf (gaze-eyes driver)
-        (list (make-aim-link driver (role-joint driver :left-eye))
-              (make-aim-link driver (role-joint driver :right-eye))))
+        (unless (head-only-gaze-p driver)
+          (list (make-aim-link driver (role-joint driver :left-eye))
+                (make-aim-link driver (role-joint driver :right-eye)))))
   (aim-link-channels (gaze-eyes driver)))
 
 (defun gaze-point (driver time pose)
@@ -66,6 +74,11 @@ their +z axes, unit), in the world, in POSE."
   (let ((skeleton (driver-skeleton driver))
         (placement (object-world-transform (driver-body driver)))
         (position (vec3)) (direction (vec3)))
+    (when (null (gaze-eyes driver))
+      ;; Head alone: it looks along its +z, the front at rest.
+      (let ((frame (joint-world-transform skeleton pose (skeleton-role skeleton :head) placement)))
+        (return-from eyes-line-of-sight
+          (values (transform-translation frame) (transform-vector frame (vec3 0d0 0d0 1d0))))))
     (dolist (eye (gaze-eyes driver))
       (let ((frame (joint-world-transform skeleton pose (aim-link-joint eye) placement)))
         (nv+ position (v* (transform-translation frame) 0.5d0))
@@ -99,7 +112,8 @@ their +z axes, unit), in the world, in POSE."
       (setf (gaze-amplitude driver) (angle-between direction (v- point position))))
     (let* ((amplitude (gaze-amplitude driver))
            (chain (and (skeleton-role (driver-skeleton driver) :head)
-                       (or (> amplitude threshold) (not (eyes-reach-p driver pose point)))
+                       (or (null (gaze-eyes driver))
+                           (> amplitude threshold) (not (eyes-reach-p driver pose point)))
                        ;; A head that cannot aim (no x and y DOFs) leaves the eyes alone.
                        (handler-case (head-chain driver :trunk-yaw-share
                                                  (and (> amplitude (* 2 threshold))
