@@ -60,6 +60,15 @@ REPLAYED ones (texts), or NIL when they are the same."
   "PATH, a list of names from the frame inwards, as words: \"body peedy, joint neck, rotation w\"."
   (format nil "~{~A~^, ~}" (reverse path)))
 
+(defun frame-name= (a b)
+  "Do the frame atoms A and B match: EQUAL, or two uninterned symbols of one
+name (an imported model's joints are named by uninterned symbols, which a
+recording reads back as fresh ones)?"
+  (or (equal a b)
+      (and (symbolp a) (symbolp b) a b
+           (null (symbol-package a)) (null (symbol-package b))
+           (string= (symbol-name a) (symbol-name b)))))
+
 (defun compare-frame-parts (expected got path tolerance)
   "The first place where the frame parts EXPECTED and GOT differ beyond
 TOLERANCE, as (PATH EXPECTED-PART GOT-PART), or NIL.  PATH names the parts
@@ -67,7 +76,7 @@ around them, innermost first."
   (cond ((and (realp expected) (realp got))
          (and (frame-number-difference expected got tolerance) (list path expected got)))
         ((or (atom expected) (atom got))
-         (and (not (equal expected got)) (list path expected got)))
+         (and (not (frame-name= expected got)) (list path expected got)))
         ((/= (length expected) (length got))
          (list path expected got))
         ((plist-form-p expected)
@@ -87,7 +96,7 @@ naming named entries (bodies, joints, objects) and components (x, w) by name."
         (path (cons (string-downcase (symbol-name key)) path)))
     (cond ((and kind (proper-list-p expected) (proper-list-p got) (= (length expected) (length got)))
            (loop for a in expected for b in got
-                 thereis (if (and (consp a) (consp b) (eq (first a) (first b)))
+                 thereis (if (and (consp a) (consp b) (frame-name= (first a) (first b)))
                              (compare-frame-parts (rest a) (rest b)
                                                   (list* (format nil "~A ~(~A~)" kind (first a)) (rest path))
                                                   tolerance)
