@@ -43,6 +43,9 @@ the file, its texture or the options is a SCRIPT-ERROR at FORM's line."
                     do (script-fail form "~A: ~A" (file-namestring texture-path) result))
             (model-skeleton model :height height :scale scale :up up :roles roles :limits limits
                                   :clips clips :name (make-symbol (pathname-name path))))
+        ;; A RIG-ERROR names its own clause and line already; a model's or an
+        ;; image's error names only the file, so it is placed at the form.
+        (spec-error (error) (error error))
         (player-error (error)
           (script-fail form "~A" error))))))
 
