@@ -211,3 +211,44 @@ of MORPH-NAMES moves up by 1 cm times its position in the list (+1)."
       (let ((pose (player.body:body-evaluate body 0.5d0)))
         (is (< (abs (- (aref pose (player.body:body-joint-dof-start neck)) 20)) 1d-6))
         (is (< (abs (- (aref pose (1+ (player.body:body-joint-dof-start neck))) -10)) 1d-6))))))
+
+(test a-clip-masked-to-the-head-moves-only-the-head
+  (with-assimp-models
+    (let* ((skeleton (player.rig:model-skeleton (player:import-model (assimp-model "X/Testwuson.X"))
+                                                :height 0.8 :roles '((:head "Neck"))))
+           (body (player.body:make-body 'wuson skeleton))
+           (neck (player.body:find-joint skeleton "Neck"))
+           (neck-channels (player.body::joint-dof-indices neck)))
+      (evaluate-call body '(:clip :name "wuson-walk" :loop t :fade 0 :joints (:head)) 0 0)
+      (let ((pose (player.body:body-evaluate body 1.3d0)))
+        (is (some (lambda (i) (> (abs (aref pose i)) 0.01)) neck-channels) "the head moves")
+        (is (every (lambda (i) (or (member i neck-channels) (zerop (aref pose i))))
+                   (alexandria:iota (length pose)))
+            "nothing but the head moves")))))
+
+(test motion-capture-plays-on-the-humanoid-through-a-library
+  ;; (:clip NAME :from FILE) in a library, resolved by the clip driver at play.
+  (with-assimp-models
+    (with-rig-directory (dir)
+      (flet ((write-file (name text)
+               (with-open-file (out (merge-pathnames name dir) :direction :output :if-exists :supersede)
+                 (write-string text out))))
+        (write-file "mocap.lisp" "(in-package :player-user)
+(defspec mocap \"CMU 01_01 on the humanoid.\" (:scripts \"mocap-scripts.lisp\") (:body humanoid)
+  (state-variable moving boolean false)
+  (op move :add moving :duration 2)
+  (event ev-move :state moving))")
+        (write-file "mocap-scripts.lisp" (format nil "(defscript move (:duration 2)~%  (:at 0 :clip motion :from ~S :fade 0))"
+                                            (assimp-model "BVH/01_01.bvh"))))
+      (let* ((spec (first (player::load-spec (merge-pathnames "mocap.lisp" dir))))
+             (simulation (player.performance::simulate spec :events '("ev-move") :fps 10 :silent t))
+             (body (player.performance::performance-body (player.performance::presenter-performance (player.performance::simulation-presenter simulation))))
+             (skeleton (player.body:body-skeleton body))
+             (elbow (player.body:dof-index skeleton 'l_elbow (player.body:body-dof-name (first (player.body::body-joint-dofs (player.body:find-joint skeleton 'l_elbow))))))
+             (angles (let ((seen '()))
+                       (player.performance::map-simulation-frames (lambda (index time scene) (declare (ignore index time scene))
+                                                        (push (aref (player.body:body-pose body) elbow) seen))
+                                                      simulation)
+                       seen)))
+        (is (> (- (reduce #'max angles) (reduce #'min angles)) 1) "the humanoid's left elbow follows the capture")
+        (is (player.body:pose-within-limits-p skeleton (player.body:body-pose body)))))))
