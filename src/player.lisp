@@ -66,7 +66,7 @@
    #:import-model #:model-error #:model-error-file #:model-library-missing
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
-   #:*image-pixel-limit* #:model-texture-images
+   #:*image-pixel-limit* #:model-texture-images #:mesh-texture-image #:model-embedded-textures
    #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
    #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
    #:model #:model-file #:model-meshes #:model-joints #:model-animations
@@ -204,7 +204,7 @@
    #:import-model #:model-error #:model-error-file #:model-library-missing
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
-   #:*image-pixel-limit* #:model-texture-images
+   #:*image-pixel-limit* #:model-texture-images #:mesh-texture-image #:model-embedded-textures
    #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
    #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
    #:model #:model-file #:model-meshes #:model-joints #:model-animations

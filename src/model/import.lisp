@@ -320,13 +320,18 @@ TRANSFORM its node's world matrix at rest."
           (loop for joint across joints for i from 0
                 do (unless (gethash (joint-name joint) joint-index)
                      (setf (gethash (joint-name joint) joint-index) i)))
-          (make-model (namestring path)
-                      (loop for mesh in meshes for i from 0
-                            collect (copy-mesh mesh materials (uiop:pathname-directory-pathname path) joint-index
-                                               (nearest-joint nodes joint-of (aref holders i))
-                                               (node-world-matrix nodes (aref holders i))))
-                      joints
-                      (mapcar (lambda (animation) (import-animation animation joint-index)) animations)))))))
+          (let ((textures (copy-embedded-textures
+                           (scene-array scene 'num-textures 'textures "embedded textures") path)))
+            (make-model (namestring path)
+                        (attach-embedded-textures
+                         (loop for mesh in meshes for i from 0
+                               collect (copy-mesh mesh materials (uiop:pathname-directory-pathname path) joint-index
+                                                  (nearest-joint nodes joint-of (aref holders i))
+                                                  (node-world-matrix nodes (aref holders i))))
+                         textures)
+                        joints
+                        (mapcar (lambda (animation) (import-animation animation joint-index)) animations)
+                        textures)))))))
 
 (defun assimp-error-string ()
   "Assimp's message about the last import that failed."
@@ -458,5 +463,6 @@ installed."
                      (with-assimp-traps-masked (%ai-release-import scene)))))
         (when texture-path
           (dolist (mesh (model-meshes model))
-            (setf (model-mesh-texture mesh) texture-path)))
+            (setf (model-mesh-texture mesh) texture-path
+                  (model-mesh-embedded-texture mesh) nil)))
         model))))
