@@ -82,7 +82,7 @@
    #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
    #:write-gltf #:model-write-error)
   (:import-from #:player.rig
-   #:model-skeleton #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
+   #:model-skeleton #:make-prop-model #:prop-model #:model-prop #:model-prop-model #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
    #:mesh-skin #:skin-vertices #:skin-palette-matrices)
   (:import-from #:player.body
@@ -220,7 +220,7 @@
    #:make-model #:make-model-mesh #:make-joint #:make-model-animation #:make-channel
    #:write-gltf #:model-write-error
    ;; Characters from models (doc/models.md)
-   #:model-skeleton #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
+   #:model-skeleton #:make-prop-model #:prop-model #:model-prop #:model-prop-model #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
    #:mesh-skin #:skin-vertices #:skin-palette-matrices
    ;; Rendering
