@@ -378,7 +378,14 @@ nothing else cuts them."
          (let* ((body (performance-body performance body-name))
                 (driver (make-driver (motor-item-call item) body time :stop end)))
            (push driver (script-run-drivers run))
-           (body-add-driver body driver)))
+           (body-add-driver body driver)
+           ;; A clip played with :root :move carries the body: its position is
+           ;; bound, for the item's span, to the clip's travel from here.
+           (when (moves-root-p driver)
+             (add-binding performance run body 'position
+                          (make-root-motion-control driver (property-value body 'position)
+                                                    (property-value body 'rotation))
+                          time end))))
         (animate-item
          (add-binding performance run (object (animate-item-object item)) (animate-item-property item)
                       (animate-item-control item) time end))
