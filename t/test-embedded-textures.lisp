@@ -87,3 +87,32 @@ read back holds a texture of the same pixels."
           (is (typep image 'player:image) "~A" image)
           (when (typep image 'player:image)
             (is (equalp (player:image-pixels (cesium-logo-image)) (player:image-pixels image)))))))))
+
+(defun fake-ai-texture-result (width height data file-size)
+  "The IMAGE (or IMAGE-ERROR) COPY-EMBEDDED-TEXTURE makes of an aiTexture
+built here in C memory: WIDTH, HEIGHT and DATA (a pointer) as given, from a
+model file of FILE-SIZE bytes."
+  (cffi:with-foreign-object (texture '(:struct player.model::%ai-texture))
+    (setf (cffi:foreign-slot-value texture '(:struct player.model::%ai-texture) 'player.model::width) width
+          (cffi:foreign-slot-value texture '(:struct player.model::%ai-texture) 'player.model::height) height
+          (cffi:foreign-slot-value texture '(:struct player.model::%ai-texture) 'player.model::data) data)
+    (player.model:embedded-texture-image
+     (player.model::copy-embedded-texture texture 0 file-size "/tmp/fake.glb"))))
+
+(test embedded-texture-sizes-are-checked-before-reading
+  "What Assimp says of an embedded texture is checked before its data is
+read: a NULL pointer, a compressed length past the model file's size, raw
+texels past *image-pixel-limit* are each an IMAGE-ERROR (the 4 bytes at the
+pointer are never read past); 2x1 raw B G R A texels become RGBA."
+  (with-stb
+    (cffi:with-foreign-object (bytes :uint8 8)
+      (loop for i below 8 for b in '(10 20 30 255 40 50 60 128) do (setf (cffi:mem-aref bytes :uint8 i) b))
+      (flet ((reason (result) (and (typep result 'player:image-error) (player:image-error-reason result))))
+        (is (search "Assimp gave no data" (reason (fake-ai-texture-result 100 0 (cffi:null-pointer) 1000))))
+        (is (search "more than the whole model file's" (reason (fake-ai-texture-result 2000000000 0 bytes 1000))))
+        (is (search "more than" (reason (fake-ai-texture-result 100000 100000 bytes 1000))))
+        (is (search "stb_image cannot decode it" (reason (fake-ai-texture-result 8 0 bytes 1000))))
+        (let ((image (fake-ai-texture-result 2 1 bytes 1000)))
+          (is (typep image 'player:image))
+          (when (typep image 'player:image)
+            (is (equalp #(30 20 10 255 60 50 40 128) (player:image-pixels image)))))))))
