@@ -66,7 +66,7 @@
    #:import-model #:model-error #:model-error-file #:model-library-missing
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
-   #:*image-pixel-limit* #:model-texture-images
+   #:*image-pixel-limit* #:model-texture-images #:mesh-texture-image #:model-embedded-textures
    #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
    #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
    #:model #:model-file #:model-meshes #:model-joints #:model-animations
@@ -85,7 +85,7 @@
    #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
    #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count)
   (:import-from #:player.rig
-   #:model-skeleton #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
+   #:model-skeleton #:make-prop-model #:prop-model #:model-prop #:model-prop-model #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
    #:mesh-skin #:skin-vertices #:skin-palette-matrices)
   (:import-from #:player.body
@@ -207,7 +207,7 @@
    #:import-model #:model-error #:model-error-file #:model-library-missing
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
-   #:*image-pixel-limit* #:model-texture-images
+   #:*image-pixel-limit* #:model-texture-images #:mesh-texture-image #:model-embedded-textures
    #:*model-post-processing* #:*model-vertex-limit* #:*model-triangle-limit*
    #:*model-joint-limit* #:*model-key-limit* #:*model-node-limit*
    #:model #:model-file #:model-meshes #:model-joints #:model-animations
@@ -226,7 +226,7 @@
    #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
    #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count
    ;; Characters from models (doc/models.md)
-   #:model-skeleton #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
+   #:model-skeleton #:make-prop-model #:prop-model #:model-prop #:model-prop-model #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
    #:mesh-skin #:skin-vertices #:skin-palette-matrices
    ;; Rendering

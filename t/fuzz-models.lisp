@@ -9,8 +9,8 @@
 ;;;; hang past the timeout is a finding.
 ;;;;
 ;;;; What runs on a case is a list of targets (*FZM-TARGETS*), each a command
-;;;; builder, so `check` and `render` of a script library naming the model can
-;;;; join `model` later.  `make fuzz` runs FUZZ_MODEL_CASES (300) cases
+;;;; builder: `model` on the file, then `check` and `render` (one tiny frame)
+;;;; of a spec whose script library's (model ...) names it.  `make fuzz` runs FUZZ_MODEL_CASES (300) cases
 ;;;; (fuzz-main.lisp); t/test-model-fuzz.lisp runs a sample.
 
 (in-package #:player-tests)
@@ -659,16 +659,60 @@ also gets a mutated texture for --texture."
   "A command run on each model case: NAME, and BUILDER, a function of the
 case, the case file's name and the folder it is in, returning bin/player's
 arguments (it may write further files there, a script library naming the
-model, say), or NIL when the target does not apply to the case."
-  name builder)
+model, say), or NIL when the target does not apply to the case; ERROR-NAMES,
+further text an error line may name instead of the case's files (`check`
+says \"check found N errors\" and lists them on standard output)."
+  name builder (error-names '()))
+
+(defun fzm-write-stage (case file directory)
+  "Write into DIRECTORY fuzz-lib.lisp, a script library whose (model ...)
+names the case FILE (with its mutated texture, if any), and fuzz-spec.lisp,
+a spec of one state playing it; the spec's name."
+  (with-open-file (out (merge-pathnames "fuzz-lib.lisp" directory) :direction :output :if-exists :supersede)
+    (format out "(model ~S~@[ :texture ~S~])~%(defscript stand () (:at 0 :set (:self visible) t))~%"
+            file (fzmc-texture case)))
+  (with-open-file (out (merge-pathnames "fuzz-spec.lisp" directory) :direction :output :if-exists :supersede)
+    (format out "(in-package :player-user)~%(defspec fuzz-stage \"A mutated model as the character.\"~%  (:scripts \"fuzz-lib.lisp\")~%  (state-variable up boolean false)~%  (op stand :add up :duration 0.1)~%  (event ev-stand :op stand))~%"))
+  "fuzz-spec.lisp")
+
+(defun fzm-write-prop-stage (case file directory)
+  "Write into DIRECTORY fuzz-prop-lib.lisp, a script library declaring the
+case FILE as a prop (most seeds have no joints, so as a character they stop
+at that), and fuzz-prop-spec.lisp, a spec playing it on a humanoid; the spec."
+  (with-open-file (out (merge-pathnames "fuzz-prop-lib.lisp" directory) :direction :output :if-exists :supersede)
+    (format out "(defobject thing :kind :prop :model ~S~@[ :texture ~S~] :height 0.3 :position (0.3 1 0.2))~%"
+            file (fzmc-texture case)))
+  (with-open-file (out (merge-pathnames "fuzz-prop-spec.lisp" directory) :direction :output :if-exists :supersede)
+    (format out "(in-package :player-user)~%(defspec fuzz-props \"A mutated model as a prop.\"~%  (:scripts \"fuzz-prop-lib.lisp\")~%  (:body humanoid)~%  (state-variable up boolean false))~%"))
+  "fuzz-prop-spec.lisp")
 
 (defparameter *fzm-targets*
   (list (make-fzm-target :name "model"
                          :builder (lambda (case file directory)
                                     (declare (ignore directory))
                                     (append (list "model" file)
-                                            (when (fzmc-texture case) (list "--texture" (fzmc-texture case)))))))
-  "The commands run on every model case, in order.")
+                                            (when (fzmc-texture case) (list "--texture" (fzmc-texture case))))))
+        (make-fzm-target :name "check"
+                         :builder (lambda (case file directory)
+                                    (list "check" (fzm-write-stage case file directory)))
+                         :error-names '("check found"))
+        (make-fzm-target :name "render"
+                         :builder (lambda (case file directory)
+                                    (list "render" (fzm-write-stage case file directory) "--events" "ev-stand"
+                                          "--fps" "4" "--at" "0.1" "--size" "48x36" "--silent" "--out" "fuzz-render/"))
+                         :error-names '("fuzz-lib.lisp"))
+        (make-fzm-target :name "render-prop"
+                         :builder (lambda (case file directory)
+                                    (list "render" (fzm-write-prop-stage case file directory)
+                                          "--size" "48x36" "--silent" "--out" "fuzz-render/"))
+                         :error-names '("fuzz-prop-lib.lisp")))
+  "The commands run on every model case, in order: `model`, then `check` and
+`render` (one frame, tiny) of a spec whose script library's (model ...)
+names the case, and `render` of one declaring it a prop (defobject :model).")
+
+(defun fzm-targets-named (&rest names)
+  "The targets of *FZM-TARGETS* called NAMES, in their order."
+  (remove-if-not (lambda (target) (member (fzmt-name target) names :test #'string=)) *fzm-targets*))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Running cases
@@ -691,8 +735,10 @@ PROBLEMS (none when it passed), SECONDS it took."
   "What is wrong with a run of bin/player on a model case that ended with
 EXIT and STATUS printing STDOUT and STDERR; NAMES are the case's file names,
 one of which its error line must name."
-  (let ((lines (remove-if (lambda (line) (or (string= line "") (eql 0 (search *fz-build-line* line))))
-                          (fz-split-lines stderr)))
+  (let ((lines (remove-if (lambda (line) (or (string= line "") (eql 0 (search *fz-build-line* line))
+                                             ;; render's progress bar, "[####...] 1/1 frames"
+                                             (and (eql 0 (search "[" line)) (search "frames" line))))
+                          (fz-split-lines (substitute #\Newline #\Return stderr))))
         (problems '()))
     (case status
       (:timeout (push "hang" problems))
@@ -747,8 +793,9 @@ a list of FZM-RESULTs."
                               :target (fzmt-name target) :arguments arguments :exit exit :status status
                               :stderr (fz-clip stderr 400)
                               :problems (fzm-problems exit status stdout stderr
-                                                      (cons (fzmc-file-name case)
-                                                            (and (fzmc-texture case) (list (fzmc-texture case)))))
+                                                      (append (list (fzmc-file-name case))
+                                                              (and (fzmc-texture case) (list (fzmc-texture case)))
+                                                              (fzmt-error-names target)))
                               :seconds (/ (- (get-internal-real-time) start) internal-time-units-per-second)))))
       (dolist (path paths) (ignore-errors (delete-file path))))))
 

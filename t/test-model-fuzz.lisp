@@ -1,8 +1,8 @@
 ;;;; test-model-fuzz.lisp -- the model fuzzer (fuzz-models.lisp) in `make test`:
 ;;;; its cases are deterministic, its JSON and .glb edits keep what they do not
 ;;;; change, and a short sample of mutated .gltf, .glb and .x files through
-;;;; bin/player model each ends in exit 0 or one "player: error:" line naming
-;;;; the file.  `make fuzz` runs hundreds (FUZZ_MODEL_CASES).
+;;;; bin/player model, check and render each ends in exit 0 or one
+;;;; "player: error:" line naming the file.  `make fuzz` runs hundreds (FUZZ_MODEL_CASES).
 
 (in-package #:player-tests)
 
@@ -64,17 +64,21 @@ packed again from its own chunks imports as the original does."
         (delete-file file)))))
 
 (test mutated-models-through-bin-player
-  "A sample of mutated models through bin/player model: each exits 0, or 1
-with one \"player: error:\" line naming the file; never a signal, a memory
-fault, a backtrace, a Lisp object printed or a hang."
+  "A sample of mutated models through every target (bin/player model, and
+check and render of a library naming the model, as the character and as a
+prop): each exits 0, or 1 with one \"player: error:\" line naming the file;
+never a signal, a memory fault, a backtrace, a Lisp object printed or a hang."
   (with-fuzz-seeds
     (ensure-player-core)
     (let ((results (fuzz-models :seed *model-fuzz-test-seed* :cases *model-fuzz-test-cases* :timeout 20)))
-      (is (= *model-fuzz-test-cases* (length results)))
+      (is (= (* (length *fzm-targets*) *model-fuzz-test-cases*) (length results)))
+      (dolist (target *fzm-targets*)
+        (is (find (fzmt-name target) results :key #'fzmr-target :test #'string=)
+            "target ~A ran on no case" (fzmt-name target)))
       (dolist (result results)
         (is (null (fzmr-problems result))
-            "seed ~D case ~D (~A, ~{~A~^; ~}): ~{~A~^, ~}; exit ~A; stderr: ~A"
-            (fzmr-seed result) (fzmr-index result) (fzmr-base result) (fzmr-notes result)
+            "~A: seed ~D case ~D (~A, ~{~A~^; ~}): ~{~A~^, ~}; exit ~A; stderr: ~A"
+            (fzmr-target result) (fzmr-seed result) (fzmr-index result) (fzmr-base result) (fzmr-notes result)
             (fzmr-problems result) (fzmr-exit result) (fzmr-stderr result))))))
 
 ;;;# Bad input the fuzzer found or the issue lists: one MODEL-ERROR naming the file

@@ -36,10 +36,10 @@ is one error."
 
 (defun texture-description (path result)
   "PATH with what decoding it gave, RESULT (see MODEL-TEXTURE-IMAGES): its size,
-\"(missing)\" or \"(undecodable: REASON)\"; an embedded texture (no RESULT) as it is."
+\"(missing)\" or \"(undecodable: REASON)\" (an embedded texture, \"*N\", is never missing)."
   (typecase result
     (image (format nil "~A ~Dx~D" path (image-width result) (image-height result)))
-    (image-error (if (probe-file path)
+    (image-error (if (or (embedded-texture-p path) (probe-file path))
                      (format nil "~A (undecodable: ~A)" path (image-error-reason result))
                      (format nil "~A (missing)" path)))
     (t path)))

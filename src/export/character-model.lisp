@@ -112,7 +112,8 @@ vertices weighted to the skeleton's joints (model index FIRST + theirs)."
                      :bones (map '(simple-array (unsigned-byte 32) (*)) (lambda (j) (+ first j))
                                  (remove-duplicates (skin-palette-joints skin)))
                      :holder (+ first (aref (skin-palette-joints skin) 0))
-                     :texture (model-mesh-texture mesh))))
+                     :texture (model-mesh-texture mesh)
+                     :embedded-texture (model-mesh-embedded-texture mesh))))
 
 (defun skeleton-model-meshes (skeleton name first)
   "The MODEL-MESHes that draw SKELETON (NAME names a mesh of Player's own

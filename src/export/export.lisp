@@ -55,7 +55,7 @@ frame (BAKE-SIMULATION)."
           (incf first (length (skeleton-joints skeleton)))))
       (dolist (baked props)
         (setf joints (append joints (list (prop-model-joint baked)))
-              meshes (append meshes (list (prop-model-mesh baked first)))
+              meshes (append meshes (prop-model-meshes baked first))
               channels (append channels (list (prop-channel baked first times))))
         (incf first))
       (make-model file meshes (coerce joints 'simple-vector)

@@ -2,7 +2,8 @@
 ;;;; sampled like the bodies: each prop's world place at every frame, and
 ;;;; whether it was visible.  In the file a prop is one node of its own, with
 ;;;; its mesh skinned wholly to it, so every glTF reader moves it (a mesh
-;;;; merely hung on an animated node is not moved by every importer).
+;;;; merely hung on an animated node is not moved by every importer).  A prop
+;;;; drawn as a model (a MODEL-PROP) gives its model's meshes, textures kept.
 
 (in-package #:player.export)
 
@@ -64,22 +65,53 @@ frame, whose inverse bind is the identity (its mesh is in its own frame)."
               (doubles 1 1 1)
               (doubles 1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1)))
 
+(defun weighted-to (joint count)
+  "JOINTS and WEIGHTS (4 a vertex) for COUNT vertices, each wholly on JOINT."
+  (let ((joints (index-vector (* 4 count)))
+        (weights (make-array (* 4 count) :element-type 'double-float :initial-element 0d0)))
+    (dotimes (v count (values joints weights))
+      (setf (aref joints (* 4 v)) joint (aref weights (* 4 v)) 1d0))))
+
 (defun prop-model-mesh (baked joint)
   "BAKED's mesh as the renderer draws it, in the prop's frame, weighted 1 to
 the model joint JOINT."
   (let* ((body-mesh (prop-body-mesh (object-prop-mesh (baked-prop-object baked))))
-         (count (floor (length (body-mesh-positions body-mesh)) 3))
-         (joints (index-vector (* 4 count)))
-         (weights (make-array (* 4 count) :element-type 'double-float :initial-element 0d0)))
-    (dotimes (v count)
-      (setf (aref joints (* 4 v)) joint (aref weights (* 4 v)) 1d0))
-    (make-model-mesh :name (prop-name baked) :positions (copy-seq (body-mesh-positions body-mesh))
-                     :normals (copy-seq (body-mesh-normals body-mesh))
-                     :colours (rgba-colours (body-mesh-colours body-mesh))
-                     :triangles (coerce (body-mesh-indices body-mesh) '(simple-array (unsigned-byte 32) (*)))
-                     :joints joints :weights weights
-                     :bones (make-array 1 :element-type '(unsigned-byte 32) :initial-element joint)
-                     :holder joint)))
+         (count (floor (length (body-mesh-positions body-mesh)) 3)))
+    (multiple-value-bind (joints weights) (weighted-to joint count)
+      (make-model-mesh :name (prop-name baked) :positions (copy-seq (body-mesh-positions body-mesh))
+                       :normals (copy-seq (body-mesh-normals body-mesh))
+                       :colours (rgba-colours (body-mesh-colours body-mesh))
+                       :triangles (coerce (body-mesh-indices body-mesh) '(simple-array (unsigned-byte 32) (*)))
+                       :joints joints :weights weights
+                       :bones (make-array 1 :element-type '(unsigned-byte 32) :initial-element joint)
+                       :holder joint))))
+
+(defun prop-skin-mesh (baked skin joint)
+  "The MODEL-MESH of SKIN, one mesh of BAKED's prop model, its vertices in
+the prop's frame (placed, scaled) and weighted 1 to the model joint JOINT;
+its UVs, colours and texture (embedded or a file) as the model has them."
+  (let* ((mesh (skin-mesh skin))
+         (count (model-mesh-vertex-count mesh))
+         (positions (make-array (* 3 count) :element-type 'single-float))
+         (normals (and (model-mesh-normals mesh) (make-array (* 3 count) :element-type 'single-float))))
+    (skin-vertices skin (skin-palette-matrices skin (vector (identity-transform))) positions normals)
+    (multiple-value-bind (joints weights) (weighted-to joint count)
+      (make-model-mesh :name (format nil "~A/~A" (prop-name baked) (model-mesh-name mesh))
+                       :positions positions :normals normals
+                       :uvs (model-mesh-uvs mesh) :colours (model-mesh-colours mesh)
+                       :triangles (model-mesh-triangles mesh) :joints joints :weights weights
+                       :bones (make-array 1 :element-type '(unsigned-byte 32) :initial-element joint)
+                       :holder joint :texture (model-mesh-texture mesh)
+                       :embedded-texture (model-mesh-embedded-texture mesh)))))
+
+(defun prop-model-meshes (baked joint)
+  "The MODEL-MESHes of BAKED's prop, weighted to the model joint JOINT: a
+prop drawn as a model gives its model's meshes, any other its one mesh."
+  (let ((object (baked-prop-object baked)))
+    (if (typep object 'model-prop)
+        (mapcar (lambda (skin) (prop-skin-mesh baked skin joint))
+                (prop-model-skins (model-prop-model object)))
+        (list (prop-model-mesh baked joint)))))
 
 (defun prop-channel (baked joint times)
   "BAKED's keys as the MODEL-CHANNEL of the model joint JOINT."

@@ -59,7 +59,19 @@ NaNs and infinities inside (degenerate normals, empty bounding boxes)."
   (num-materials :unsigned-int :offset 32)
   (materials :pointer :offset 40)
   (num-animations :unsigned-int :offset 48)
-  (animations :pointer :offset 56))
+  (animations :pointer :offset 56)
+  (num-textures :unsigned-int :offset 64)
+  (textures :pointer :offset 72))              ; aiTexture*[num-textures]
+
+;;; An embedded texture: MHEIGHT 0 means DATA holds MWIDTH bytes of a
+;;; compressed file (PNG, JPEG...; FORMAT-HINT its extension), else DATA holds
+;;; MWIDTH x MHEIGHT aiTexels, 4 bytes each in the order B G R A.
+(cffi:defcstruct (%ai-texture :size 1064)
+  (width :unsigned-int :offset 0)
+  (height :unsigned-int :offset 4)
+  (format-hint :char :count 9 :offset 8)
+  (data :pointer :offset 24)
+  (filename (:struct %ai-string) :offset 32))
 
 (cffi:defcstruct (%ai-node :size 1144)
   (name (:struct %ai-string) :offset 0)

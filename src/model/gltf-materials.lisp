@@ -7,8 +7,9 @@
 ;;;; glTF holds PNG and JPEG images only, so a texture of another kind (TGA,
 ;;;; BMP), or one missing or unreadable, is a MODEL-WRITE-ERROR naming it;
 ;;;; writing with :TEXTURES NIL gives every mesh the plain material instead.
-;;;; A texture embedded in the imported file (Assimp's "*0") was not kept by
-;;;; the import, so its mesh gets the plain material.
+;;;; A texture embedded in the imported file (Assimp's "*0") is written from
+;;;; the bytes the import kept, under the same rule: PNG or JPEG, else an
+;;;; error (raw texels, an undecodable texture).
 
 (in-package #:player.model)
 
@@ -55,19 +56,37 @@ material); MATERIAL-OF maps a texture path (or NIL) to its material's index."
 
 (defun mesh-material (looks buffer mesh)
   "The index of MESH's material among LOOKS, made (with its texture's bytes
-stored in BUFFER) when it is the first mesh to use it."
-  (let ((path (and (looks-embed looks) (model-mesh-texture mesh)
-                   (not (embedded-texture-p (model-mesh-texture mesh)))
-                   (model-mesh-texture mesh))))
-    (or (gethash path (looks-material-of looks))
-        (setf (gethash path (looks-material-of looks))
+stored in BUFFER) when it is the first mesh to use it.  An embedded texture
+is keyed by itself, a file by its path."
+  (let ((key (and (looks-embed looks) (model-mesh-texture mesh)
+                  (or (model-mesh-embedded-texture mesh)
+                      (and (not (embedded-texture-p (model-mesh-texture mesh)))
+                           (model-mesh-texture mesh))))))
+    (or (gethash key (looks-material-of looks))
+        (setf (gethash key (looks-material-of looks))
               (prog1 (length (looks-materials looks))
-                (push (if path (textured-material (add-texture looks buffer path)) (plain-material))
+                (push (if key (textured-material (add-texture looks buffer key)) (plain-material))
                       (looks-materials looks)))))))
 
-(defun add-texture (looks buffer path)
-  "A new texture of LOOKS showing the image file PATH, its bytes stored in BUFFER; its index."
-  (multiple-value-bind (octets mime-type) (texture-octets path)
+(defun embedded-texture-octets-checked (texture)
+  "The bytes of the embedded TEXTURE and their MIME type; a MODEL-WRITE-ERROR
+when it is not a PNG or JPEG file (raw texels, another format) or could not
+be decoded at import."
+  (let ((octets (embedded-texture-octets texture)))
+    (when (typep (embedded-texture-image texture) 'condition)
+      (write-fail "its embedded texture ~A cannot be decoded: ~A"
+                  (embedded-texture-name texture) (embedded-texture-image texture)))
+    (values octets
+            (or (and octets (image-mime-type octets))
+                (write-fail "its embedded texture ~A is neither PNG nor JPEG, the only images glTF holds"
+                            (embedded-texture-name texture))))))
+
+(defun add-texture (looks buffer source)
+  "A new texture of LOOKS showing SOURCE, an image file's path or an
+EMBEDDED-TEXTURE, its bytes stored in BUFFER; its index."
+  (multiple-value-bind (octets mime-type) (if (stringp source)
+                                              (texture-octets source)
+                                              (embedded-texture-octets-checked source))
     (push (json-object "bufferView" (add-octets buffer octets) "mimeType" mime-type) (looks-images looks))
     (push (json-object "sampler" 0 "source" (1- (length (looks-images looks)))) (looks-textures looks))
     (1- (length (looks-textures looks)))))

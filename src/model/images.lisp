@@ -61,6 +61,8 @@ FILE, naming the Debian package libstb0, when it is not installed."
 (cffi:defcfun ("stbi_failure_reason" %stbi-failure-reason) :pointer) ; read with C-MESSAGE
 (cffi:defcfun ("stbi_info" %stbi-info) :int
   (filename :string) (x :pointer) (y :pointer) (channels-in-file :pointer))
+(cffi:defcfun ("stbi_info_from_memory" %stbi-info-from-memory) :int
+  (buffer :pointer) (length :int) (x :pointer) (y :pointer) (channels-in-file :pointer))
 
 (defvar *stb-lock* (bt:make-lock "player stb_image")
   "Held around each use of stb_image: its failure reason is one global of the
@@ -128,6 +130,15 @@ not installed; an ARGUMENT-ERROR for CHANNELS outside 1 to 4."
                (copy-stb-pixels file pointer (cffi:mem-ref width :int) (cffi:mem-ref height :int) channels)
             (%stbi-image-free pointer)))))))
 
+(defun check-image-size (file width height)
+  "Refuse, as an IMAGE-ERROR naming FILE, a WIDTH x HEIGHT that stb gave and
+that is no size or more than *IMAGE-PIXEL-LIMIT* pixels."
+  (unless (and (plusp width) (plusp height))
+    (image-fail file "stb_image gave a size of ~Dx~D" width height))
+  (when (> (* width height) *image-pixel-limit*)
+    (image-fail file "it is ~Dx~D, more than ~:D pixels (*image-pixel-limit*)"
+                width height *image-pixel-limit*)))
+
 (defun check-stb-header (file name)
   "Read only the header of the image NAME (FILE's native namestring) and refuse
 it, as an IMAGE-ERROR naming FILE, when stb cannot tell its size or it is
@@ -137,12 +148,38 @@ of it is decoded.  Called with *STB-LOCK* held."
     (when (zerop (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
                    (%stbi-info name width height in-file)))
       (image-fail file "stb_image cannot decode it: ~A" (or (c-message (%stbi-failure-reason)) "no reason given")))
-    (let ((width (cffi:mem-ref width :int)) (height (cffi:mem-ref height :int)))
-      (unless (and (plusp width) (plusp height))
-        (image-fail file "stb_image gave a size of ~Dx~D" width height))
-      (when (> (* width height) *image-pixel-limit*)
-        (image-fail file "it is ~Dx~D, more than ~:D pixels (*image-pixel-limit*)"
-                    width height *image-pixel-limit*)))))
+    (check-image-size file (cffi:mem-ref width :int) (cffi:mem-ref height :int))))
+
+;;;# Images in memory (textures embedded in a model file)
+
+(defun decode-image-octets (octets file &key (channels 4))
+  "The IMAGE decoded from OCTETS, the bytes of an image file (PNG, JPEG...)
+that FILE names (a model's embedded texture), converted to CHANNELS bytes a
+pixel.  stb is given the vector's own length, so it never reads past it; the
+header is read first, so a huge image is refused before it is decoded.
+Signals an IMAGE-ERROR naming FILE when OCTETS are empty, undecodable or
+more than *IMAGE-PIXEL-LIMIT* pixels; IMAGE-LIBRARY-MISSING without libstb0."
+  (check-type octets (simple-array (unsigned-byte 8) (*)))
+  (when (zerop (length octets)) (image-fail file "it holds no bytes"))
+  (unless (< (length octets) (expt 2 31))
+    (image-fail file "it is ~:D bytes, more than stb_image reads" (length octets)))
+  (load-stb-library file)
+  (bt:with-lock-held (*stb-lock*)
+    (cffi:with-foreign-objects ((width :int) (height :int) (in-file :int))
+      (flet ((reason () (or (c-message (%stbi-failure-reason)) "no reason given")))
+        (sb-sys:with-pinned-objects (octets)
+          (let ((buffer (sb-sys:vector-sap octets)))
+            (when (zerop (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
+                           (%stbi-info-from-memory buffer (length octets) width height in-file)))
+              (image-fail file "stb_image cannot decode it: ~A" (reason)))
+            (check-image-size file (cffi:mem-ref width :int) (cffi:mem-ref height :int))
+            (let ((pointer (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
+                             (%stbi-load-from-memory buffer (length octets) width height in-file channels))))
+              (when (cffi:null-pointer-p pointer)
+                (image-fail file "stb_image cannot decode it: ~A" (reason)))
+              (unwind-protect
+                   (copy-stb-pixels file pointer (cffi:mem-ref width :int) (cffi:mem-ref height :int) channels)
+                (%stbi-image-free pointer)))))))))
 
 ;;;# A model's textures
 
@@ -150,16 +187,41 @@ of it is decoded.  Called with *STB-LOCK* held."
   "Is PATH (a mesh's texture) one embedded in the model file, Assimp's \"*N\"?"
   (and (plusp (length path)) (char= (char path 0) #\*)))
 
+(defun embedded-texture-result (model path)
+  "The IMAGE of MODEL's embedded texture PATH (\"*N\"), or the IMAGE-ERROR
+saying why there is none: undecodable, or N not one of its textures.
+Re-signals IMAGE-LIBRARY-MISSING."
+  (let* ((textures (model-embedded-textures model))
+         (index (ignore-errors (parse-integer path :start 1)))
+         (texture (and index (< -1 index (length textures)) (aref textures index))))
+    (if texture
+        (let ((result (embedded-texture-image texture)))
+          (if (typep result 'image-library-missing) (error result) result))
+        (make-condition 'image-error
+                        :file (format nil "~A's embedded texture ~A" (model-file model) path)
+                        :reason (format nil "the model embeds ~D texture~:P, not one numbered ~A"
+                                        (length textures) (subseq path 1))))))
+
+(defun mesh-texture-image (mesh &key (channels 4))
+  "The IMAGE of MESH's texture: the one embedded in its model file, decoded at
+import, or its texture file decoded now (CHANNELS bytes a pixel; an embedded
+one is always RGBA).  Signals the IMAGE-ERROR saying why there is none."
+  (let ((embedded (model-mesh-embedded-texture mesh)))
+    (if embedded
+        (let ((result (embedded-texture-image embedded)))
+          (if (typep result 'condition) (error result) result))
+        (read-image (model-mesh-texture mesh) :channels channels))))
+
 (defun model-texture-images (model &key (channels 4))
-  "For each distinct texture file MODEL's meshes name, (PATH . RESULT): RESULT
-is the IMAGE decoded from it (CHANNELS bytes a pixel), or the IMAGE-ERROR
+  "For each distinct texture MODEL's meshes name, (PATH . RESULT): RESULT is
+the IMAGE decoded from it (CHANNELS bytes a pixel; a texture embedded in the
+model file, \"*N\", was decoded as RGBA at import), or the IMAGE-ERROR
 saying why it could not be (missing, undecodable, too large), so a caller
 finds every broken texture before a render starts instead of the first.
-Textures embedded in the model file (\"*0\", \"*1\"...) are left out: they
-are not files, and decoding them (from Assimp's aiTexture) comes later.
 Signals IMAGE-LIBRARY-MISSING when libstb0 is not installed."
   (loop for path in (model-textures model)
-        unless (embedded-texture-p path)
-          collect (cons path (handler-case (read-image path :channels channels)
-                               (image-library-missing (condition) (error condition))
-                               (image-error (condition) condition)))))
+        collect (cons path (if (embedded-texture-p path)
+                               (embedded-texture-result model path)
+                               (handler-case (read-image path :channels channels)
+                                 (image-library-missing (condition) (error condition))
+                                 (image-error (condition) condition))))))

@@ -322,15 +322,20 @@ TRANSFORM its node's world matrix at rest."
           (loop for joint across joints for i from 0
                 do (unless (gethash (joint-name joint) joint-index)
                      (setf (gethash (joint-name joint) joint-index) i)))
-          (make-model (namestring path)
-                      (loop for mesh in meshes for i from 0
-                            collect (copy-mesh mesh materials (uiop:pathname-directory-pathname path) joint-index
-                                               (nearest-joint nodes joint-of (aref holders i))
-                                               (node-world-matrix nodes (aref holders i))))
-                      joints
-                      (let ((meshes-of (node-meshes-table nodes holders meshes)))
+          (let ((textures (copy-embedded-textures
+                           (scene-array scene 'num-textures 'textures "embedded textures") path))
+                (meshes-of (node-meshes-table nodes holders meshes)))
+            (make-model (namestring path)
+                        (attach-embedded-textures
+                         (loop for mesh in meshes for i from 0
+                               collect (copy-mesh mesh materials (uiop:pathname-directory-pathname path) joint-index
+                                                  (nearest-joint nodes joint-of (aref holders i))
+                                                  (node-world-matrix nodes (aref holders i))))
+                         textures)
+                        joints
                         (mapcar (lambda (animation) (import-animation animation joint-index meshes-of))
-                                animations))))))))
+                                animations)
+                        textures)))))))
 
 (defun node-meshes-table (nodes holders meshes)
   "A table from each node's name, and each mesh's, to the (MESH-INDEX .
@@ -477,5 +482,6 @@ installed."
                      (with-assimp-traps-masked (%ai-release-import scene)))))
         (when texture-path
           (dolist (mesh (model-meshes model))
-            (setf (model-mesh-texture mesh) texture-path)))
+            (setf (model-mesh-texture mesh) texture-path
+                  (model-mesh-embedded-texture mesh) nil)))
         model))))

@@ -10,6 +10,15 @@
 (deftype double-vector () "A flat vector of double-floats." '(simple-array double-float (*)))
 (deftype index-vector () "A flat vector of vertex or joint indices." '(simple-array (unsigned-byte 32) (*)))
 
+(defstruct (embedded-texture (:constructor make-embedded-texture (name octets image)) (:predicate nil) (:copier nil))
+  "A texture embedded in a model file: its NAME, Assimp's \"*N\"; OCTETS, the
+bytes of the image file it is (PNG, JPEG...), or NIL for one the file holds
+as raw texels; IMAGE, what decoding it gave at import: the IMAGE (RGBA), or
+the IMAGE-ERROR saying why not."
+  (name "" :type string)
+  (octets nil :type (or null (simple-array (unsigned-byte 8) (*))))
+  (image nil))
+
 (defstruct model-mesh
   "One mesh: its NAME; POSITIONS and NORMALS (3 per vertex), UVS (the first
 UV set, 2 per vertex) and COLOURS (the first colour set, RGBA), each NIL when
@@ -20,7 +29,8 @@ the mesh's own bones; HOLDER, the joint its node is or hangs below (what an
 unskinned vertex follows); TRANSFORM, its node's world matrix at rest (16
 doubles, row-major, the scene's space: where its vertices are for an unskinned
 mesh); TEXTURE, its diffuse texture's path resolved against the
-model's folder (or \"*N\" for a texture embedded in the file), or NIL;
+model's folder (or \"*N\" for a texture embedded in the file, then
+EMBEDDED-TEXTURE is that texture, the model's too), or NIL;
 MORPH-TARGETS, the names of its morph targets, and MORPHS, the MORPH-TARGETs
 themselves (names and position deltas)."
   (name "" :type string)
@@ -35,6 +45,7 @@ themselves (names and position deltas)."
   (holder 0 :type (integer 0))
   (transform nil :type (or null double-vector))
   (texture nil :type (or null string))
+  (embedded-texture nil :type (or null embedded-texture))
   (morph-targets '() :type list)
   (morphs '() :type list))
 
@@ -81,15 +92,17 @@ keys of morph target weights (see morphs.lisp)."
   (channels '() :type list)
   (morph-channels '() :type list))
 
-(defstruct (model (:constructor make-model (file meshes joints animations)))
+(defstruct (model (:constructor make-model (file meshes joints animations &optional (embedded-textures #()))))
   "A model imported from FILE (its truename, a string): its MESHES, its JOINTS
 (a vector, parents before children; the skeleton is the nodes that are bones
-or are animated, and their ancestors up to the scene's root) and its
-ANIMATIONS."
+or are animated, and their ancestors up to the scene's root), its
+ANIMATIONS and its EMBEDDED-TEXTURES (a vector of EMBEDDED-TEXTURE, the
+Nth being the texture its meshes call \"*N\")."
   (file "" :type string)
   (meshes '() :type list)
   (joints #() :type simple-vector)
-  (animations '() :type list))
+  (animations '() :type list)
+  (embedded-textures #() :type simple-vector))
 
 (defun model-vertex-count (model)
   "How many vertices MODEL's meshes have together."

@@ -29,5 +29,7 @@
    #:write-gltf #:model-write-error
    #:read-image #:image #:image-p #:image-width #:image-height #:image-channels #:image-pixels
    #:image-error #:image-error-file #:image-error-reason #:image-library-missing
-   #:*image-pixel-limit* #:model-texture-images
+   #:*image-pixel-limit* #:model-texture-images #:mesh-texture-image #:decode-image-octets
+   #:model-embedded-textures #:embedded-texture #:embedded-texture-name #:embedded-texture-octets
+   #:embedded-texture-image #:model-mesh-embedded-texture #:embedded-texture-p
    #:guess-roles #:role-error #:role-error-joint #:role-error-role #:roles-enabling-drivers))

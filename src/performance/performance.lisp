@@ -249,10 +249,14 @@ Returns its duration (NIL when it loops for ever)."
     (setf (performance-scene performance) scene)
     (start-performance-pose performance)
     (dolist (spec (script-library-objects library))
-      (let ((object (make-instance 'scene-object :name (scene-object-spec-name spec)
-                                                 :kind (scene-object-spec-kind spec)
-                                                 :position (scene-object-spec-position spec)
-                                                 :rotation (scene-object-spec-rotation spec))))
+      (let ((object (apply #'make-instance
+                           (if (scene-object-spec-prop-model spec) 'model-prop 'scene-object)
+                           :name (scene-object-spec-name spec)
+                           :kind (scene-object-spec-kind spec)
+                           :position (scene-object-spec-position spec)
+                           :rotation (scene-object-spec-rotation spec)
+                           (and (scene-object-spec-prop-model spec)
+                                (list :prop-model (scene-object-spec-prop-model spec))))))
         (loop for (name type value) in (scene-object-spec-properties spec)
               do (define-property object name type value))
         (setf (object-parent object) stage)
@@ -374,7 +378,14 @@ nothing else cuts them."
          (let* ((body (performance-body performance body-name))
                 (driver (make-driver (motor-item-call item) body time :stop end)))
            (push driver (script-run-drivers run))
-           (body-add-driver body driver)))
+           (body-add-driver body driver)
+           ;; A clip played with :root :move carries the body: its position is
+           ;; bound, for the item's span, to the clip's travel from here.
+           (when (moves-root-p driver)
+             (add-binding performance run body 'position
+                          (make-root-motion-control driver (property-value body 'position)
+                                                    (property-value body 'rotation))
+                          time end))))
         (animate-item
          (add-binding performance run (object (animate-item-object item)) (animate-item-property item)
                       (animate-item-control item) time end))

@@ -93,10 +93,16 @@ buffers are built once and only posed afterwards."
 (defun cached-scene-mesh (object cache)
   "OBJECT's SCENE-MESH from CACHE, made on first use; bodies with one skeleton
 share its BODY-MESH, each with its own buffer.  A body whose skeleton has a
-rig (an imported model) is drawn from its skins (MAKE-SKINNED-SCENE-MESH)."
+rig (an imported model), or a MODEL-PROP, is drawn from its skins
+\(MAKE-SKINNED-SCENE-MESH)."
   (or (gethash object cache)
       (and (typep object 'body) (skeleton-rig (body-skeleton object))
-           (setf (gethash object cache) (make-skinned-scene-mesh object)))
+           (setf (gethash object cache)
+                 (make-skinned-scene-mesh object (rig-skins (skeleton-rig (body-skeleton object))))))
+      ;; A prop drawn as a model: its meshes are skins of one joint, the prop.
+      (and (typep object 'model-prop)
+           (setf (gethash object cache)
+                 (make-skinned-scene-mesh object (prop-model-skins (model-prop-model object)))))
       (let ((body-mesh (if (typep object 'body)
                            (let ((skeleton (body-skeleton object)))
                              (or (gethash skeleton cache)

@@ -91,10 +91,12 @@ LOCATION as SIZE values of TYPE a vertex (integers converted to floats)."
   "The GL texture MESH is drawn with: its diffuse texture, loaded once per
 RENDERER (a RENDER-ERROR when it cannot be), or a white one when it has none
 or no UVs to place it."
-  (let ((path (and (model-mesh-uvs mesh) (model-mesh-texture mesh)))
-        (textures (renderer-textures renderer)))
-    (or (gethash (or path :white) textures)
-        (setf (gethash (or path :white) textures)
+  (let* ((path (and (model-mesh-uvs mesh) (model-mesh-texture mesh)))
+         ;; An embedded texture is keyed by itself: two models both have a "*0".
+         (key (or (and path (model-mesh-embedded-texture mesh)) path :white))
+         (textures (renderer-textures renderer)))
+    (or (gethash key textures)
+        (setf (gethash key textures)
               (if path (load-texture path mesh) (white-texture))))))
 
 (defun make-gpu-skin (renderer skin)

@@ -1,5 +1,5 @@
 ;;;; skinned-scene-mesh.lisp -- what SCENE-MESHES keeps of a body whose skeleton
-;;;; is an imported model's (it has a RIG): each skin's palette at the current
+;;;; is an imported model's (it has a RIG), or of a prop drawn as a model: each skin's palette at the current
 ;;;; pose and a box around the posed skin.  No posed vertices: the renderer
 ;;;; skins them itself, on the GPU or, as a fallback, on the CPU.
 
@@ -47,15 +47,15 @@ rest, from the centre of its joint: the largest |B_k v|, a vector of doubles."
                                                       (aref m row 3))
                                                    2)))))))))))
 
-(defun make-skinned-scene-mesh (body)
-  "The SKINNED-SCENE-MESH of BODY, whose skeleton has a RIG."
-  (let ((skins (rig-skins (skeleton-rig (body-skeleton body)))))
-    (%make-skinned-scene-mesh
-     :object body :body-mesh nil
-     :vertices (make-array (* 8 +vertex-floats+) :element-type 'single-float :initial-element 0f0)
-     :skins skins
-     :palettes (mapcar (lambda (skin) (make-array (length (skin-palette skin)) :initial-element nil)) skins)
-     :reaches (mapcar #'skin-reaches skins))))
+(defun make-skinned-scene-mesh (object skins)
+  "The SKINNED-SCENE-MESH of OBJECT drawn from SKINS: a body whose skeleton has
+a RIG (its RIG-SKINS), or a MODEL-PROP (its meshes as skins of one joint)."
+  (%make-skinned-scene-mesh
+   :object object :body-mesh nil
+   :vertices (make-array (* 8 +vertex-floats+) :element-type 'single-float :initial-element 0f0)
+   :skins skins
+   :palettes (mapcar (lambda (skin) (make-array (length (skin-palette skin)) :initial-element nil)) skins)
+   :reaches (mapcar #'skin-reaches skins)))
 
 (defun write-box-corners (vertices low high)
   "Write the 8 corners of the box from LOW to HIGH (lists X Y Z) as positions

@@ -1,5 +1,5 @@
 ;;;; textures.lisp -- a model's diffuse textures in GL: decoded by READ-IMAGE
-;;;; (stb_image), uploaded once per renderer with mipmaps and sampled
+;;;; (stb_image) or at import for one embedded in the model file, uploaded once per renderer with mipmaps and sampled
 ;;;; trilinearly, and a 1x1 white one for meshes without a texture.
 
 (in-package #:player.render)
@@ -45,18 +45,17 @@ repeating, with mipmaps and trilinear filtering when MIPMAPS, else linear."
   (upload-texture (make-array 4 :element-type '(unsigned-byte 8) :initial-element 255) 1 1 :mipmaps nil))
 
 (defun texture-image (path mesh)
-  "The IMAGE of MESH's texture PATH, RGBA; a RENDER-ERROR saying why when the
-texture is embedded, missing or undecodable, or stb_image is not installed."
+  "The RGBA IMAGE of MESH's texture PATH (a file, or one embedded in the model
+file and decoded at import); a RENDER-ERROR saying why when it is missing or
+undecodable, or stb_image is not installed."
   (flet ((fail (reason)
            (render-fail "cannot draw the mesh ~S: its texture ~A ~A" (model-mesh-name mesh) path reason)))
-    (when (and (plusp (length path)) (char= (char path 0) #\*))
-      (fail "is embedded in the model file, which Player does not read yet"))
-    (handler-case (read-image path :channels 4)
+    (handler-case (mesh-texture-image mesh :channels 4)
       (image-library-missing (condition) (fail (format nil "cannot be decoded: ~A" condition)))
       (image-error (condition) (fail (format nil "cannot be read: ~A" (image-error-reason condition)))))))
 
 (defun load-texture (path mesh)
-  "A new GL texture of MESH's texture file PATH (see TEXTURE-IMAGE), mipmapped."
+  "A new GL texture of MESH's texture PATH (see TEXTURE-IMAGE), mipmapped."
   (let ((image (texture-image path mesh)))
     (upload-texture (bottom-up-rows (image-pixels image) (image-width image) (image-height image))
                     (image-width image) (image-height image))))

@@ -12,6 +12,9 @@
   (:export
    #:rig #:rig-p #:rig-model #:rig-placement #:rig-scale #:rig-clips #:rig-bounds #:rig-skins
    #:model-skeleton #:rig-error
+   #:prop-model #:prop-model-p #:prop-model-model #:prop-model-skins #:prop-model-placement #:make-prop-model
+   #:model-prop #:model-prop-model
+   #:moves-root-p #:make-root-motion-control #:root-motion-control #:clip-travel
    #:motion-clip #:motion-clip-p #:clip-name #:clip-duration #:clip-tracks #:find-clip #:rig-clip-names
    #:clip-angles #:clip-joint-indices #:make-animation-clip #:cut-clip #:clip-name-from-animation
    #:mesh-skin #:skin-mesh #:skin-palette-joints #:skin-palette-matrices #:skin-palette

@@ -31,10 +31,11 @@ and the file it came from (or NIL)."
 
 (defstruct (scene-object-spec (:constructor make-scene-object-spec
                                   (name kind parent position rotation properties
-                                   documentation form)))
+                                   documentation form &optional prop-model)))
   "A scene object a library declares: KIND (:prop :camera :light :group), PARENT
 (NIL, an object's name or (OBJECT JOINT-OR-ROLE)), POSITION (VEC3, metres),
-ROTATION (unit QUAT), PROPERTIES ((NAME TYPE VALUE) ...) with values parsed."
+ROTATION (unit QUAT), PROPERTIES ((NAME TYPE VALUE) ...) with values parsed;
+for a prop drawn as a model, PROP-MODEL (from MAKE-PROP-MODEL), else NIL."
   (name nil :type symbol :read-only t)
   (kind :prop :type keyword :read-only t)
   (parent nil :read-only t)
@@ -42,7 +43,8 @@ ROTATION (unit QUAT), PROPERTIES ((NAME TYPE VALUE) ...) with values parsed."
   (rotation (quat) :type quat :read-only t)
   (properties '() :type list :read-only t)
   (documentation nil :type (or null string) :read-only t)
-  (form nil :read-only t))
+  (form nil :read-only t)
+  (prop-model nil :read-only t))
 
 (defun find-script (library name &optional errorp)
   "LIBRARY's script called NAME (a symbol or string, compared case-insensitively);
@@ -179,27 +181,35 @@ definition of its name as either."
 (defparameter *declarable-object-kinds* '(:prop :camera :light :group)
   "The kinds of object a library may declare (bodies come from characters).")
 
+(defparameter *defobject-options*
+  '(:kind :parent :position :rotation :properties :documentation :model :texture :height :scale :up)
+  "The options of a (defobject NAME ...) form; the last five make a prop a model's meshes.")
+
 (defun parse-defobject (form)
   "The SCENE-OBJECT-SPEC FORM, (defobject NAME &key ...), declares."
   (unless (and (alexandria:proper-list-p form) (usable-name-p (second form)))
-    (script-fail form "an object is written (defobject NAME &key kind parent position rotation properties documentation)"))
+    (script-fail form "an object is written (defobject NAME &key kind parent position rotation properties documentation model texture height scale up)"))
   (let ((*script-context* (format nil "object ~A" (lisp-text (second form))))
         (options (cddr form)))
-    (check-options form options '(:kind :parent :position :rotation :properties :documentation)
-                   "defobject")
+    (check-options form options *defobject-options* "defobject")
     (destructuring-bind (&key (kind :prop) parent (position '(0 0 0)) rotation properties
-                           documentation)
+                           documentation model texture height scale (up :y))
         options
       (unless (member kind *declarable-object-kinds*)
         (script-fail form ":kind must be one of ~{~A~^ ~}, not ~A"
                      (mapcar #'lisp-text *declarable-object-kinds*) (lisp-text kind)))
       (unless (typep documentation '(or null string))
         (script-fail form ":documentation must be a string"))
+      (when (and (not model) (or texture height scale (getf options :up)))
+        (script-fail form ":texture, :height, :scale and :up belong to a prop drawn as a model: give :model \"FILE\""))
+      (when (and model (not (eq kind :prop)))
+        (script-fail form ":model draws a prop; a ~A has no meshes" (lisp-text kind)))
       (make-scene-object-spec (second form) kind (parse-object-parent form parent)
                               (parse-property-value :vector position form ":position")
                               (if rotation (parse-property-value :rotation rotation form ":rotation") (quat))
                               (parse-declared-properties properties form)
-                              documentation form))))
+                              documentation form
+                              (and model (parse-prop-model form model texture height scale up))))))
 
 (defun parse-declared-properties (properties form)
   "PROPERTIES, ((NAME TYPE VALUE) ...), with each VALUE parsed by its TYPE."

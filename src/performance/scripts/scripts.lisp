@@ -91,7 +91,8 @@
 ;;; end must come after a :stop of it.  A director lasts until the last of its
 ;;; scripts ends (for ever if one loops unstopped).
 ;;;
-;;;   (defobject NAME &key kind parent position rotation properties documentation)
+;;;   (defobject NAME &key kind parent position rotation properties documentation
+;;;                        model texture height scale up)
 ;;;
 ;;; declares a scene object: KIND :prop (the default), :camera, :light or
 ;;; :group; PARENT as for :attach (default NIL); POSITION (X Y Z) metres
