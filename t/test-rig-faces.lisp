@@ -252,3 +252,28 @@ of MORPH-NAMES moves up by 1 cm times its position in the list (+1)."
                        seen)))
         (is (> (- (reduce #'max angles) (reduce #'min angles)) 1) "the humanoid's left elbow follows the capture")
         (is (player.body:pose-within-limits-p skeleton (player.body:body-pose body)))))))
+
+(test facing-and-lids-on-imported-joints
+  (with-assimp-models
+    ;; Facing turns the root about the vertical: CMU's subject turns to a point on its left.
+    (let* ((body (cmu-body))
+           (skeleton (player.body:body-skeleton body))
+           (root (svref (player.body:skeleton-joints skeleton) 0))
+           (yaw (1+ (player.body:body-joint-dof-start root))))
+      (evaluate-call body '(:facing :target (:point 5 0 0) :duration 0.5) 0 0)
+      ;; From where the root stands, the point lies this many degrees round from +z.
+      (let* ((centre (player.body:body-joint-center root))
+             (heading (* (/ 180 pi) (atan (- 5 (svref centre 0)) (- 0 (svref centre 2))))))
+        (is (< (abs (- (aref (player.body:body-evaluate body 1d0) yaw) heading)) 1d-6)
+            "the root turns ~,1F degrees about y to face the point" heading)
+        (is (> heading 80))))
+    ;; An imported upper lid (no close DOF) shuts about x on a blink.
+    (let* ((skeleton (player.rig:model-skeleton (player:import-model (assimp-model "X/Testwuson.X"))
+                                                :height 0.8 :roles '((:left-upper-lid "Ear_L") (:right-upper-lid "Ear_R"))))
+           (body (player.body:make-body 'wuson skeleton))
+           (lid (player.body:body-joint-dof-start (player.body:find-joint skeleton "Ear_L"))))
+      (evaluate-call body '(:blink :mean-interval 0.5 :duration 0.2 :seed 3) 0 0)
+      (is (< (abs (- (loop for i from 1 to 400 maximize (aref (player.body:body-evaluate body (* i 0.01d0)) lid))
+                     player.body::*imported-lid-closing*))
+             1)
+          "the lid shuts to ~A degrees about x" player.body::*imported-lid-closing*))))

@@ -51,18 +51,30 @@ its start, and at the start of each later gaze shift, until stopped."))
     (when (and morphs (not (skeleton-role skeleton :left-upper-lid)))
       (setf (blink-lids driver) (mapcar (constantly 1d0) morphs))
       (return-from driver-setup morphs))
-    (setf (blink-lids driver)
-          (loop for role in '(:left-upper-lid :right-upper-lid)
-                for joint = (role-joint driver role)
-                for dof = (body-joint-dof joint 'close)
-                unless dof
-                  do (motor-fail (motor-call-frame (driver-call driver))
-                                 "lid ~A of skeleton ~A has no DOF close"
-                                 (lisp-text (body-joint-name joint))
-                                 (lisp-text (skeleton-name skeleton)))
-                collect (float (body-dof-max dof) 1d0)))
-    (loop for role in '(:left-upper-lid :right-upper-lid)
-          collect (dof-index skeleton (body-joint-name (role-joint driver role)) 'close))))
+    (let ((lids (loop for role in '(:left-upper-lid :right-upper-lid)
+                      collect (multiple-value-list (lid-close-channel driver (role-joint driver role))))))
+      (setf (blink-lids driver) (mapcar #'second lids))
+      (mapcar #'first lids))))
+
+(defparameter *imported-lid-closing* 60
+  "Degrees an imported model's upper lid (a joint without a close DOF) turns
+about x to shut, as the humanoid's lids do.")
+
+(defun lid-close-channel (driver lid)
+  "The pose index that closes the upper LID and its value when shut, two
+values: its DOF called close at its limit, or for an imported joint its x DOF
+at *IMPORTED-LID-CLOSING* degrees (within its limits).  A MOTOR-ERROR when it
+has neither."
+  (let ((close (body-joint-dof lid 'close))
+        (x (find :x (body-joint-dofs lid) :key #'body-dof-axis)))
+    (cond (close (values (+ (body-joint-dof-start lid) (position close (body-joint-dofs lid)))
+                         (float (body-dof-max close) 1d0)))
+          (x (values (+ (body-joint-dof-start lid) (position x (body-joint-dofs lid)))
+                     (min (float (body-dof-max x) 1d0) (float *imported-lid-closing* 1d0))))
+          (t (motor-fail (motor-call-frame (driver-call driver))
+                         "lid ~A of skeleton ~A has no DOF close"
+                         (lisp-text (body-joint-name lid))
+                         (lisp-text (skeleton-name (driver-skeleton driver))))))))
 
 (defmethod driver-begin ((driver blink-driver) pose time)
   (declare (ignore time))
