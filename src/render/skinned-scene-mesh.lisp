@@ -52,35 +52,41 @@ rest, from the centre of its joint: the largest |B_k v|, a vector of doubles."
 a RIG (its RIG-SKINS), or a MODEL-PROP (its meshes as skins of one joint)."
   (%make-skinned-scene-mesh
    :object object :body-mesh nil
-   :vertices (make-array (* 8 +vertex-floats+) :element-type 'single-float :initial-element 0f0)
+   :vertices (make-array (* 8 +vertex-floats+ (reduce #'+ skins :key (lambda (skin) (length (skin-palette skin)))))
+                         :element-type 'single-float :initial-element 0f0)
    :skins skins
    :palettes (mapcar (lambda (skin) (make-array (length (skin-palette skin)) :initial-element nil)) skins)
    :reaches (mapcar #'skin-reaches skins)))
 
-(defun write-box-corners (vertices low high)
+(defun write-box-corners (vertices low high &optional (start 0))
   "Write the 8 corners of the box from LOW to HIGH (lists X Y Z) as positions
-into the interleaved VERTICES, normals up."
+into the interleaved VERTICES from the float START on, normals up."
   (dotimes (corner 8)
-    (let ((at (* corner +vertex-floats+)))
+    (let ((at (+ start (* corner +vertex-floats+))))
       (dotimes (axis 3)
         (setf (aref vertices (+ at axis))
               (float (nth axis (if (logbitp axis corner) high low)) 1f0)))
       (setf (aref vertices (+ at 4)) 1f0))))
 
 (defmethod pose-scene-mesh ((mesh skinned-scene-mesh) transforms)
-  "Compute each skin's palette at TRANSFORMS and the box around the posed skin."
+  "Compute each skin's palette at TRANSFORMS and the points bounding the posed
+skin: the corners of a cube around each palette entry's joint, its reach
+across.  Their box is the skin's box (the contact shadow's); projected one by
+one they bound its outline on screen far more tightly than that box's
+corners would, which keeps the antialiasing pass to the pixels near it."
   (loop for skin in (skinned-scene-mesh-skins mesh)
         for palette in (skinned-scene-mesh-palettes mesh)
         do (skin-palette-matrices skin transforms palette))
-  (let ((low (list most-positive-double-float most-positive-double-float most-positive-double-float))
-        (high (list most-negative-double-float most-negative-double-float most-negative-double-float)))
+  (let ((vertices (scene-mesh-vertices mesh))
+        (start 0))
     (loop for skin in (skinned-scene-mesh-skins mesh)
           for reaches in (skinned-scene-mesh-reaches mesh)
           do (loop for joint across (skin-palette-joints skin)
                    for reach across reaches
                    for p = (transform-translation (svref transforms joint))
-                   for xyz = (list (vec3-x p) (vec3-y p) (vec3-z p))
-                   do (setf low (mapcar (lambda (a b) (min a (- b reach))) low xyz)
-                            high (mapcar (lambda (a b) (max a (+ b reach))) high xyz))))
-    (write-box-corners (scene-mesh-vertices mesh) low high))
+                   do (write-box-corners vertices
+                                         (list (- (vec3-x p) reach) (- (vec3-y p) reach) (- (vec3-z p) reach))
+                                         (list (+ (vec3-x p) reach) (+ (vec3-y p) reach) (+ (vec3-z p) reach))
+                                         start)
+                      (incf start (* 8 +vertex-floats+)))))
   mesh)
