@@ -88,32 +88,6 @@
  (:at 0 :animate (pivot-5 rotation)
   (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
 
-(defscript from-lw-cw-cs-cs-cs-to-ls-lw-cs-cs-cs
- (:duration 1 :documentation "LW-CW-CS-CS-CS to LS-LW-CS-CS-CS")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 -0.6109) (1 :euler 0 0 -0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 -0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
-(defscript from-ls-lw-cs-cs-cs-to-le-ls-cs-cs-cs
- (:duration 1 :documentation "LS-LW-CS-CS-CS to LE-LS-CS-CS-CS")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 -0.6109) (1 :euler 0 0 -0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 -0.6109) (1 :euler 0 0 -0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
 (defscript from-ls-ls-cs-cs-cs-to-le-le-cs-cs-cs
  (:duration 1 :documentation "LS-LS-CS-CS-CS to LE-LE-CS-CS-CS")
  (:at 0 :animate (pivot-1 rotation)
@@ -153,47 +127,8 @@
  (:at 0 :animate (pivot-5 rotation)
   (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
 
-(defscript from-cw-cs-cw-cs-cs-to-lw-cw-cs-cs-cs
- (:duration 1 :documentation "CW-CS-CW-CS-CS to LW-CW-CS-CS-CS")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 -0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
 (defscript from-cs-cs-cs-cw-cw-to-cw-cw-cs-cs-cs
  (:duration 1 :documentation "CS-CS-CS-CW-CW to CW-CW-CS-CS-CS")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
-(defscript from-cs-cs-cs-cw-cw-to-cw-cs-cw-cs-cs
- (:duration 1 :documentation "CS-CS-CS-CW-CW to CW-CS-CW-CS-CS")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
-(defscript from-cs-cs-cs-cw-cw-to-cs-cw-cw-cs-cs
- (:duration 1 :documentation "CS-CS-CS-CW-CW to CS-CW-CW-CS-CS")
  (:at 0 :animate (pivot-1 rotation)
   (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
  (:at 0 :animate (pivot-2 rotation)
@@ -243,19 +178,6 @@
  (:at 0 :animate (pivot-5 rotation)
   (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out)))
 
-(defscript from-cs-cs-cs-ce-re-to-cs-cs-cs-re-rs
- (:duration 1 :documentation "CS-CS-CS-CE-RE to CS-CS-CS-RE-RS")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.6109) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out)))
-
 (defscript from-cs-cs-cs-rw-rw-to-cs-cs-cs-cw-cw
  (:duration 1 :documentation "CS-CS-CS-RW-RW to CS-CS-CS-CW-CW")
  (:at 0 :animate (pivot-1 rotation)
@@ -282,19 +204,6 @@
  (:at 0 :animate (pivot-5 rotation)
   (:keys ((0 :euler 0 0 0.6109) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out)))
 
-(defscript from-cs-cs-cs-re-rs-to-cs-cs-cs-rs-rw
- (:duration 1 :documentation "CS-CS-CS-RE-RS to CS-CS-CS-RS-RW")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.6109) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.6109) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out)))
-
 (defscript from-cs-cs-cs-re-re-to-cs-cs-cs-rs-rs
  (:duration 1 :documentation "CS-CS-CS-RE-RE to CS-CS-CS-RS-RS")
  (:at 0 :animate (pivot-1 rotation)
@@ -308,47 +217,8 @@
  (:at 0 :animate (pivot-5 rotation)
   (:keys ((0 :euler 0 0 0.6109) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out)))
 
-(defscript from-cs-cs-ce-cs-ce-to-cs-cs-cs-ce-re
- (:duration 1 :documentation "CS-CS-CE-CS-CE to CS-CS-CS-CE-RE")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.6109)) :interpolation :ease-in-out)))
-
 (defscript from-ce-ce-cs-cs-cs-to-cs-cs-cs-ce-ce
  (:duration 1 :documentation "CE-CE-CS-CS-CS to CS-CS-CS-CE-CE")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
-(defscript from-ce-ce-cs-cs-cs-to-cs-cs-ce-cs-ce
- (:duration 1 :documentation "CE-CE-CS-CS-CS to CS-CS-CE-CS-CE")
- (:at 0 :animate (pivot-1 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-2 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-3 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-4 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
- (:at 0 :animate (pivot-5 rotation)
-  (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out)))
-
-(defscript from-ce-ce-cs-cs-cs-to-cs-cs-ce-ce-cs
- (:duration 1 :documentation "CE-CE-CS-CS-CS to CS-CS-CE-CE-CS")
  (:at 0 :animate (pivot-1 rotation)
   (:keys ((0 :euler 0 0 0.0) (1 :euler 0 0 0.0)) :interpolation :ease-in-out))
  (:at 0 :animate (pivot-2 rotation)

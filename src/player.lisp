@@ -39,7 +39,8 @@
    #:pattern #:pred-and #:pred-edge #:pred-implies #:pred-nodes #:random-trace
    #:register-graph #:restrict #:seq-all #:seq-count #:seq-exists #:seq-restrict #:seq-rev
    #:seq-suffixes #:spec->graph #:sphere-state-p #:subgraph-p #:tree-flatten #:tree-left
-   #:tree-merge #:tree-p #:tree-product #:tree-right)
+   #:tree-merge #:tree-p #:tree-product #:tree-right
+   #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor)
   (:import-from #:player.control
    #:deferred-sends-error #:presenter-result-error #:presenter-result-error-function
    #:presenter-result-error-op #:presenter-result-error-presenter
@@ -277,6 +278,7 @@
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
    #:graph->spec #:graph->spec-forms #:spec->graph
    #:register-graph #:define-graph #:find-graph #:graph-expression #:graph-expression-error
+   #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor
    ;; Several characters in one scene (src/cast/)
    #:defscene #:define-cast #:find-cast #:list-casts #:remove-cast #:load-scene-file #:replicate-cast
    #:cast #:cast-p #:cast-name #:cast-documentation #:cast-members #:cast-events

@@ -5,7 +5,7 @@
 ;;;; EXPR is one of
 ;;;;   NAME                            a graph registered from Lisp (REGISTER-GRAPH, DEFINE-GRAPH)
 ;;;;   (newton-cradle N)               §4's G^n, N from 1 to *MAX-CRADLE-SPHERES*
-;;;;   (cradle-stage N STAGE)          a named stage of it: :g1 ... :g17, :merged, :g^n
+;;;;   (cradle-stage N STAGE)          a named stage of it: :g1 ... :g17, :merged, :paper, :g^n
 ;;;;   (complete (NODE...))            C(Σ)
 ;;;;   (graph (NODE...) ((SOURCE . TARGET)...))   nodes and edges written out
 ;;;;   (sum G G...)  or (+ G G...)     G1 + G2
@@ -144,11 +144,11 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
 (define-graph-builder ("cradle-stage") "(cradle-stage N STAGE)" (n stage)
   (unless (typep n `(integer 1 ,*max-cradle-spheres*))
     (graph-expression-fail form "(cradle-stage N STAGE) takes N from 1 to ~D, not ~A" *max-cradle-spheres* (lisp-text n)))
-  (let ((key (and (symbolp stage) (find (symbol-name stage) (mapcar #'car (cradle-stages n))
+  (let ((key (and (symbolp stage) (find (symbol-name stage) (cradle-stage-names n)
                                         :key #'symbol-name :test #'string-equal))))
     (or (and key (cradle-stage n key))
         (graph-expression-fail form "the ~D-sphere cradle has no stage ~A (stages: ~{~(~A~)~^ ~})"
-                               n (lisp-text stage) (mapcar #'car (cradle-stages n))))))
+                               n (lisp-text stage) (cradle-stage-names n)))))
 
 (define-graph-builder ("complete") "(complete (NODE...))" (nodes)
   (let ((nodes (node-list form nodes "(complete (NODE...))'s argument")))

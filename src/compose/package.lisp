@@ -17,4 +17,5 @@
    #:pattern #:pred-and #:pred-edge #:pred-implies #:pred-nodes #:random-trace
    #:register-graph #:restrict #:seq-all #:seq-count #:seq-exists #:seq-restrict #:seq-rev
    #:seq-suffixes #:spec->graph #:sphere-state-p #:subgraph-p #:tree-flatten #:tree-left
-   #:tree-merge #:tree-p #:tree-product #:tree-right))
+   #:tree-merge #:tree-p #:tree-product #:tree-right
+   #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor))
