@@ -103,6 +103,16 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "spec-graph")
                  (:file "graph-expressions")
                  (:file "graph-option")))
+   ;; A logic for behaviours (Clark & Palmer's further work): CTL, its model checker, counterexamples, diffs.
+   (:module "logic" :depends-on ("base" "spec" "planner" "compose")
+    :serial t
+    :components ((:file "package")
+                 (:file "conditions")
+                 (:file "behaviours")
+                 (:file "ctl")
+                 (:file "counterexamples")
+                 (:file "diff")
+                 (:file "graph-specs")))
    ;; Running a machine: the controller, the presenter and recorder protocol, the Lisp closures, the timed controller.
    (:module "control" :depends-on ("base" "spec" "planner" "ir")
     :serial t
@@ -349,7 +359,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -371,9 +381,11 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "chat")
                  (:file "speak")
                  (:file "model")
-                 (:file "export")))
+                 (:file "export")
+                 (:file "verify-graph")
+                 (:file "diff-graphs")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -480,5 +492,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; motion capture retargeted (issue 26, item 5)
                  (:file "test-retarget")
                  ;; Clark & Palmer complete (issue 30)
-                 (:file "test-cradle-physics"))))
+                 (:file "test-cradle-physics")
+                 (:file "test-logic"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
