@@ -108,7 +108,7 @@ its nodes, initial states START (a node or a list of nodes; by default every
 node of an eager graph), atoms as GRAPH-ATOM reads them. A FORMULA-ERROR when
 START is not a node."
   (let ((graph (if (lazy-graph-p graph)
-                   (let ((player.compose::*lazy-node-limit* *verify-state-limit*))
+                   (let ((*lazy-node-limit* *verify-state-limit*))
                      (apply #'lazy-reachable graph (or (and (consp start) (every #'consp start) start)
                                                        (list start))))
                    graph))
