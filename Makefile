@@ -29,11 +29,15 @@ demo-policies: deps
 	  --policies queue,preempt,override,interleave --size 320x240 --out demo
 
 # Newton's cradle (Clark & Palmer's transition systems, specs/newtons-cradle.lisp):
-# two spheres lifted on the left and let go, planned and drawn into demo/cradle/,
-# with demo/cradle/cradle.mp4 when ffmpeg is installed.
+# spheres lifted and let go, planned and drawn into demo/cradle/START/, with
+# demo/cradle/START/cradle.mp4 when ffmpeg is installed. START names the starting
+# configuration, an event of the spec without its ev-: lift-two-left (the default),
+# simple-example-animation (the paper's Figure 10: one lifted) or
+# more-complex-example (its Figure 11: one at one end, two at the other).
+START ?= lift-two-left
 demo-cradle: deps
-	bin/player render specs/newtons-cradle.lisp --events ev-lift-two-left --out demo/cradle \
-	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/cradle.mp4)
+	bin/player render specs/newtons-cradle.lisp --events ev-$(START) --out demo/cradle/$(START) \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/$(START)/cradle.mp4)
 
 # A character nobody here made (examples/wuson/): Assimp's Testwuson.X walks,
 # looks at the camera, runs and is stopped mid-stride (ev-stop preempts);

@@ -493,5 +493,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-retarget")
                  ;; Clark & Palmer complete (issue 30)
                  (:file "test-cradle-physics")
-                 (:file "test-logic"))))
+                 (:file "test-logic")
+                 (:file "test-cradle-figures"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

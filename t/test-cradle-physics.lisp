@@ -6,7 +6,7 @@
 
 (def-suite* cradle-physics :in player-tests)
 
-(defun cradle-start (n left right)
+(defun lifted-start (n left right)
   "The cradle node of N spheres, LEFT lifted at rest on the left, RIGHT on the right."
   (apply #'cradle-node (append (make-list left :initial-element '(-1 . 0))
                                (make-list (- n left right) :initial-element '(0 . 0))
@@ -16,7 +16,7 @@
   "Call FUNCTION on LEFT, RIGHT and the start node of every lifted set of N spheres."
   (loop for left from 0 to n
         do (loop for right from 0 to (- n left)
-                 do (funcall function left right (cradle-start n left right)))))
+                 do (funcall function left right (lifted-start n left right)))))
 
 (defun rest-node-p (node)
   "Is every sphere of NODE hanging at rest?"
@@ -54,10 +54,10 @@
   ;; The issue's cases: the paper's cradle has 4 dead ends with 2 of 5 lifted
   ;; and with one lifted at each end; the cradle has none.
   (flet ((dead-ends (graph) (count-if-not (lambda (node) (graph-successors graph node)) (graph-nodes graph))))
-    (is (= 4 (dead-ends (graph-reachable (cradle-paper 5) (cradle-start 5 2 0)))))
-    (is (= 4 (dead-ends (graph-reachable (cradle-paper 5) (cradle-start 5 1 1)))))
-    (is (= 0 (dead-ends (graph-reachable (newton-cradle 5) (cradle-start 5 2 0)))))
-    (is (= 0 (dead-ends (graph-reachable (newton-cradle 5) (cradle-start 5 1 1)))))
+    (is (= 4 (dead-ends (graph-reachable (cradle-paper 5) (lifted-start 5 2 0)))))
+    (is (= 4 (dead-ends (graph-reachable (cradle-paper 5) (lifted-start 5 1 1)))))
+    (is (= 0 (dead-ends (graph-reachable (newton-cradle 5) (lifted-start 5 2 0)))))
+    (is (= 0 (dead-ends (graph-reachable (newton-cradle 5) (lifted-start 5 1 1)))))
     ;; The issue's example dead end now moves on, as a cradle does.
     (is (equal '((0 . -1) (0 . -1) (0 . 0) (0 . 0) (0 . 0))
                (cradle-spheres (first (graph-successors

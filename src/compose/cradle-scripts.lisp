@@ -100,18 +100,18 @@ exponent marker when doubles are the default format."
         ((consp tree) (cons (double-floats (car tree)) (double-floats (cdr tree))))
         (t tree)))
 
-(defun cradle-script-forms (&key (n 5) (lifted 2))
+(defun cradle-script-forms (&key (n 5))
   "The forms of specs/newtons-cradle-scripts.lisp for the spec CRADLE-SPEC-FORMS
-makes with N and LIFTED: the scene, then a script per op, named as the op."
-  (multiple-value-bind (graph rest lifted-node) (cradle-spec-graph :n n :lifted lifted)
-    (let ((namer (cradle-op-namer rest lifted-node)))
+makes with N: the scene, then a script per op, named as the op."
+  (multiple-value-bind (graph rest lifts) (cradle-spec-graph :n n)
+    (let ((namer (cradle-op-namer rest lifts)))
       (double-floats
        (append (cradle-frame-forms n)
                (cradle-sphere-forms n)
                (loop for (source . target) in (graph-edges graph)
                      collect (cradle-swing-script (funcall namer source target) source target)))))))
 
-(defun cradle-scripts-text (&key (n 5) (lifted 2))
+(defun cradle-scripts-text (&key (n 5))
   "The text of specs/newtons-cradle-scripts.lisp (see CRADLE-SCRIPT-FORMS)."
   (with-output-to-string (out)
     (with-standard-io-syntax
@@ -127,7 +127,7 @@ makes with N and LIFTED: the scene, then a script per op, named as the op."
 ;;;; is made of; regenerate with~%~
 ;;;;   (player.compose:write-cradle-scripts-file \"specs/newtons-cradle-scripts.lisp\")~%~
 ;;;; Draw it: make demo-cradle~%")
-        (dolist (form (cradle-script-forms :n n :lifted lifted))
+        (dolist (form (cradle-script-forms :n n))
           (format out "~%~S~%" form))))))
 
 (defun write-cradle-scripts-file (file)
