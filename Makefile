@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle demo-dialogue demo-model test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-spheres demo-dialogue demo-model test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -38,6 +38,14 @@ START ?= lift-two-left
 demo-cradle: deps
 	bin/player render specs/newtons-cradle.lisp --events ev-$(START) --out demo/cradle/$(START) \
 	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/$(START)/cradle.mp4)
+
+# Clark & Palmer's first example (specs/bouncing-spheres.lisp): two spheres from
+# the upper surface collide, bounce off each other, hit the lower surface and
+# part (the paper's Figure 3.3), drawn into demo/spheres/, with
+# demo/spheres/spheres.mp4 when ffmpeg is installed.
+demo-spheres: deps
+	bin/player render specs/bouncing-spheres.lisp --events ev-figure-3-3 --out demo/spheres \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/spheres/spheres.mp4)
 
 # A character nobody here made (examples/wuson/): Assimp's Testwuson.X walks,
 # looks at the camera, runs and is stopped mid-stride (ev-stop preempts);

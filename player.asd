@@ -102,6 +102,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "cradle-scripts")
                  (:file "spec-graph")
                  (:file "graph-expressions")
+                 (:file "edge-tests")
+                 (:file "spheres-scripts")
                  (:file "graph-option")))
    ;; A logic for behaviours (Clark & Palmer's further work): CTL, its model checker, counterexamples, diffs.
    (:module "logic" :depends-on ("base" "spec" "planner" "compose")
@@ -494,5 +496,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Clark & Palmer complete (issue 30)
                  (:file "test-cradle-physics")
                  (:file "test-logic")
-                 (:file "test-cradle-figures"))))
+                 (:file "test-cradle-figures")
+                 (:file "test-bouncing-spheres"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

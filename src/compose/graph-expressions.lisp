@@ -16,9 +16,13 @@
 ;;;;   (reachable G NODE...)           the part of G reachable from the NODEs
 ;;;;   (spec NAME)                     SPEC->GRAPH of a spec defined before (its
 ;;;;                                   values are symbols of that spec's package)
+;;;;   (let* ((NAME EXPR)...) G)       names for graphs, and for predicates
+;;;;                                   written (predicate PRED), used in G
 ;;;; PRED is a pattern (both ends of an edge must match it, PRED-NODES),
-;;;; (=> P1 P2) (the paper's implication, PRED-IMPLIES), (then P1 P2) (PRED-EDGE)
-;;;; or (& PRED PRED...) (PRED-AND). Patterns are the paper's, as in
+;;;; (=> P1 P2) (the paper's implication, PRED-IMPLIES), (then P1 P2) (PRED-EDGE),
+;;;; (& PRED PRED...) (PRED-AND), (edge P1 P2 [TEST]) (a statement about the
+;;;; moves from P1 to P2, TEST as in edge-tests.lisp), (not PRED), (or PRED...),
+;;;; or a name LET* bound to a predicate. Patterns are the paper's, as in
 ;;;; patterns.lisp: _, identifiers (any other symbol), constants (numbers,
 ;;;; strings, keywords, 'SYMBOL), pairs (P1 . P2), and (:eval F X...) with F
 ;;;; one of + - * only. A NODE is literal data, or (cradle-node (P . V)...).
@@ -97,7 +101,8 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
 (defun interpret-graph (form)
   "The graph of the graph expression FORM."
   (let ((graph
-          (cond ((and (symbolp form) form (not (keywordp form)))
+          (cond ((and (symbolp form) (bound-name form :graph)))
+                ((and (symbolp form) form (not (keywordp form)))
                  (or (find-graph form nil)
                      (graph-expression-fail form "~A is no registered graph (registered: ~:[none~;~:*~{~A~^, ~}~])"
                                             (lisp-text form)
@@ -215,11 +220,61 @@ and GRAPH2: counted first, so a merge too large is refused before it is built."
   (let ((*spec-graph-state-limit* (min *spec-graph-state-limit* 20000)))
     (values (spec->graph name))))
 
+;;; Names: (let* ((NAME EXPR)...) G)
+
+(defvar *graph-bindings* '()
+  "While a graph expression's LET* body is interpreted: (NAME KIND . VALUE)
+for each name it binds, KIND :GRAPH or :PREDICATE, innermost first.")
+
+(defun bound-name (symbol kind)
+  "The value SYMBOL is bound to as KIND (:GRAPH or :PREDICATE) by an enclosing LET*, or NIL."
+  (let ((entry (find-if (lambda (entry) (and (symbolp symbol) (string= (symbol-name (first entry)) (symbol-name symbol))))
+                        *graph-bindings*)))
+    (and entry (eq (second entry) kind) (cddr entry))))
+
+(define-graph-builder ("let*" "let") "(let* ((NAME G-or-(predicate PRED))...) G)" (bindings body)
+  ;; Names bound in order, each seeing those before it, as the paper names
+  ;; S1, p1, S2 ... and then writes expressions of them.
+  (unless (and (proper-list-p bindings)
+               (every (lambda (b) (and (proper-list-p b) (= 2 (length b)) (symbolp (first b)) (first b)
+                                       (not (keywordp (first b)))))
+                      bindings))
+    (graph-expression-fail form "write (let* ((NAME EXPR)...) BODY), not ~A" (bounded-lisp-text bindings 80)))
+  (let ((*graph-bindings* *graph-bindings*))
+    (loop for (name expression) in bindings
+          do (push (if (and (consp expression) (symbolp (first expression)) (word-p (first expression) "PREDICATE"))
+                       (progn
+                         (unless (= 2 (length expression))
+                           (graph-expression-fail expression "write (predicate PRED)"))
+                         (list* name :predicate (interpret-predicate (second expression))))
+                       (list* name :graph (interpret-graph expression)))
+                   *graph-bindings*))
+    (interpret-graph body)))
+
 ;;; Predicates and patterns
+
+(defun interpret-edge-predicate (form)
+  "The predicate of (edge P1 P2 [TEST]): moves from a P1 node to a P2 node
+for which TEST (edge-tests.lisp) holds over the identifiers they bind."
+  (unless (<= 3 (length form) 4)
+    (graph-expression-fail form "write (edge P1 P2 [TEST]), not ~A" (bounded-lisp-text form 80)))
+  (destructuring-bind (p1 p2 &optional (test nil test-p)) (rest form)
+    (let ((identifiers (union (pattern-identifiers p1) (pattern-identifiers p2))))
+      (pred-where (interpret-pattern p1) (interpret-pattern p2) (if test-p (compile-edge-test test identifiers) (constantly t))
+                  :description (bounded-lisp-text form 80)))))
 
 (defun interpret-predicate (form)
   "The restriction predicate the predicate form FORM denotes."
-  (cond ((and (consp form) (proper-list-p form) (word-p (first form) "=>" "THEN"))
+  (cond ((and (symbolp form) (bound-name form :predicate)))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "EDGE"))
+         (interpret-edge-predicate form))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "NOT"))
+         (unless (= 2 (length form)) (graph-expression-fail form "write (not PRED)"))
+         (pred-not (interpret-predicate (second form))))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "OR"))
+         (unless (rest form) (graph-expression-fail form "(or PRED PRED...) needs a predicate"))
+         (apply #'pred-or (mapcar #'interpret-predicate (rest form))))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "=>" "THEN"))
          (unless (= (length form) 3)
            (graph-expression-fail form "write (~(~A~) P1 P2), not ~A" (first form) (bounded-lisp-text form 80)))
          (funcall (if (word-p (first form) "=>") #'pred-implies #'pred-edge)
