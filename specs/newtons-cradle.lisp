@@ -25,70 +25,70 @@
     cs-cs-cs-rw-rw cs-cs-cs-rs-rs cs-cs-cs-re-re ce-cs-cs-cw-cw ce-cs-cs-cs-cs ce-ce-cs-cs-cw
     ce-ce-cs-cs-cs))
   (op from-lw-lw-cs-cs-cs-to-ls-ls-cs-cs-cs :precond cradle.lw-lw-cs-cs-cs :add
-   cradle.ls-ls-cs-cs-cs)
+   cradle.ls-ls-cs-cs-cs :duration 0.05)
   (op from-lw-lw-cs-cs-re-to-ls-ls-cs-cs-rs :precond cradle.lw-lw-cs-cs-re :add
-   cradle.ls-ls-cs-cs-rs)
+   cradle.ls-ls-cs-cs-rs :duration 0.05)
   (op from-lw-cs-cs-cs-cs-to-ls-cs-cs-cs-cs :precond cradle.lw-cs-cs-cs-cs :add
-   cradle.ls-cs-cs-cs-cs)
+   cradle.ls-cs-cs-cs-cs :duration 0.05)
   (op from-lw-cs-cs-re-re-to-ls-cs-cs-rs-rs :precond cradle.lw-cs-cs-re-re :add
-   cradle.ls-cs-cs-rs-rs)
+   cradle.ls-cs-cs-rs-rs :duration 0.05)
   (op from-ls-ls-cs-cs-cs-to-le-le-cs-cs-cs :precond cradle.ls-ls-cs-cs-cs :add
-   cradle.le-le-cs-cs-cs)
+   cradle.le-le-cs-cs-cs :duration 0.05)
   (op from-ls-ls-cs-cs-rs-to-le-le-cs-cs-rw :precond cradle.ls-ls-cs-cs-rs :add
-   cradle.le-le-cs-cs-rw)
+   cradle.le-le-cs-cs-rw :duration 0.05)
   (op from-ls-cs-cs-cs-cs-to-le-cs-cs-cs-cs :precond cradle.ls-cs-cs-cs-cs :add
-   cradle.le-cs-cs-cs-cs)
+   cradle.le-cs-cs-cs-cs :duration 0.05)
   (op from-ls-cs-cs-rs-rs-to-le-cs-cs-rw-rw :precond cradle.ls-cs-cs-rs-rs :add
-   cradle.le-cs-cs-rw-rw)
+   cradle.le-cs-cs-rw-rw :duration 0.05)
   (op from-le-le-cs-cs-cs-to-ce-ce-cs-cs-cs :precond cradle.le-le-cs-cs-cs :add
-   cradle.ce-ce-cs-cs-cs)
+   cradle.ce-ce-cs-cs-cs :duration 0.2967)
   (op from-le-le-cs-cs-rw-to-ce-ce-cs-cs-cw :precond cradle.le-le-cs-cs-rw :add
-   cradle.ce-ce-cs-cs-cw)
+   cradle.ce-ce-cs-cs-cw :duration 0.2967)
   (op from-le-cs-cs-cs-cs-to-ce-cs-cs-cs-cs :precond cradle.le-cs-cs-cs-cs :add
-   cradle.ce-cs-cs-cs-cs)
+   cradle.ce-cs-cs-cs-cs :duration 0.2967)
   (op from-le-cs-cs-rw-rw-to-ce-cs-cs-cw-cw :precond cradle.le-cs-cs-rw-rw :add
-   cradle.ce-cs-cs-cw-cw)
+   cradle.ce-cs-cs-cw-cw :duration 0.2967)
   (op from-cw-cw-cs-cs-cs-to-lw-lw-cs-cs-cs :precond cradle.cw-cw-cs-cs-cs :add
-   cradle.lw-lw-cs-cs-cs)
+   cradle.lw-lw-cs-cs-cs :duration 0.2967)
   (op from-cw-cw-cs-cs-ce-to-lw-lw-cs-cs-re :precond cradle.cw-cw-cs-cs-ce :add
-   cradle.lw-lw-cs-cs-re)
+   cradle.lw-lw-cs-cs-re :duration 0.2967)
   (op from-cw-cs-cs-cs-cs-to-lw-cs-cs-cs-cs :precond cradle.cw-cs-cs-cs-cs :add
-   cradle.lw-cs-cs-cs-cs)
+   cradle.lw-cs-cs-cs-cs :duration 0.2967)
   (op from-cw-cs-cs-ce-ce-to-lw-cs-cs-re-re :precond cradle.cw-cs-cs-ce-ce :add
-   cradle.lw-cs-cs-re-re)
+   cradle.lw-cs-cs-re-re :duration 0.2967)
   (op from-cs-cs-cs-cw-cw-to-cw-cw-cs-cs-cs :precond cradle.cs-cs-cs-cw-cw :add
-   cradle.cw-cw-cs-cs-cs)
+   cradle.cw-cw-cs-cs-cs :duration 0.05)
   (op from-cs-cs-cs-cs-cw-to-cw-cs-cs-cs-cs :precond cradle.cs-cs-cs-cs-cw :add
-   cradle.cw-cs-cs-cs-cs)
-  (op lift-two-left :precond cradle.cs-cs-cs-cs-cs :add cradle.ls-ls-cs-cs-cs)
-  (op lift-one-left :precond cradle.cs-cs-cs-cs-cs :add cradle.ls-cs-cs-cs-cs)
-  (op lift-one-left-two-right :precond cradle.cs-cs-cs-cs-cs :add cradle.ls-cs-cs-rs-rs)
+   cradle.cw-cs-cs-cs-cs :duration 0.05)
+  (op lift-two-left :precond cradle.cs-cs-cs-cs-cs :add cradle.ls-ls-cs-cs-cs :duration 1)
+  (op lift-one-left :precond cradle.cs-cs-cs-cs-cs :add cradle.ls-cs-cs-cs-cs :duration 1)
+  (op lift-one-left-two-right :precond cradle.cs-cs-cs-cs-cs :add cradle.ls-cs-cs-rs-rs :duration 1)
   (op from-cs-cs-cs-cs-cs-to-cs-cs-cs-cs-cs :precond cradle.cs-cs-cs-cs-cs :add
-   cradle.cs-cs-cs-cs-cs)
+   cradle.cs-cs-cs-cs-cs :duration 0.05)
   (op from-cs-cs-cs-cs-ce-to-cs-cs-cs-cs-re :precond cradle.cs-cs-cs-cs-ce :add
-   cradle.cs-cs-cs-cs-re)
+   cradle.cs-cs-cs-cs-re :duration 0.2967)
   (op from-cs-cs-cs-cs-rw-to-cs-cs-cs-cs-cw :precond cradle.cs-cs-cs-cs-rw :add
-   cradle.cs-cs-cs-cs-cw)
+   cradle.cs-cs-cs-cs-cw :duration 0.2967)
   (op from-cs-cs-cs-cs-rs-to-cs-cs-cs-cs-rw :precond cradle.cs-cs-cs-cs-rs :add
-   cradle.cs-cs-cs-cs-rw)
+   cradle.cs-cs-cs-cs-rw :duration 0.05)
   (op from-cs-cs-cs-cs-re-to-cs-cs-cs-cs-rs :precond cradle.cs-cs-cs-cs-re :add
-   cradle.cs-cs-cs-cs-rs)
+   cradle.cs-cs-cs-cs-rs :duration 0.05)
   (op from-cs-cs-cs-ce-ce-to-cs-cs-cs-re-re :precond cradle.cs-cs-cs-ce-ce :add
-   cradle.cs-cs-cs-re-re)
+   cradle.cs-cs-cs-re-re :duration 0.2967)
   (op from-cs-cs-cs-rw-rw-to-cs-cs-cs-cw-cw :precond cradle.cs-cs-cs-rw-rw :add
-   cradle.cs-cs-cs-cw-cw)
+   cradle.cs-cs-cs-cw-cw :duration 0.2967)
   (op from-cs-cs-cs-rs-rs-to-cs-cs-cs-rw-rw :precond cradle.cs-cs-cs-rs-rs :add
-   cradle.cs-cs-cs-rw-rw)
+   cradle.cs-cs-cs-rw-rw :duration 0.05)
   (op from-cs-cs-cs-re-re-to-cs-cs-cs-rs-rs :precond cradle.cs-cs-cs-re-re :add
-   cradle.cs-cs-cs-rs-rs)
+   cradle.cs-cs-cs-rs-rs :duration 0.05)
   (op from-ce-cs-cs-cw-cw-to-cw-cw-cs-cs-ce :precond cradle.ce-cs-cs-cw-cw :add
-   cradle.cw-cw-cs-cs-ce)
+   cradle.cw-cw-cs-cs-ce :duration 0.05)
   (op from-ce-cs-cs-cs-cs-to-cs-cs-cs-cs-ce :precond cradle.ce-cs-cs-cs-cs :add
-   cradle.cs-cs-cs-cs-ce)
+   cradle.cs-cs-cs-cs-ce :duration 0.05)
   (op from-ce-ce-cs-cs-cw-to-cw-cs-cs-ce-ce :precond cradle.ce-ce-cs-cs-cw :add
-   cradle.cw-cs-cs-ce-ce)
+   cradle.cw-cs-cs-ce-ce :duration 0.05)
   (op from-ce-ce-cs-cs-cs-to-cs-cs-cs-ce-ce :precond cradle.ce-ce-cs-cs-cs :add
-   cradle.cs-cs-cs-ce-ce)
+   cradle.cs-cs-cs-ce-ce :duration 0.05)
   (event go-lw-lw-cs-cs-cs :state cradle.lw-lw-cs-cs-cs)
   (event go-lw-lw-cs-cs-re :state cradle.lw-lw-cs-cs-re)
   (event go-lw-cs-cs-cs-cs :state cradle.lw-cs-cs-cs-cs)

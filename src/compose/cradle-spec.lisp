@@ -68,13 +68,16 @@ and *CRADLE-CONFIGURATIONS*). An ARGUMENT-ERROR for another figure."
 (defun cradle-spec-graph (&key (n 5))
   "The graph specs/newtons-cradle.lisp is made of: G^N with an edge from rest
 to each configuration of *CRADLE-CONFIGURATIONS*, the states reachable from
-rest. Second value: the node of rest; third, an alist from each
+rest, each move timed (TIMED-CRADLE: swings a quarter period, turns and
+collisions near-instants, lifts a second). Second value: the node of rest; third, an alist from each
 configuration's lifted node to the configuration."
   (let* ((rest (cradle-start n))
          (lifts (loop for c in *cradle-configurations*
                       collect (cons (cradle-start n :left (getf c :left) :right (getf c :right)) c))))
-    (values (graph-reachable (graph-sum (newton-cradle n) (make-graph '() (loop for (node) in lifts collect (cons rest node))))
-                             rest)
+    (values (timed-cradle (graph-reachable (graph-sum (newton-cradle n)
+                                                      (make-graph '() (loop for (node) in lifts collect (cons rest node))))
+                                           rest)
+                          rest)
             rest lifts)))
 
 (defun cradle-op-namer (rest lifts)
@@ -121,6 +124,7 @@ WRITE-CRADLE-SCRIPTS-FILE) and no character, only the cradle's props.")
       (let ((*package* (find-package '#:player-user))
             (*print-case* :downcase)
             (*print-readably* nil)
+            (*read-default-float-format* 'double-float) ; durations print as 0.05, not 0.05d0
             (*print-pretty* t)
             (*print-right-margin* 100))
         (format out ";;;; newtons-cradle.lisp -- Newton's cradle, 5 spheres, as a Player spec.~%~

@@ -16,7 +16,10 @@
   (node-table (make-node-table) :type hash-table :read-only t)
   (edge-table (make-node-table) :type hash-table :read-only t)
   ;; Node -> its targets, sorted; built on first use.
-  (successor-table nil))
+  (successor-table nil)
+  ;; Edge -> seconds the move takes, when the transitions are timed
+  ;; (durations.lisp); NIL for the paper's unit of time on every edge.
+  (duration-table nil))
 
 (defmethod print-object ((graph graph) stream)
   (print-unreadable-object (graph stream :type t)
