@@ -71,3 +71,19 @@ GRAPH-ERROR past *LAZY-NODE-LIMIT* nodes."
                    (push next queue))
                  (add-edge result node next))))
     result))
+
+(defun lazy-product (graph1 graph2)
+  "G1 × G2 on demand: the node (A . B) moves to (A2 . B2) when A moves to A2
+in GRAPH1 and B to B2 in GRAPH2 (each lazy, or an eager graph)."
+  (flet ((successors (graph node)
+           (if (lazy-graph-p graph) (lazy-successors graph node) (graph-successors graph node))))
+    (make-lazy-graph (lambda (node)
+                       (loop for a in (successors graph1 (car node))
+                             nconc (loop for b in (successors graph2 (cdr node)) collect (cons a b))))
+                     :description "product")))
+
+(defun lazy-sum (graph &rest graphs)
+  "G1 + G2 ... on demand: a node's successors in any of the lazy GRAPHS."
+  (let ((all (cons graph graphs)))
+    (make-lazy-graph (lambda (node) (loop for g in all append (lazy-successors g node)))
+                     :description "sum")))

@@ -102,21 +102,18 @@ which the graph must have."
              (formula-fail form "~A is not a state of the graph" (bounded-lisp-text form 60)))
            (lambda (node) (equal node form)))))
 
-(defun graph-behaviour (graph &key start)
-  "The behaviour of GRAPH (a graph, or a LAZY-GRAPH, which then needs START):
-its nodes, initial states START (a node or a list of nodes; by default every
-node of an eager graph), atoms as GRAPH-ATOM reads them. A FORMULA-ERROR when
-START is not a node."
-  (let ((graph (if (lazy-graph-p graph)
-                   (let ((*lazy-node-limit* *verify-state-limit*))
-                     (apply #'lazy-reachable graph (or (and (consp start) (every #'consp start) start)
-                                                       (list start))))
-                   graph))
-        (starts (cond ((null start) nil)
-                      ((and (consp start) (every #'consp start) (not (sphere-state-p start))
-                            (not (tree-p start :leafp #'sphere-state-p)))
-                       start)
-                      (t (list start)))))
+(defun graph-behaviour (graph &key (start nil start-p) starts)
+  "The behaviour of GRAPH (a graph, or a LAZY-GRAPH, which then needs a start):
+its nodes, initial states START (one node) or STARTS (a list of nodes; by
+default every node of an eager graph), atoms as GRAPH-ATOM reads them. A
+FORMULA-ERROR when a start is not a node."
+  (let* ((starts (if start-p (cons start starts) starts))
+         (graph (if (lazy-graph-p graph)
+                    (progn
+                      (unless starts (formula-fail graph "a lazy graph needs :start"))
+                      (let ((*lazy-node-limit* *verify-state-limit*))
+                        (apply #'lazy-reachable graph starts)))
+                    graph)))
     (dolist (s starts)
       (unless (graph-has-node-p graph s)
         (formula-fail s "the start ~A is not a node of the graph" (bounded-lisp-text s 60))))

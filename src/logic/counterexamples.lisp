@@ -129,24 +129,27 @@ path's edges, and the edge back when it loops."
     (format stream "  s~D -> s~D [style=dashed];~%" (1- (length (counterexample-states counterexample))) loop))
   (format stream "}~%"))
 
-(defun behaviour-of (thing start)
+(defun behaviour-of (thing start-p start starts)
   "THING as a behaviour: a behaviour itself, a graph's (GRAPH-BEHAVIOUR, with
-START), or a spec's (SPEC-BEHAVIOUR)."
+START or STARTS), or a spec's (SPEC-BEHAVIOUR)."
   (cond ((behaviour-p thing) thing)
-        ((or (graph-p thing) (lazy-graph-p thing)) (graph-behaviour thing :start start))
+        ((or (graph-p thing) (lazy-graph-p thing))
+         (if start-p
+             (graph-behaviour thing :start start :starts starts)
+             (graph-behaviour thing :starts starts)))
         (t (spec-behaviour thing))))
 
-(defun verify (behaviour formula &key start)
+(defun verify (behaviour formula &key (start nil start-p) starts)
   "Model-check the CTL FORMULA (see ctl.lisp) on BEHAVIOUR: a graph of the
-algebra (its initial states START, a node or list of nodes, by default all;
-a lazy graph needs START), a spec (its name or a machine: its reachable
+algebra (its initial states START, a node, or STARTS, a list of nodes; by
+default all; a lazy graph needs one), a spec (its name or a machine: its reachable
 states from its initial state; atoms are its state expressions), or a
 BEHAVIOUR. Returns T when FORMULA holds in every initial state, else NIL and
 a COUNTEREXAMPLE (a path from the first initial state where it fails), and
 the behaviour as a third value. A FORMULA-ERROR for a formula that is not
 CTL or names a state or variable the behaviour lacks, or a behaviour past
 *VERIFY-STATE-LIMIT* states."
-  (let* ((behaviour (behaviour-of behaviour start))
+  (let* ((behaviour (behaviour-of behaviour start-p start starts))
          (holds (formula-holds-states behaviour formula))
          (failing (find-if (lambda (i) (= 0 (sbit holds i))) (behaviour-initial behaviour))))
     (if failing

@@ -33,11 +33,12 @@ names -> whether the state has a successor."
                (setf (gethash (cons name (behaviour-state-name behaviour j)) moves) t)))
     (values moves states)))
 
-(defun diff-graphs (a b &key start)
+(defun diff-graphs (a b &key starts)
   "Compare behaviour A (before) with B (after), each anything VERIFY takes
-(START for graphs): a GRAPH-DIFF. States are matched by name."
-  (multiple-value-bind (moves-a states-a) (behaviour-moves (behaviour-of a start))
-    (multiple-value-bind (moves-b states-b) (behaviour-moves (behaviour-of b start))
+(STARTS, a list of nodes, for graphs: all their nodes by default): a
+GRAPH-DIFF. States are matched by name."
+  (multiple-value-bind (moves-a states-a) (behaviour-moves (behaviour-of a nil nil starts))
+    (multiple-value-bind (moves-b states-b) (behaviour-moves (behaviour-of b nil nil starts))
       (flet ((sorted (list) (sort list (lambda (x y) (string< (princ-to-string x) (princ-to-string y))))))
         (make-graph-diff
          (sorted (loop for name being the hash-keys of states-b using (hash-value live)
