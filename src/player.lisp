@@ -40,7 +40,7 @@
    #:register-graph #:restrict #:seq-all #:seq-count #:seq-exists #:seq-restrict #:seq-rev
    #:seq-suffixes #:spec->graph #:sphere-state-p #:subgraph-p #:tree-flatten #:tree-left
    #:tree-merge #:tree-p #:tree-product #:tree-right
-   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor)
+   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:guarded-graph #:guarded-cradle #:cradle-well-behaved-p #:cradle-free-swing #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor)
   (:import-from #:player.logic
    #:*verify-state-limit* #:behaviour #:behaviour-p #:behaviour-state-count #:behaviour-state-name
    #:behaviour-dead-ends #:behaviour-initial-states #:counterexample #:counterexample-p
@@ -286,7 +286,7 @@
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
    #:graph->spec #:graph->spec-forms #:spec->graph
    #:register-graph #:define-graph #:find-graph #:graph-expression #:graph-expression-error
-   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor
+   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:guarded-graph #:guarded-cradle #:cradle-well-behaved-p #:cradle-free-swing #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor
    ;; A logic for behaviours (src/logic/)
    #:*verify-state-limit* #:behaviour #:behaviour-p #:behaviour-state-count #:behaviour-state-name
    #:behaviour-dead-ends #:behaviour-initial-states #:counterexample #:counterexample-p

@@ -18,6 +18,8 @@
 ;;;;                                   values are symbols of that spec's package)
 ;;;;   (let* ((NAME EXPR)...) G)       names for graphs, and for predicates
 ;;;;                                   written (predicate PRED), used in G
+;;;;   (guarded (state P [TEST]) CHEAP FULL)   FULL's states, moving as in CHEAP
+;;;;                                   where the guard holds (guards.lisp)
 ;;;; PRED is a pattern (both ends of an edge must match it, PRED-NODES),
 ;;;; (=> P1 P2) (the paper's implication, PRED-IMPLIES), (then P1 P2) (PRED-EDGE),
 ;;;; (& PRED PRED...) (PRED-AND), (edge P1 P2 [TEST]) (a statement about the
@@ -250,6 +252,24 @@ for each name it binds, KIND :GRAPH or :PREDICATE, innermost first.")
                        (list* name :graph (interpret-graph expression)))
                    *graph-bindings*))
     (interpret-graph body)))
+
+;;; Guards: (guarded GUARD CHEAP FULL)
+
+(defun interpret-guard (form)
+  "The node test of a guard (state P [TEST]): the nodes matching the pattern
+P for which TEST (edge-tests.lisp) holds over P's identifiers."
+  (unless (and (consp form) (proper-list-p form) (symbolp (first form)) (word-p (first form) "STATE")
+               (<= 2 (length form) 3))
+    (graph-expression-fail form "a guard is written (state PATTERN [TEST]), not ~A" (bounded-lisp-text form 80)))
+  (let* ((pattern (interpret-pattern (second form)))
+         (test (if (third form) (compile-edge-test (third form) (pattern-identifiers (second form))) (constantly t))))
+    (lambda (node)
+      (multiple-value-bind (ok bindings) (match-pattern pattern node)
+        (and ok (funcall test bindings))))))
+
+(define-graph-builder ("guarded") "(guarded (state P [TEST]) CHEAP FULL)" (guard cheap full)
+  ;; FULL's states, moving as in CHEAP where the guard holds (guards.lisp).
+  (guard-eager (interpret-guard guard) (interpret-graph cheap) (interpret-graph full)))
 
 ;;; Predicates and patterns
 

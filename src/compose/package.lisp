@@ -18,4 +18,4 @@
    #:register-graph #:restrict #:seq-all #:seq-count #:seq-exists #:seq-restrict #:seq-rev
    #:seq-suffixes #:spec->graph #:sphere-state-p #:subgraph-p #:tree-flatten #:tree-left
    #:tree-merge #:tree-p #:tree-product #:tree-right
-   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor))
+   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:guarded-graph #:guarded-cradle #:cradle-well-behaved-p #:cradle-free-swing #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor))
