@@ -94,3 +94,19 @@
   (signals argument-error (lazy-reachable 'x))
   (let ((player.compose::*lazy-node-limit* 10))
     (signals graph-error (lazy-reachable (make-lazy-graph (lambda (n) (list (1+ n)))) 0))))
+
+(test newton-cradle-lazy-above-six
+  ;; (newton-cradle 8) is built on demand and answers a reachability query;
+  ;; graph-reachable and graph-successors take it; a spec takes (reachable ...) of it.
+  (let ((cradle (newton-cradle 8)))
+    (is (lazy-graph-p cradle))
+    (is (= 10 (graph-node-count (graph-reachable cradle (cradle-start 8 :left 2)))))
+    (is (= 1 (length (graph-successors cradle (cradle-start 8 :left 2))))))
+  (is (graph-p (newton-cradle 3)))
+  (is (graph-equal (graph-reachable (newton-cradle 4) (cradle-start 4 :left 1))
+                   (graph-reachable (newton-cradle 4 :lazy t) (cradle-start 4 :left 1))))
+  (is (= 10 (graph-node-count (graph-expression '(reachable (newton-cradle 8)
+                                                  (cradle-node (-1 . 0) (-1 . 0) (0 . 0) (0 . 0) (0 . 0) (0 . 0) (0 . 0) (0 . 0)))))))
+  (signals graph-expression-error (graph-expression '(newton-cradle 8)))
+  (signals graph-expression-error (graph-expression '(sum (newton-cradle 8) (newton-cradle 8))))
+  (signals graph-expression-error (graph-expression '(newton-cradle 11))))

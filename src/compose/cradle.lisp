@@ -213,12 +213,22 @@ causesrightleft."
     (or (gethash key *cradle-stages*)
         (setf (gethash key *cradle-stages*) (compute-cradle-stage n name)))))
 
-(defun newton-cradle (n)
-  "G^n, the behaviour of Newton's cradle with N spheres (N >= 1), built
-eagerly: nodes are right-nested trees of sphere states (POSITION . VELOCITY),
-leftmost sphere first; see CRADLE-STAGES for how it is built, CRADLE-PAPER for
-the paper's own, and LAZY-CRADLE for the same graph built on demand."
-  (cradle-stage n :g^n))
+(defparameter *eager-cradle-limit* 6
+  "The most spheres NEWTON-CRADLE builds eagerly by default: n = 7 needs more
+than SBCL's default heap, n = 8 minutes and gigabytes (bench/cradle.lisp).")
+
+(defun newton-cradle (n &key (lazy (> n *eager-cradle-limit*)))
+  "G^n, the behaviour of Newton's cradle with N spheres (N >= 1): nodes are
+right-nested trees of sphere states (POSITION . VELOCITY), leftmost sphere
+first; see CRADLE-STAGES for how it is built and CRADLE-PAPER for the paper's
+own. Built eagerly (a GRAPH) for N up to *EAGER-CRADLE-LIMIT*, on demand (a
+LAZY-GRAPH, see LAZY-CRADLE) above it or with LAZY: GRAPH-REACHABLE and
+GRAPH-SUCCESSORS take either."
+  (if lazy
+      (progn
+        (check-argument 'newton-cradle 'n n (lambda (x) (typep x '(integer 1))) "a number of spheres (an integer >= 1)")
+        (lazy-cradle n))
+      (cradle-stage n :g^n)))
 
 (defun cradle-paper (n)
   "The paper's G^n for N spheres, which has dead ends (stage :PAPER)."

@@ -4,7 +4,9 @@
 ;;;;
 ;;;; EXPR is one of
 ;;;;   NAME                            a graph registered from Lisp (REGISTER-GRAPH, DEFINE-GRAPH)
-;;;;   (newton-cradle N)               §4's G^n, N from 1 to *MAX-CRADLE-SPHERES*
+;;;;   (newton-cradle N)               §4's G^n, N from 1 to *MAX-CRADLE-SPHERES*, or
+;;;;                                   to *MAX-LAZY-CRADLE-SPHERES* built on demand
+;;;;                                   (then only (reachable ...) of it)
 ;;;;   (cradle-stage N STAGE)          a named stage of it: :g1 ... :g17, :merged, :paper, :g^n
 ;;;;   (complete (NODE...))            C(Σ)
 ;;;;   (graph (NODE...) ((SOURCE . TARGET)...))   nodes and edges written out
@@ -100,8 +102,9 @@ the expression bound to LAMBDA-LIST; USAGE shows how it is written."
 a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
   (interpret-graph form))
 
-(defun interpret-graph (form)
-  "The graph of the graph expression FORM."
+(defun interpret-graph (form &optional allow-lazy)
+  "The graph of the graph expression FORM; a LAZY-GRAPH (a large cradle) only
+with ALLOW-LAZY (REACHABLE's argument), else a GRAPH-EXPRESSION-ERROR."
   (let ((graph
           (cond ((and (symbolp form) (bound-name form :graph)))
                 ((and (symbolp form) form (not (keywordp form)))
@@ -122,7 +125,10 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
                        (graph-expression-fail form "~A" condition)))))
                 (t (graph-expression-fail form "~A is not a graph expression (a registered graph's name or (BUILDER ARGUMENT...))"
                                           (bounded-lisp-text form 80))))))
-    (when (> (graph-edge-count graph) *graph-expression-edge-limit*)
+    (when (and (lazy-graph-p graph) (not allow-lazy))
+      (graph-expression-fail form "~A is built on demand: write (reachable ~A NODE...) to take the part reachable from NODE"
+                             (bounded-lisp-text form 80) (bounded-lisp-text form 60)))
+    (when (and (graph-p graph) (> (graph-edge-count graph) *graph-expression-edge-limit*))
       (graph-expression-fail form "~A has ~D edges, more than ~D" (bounded-lisp-text form 80)
                              (graph-edge-count graph) *graph-expression-edge-limit*))
     graph))
@@ -143,10 +149,17 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
     (graph-expression-fail form "~A must be a list, not ~A" what (bounded-lisp-text list 80)))
   (mapcar #'node-literal list))
 
+(defparameter *max-lazy-cradle-spheres* 10
+  "The largest N a graph expression's (newton-cradle N) takes; above
+*MAX-CRADLE-SPHERES* it is built on demand, so only (reachable ...) of it may
+be taken.")
+
 (define-graph-builder ("newton-cradle") "(newton-cradle N)" (n)
-  (unless (typep n `(integer 1 ,*max-cradle-spheres*))
-    (graph-expression-fail form "(newton-cradle N) takes N from 1 to ~D, not ~A" *max-cradle-spheres* (lisp-text n)))
-  (newton-cradle n))
+  (unless (typep n `(integer 1 ,*max-lazy-cradle-spheres*))
+    (graph-expression-fail form "(newton-cradle N) takes N from 1 to ~D, not ~A" *max-lazy-cradle-spheres* (lisp-text n)))
+  (if (<= n *max-cradle-spheres*)
+      (newton-cradle n :lazy nil)
+      (newton-cradle n :lazy t)))
 
 (define-graph-builder ("cradle-stage") "(cradle-stage N STAGE)" (n stage)
   (unless (typep n `(integer 1 ,*max-cradle-spheres*))
@@ -213,7 +226,9 @@ and GRAPH2: counted first, so a merge too large is refused before it is built."
   (restrict (interpret-graph graph) (interpret-predicate predicate)))
 
 (define-graph-builder ("reachable") "(reachable G NODE...)" (graph &rest nodes)
-  (apply #'graph-reachable (interpret-graph graph) (node-list form nodes "(reachable G NODE...)'s NODEs")))
+  ;; A lazy G (a large cradle) is expanded from the NODEs only, within the edge limit.
+  (let ((*lazy-node-limit* (min *lazy-node-limit* *graph-expression-edge-limit*)))
+    (apply #'graph-reachable (interpret-graph graph t) (node-list form nodes "(reachable G NODE...)'s NODEs"))))
 
 (define-graph-builder ("spec") "(spec NAME)" (name)
   (unless (and (symbolp name) name (find-spec name nil))
