@@ -5,7 +5,7 @@ LISP = $(SBCL) --noinform --no-sysinit --no-userinit --disable-debugger --non-in
 DEBIAN_PACKAGES = $(shell grep -v '^\#' .ci/debian-packages)
 CXXFLAGS = -std=c++17 -O2 -Wall -Wextra -Werror -pedantic
 
-.PHONY: demo demo-policies demo-cradle demo-dialogue demo-model test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
+.PHONY: demo demo-policies demo-cradle demo-spheres demo-dialogue demo-model test test-fast test-times test-unchecked-engine bench bench-instructions bench-profile fuzz deps embed-example embed-scene-example golden
 
 # Install the Debian packages Player needs, when some are missing.
 deps:
@@ -29,11 +29,23 @@ demo-policies: deps
 	  --policies queue,preempt,override,interleave --size 320x240 --out demo
 
 # Newton's cradle (Clark & Palmer's transition systems, specs/newtons-cradle.lisp):
-# two spheres lifted on the left and let go, planned and drawn into demo/cradle/,
-# with demo/cradle/cradle.mp4 when ffmpeg is installed.
+# spheres lifted and let go, planned and drawn into demo/cradle/START/, with
+# demo/cradle/START/cradle.mp4 when ffmpeg is installed. START names the starting
+# configuration, an event of the spec without its ev-: lift-two-left (the default),
+# simple-example-animation (the paper's Figure 10: one lifted) or
+# more-complex-example (its Figure 11: one at one end, two at the other).
+START ?= lift-two-left
 demo-cradle: deps
-	bin/player render specs/newtons-cradle.lisp --events ev-lift-two-left --out demo/cradle \
-	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/cradle.mp4)
+	bin/player render specs/newtons-cradle.lisp --events ev-$(START) --out demo/cradle/$(START) \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/cradle/$(START)/cradle.mp4)
+
+# Clark & Palmer's first example (specs/bouncing-spheres.lisp): two spheres from
+# the upper surface collide, bounce off each other, hit the lower surface and
+# part (the paper's Figure 3.3), drawn into demo/spheres/, with
+# demo/spheres/spheres.mp4 when ffmpeg is installed.
+demo-spheres: deps
+	bin/player render specs/bouncing-spheres.lisp --events ev-figure-3-3 --out demo/spheres \
+	  $$(command -v ffmpeg >/dev/null 2>&1 && echo --video demo/spheres/spheres.mp4)
 
 # A character nobody here made (examples/wuson/): Assimp's Testwuson.X walks,
 # looks at the camera, runs and is stopped mid-stride (ev-stop preempts);

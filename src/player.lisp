@@ -39,7 +39,16 @@
    #:pattern #:pred-and #:pred-edge #:pred-implies #:pred-nodes #:random-trace
    #:register-graph #:restrict #:seq-all #:seq-count #:seq-exists #:seq-restrict #:seq-rev
    #:seq-suffixes #:spec->graph #:sphere-state-p #:subgraph-p #:tree-flatten #:tree-left
-   #:tree-merge #:tree-p #:tree-product #:tree-right)
+   #:tree-merge #:tree-p #:tree-product #:tree-right
+   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:guarded-graph #:guarded-cradle #:cradle-well-behaved-p #:cradle-free-swing #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor)
+  (:import-from #:player.logic
+   #:*verify-state-limit* #:behaviour #:behaviour-p #:behaviour-state-count #:behaviour-state-name
+   #:behaviour-dead-ends #:behaviour-initial-states #:counterexample #:counterexample-p
+   #:counterexample-states #:counterexample-loop #:counterexample-names #:formula-error
+   #:make-behaviour #:spec-behaviour #:graph-behaviour #:verify #:formula-holds-states
+   #:write-counterexample-dot #:print-counterexample
+   #:diff-graphs #:graph-diff #:graph-diff-p #:graph-diff-dead-ends #:graph-diff-removed
+   #:graph-diff-added #:graph-diff-removed-states #:graph-diff-added-states #:graph-diff-consistent-p #:graph-spec-p #:graph-spec-diagnostics)
   (:import-from #:player.control
    #:deferred-sends-error #:presenter-result-error #:presenter-result-error-function
    #:presenter-result-error-op #:presenter-result-error-presenter
@@ -283,6 +292,15 @@
    #:newton-cradle #:cradle-stages #:cradle-stage #:cradle-node #:cradle-spheres #:sphere-state-p
    #:graph->spec #:graph->spec-forms #:spec->graph
    #:register-graph #:define-graph #:find-graph #:graph-expression #:graph-expression-error
+   #:*lazy-node-limit* #:graph-with-durations #:graph-timed-p #:graph-edge-duration #:cradle-refinement #:timed-cradle #:lazy-product #:lazy-sum #:friction-cradle #:friction-amplitude #:guarded-graph #:guarded-cradle #:cradle-well-behaved-p #:cradle-free-swing #:cradle-start #:cradle-run #:cradle-figure #:lazy-cradle #:lazy-graph #:lazy-graph-p #:make-lazy-graph #:lazy-successors #:lazy-restrict #:lazy-reachable #:cradle-paper #:physical-successor
+   ;; A logic for behaviours (src/logic/)
+   #:*verify-state-limit* #:behaviour #:behaviour-p #:behaviour-state-count #:behaviour-state-name
+   #:behaviour-dead-ends #:behaviour-initial-states #:counterexample #:counterexample-p
+   #:counterexample-states #:counterexample-loop #:counterexample-names #:formula-error
+   #:make-behaviour #:spec-behaviour #:graph-behaviour #:verify #:formula-holds-states
+   #:write-counterexample-dot #:print-counterexample
+   #:diff-graphs #:graph-diff #:graph-diff-p #:graph-diff-dead-ends #:graph-diff-removed
+   #:graph-diff-added #:graph-diff-removed-states #:graph-diff-added-states #:graph-diff-consistent-p #:graph-spec-p #:graph-spec-diagnostics
    ;; Several characters in one scene (src/cast/)
    #:defscene #:define-cast #:find-cast #:list-casts #:remove-cast #:load-scene-file #:replicate-cast
    #:cast #:cast-p #:cast-name #:cast-documentation #:cast-members #:cast-events

@@ -149,7 +149,7 @@ ordered pair an edge with probability DENSITY; some nodes may be isolated."
   (member trace (graph-traces graph (first trace) (1- (length trace))) :test #'equal))
 
 (test single-sphere-traces
-  (let ((g2 (cradle-stage 1 :g2)) (g4 (cradle-stage 1 :g4)) (g^1 (newton-cradle 1)))
+  (let ((g2 (cradle-stage 1 :g2)) (g4 (cradle-stage 1 :g4)) (g^1 (cradle-stage 1 :g^1)))
     (is (= 3 (graph-node-count g2)))
     (is (= 7 (graph-edge-count g2)))
     (is-true (has-trace-p g2 '(-1 0 1 0 -1)))
@@ -216,13 +216,14 @@ states), as a list of strings; NIL when nothing is."
   ;; stops or turns at 0 in a collision (or at an extreme, by gravity); the
   ;; spheres that go out on the other side are among the k outermost, and, in
   ;; every trace that does not get stuck, exactly those k.
+  ;; This is the paper's G^n (stage :paper; newton-cradle adds cradle-physics.lisp).
   ;; The paper's collision rule lets a sphere's partner be any sphere on the
   ;; far side, so momentum may pass to an inner sphere that is then blocked: such
   ;; traces end at a state with no successor (the model's, not the test's).
   ;; With more than half the spheres lifted, every trace gets stuck at the
   ;; first collision: a moving sphere at 0 cannot stay at 0 in G^1.
   (loop for n from 2 to (sweep-count 6 5)  ; the fast tier leaves out the biggest cradle
-        for g = (newton-cradle n)
+        for g = (cradle-paper n)
         do (loop for k from 1 below n
                  do (dolist (side '(:left :right))
                       (let ((traces (graph-traces g (lifted-node n k side) 12 :maximal t))
@@ -265,14 +266,14 @@ states), as a list of strings; NIL when nothing is."
   ;; nodes and 202 edges after the restriction (202 counted again below).
   (is (= 54 (graph-node-count (cradle-stage 2 :g17))))
   (is (= 141 (graph-edge-count (cradle-stage 2 :g17))))
-  (is (= 54 (graph-node-count (newton-cradle 2))))
-  (is (= 48 (graph-edge-count (newton-cradle 2))))
+  (is (= 54 (graph-node-count (cradle-paper 2))))
+  (is (= 48 (graph-edge-count (cradle-paper 2))))
   (is (= 262 (graph-node-count (cradle-stage 3 :merged))))
   (is (= 1111 (graph-edge-count (cradle-stage 3 :merged))))
-  (is (= 256 (graph-node-count (newton-cradle 3))))
-  (is (= 202 (graph-edge-count (newton-cradle 3))))
+  (is (= 256 (graph-node-count (cradle-paper 3))))
+  (is (= 202 (graph-edge-count (cradle-paper 3))))
   ;; The edge counts again, by brute force over tuples of G^1 edges.
-  (let ((single (graph-edges (newton-cradle 1))))
+  (let ((single (graph-edges (cradle-paper 1))))
     (flet ((count-steps (n)
              (let ((count 0))
                (labels ((choose (i moves)

@@ -21,7 +21,7 @@ the spheres' positions (-1, 0, 1, leftmost first) the trace says."
         (loop for line in (trace-lines (player.performance::simulation-presenter simulation))
               when (eq (first line) :op)
                 collect (let ((name (symbol-name (second line))))
-                          (cons (round (getf line :end))
+                          (cons (getf line :end)
                                 (decode-cradle-name (if (string= name "LIFT-TWO-LEFT")
                                                         "LS-LS-CS-CS-CS"
                                                         (subseq name (+ 4 (search "-TO-" name))))))))))
@@ -72,7 +72,7 @@ x plus the string's length times the sine of the swing."
   (let* ((simulation (cradle-simulation))
          (performance (player.performance::simulation-performance simulation))
          (states (trace-states simulation)))
-    ;; lift, swing down, collide, swing out on the right: six steps of a second
+    ;; lift, swing down, collide, swing out on the right: six steps, timed
     (is (= 7 (length states)))
     (is (equal '(0 0 0 1 1) (cdr (car (last states)))))
     (loop for (time . positions) in states
@@ -83,15 +83,15 @@ x plus the string's length times the sine of the swing."
                           "at ~A s ball ~D is at x ~,3F, not at position ~D" time k (ball-x scene k) position)))
     ;; (the file rounds angles to 1e-4 rad)
     ;; between steps a moving sphere is on its way, not at either end
-    (loop for ((time . before) (nil . after)) on states
+    (loop for ((time . before) (next . after)) on states
           while after
-          do (let ((scene (player::performance-frame performance (+ time 0.5d0))))
+          do (let ((scene (player::performance-frame performance (/ (+ time next) 2))))
                (loop for b in before for a in after for k from 1
                      do (let ((x (ball-x scene k)) (x0 (expected-ball-x k b)) (x1 (expected-ball-x k a)))
                           (if (= a b)
                               (is (< (abs (- x x0)) 1d-4))
                               (is (< (+ (min x0 x1) 1d-3) x (- (max x0 x1) 1d-3))
-                                  "at ~A s ball ~D jumps: ~,3F not between ~,3F and ~,3F" (+ time 0.5) k x x0 x1))))))
+                                  "at ~A s ball ~D jumps: ~,3F not between ~,3F and ~,3F" (/ (+ time next) 2) k x x0 x1))))))
     ;; the character is a hidden stand-in: nothing but props is drawn
     (is (notany (lambda (object) (and (typep object 'player::body) (player.render::drawable-p object)))
                 (player::scene-objects (player::performance-frame performance 0))))))

@@ -4,7 +4,9 @@
 
 (define-command "check" (file &key spec no-code scripts)
     (:summary "print the spec's diagnostics"
-     :description "Goals unreachable from some or all states, ops nothing uses, depth
+     :description "For a spec made by (:graph ...), as errors: a reachable state with no
+successor (deadlock-freedom, (AG (EX t)), fails) and event goals no path from
+the initial state reaches. For every spec: goals unreachable from some or all states, ops nothing uses, depth
 truncation, states unreachable from the initial state; with a script library
 (the spec's (:scripts FILE) or --scripts), everything playing the spec would
 fail on -- a library that cannot be read, and every item of a script the spec
@@ -42,9 +44,11 @@ it lacks and the ops whose :duration differs from their script's. Exit status
 (defun print-spec-diagnostics (spec scripts)
   "Print SPEC's diagnostics (with the script library SCRIPTS, else its own),
 errors first, or that it has none; return how many errors there were."
-  (let* ((diagnostics (append (check-spec spec) (script-diagnostics spec scripts)))
-         (errors (remove-if-not #'diagnostic-error-p diagnostics))
-         (warnings (remove-if #'diagnostic-error-p diagnostics)))
+  (let* ((behaviour (graph-spec-diagnostics spec)) ; (:graph ...) specs: stuck states, goals no path reaches
+         (others (append (check-spec spec) (script-diagnostics spec scripts)))
+         (diagnostics (append behaviour others))
+         (errors (append behaviour (remove-if-not #'diagnostic-error-p others)))
+         (warnings (remove-if #'diagnostic-error-p others)))
     (dolist (d errors)
       (format t "error: ~A~%" (diagnostic-message d)))
     (dolist (d warnings)

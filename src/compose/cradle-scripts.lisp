@@ -6,9 +6,10 @@
 ;;;; and a rod; under the rod one PIVOT-K group per sphere, at the top of its
 ;;;; string, holding STRING-K and BALL-K. A sphere's position -1, 0 or 1 is its
 ;;;; pivot turned about z by -θ, 0 or θ (*CRADLE-SWING*), so a sphere moves on
-;;;; its arc. Each op's script lasts one second, one trace step, and turns
-;;;; every pivot from the angle of the op's source state to that of its target
-;;;; with an :ease-in-out keys control: the spheres swing, never jump.
+;;;; its arc. Each op's script lasts as long as the op's move (cradle-timing.lisp)
+;;;; and turns every pivot from the angle of the op's source state to that of
+;;;; its target through the pendulum's intermediate angles: the spheres swing,
+;;;; fastest at the bottom, never jump.
 
 (in-package #:player.compose)
 
@@ -81,17 +82,24 @@ the floor; and the angle of a lifted sphere's string, in degrees.")
                      :properties ((,(spec-symbol "colour") :colour (0.75 0.18 0.15))
                                   (,(spec-symbol "size") :vector (,ball ,ball ,ball))))))))
 
-(defun cradle-swing-script (name source target)
-  "The DEFSCRIPT form NAME: one second turning every pivot from its angle in
-the cradle node SOURCE to its angle in TARGET."
-  `(,(spec-symbol "defscript") ,name (:duration 1 :documentation ,(format nil "~A to ~A" (cradle-node-name source) (cradle-node-name target)))
-     ,@(loop for before in (cradle-spheres source)
-             for after in (cradle-spheres target)
-             for k from 1
-             collect `(:at 0 :animate (,(cradle-object-name "pivot-~D" k) ,(spec-symbol "rotation"))
-                           (:keys ((0 :euler 0 0 ,(rounded (cradle-angle (car before))))
-                                   (1 :euler 0 0 ,(rounded (cradle-angle (car after)))))
-                            :interpolation :ease-in-out)))))
+(defparameter *cradle-script-steps* 8
+  "How many intervals of its move a script's keys sample (CRADLE-REFINEMENT).")
+
+(defun cradle-swing-script (name source target seconds)
+  "The DEFSCRIPT form NAME: SECONDS turning every pivot from its angle in the
+cradle node SOURCE to its angle in TARGET through the pendulum's intermediate
+angles (CRADLE-REFINEMENT), fastest at the bottom."
+  (let ((samples (cradle-refinement source target *cradle-script-steps*)))
+    `(,(spec-symbol "defscript") ,name (:duration ,seconds :documentation ,(format nil "~A to ~A" (cradle-node-name source) (cradle-node-name target)))
+       ,@(loop for k from 0 below (length (cradle-spheres source))
+               collect `(:at 0 :animate (,(cradle-object-name "pivot-~D" (1+ k)) ,(spec-symbol "rotation"))
+                             (:keys ,(loop for (u . angles) in (if (= (car (nth k (cradle-spheres source)))
+                                                                      (car (nth k (cradle-spheres target))))
+                                                                   ;; a sphere that stays needs its two ends only
+                                                                   (list (first samples) (car (last samples)))
+                                                                   samples)
+                                           collect `(,(rounded (* u seconds)) :euler 0 0 ,(rounded (nth k angles))))
+                              :interpolation :linear))))))
 
 (defun double-floats (tree)
   "TREE with every float ROUNDED to a double-float, so it prints without an
@@ -100,18 +108,19 @@ exponent marker when doubles are the default format."
         ((consp tree) (cons (double-floats (car tree)) (double-floats (cdr tree))))
         (t tree)))
 
-(defun cradle-script-forms (&key (n 5) (lifted 2))
+(defun cradle-script-forms (&key (n 5))
   "The forms of specs/newtons-cradle-scripts.lisp for the spec CRADLE-SPEC-FORMS
-makes with N and LIFTED: the scene, then a script per op, named as the op."
-  (multiple-value-bind (graph rest lifted-node) (cradle-spec-graph :n n :lifted lifted)
-    (let ((namer (cradle-op-namer rest lifted-node)))
+makes with N: the scene, then a script per op, named as the op."
+  (multiple-value-bind (graph rest lifts) (cradle-spec-graph :n n)
+    (let ((namer (cradle-op-namer rest lifts)))
       (double-floats
        (append (cradle-frame-forms n)
                (cradle-sphere-forms n)
                (loop for (source . target) in (graph-edges graph)
-                     collect (cradle-swing-script (funcall namer source target) source target)))))))
+                     collect (cradle-swing-script (funcall namer source target) source target
+                                                  (graph-edge-duration graph source target))))))))
 
-(defun cradle-scripts-text (&key (n 5) (lifted 2))
+(defun cradle-scripts-text (&key (n 5))
   "The text of specs/newtons-cradle-scripts.lisp (see CRADLE-SCRIPT-FORMS)."
   (with-output-to-string (out)
     (with-standard-io-syntax
@@ -127,7 +136,7 @@ makes with N and LIFTED: the scene, then a script per op, named as the op."
 ;;;; is made of; regenerate with~%~
 ;;;;   (player.compose:write-cradle-scripts-file \"specs/newtons-cradle-scripts.lisp\")~%~
 ;;;; Draw it: make demo-cradle~%")
-        (dolist (form (cradle-script-forms :n n :lifted lifted))
+        (dolist (form (cradle-script-forms :n n))
           (format out "~%~S~%" form))))))
 
 (defun write-cradle-scripts-file (file)

@@ -2,10 +2,12 @@
 ;;;; Player spec, made by GRAPH->SPEC.
 ;;;;
 ;;;; The cradle's graph has no edge out of rest: someone has to lift spheres.
-;;;; The spec adds that edge (op LIFT-TWO-LEFT, from all at rest to the two
-;;;; left spheres lifted) and keeps the states reachable from rest; the event
-;;;; EV-LIFT-TWO-LEFT lifts them, lets go, and plans to the state where two
-;;;; spheres stand lifted on the right: the cradle's swing.
+;;;; The spec adds one edge per starting configuration (*CRADLE-CONFIGURATIONS*:
+;;;; two lifted on the left; the paper's Figure 10, one lifted; its Figure 11,
+;;;; one at one end and two at the other) and keeps the states reachable from
+;;;; rest. Each configuration's event lifts its spheres, lets go, and plans to
+;;;; the first state where the spheres stand still again (for two lifted on
+;;;; the left, two standing out on the right): the cradle's swing.
 
 (in-package #:player.compose)
 
@@ -19,37 +21,82 @@
 LS-LS-CS-CS-CS is two spheres lifted left, at rest."
   (format nil "~{~A~^-~}" (mapcar #'sphere-code (cradle-spheres node))))
 
-(defun cradle-spec-graph (&key (n 5) (lifted 2))
-  "The graph specs/newtons-cradle.lisp is made of: G^N with an edge from rest
-to LIFTED spheres lifted on the left, the states reachable from rest. Second
-to fourth values: the nodes of rest, of the lifted spheres, and of LIFTED
-spheres standing out on the right."
-  (let* ((rest (apply #'cradle-node (make-list n :initial-element '(0 . 0))))
-         (lifted-node (apply #'cradle-node (append (make-list lifted :initial-element '(-1 . 0))
-                                                   (make-list (- n lifted) :initial-element '(0 . 0)))))
-         (out (apply #'cradle-node (append (make-list (- n lifted) :initial-element '(0 . 0))
-                                           (make-list lifted :initial-element '(1 . 0))))))
-    (values (graph-reachable (graph-sum (newton-cradle n) (make-graph '() (list (cons rest lifted-node))))
-                             rest)
-            rest lifted-node out)))
+(defparameter *cradle-configurations*
+  '((:op "lift-two-left" :event "ev-lift-two-left" :left 2 :right 0)
+    ;; Figure 10: "Simple example animation" -- "starting with a single displaced ball".
+    (:op "lift-one-left" :event "ev-simple-example-animation" :left 1 :right 0 :figure 10)
+    ;; Figure 11: "A more complex example" -- "one displaced ball at one end and two at the other".
+    (:op "lift-one-left-two-right" :event "ev-more-complex-example" :left 1 :right 2 :figure 11))
+  "The starting configurations specs/newtons-cradle.lisp lifts the spheres
+to: the op lifting them, the event playing the swing, how many spheres are
+lifted on the LEFT and the RIGHT, and the paper's figure showing it.")
 
-(defun cradle-op-namer (rest lifted-node)
-  "The op names of the cradle spec: LIFT-TWO-LEFT for the edge from REST to
-LIFTED-NODE, FROM-X-TO-Y for the others."
+(defun cradle-start (n &key (left 0) (right 0))
+  "The cradle node of N spheres with LEFT of them lifted at rest on the left
+and RIGHT on the right (the others hanging at rest). An ARGUMENT-ERROR unless
+LEFT + RIGHT <= N."
+  (check-argument 'cradle-start 'n n (lambda (x) (typep x '(integer 1))) "a number of spheres (an integer >= 1)")
+  (check-argument 'cradle-start :left left (lambda (x) (typep x `(integer 0 ,n))) "a number of spheres from 0 to N")
+  (check-argument 'cradle-start :right right (lambda (x) (and (typep x '(integer 0)) (<= (+ left x) n)))
+                  "a number of spheres, LEFT + RIGHT at most N")
+  (apply #'cradle-node (append (make-list left :initial-element '(-1 . 0))
+                               (make-list (- n left right) :initial-element '(0 . 0))
+                               (make-list right :initial-element '(1 . 0)))))
+
+(defun cradle-run (n &key (left 0) (right 0) steps)
+  "The run of the N-sphere cradle let go with LEFT and RIGHT spheres lifted
+(see CRADLE-START): its states, start first, from the lazily built
+NEWTON-CRADLE, whose states have one successor each. STEPS states after the
+start; by default up to the first state where every sphere stands still again
+(the swing of the paper's Figures 10 and 11)."
+  (let ((graph (lazy-cradle n))
+        (run (list (cradle-start n :left left :right right))))
+    (loop for k from 0
+          for next = (first (lazy-successors graph (first run)))
+          while (and next (if steps (< k steps) (< k 1000)))
+          do (push next run)
+          until (and (null steps) (every (lambda (s) (zerop (cdr s))) (cradle-spheres next))))
+    (nreverse run)))
+
+(defun cradle-figure (figure &key (n 5))
+  "The run of the paper's FIGURE (10 or 11) with N spheres (see CRADLE-RUN
+and *CRADLE-CONFIGURATIONS*). An ARGUMENT-ERROR for another figure."
+  (let ((configuration (find figure *cradle-configurations* :key (lambda (c) (getf c :figure)))))
+    (check-argument 'cradle-figure 'figure figure (lambda (x) (declare (ignore x)) configuration) "10 or 11")
+    (cradle-run n :left (getf configuration :left) :right (getf configuration :right))))
+
+(defun cradle-spec-graph (&key (n 5))
+  "The graph specs/newtons-cradle.lisp is made of: G^N with an edge from rest
+to each configuration of *CRADLE-CONFIGURATIONS*, the states reachable from
+rest, each move timed (TIMED-CRADLE: swings a quarter period, turns and
+collisions near-instants, lifts a second). Second value: the node of rest; third, an alist from each
+configuration's lifted node to the configuration."
+  (let* ((rest (cradle-start n))
+         (lifts (loop for c in *cradle-configurations*
+                      collect (cons (cradle-start n :left (getf c :left) :right (getf c :right)) c))))
+    (values (timed-cradle (graph-reachable (graph-sum (newton-cradle n)
+                                                      (make-graph '() (loop for (node) in lifts collect (cons rest node))))
+                                           rest)
+                          rest)
+            rest lifts)))
+
+(defun cradle-op-namer (rest lifts)
+  "The op names of the cradle spec: each configuration's op for the edge from
+REST to its lifted node (LIFTS, from CRADLE-SPEC-GRAPH), FROM-X-TO-Y for the others."
   (lambda (source target)
-    (if (and (equal source rest) (equal target lifted-node))
-        (spec-symbol "lift-two-left")
-        (spec-symbol "from-~A-to-~A" (cradle-node-name source) (cradle-node-name target)))))
+    (let ((lift (and (equal source rest) (assoc target lifts :test #'equal))))
+      (if lift
+          (spec-symbol "~A" (getf (cdr lift) :op))
+          (spec-symbol "from-~A-to-~A" (cradle-node-name source) (cradle-node-name target))))))
 
 (defparameter *cradle-spec-options* '((:scripts "newtons-cradle-scripts.lisp") (:body none))
   "The options of specs/newtons-cradle.lisp: its script library (written by
 WRITE-CRADLE-SCRIPTS-FILE) and no character, only the cradle's props.")
 
-(defun cradle-spec-forms (&key (n 5) (lifted 2))
-  "The DEFSPEC body of specs/newtons-cradle.lisp (N spheres, LIFTED of them
-lifted on the left by EV-LIFT-TWO-LEFT): regenerate the file with
+(defun cradle-spec-forms (&key (n 5))
+  "The DEFSPEC body of specs/newtons-cradle.lisp (N spheres): regenerate the file with
   (player.compose:write-cradle-spec-file \"specs/newtons-cradle.lisp\")."
-  (multiple-value-bind (graph rest lifted-node out) (cradle-spec-graph :n n :lifted lifted)
+  (multiple-value-bind (graph rest lifts) (cradle-spec-graph :n n)
     (graph->spec-forms
      graph :start rest :variable 'cradle :node-namer #'cradle-node-name
      :options (mapcar (lambda (option) (list (first option)
@@ -59,11 +106,20 @@ lifted on the left by EV-LIFT-TWO-LEFT): regenerate the file with
                       *cradle-spec-options*)
      :documentation (format nil "Newton's cradle with ~D spheres (Clark & Palmer, 1995, section 4), ~
                                  generated by graph->spec from (newton-cradle ~D): the states reachable ~
-                                 from rest once two spheres are lifted on the left." n n)
-     :op-namer (cradle-op-namer rest lifted-node)
-     :events (list (list (spec-symbol "event") (spec-symbol "ev-lift-two-left")
-                         :op (spec-symbol "lift-two-left")
-                         :state (spec-symbol "cradle.~A" (cradle-node-name out)))))))
+                                 from rest once spheres are lifted (two on the left; one, the paper's ~
+                                 Figure 10; one on the left and two on the right, its Figure 11)." n n)
+     :op-namer (cradle-op-namer rest lifts)
+     ;; no GO-X event per state: the physics reaches each state only from its own
+     ;; configuration (never back to rest), so goals per state would all be
+     ;; unreachable from most states; the events are the configurations.
+     :go-events nil
+     :events (loop for (nil . c) in lifts
+                   collect (list (spec-symbol "event") (spec-symbol "~A" (getf c :event))
+                                 :op (spec-symbol "~A" (getf c :op))
+                                 :state (spec-symbol "cradle.~A"
+                                                     (cradle-node-name
+                                                      (car (last (cradle-run n :left (getf c :left)
+                                                                               :right (getf c :right)))))))))))
 
 (defun write-cradle-spec-file (file)
   "Write specs/newtons-cradle.lisp (to FILE) from CRADLE-SPEC-FORMS."
@@ -72,6 +128,7 @@ lifted on the left by EV-LIFT-TWO-LEFT): regenerate the file with
       (let ((*package* (find-package '#:player-user))
             (*print-case* :downcase)
             (*print-readably* nil)
+            (*read-default-float-format* 'double-float) ; durations print as 0.05, not 0.05d0
             (*print-pretty* t)
             (*print-right-margin* 100))
         (format out ";;;; newtons-cradle.lisp -- Newton's cradle, 5 spheres, as a Player spec.~%~
@@ -81,7 +138,10 @@ lifted on the left by EV-LIFT-TWO-LEFT): regenerate the file with
 ;;;; A state names each sphere, leftmost first: position L/C/R (lifted left,~%~
 ;;;; hanging, lifted right), velocity W/S/E (moving west, still, moving east).~%~
 ;;;; Try: bin/player run specs/newtons-cradle.lisp --events ev-lift-two-left~%~
-;;;; Draw it: make demo-cradle (its scripts: newtons-cradle-scripts.lisp)~%~%~
+;;;; The paper's Figures 10 and 11: events ev-simple-example-animation and~%~
+;;;; ev-more-complex-example.~%~
+;;;; Draw it: make demo-cradle [START=simple-example-animation|more-complex-example]~%~
+;;;; (its scripts: newtons-cradle-scripts.lisp)~%~%~
 (in-package :player-user)~%~%")
         (let ((forms (cradle-spec-forms)))
           (format out "(defspec newtons-cradle")

@@ -145,53 +145,94 @@ right at 0 is caused by an equal and opposite change to its left."
 
 ;;; n spheres
 
-(defun cradle-stages-uncached (n)
-  "See CRADLE-STAGES."
-  (let* ((single (cradle-single-sphere-stages))
-         (g^1 (cdr (assoc :g^1 single))))
-    (if (= n 1)
-        (append single (list (cons :g^n g^1)))
-        (let* ((g16 (graph-product g^1 g^1))
-               (g17 (restrict g16 (ordering-predicate)))
-               (merged (let ((graph g17))
-                         (loop repeat (- n 2)
-                               do (setf graph (graph-merge graph g17 :leafp #'sphere-state-p)))
-                         graph))
-               (g^n (restrict merged (collision-predicate))))
-          (append single (list (cons :g16 g16) (cons :g17 g17) (cons :merged merged)
-                               (cons :g^n g^n)))))))
+(defparameter *single-stage-names*
+  '(:g1 :g2 :g3 :g4 :g5 :g6 :g7 :g8 :g9 :g10 :g11 :g12 :g13 :g14 :g15 :g^1 :g^1-literal :g18 :g^1+)
+  "The stages of the single sphere, the paper's and the physical cradle's.")
 
-(defvar *cradle-stages* (make-hash-table)
-  "N -> the stages of the N-sphere cradle, computed once (graphs never change).")
+(defun cradle-stage-names (n)
+  "The names of the stages of the N-sphere cradle, in the order they are built."
+  (append *single-stage-names*
+          (if (= n 1)
+              '(:paper :g^n)
+              '(:g16 :g17 :merged :paper :g16+ :g17+ :merged+ :collisions :g^n))))
+
+(defun merge-copies (graph n)
+  "GRAPH ⊗ ... ⊗ GRAPH, N - 1 copies merged on a common sphere."
+  (let ((merged graph))
+    (loop repeat (- n 2)
+          do (setf merged (graph-merge merged graph :leafp #'sphere-state-p)))
+    merged))
+
+(defun compute-cradle-stage (n name)
+  "The stage NAME of the N-sphere cradle, built from the stages before it."
+  (flet ((stage (name) (cradle-stage n name)))
+    (case name
+      ((:g18 :g^1+) (cdr (assoc name (physics-single-stages (cradle-single-sphere-stages)))))
+      (:paper (if (= n 1) (stage :g^1) (restrict (stage :merged) (collision-predicate))))
+      (:g16 (graph-product (stage :g^1) (stage :g^1)))
+      (:g17 (restrict (stage :g16) (ordering-predicate)))
+      (:merged (merge-copies (stage :g17) n))
+      (:g16+ (graph-product (stage :g^1+) (stage :g^1+)))
+      (:g17+ (restrict (stage :g16+) (ordering-predicate)))
+      (:merged+ (merge-copies (stage :g17+) n))
+      (:collisions (restrict (stage :merged+) (collision-predicate)))
+      (:g^n (restrict (stage (if (= n 1) :g^1+ :collisions)) (resolved-predicate)))
+      (t (cdr (assoc name (cradle-single-sphere-stages)))))))
+
+(defvar *cradle-stages* (make-hash-table :test 'equal)
+  "(N . NAME) -> that stage of the N-sphere cradle, computed once (graphs never
+change). The single sphere's stages are kept under N = 1.")
 
 (defun cradle-stages (n)
-  "The named graphs of Newton's cradle with N spheres (N >= 1), as an alist:
+  "The named graphs of Newton's cradle with N spheres (N >= 1), as an alist
+(building all of them; CRADLE-STAGE builds one and what it needs):
 :G1 ... :G15 and :G^1 (the single sphere, §4), :G^1-LITERAL (the paper's
 G5 & G9 & G12 & G15 read literally, for comparison: it lacks the paper's
-traces), and for N >= 2, :G16 = G^1 × G^1, :G17 = G16 \\ ((p1, _), (p2, _)) &
-p1 <= p2 (each end of each edge), :MERGED = G17 ⊗ ... ⊗ G17 (N - 1 copies,
-merged on a common sphere; G17 itself for N = 2), and always :G^N, the
-cradle: :MERGED \\ (samechanges & causesleftright & causesrightleft), the
-restrictions applied after the merge as the paper warns (G^1 for N = 1).
+traces), :G18 and :G^1+ (cradle-physics.lisp), and for N >= 2, :G16 = G^1 ×
+G^1, :G17 = G16 \\ ((p1, _), (p2, _)) & p1 <= p2 (each end of each edge),
+:MERGED = G17 ⊗ ... ⊗ G17 (N - 1 copies, merged on a common sphere; G17
+itself for N = 2), :PAPER, the paper's cradle: :MERGED \\ (samechanges &
+causesleftright & causesrightleft), the restrictions applied after the merge
+as the paper warns (G^1 for N = 1); then the same built from G^1+ (:G16+,
+:G17+, :MERGED+, :COLLISIONS) and :G^N, the cradle: :COLLISIONS \\ resolved
+(see cradle-physics.lisp), in which no state is a dead end.
 [Reading] The paper's general formula indexes the merge i = 2 ... n-1, n-2
 copies; its G^3 = G17 ⊗ G17 and G^4 = G17 ⊗ G17 ⊗ G17 have n-1, which is what
 is built. Its G^3 says causesleft & causesright for causesleftright &
 causesrightleft."
   (check-argument 'cradle-stages 'n n (lambda (x) (typep x '(integer 1))) "a number of spheres (an integer >= 1)")
-  (or (gethash n *cradle-stages*)
-      (setf (gethash n *cradle-stages*) (cradle-stages-uncached n))))
+  (loop for name in (cradle-stage-names n) collect (cons name (cradle-stage n name))))
 
 (defun cradle-stage (n name)
   "The graph named NAME (a keyword, see CRADLE-STAGES) of the N-sphere cradle."
-  (or (cdr (assoc name (cradle-stages n)))
-      (graph-fail name "cradle-stage: no stage ~S for ~D sphere~:P (stages: ~{~S~^ ~})"
-                  name n (mapcar #'car (cradle-stages n)))))
+  (check-argument 'cradle-stage 'n n (lambda (x) (typep x '(integer 1))) "a number of spheres (an integer >= 1)")
+  (unless (member name (cradle-stage-names n))
+    (graph-fail name "cradle-stage: no stage ~S for ~D sphere~:P (stages: ~{~S~^ ~})"
+                name n (cradle-stage-names n)))
+  (let ((key (cons (if (member name *single-stage-names*) 1 n) name)))
+    (or (gethash key *cradle-stages*)
+        (setf (gethash key *cradle-stages*) (compute-cradle-stage n name)))))
 
-(defun newton-cradle (n)
+(defparameter *eager-cradle-limit* 6
+  "The most spheres NEWTON-CRADLE builds eagerly by default: n = 7 needs more
+than SBCL's default heap, n = 8 minutes and gigabytes (bench/cradle.lisp).")
+
+(defun newton-cradle (n &key (lazy (> n *eager-cradle-limit*)))
   "G^n, the behaviour of Newton's cradle with N spheres (N >= 1): nodes are
 right-nested trees of sphere states (POSITION . VELOCITY), leftmost sphere
-first; see CRADLE-STAGES for how it is built."
-  (cradle-stage n :g^n))
+first; see CRADLE-STAGES for how it is built and CRADLE-PAPER for the paper's
+own. Built eagerly (a GRAPH) for N up to *EAGER-CRADLE-LIMIT*, on demand (a
+LAZY-GRAPH, see LAZY-CRADLE) above it or with LAZY: GRAPH-REACHABLE and
+GRAPH-SUCCESSORS take either."
+  (if lazy
+      (progn
+        (check-argument 'newton-cradle 'n n (lambda (x) (typep x '(integer 1))) "a number of spheres (an integer >= 1)")
+        (lazy-cradle n))
+      (cradle-stage n :g^n)))
+
+(defun cradle-paper (n)
+  "The paper's G^n for N spheres, which has dead ends (stage :PAPER)."
+  (cradle-stage n :paper))
 
 (defun cradle-node (&rest spheres)
   "The cradle node of SPHERES, each a sphere state (POSITION . VELOCITY),

@@ -4,8 +4,10 @@
 ;;;;
 ;;;; EXPR is one of
 ;;;;   NAME                            a graph registered from Lisp (REGISTER-GRAPH, DEFINE-GRAPH)
-;;;;   (newton-cradle N)               §4's G^n, N from 1 to *MAX-CRADLE-SPHERES*
-;;;;   (cradle-stage N STAGE)          a named stage of it: :g1 ... :g17, :merged, :g^n
+;;;;   (newton-cradle N)               §4's G^n, N from 1 to *MAX-CRADLE-SPHERES*, or
+;;;;                                   to *MAX-LAZY-CRADLE-SPHERES* built on demand
+;;;;                                   (then only (reachable ...) of it)
+;;;;   (cradle-stage N STAGE)          a named stage of it: :g1 ... :g17, :merged, :paper, :g^n
 ;;;;   (complete (NODE...))            C(Σ)
 ;;;;   (graph (NODE...) ((SOURCE . TARGET)...))   nodes and edges written out
 ;;;;   (sum G G...)  or (+ G G...)     G1 + G2
@@ -16,9 +18,15 @@
 ;;;;   (reachable G NODE...)           the part of G reachable from the NODEs
 ;;;;   (spec NAME)                     SPEC->GRAPH of a spec defined before (its
 ;;;;                                   values are symbols of that spec's package)
+;;;;   (let* ((NAME EXPR)...) G)       names for graphs, and for predicates
+;;;;                                   written (predicate PRED), used in G
+;;;;   (guarded (state P [TEST]) CHEAP FULL)   FULL's states, moving as in CHEAP
+;;;;                                   where the guard holds (guards.lisp)
 ;;;; PRED is a pattern (both ends of an edge must match it, PRED-NODES),
-;;;; (=> P1 P2) (the paper's implication, PRED-IMPLIES), (then P1 P2) (PRED-EDGE)
-;;;; or (& PRED PRED...) (PRED-AND). Patterns are the paper's, as in
+;;;; (=> P1 P2) (the paper's implication, PRED-IMPLIES), (then P1 P2) (PRED-EDGE),
+;;;; (& PRED PRED...) (PRED-AND), (edge P1 P2 [TEST]) (a statement about the
+;;;; moves from P1 to P2, TEST as in edge-tests.lisp), (not PRED), (or PRED...),
+;;;; or a name LET* bound to a predicate. Patterns are the paper's, as in
 ;;;; patterns.lisp: _, identifiers (any other symbol), constants (numbers,
 ;;;; strings, keywords, 'SYMBOL), pairs (P1 . P2), and (:eval F X...) with F
 ;;;; one of + - * only. A NODE is literal data, or (cradle-node (P . V)...).
@@ -94,10 +102,12 @@ the expression bound to LAMBDA-LIST; USAGE shows how it is written."
 a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
   (interpret-graph form))
 
-(defun interpret-graph (form)
-  "The graph of the graph expression FORM."
+(defun interpret-graph (form &optional allow-lazy)
+  "The graph of the graph expression FORM; a LAZY-GRAPH (a large cradle) only
+with ALLOW-LAZY (REACHABLE's argument), else a GRAPH-EXPRESSION-ERROR."
   (let ((graph
-          (cond ((and (symbolp form) form (not (keywordp form)))
+          (cond ((and (symbolp form) (bound-name form :graph)))
+                ((and (symbolp form) form (not (keywordp form)))
                  (or (find-graph form nil)
                      (graph-expression-fail form "~A is no registered graph (registered: ~:[none~;~:*~{~A~^, ~}~])"
                                             (lisp-text form)
@@ -115,7 +125,10 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
                        (graph-expression-fail form "~A" condition)))))
                 (t (graph-expression-fail form "~A is not a graph expression (a registered graph's name or (BUILDER ARGUMENT...))"
                                           (bounded-lisp-text form 80))))))
-    (when (> (graph-edge-count graph) *graph-expression-edge-limit*)
+    (when (and (lazy-graph-p graph) (not allow-lazy))
+      (graph-expression-fail form "~A is built on demand: write (reachable ~A NODE...) to take the part reachable from NODE"
+                             (bounded-lisp-text form 80) (bounded-lisp-text form 60)))
+    (when (and (graph-p graph) (> (graph-edge-count graph) *graph-expression-edge-limit*))
       (graph-expression-fail form "~A has ~D edges, more than ~D" (bounded-lisp-text form 80)
                              (graph-edge-count graph) *graph-expression-edge-limit*))
     graph))
@@ -136,19 +149,26 @@ a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
     (graph-expression-fail form "~A must be a list, not ~A" what (bounded-lisp-text list 80)))
   (mapcar #'node-literal list))
 
+(defparameter *max-lazy-cradle-spheres* 10
+  "The largest N a graph expression's (newton-cradle N) takes; above
+*MAX-CRADLE-SPHERES* it is built on demand, so only (reachable ...) of it may
+be taken.")
+
 (define-graph-builder ("newton-cradle") "(newton-cradle N)" (n)
-  (unless (typep n `(integer 1 ,*max-cradle-spheres*))
-    (graph-expression-fail form "(newton-cradle N) takes N from 1 to ~D, not ~A" *max-cradle-spheres* (lisp-text n)))
-  (newton-cradle n))
+  (unless (typep n `(integer 1 ,*max-lazy-cradle-spheres*))
+    (graph-expression-fail form "(newton-cradle N) takes N from 1 to ~D, not ~A" *max-lazy-cradle-spheres* (lisp-text n)))
+  (if (<= n *max-cradle-spheres*)
+      (newton-cradle n :lazy nil)
+      (newton-cradle n :lazy t)))
 
 (define-graph-builder ("cradle-stage") "(cradle-stage N STAGE)" (n stage)
   (unless (typep n `(integer 1 ,*max-cradle-spheres*))
     (graph-expression-fail form "(cradle-stage N STAGE) takes N from 1 to ~D, not ~A" *max-cradle-spheres* (lisp-text n)))
-  (let ((key (and (symbolp stage) (find (symbol-name stage) (mapcar #'car (cradle-stages n))
+  (let ((key (and (symbolp stage) (find (symbol-name stage) (cradle-stage-names n)
                                         :key #'symbol-name :test #'string-equal))))
     (or (and key (cradle-stage n key))
         (graph-expression-fail form "the ~D-sphere cradle has no stage ~A (stages: ~{~(~A~)~^ ~})"
-                               n (lisp-text stage) (mapcar #'car (cradle-stages n))))))
+                               n (lisp-text stage) (cradle-stage-names n)))))
 
 (define-graph-builder ("complete") "(complete (NODE...))" (nodes)
   (let ((nodes (node-list form nodes "(complete (NODE...))'s argument")))
@@ -206,7 +226,9 @@ and GRAPH2: counted first, so a merge too large is refused before it is built."
   (restrict (interpret-graph graph) (interpret-predicate predicate)))
 
 (define-graph-builder ("reachable") "(reachable G NODE...)" (graph &rest nodes)
-  (apply #'graph-reachable (interpret-graph graph) (node-list form nodes "(reachable G NODE...)'s NODEs")))
+  ;; A lazy G (a large cradle) is expanded from the NODEs only, within the edge limit.
+  (let ((*lazy-node-limit* (min *lazy-node-limit* *graph-expression-edge-limit*)))
+    (apply #'graph-reachable (interpret-graph graph t) (node-list form nodes "(reachable G NODE...)'s NODEs"))))
 
 (define-graph-builder ("spec") "(spec NAME)" (name)
   (unless (and (symbolp name) name (find-spec name nil))
@@ -215,11 +237,79 @@ and GRAPH2: counted first, so a merge too large is refused before it is built."
   (let ((*spec-graph-state-limit* (min *spec-graph-state-limit* 20000)))
     (values (spec->graph name))))
 
+;;; Names: (let* ((NAME EXPR)...) G)
+
+(defvar *graph-bindings* '()
+  "While a graph expression's LET* body is interpreted: (NAME KIND . VALUE)
+for each name it binds, KIND :GRAPH or :PREDICATE, innermost first.")
+
+(defun bound-name (symbol kind)
+  "The value SYMBOL is bound to as KIND (:GRAPH or :PREDICATE) by an enclosing LET*, or NIL."
+  (let ((entry (find-if (lambda (entry) (and (symbolp symbol) (string= (symbol-name (first entry)) (symbol-name symbol))))
+                        *graph-bindings*)))
+    (and entry (eq (second entry) kind) (cddr entry))))
+
+(define-graph-builder ("let*" "let") "(let* ((NAME G-or-(predicate PRED))...) G)" (bindings body)
+  ;; Names bound in order, each seeing those before it, as the paper names
+  ;; S1, p1, S2 ... and then writes expressions of them.
+  (unless (and (proper-list-p bindings)
+               (every (lambda (b) (and (proper-list-p b) (= 2 (length b)) (symbolp (first b)) (first b)
+                                       (not (keywordp (first b)))))
+                      bindings))
+    (graph-expression-fail form "write (let* ((NAME EXPR)...) BODY), not ~A" (bounded-lisp-text bindings 80)))
+  (let ((*graph-bindings* *graph-bindings*))
+    (loop for (name expression) in bindings
+          do (push (if (and (consp expression) (symbolp (first expression)) (word-p (first expression) "PREDICATE"))
+                       (progn
+                         (unless (= 2 (length expression))
+                           (graph-expression-fail expression "write (predicate PRED)"))
+                         (list* name :predicate (interpret-predicate (second expression))))
+                       (list* name :graph (interpret-graph expression)))
+                   *graph-bindings*))
+    (interpret-graph body)))
+
+;;; Guards: (guarded GUARD CHEAP FULL)
+
+(defun interpret-guard (form)
+  "The node test of a guard (state P [TEST]): the nodes matching the pattern
+P for which TEST (edge-tests.lisp) holds over P's identifiers."
+  (unless (and (consp form) (proper-list-p form) (symbolp (first form)) (word-p (first form) "STATE")
+               (<= 2 (length form) 3))
+    (graph-expression-fail form "a guard is written (state PATTERN [TEST]), not ~A" (bounded-lisp-text form 80)))
+  (let* ((pattern (interpret-pattern (second form)))
+         (test (if (third form) (compile-edge-test (third form) (pattern-identifiers (second form))) (constantly t))))
+    (lambda (node)
+      (multiple-value-bind (ok bindings) (match-pattern pattern node)
+        (and ok (funcall test bindings))))))
+
+(define-graph-builder ("guarded") "(guarded (state P [TEST]) CHEAP FULL)" (guard cheap full)
+  ;; FULL's states, moving as in CHEAP where the guard holds (guards.lisp).
+  (guard-eager (interpret-guard guard) (interpret-graph cheap) (interpret-graph full)))
+
 ;;; Predicates and patterns
+
+(defun interpret-edge-predicate (form)
+  "The predicate of (edge P1 P2 [TEST]): moves from a P1 node to a P2 node
+for which TEST (edge-tests.lisp) holds over the identifiers they bind."
+  (unless (<= 3 (length form) 4)
+    (graph-expression-fail form "write (edge P1 P2 [TEST]), not ~A" (bounded-lisp-text form 80)))
+  (destructuring-bind (p1 p2 &optional (test nil test-p)) (rest form)
+    (let ((identifiers (union (pattern-identifiers p1) (pattern-identifiers p2))))
+      (pred-where (interpret-pattern p1) (interpret-pattern p2) (if test-p (compile-edge-test test identifiers) (constantly t))
+                  :description (bounded-lisp-text form 80)))))
 
 (defun interpret-predicate (form)
   "The restriction predicate the predicate form FORM denotes."
-  (cond ((and (consp form) (proper-list-p form) (word-p (first form) "=>" "THEN"))
+  (cond ((and (symbolp form) (bound-name form :predicate)))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "EDGE"))
+         (interpret-edge-predicate form))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "NOT"))
+         (unless (= 2 (length form)) (graph-expression-fail form "write (not PRED)"))
+         (pred-not (interpret-predicate (second form))))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "OR"))
+         (unless (rest form) (graph-expression-fail form "(or PRED PRED...) needs a predicate"))
+         (apply #'pred-or (mapcar #'interpret-predicate (rest form))))
+        ((and (consp form) (proper-list-p form) (word-p (first form) "=>" "THEN"))
          (unless (= (length form) 3)
            (graph-expression-fail form "write (~(~A~) P1 P2), not ~A" (first form) (bounded-lisp-text form 80)))
          (funcall (if (word-p (first form) "=>") #'pred-implies #'pred-edge)

@@ -86,7 +86,10 @@ no GO-X events."
               (when (gethash (symbol-name op) op-names)
                 (graph-fail (cons source target) "graph->spec: two edges get the op name ~A" (symbol-name op)))
               (setf (gethash (symbol-name op) op-names) t)
-           collect (list (spec-symbol "op") op :precond (funcall literal source) :add (funcall literal target)))
+           collect (append (list (spec-symbol "op") op :precond (funcall literal source) :add (funcall literal target))
+                           ;; timed moves (durations.lisp) take their own time, not the unit
+                           (and (graph-timed-p graph)
+                                (list :duration (graph-edge-duration graph source target)))))
      (loop for node in nodes
            when go-events collect (list (spec-symbol "event") (spec-symbol "go-~A" (gethash node names)) :state (funcall literal node)))
      events)))
@@ -100,6 +103,7 @@ default DEFAULT-NODE-NAME: N0, M1, <N0_M1>, ...), initial value START (default
 the first node in NODE< order); for each edge from X to Y, an op named by
 OP-NAMER (a function of the source and target nodes returning a symbol or
 string; default FROM-X-TO-Y) with :precond VARIABLE.X and :add VARIABLE.Y;
+the op's :duration is the edge's (GRAPH-EDGE-DURATION) when GRAPH is timed (GRAPH-WITH-DURATIONS);
 for each node X, an event GO-X with :state VARIABLE.X (unless GO-EVENTS is
 NIL); then the event forms EVENTS. OPTIONS are spec options, such as
 ((:scripts \"FILE\")). :max-depth is MAX-DEPTH, by default the number of

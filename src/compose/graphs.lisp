@@ -16,7 +16,10 @@
   (node-table (make-node-table) :type hash-table :read-only t)
   (edge-table (make-node-table) :type hash-table :read-only t)
   ;; Node -> its targets, sorted; built on first use.
-  (successor-table nil))
+  (successor-table nil)
+  ;; Edge -> seconds the move takes, when the transitions are timed
+  ;; (durations.lisp); NIL for the paper's unit of time on every edge.
+  (duration-table nil))
 
 (defmethod print-object ((graph graph) stream)
   (print-unreadable-object (graph stream :type t)
@@ -118,7 +121,10 @@ source, then target)."
 
 (defun graph-successors (graph node)
   "The targets of the edges leaving NODE, sorted. A GRAPH-ERROR when NODE is
-not a node of GRAPH."
+not a node of GRAPH. GRAPH may be a LAZY-GRAPH (lazy.lisp): then NODE's
+successors are computed on demand."
+  (when (lazy-graph-p graph)
+    (return-from graph-successors (copy-list (lazy-successors graph node))))
   (check-graph 'graph-successors graph)
   (require-node 'graph-successors graph node)
   (copy-list (values (gethash node (successor-table graph)))))
@@ -177,7 +183,10 @@ intersection of all of them."
 (defun graph-reachable (graph &rest starts)
   "The sub-graph of GRAPH on the nodes reachable from the nodes STARTS (they
 included), with every edge of GRAPH between them. A GRAPH-ERROR when a start
-is not a node of GRAPH."
+is not a node of GRAPH. GRAPH may be a LAZY-GRAPH: then only the reachable
+part is ever built (LAZY-REACHABLE)."
+  (when (lazy-graph-p graph)
+    (return-from graph-reachable (apply #'lazy-reachable graph starts)))
   (check-graph 'graph-reachable graph)
   (dolist (start starts) (require-node 'graph-reachable graph start))
   (let ((result (empty-graph))
