@@ -70,6 +70,7 @@ in vec3 world_normal;
 in vec3 tint;
 in vec2 texture_uv;
 uniform sampler2D diffuse;
+uniform bool textured;       // false: no texture to sample (llvmpipe's filtering costs)
 uniform vec3 key_direction;
 uniform vec3 key_colour;
 uniform vec3 fill_direction;
@@ -78,7 +79,7 @@ uniform vec3 ambient_colour;
 uniform vec3 eye_position;
 out vec4 fragment;
 void main() {
-  vec3 texel = texture(diffuse, texture_uv).rgb;
+  vec3 texel = textured ? texture(diffuse, texture_uv).rgb : vec3(1.0);
   vec3 albedo = tint * texel * texel;
   vec3 n = normalize(world_normal);
   vec3 v = normalize(eye_position - world_position);

@@ -22,7 +22,7 @@ fallback, forced (to compare the two paths, or to time them).")
 INDEX-BUFFER holding COUNT indices, its TEXTURE, and MODE, :GPU or :CPU.  On
 the CPU path POSITIONS and NORMALS are the posed vertices, which go to
 POSITION-BUFFER and NORMAL-BUFFER each frame."
-  (vao 0) (buffers '()) (index-buffer 0) (count 0) (texture 0) (mode :gpu)
+  (vao 0) (buffers '()) (index-buffer 0) (count 0) (texture 0) (textured nil) (mode :gpu)
   (positions nil) (normals nil) (position-buffer 0) (normal-buffer 0))
 
 (defstruct (gpu-model (:constructor make-gpu-model (skins)))
@@ -112,6 +112,7 @@ palette fits +PALETTE-SIZE+, else on the CPU."
          (normals (or (model-mesh-normals mesh) (filled-floats count '(0 1 0))))
          (texture (mesh-texture renderer mesh))
          (gpu (%make-gpu-skin :vao (gl-gen-object #'gl-gen-vertex-arrays) :mode mode :texture texture
+                              :textured (and (model-mesh-uvs mesh) (model-mesh-texture mesh) t)
                               :count (length (model-mesh-triangles mesh)))))
     (gl-bind-vertex-array (gpu-skin-vao gpu))
     (flet ((add (location data size &optional (type +gl-float+) (usage +gl-static-draw+))
@@ -198,6 +199,7 @@ targets first added at their weights in POSE (the body's)."
                  (if (eq (gpu-skin-mode gpu) :gpu)
                      (upload-matrices (uniform uniforms "palette") palette)
                      (pose-on-cpu gpu skin palette (body-pose (scene-mesh-object scene-mesh))))
+                 (gl-uniform1i (uniform uniforms "textured") (if (gpu-skin-textured gpu) 1 0))
                  (gl-bind-texture +gl-texture-2d+ (gpu-skin-texture gpu))
                  (gl-bind-vertex-array (gpu-skin-vao gpu))
                  (gl-draw-elements +gl-triangles+ (gpu-skin-count gpu) +gl-unsigned-int+

@@ -27,16 +27,24 @@ holds the 8 corners of a box around the posed skin, +VERTEX-FLOATS+ each."
   (reaches '() :type list))
 
 (defun skin-reaches (skin)
-  "For each palette entry k of SKIN, the farthest a vertex it weighs lies, at
-rest, from the centre of its joint: the largest |B_k v|, a vector of doubles."
+  "For each palette entry k of SKIN, the farthest a vertex it weighs most
+lies, at rest, from the centre of its joint: the largest |B_k v| over the
+vertices whose largest weight is k's, a vector of doubles.  Counting every
+vertex a joint weighs at all made the pelvis reach the tail; a blended vertex
+lies near its main joint's sphere, and one a little outside only misses the
+antialiasing pass at an edge (the picture stays right)."
   (let ((positions (model-mesh-positions (skin-mesh skin)))
         (slots (skin-slots skin))
         (weights (skin-weights skin))
         (palette (skin-palette skin))
         (reaches (make-array (length (skin-palette skin)) :element-type 'double-float :initial-element 0d0)))
     (dotimes (v (floor (length positions) 3) reaches)
-      (dotimes (k 4)
-        (when (plusp (aref weights (+ (* 4 v) k)))
+      (let ((k (loop with best = 0
+                     for j from 1 below 4
+                     when (> (aref weights (+ (* 4 v) j)) (aref weights (+ (* 4 v) best)))
+                       do (setf best j)
+                     finally (return best))))
+        (progn
           (let* ((slot (aref slots (+ (* 4 v) k)))
                  (m (svref palette slot)))
             (setf (aref reaches slot) (max (aref reaches slot)
