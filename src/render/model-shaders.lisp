@@ -64,34 +64,18 @@ void main() {
   "Vertex shader for a skin posed on the CPU (SKIN-VERTICES): the fallback path.")
 
 (defparameter *model-fragment-shader*
-  "#version 330 core
+  (concatenate 'string "#version 330 core
 in vec3 world_position;
 in vec3 world_normal;
 in vec3 tint;
 in vec2 texture_uv;
 uniform sampler2D diffuse;
 uniform bool textured;       // false: no texture to sample (llvmpipe's filtering costs)
-uniform vec3 key_direction;
-uniform vec3 key_colour;
-uniform vec3 fill_direction;
-uniform vec3 fill_colour;
-uniform vec3 ambient_colour;
-uniform vec3 eye_position;
 out vec4 fragment;
-void main() {
+" *lighting-glsl* "void main() {
   vec3 texel = textured ? texture(diffuse, texture_uv).rgb : vec3(1.0);
-  vec3 albedo = tint * texel * texel;
-  vec3 n = normalize(world_normal);
-  vec3 v = normalize(eye_position - world_position);
-  if (dot(n, v) < 0.0) n = -n;
-  float key = max(dot(n, key_direction), 0.0);
-  float fill = max(dot(n, fill_direction), 0.0);
-  float s = max(dot(n, normalize(key_direction + v)), 0.0);
-  s *= s; s *= s; s *= s; s *= s; s *= s;
-  vec3 lit = albedo * (key_colour * key + fill_colour * fill + ambient_colour * (0.75 + 0.25 * n.y))
-           + key_colour * (0.2 * s * step(0.0001, key));
-  fragment = vec4(sqrt(clamp(lit, 0.0, 1.0)), 1.0);
-}"
+  fragment = vec4(lit_surface(tint * texel * texel, world_position, world_normal), 1.0);
+}")
   "Fragment shader for models: the diffuse texel times the tint, lit as bodies are.")
 
 (defparameter *model-colour* '(0.78 0.74 0.68)

@@ -34,19 +34,15 @@ void main() {
 }"
   "Vertex shader for bodies and props, whose vertices SCENE-MESHES poses in world space.")
 
-(defparameter *mesh-fragment-shader*
-  "#version 330 core
-in vec3 world_position;
-in vec3 world_normal;
-in vec3 albedo;
-uniform vec3 key_direction;
+(defparameter *lighting-glsl*
+  "uniform vec3 key_direction;
 uniform vec3 key_colour;
 uniform vec3 fill_direction;
 uniform vec3 fill_colour;
 uniform vec3 ambient_colour;
 uniform vec3 eye_position;
-out vec4 fragment;
-void main() {
+// A surface of linear ALBEDO lit by the key, fill and ambient lights, gamma-encoded.
+vec3 lit_surface(vec3 albedo, vec3 world_position, vec3 world_normal) {
   vec3 n = normalize(world_normal);
   vec3 v = normalize(eye_position - world_position);
   if (dot(n, v) < 0.0) n = -n;   // light the side we see (open discs, thin feathers)
@@ -57,9 +53,22 @@ void main() {
   s *= s; s *= s; s *= s; s *= s; s *= s;
   vec3 lit = albedo * (key_colour * key + fill_colour * fill + ambient_colour * (0.75 + 0.25 * n.y))
            + key_colour * (0.2 * s * step(0.0001, key));
-  fragment = vec4(sqrt(clamp(lit, 0.0, 1.0)), 1.0);
-}"
-  "Fragment shader for bodies and props: per-pixel key, fill and ambient light, gamma 2.")
+  return sqrt(clamp(lit, 0.0, 1.0));
+}
+"
+  "The lighting every lit fragment shader shares (bodies, props, models): its
+uniforms and LIT_SURFACE, per-pixel key, fill and ambient light, gamma 2.")
+
+(defparameter *mesh-fragment-shader*
+  (concatenate 'string "#version 330 core
+in vec3 world_position;
+in vec3 world_normal;
+in vec3 albedo;
+out vec4 fragment;
+" *lighting-glsl* "void main() {
+  fragment = vec4(lit_surface(albedo, world_position, world_normal), 1.0);
+}")
+  "Fragment shader for bodies and props: their colour lit (*LIGHTING-GLSL*).")
 
 (defparameter *floor-vertex-shader*
   "#version 330 core
