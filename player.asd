@@ -506,6 +506,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-embedded-textures")
                  (:file "test-model-props")
                  (:file "test-root-motion")
+                 (:file "test-model-viewer")
                  ;; Clark & Palmer complete (issue 30)
                  (:file "test-cradle-physics")
                  (:file "test-logic")
