@@ -229,6 +229,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "motor-functions")
                  (:file "driver")
                  (:file "body")
+                 (:file "settling")
                  (:file "ik")
                  (:file "ik-search")
                  (:module "drivers"
@@ -276,6 +277,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "script-library")
                                (:file "pose-when")))
                  (:file "performance")
+                 (:file "settle")
                  (:file "captions")
                  (:file "starting-pose")
                  (:file "placeholders")
