@@ -515,5 +515,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-bouncing-spheres")
                  (:file "test-cradle-timing")
                  (:file "test-friction")
-                 (:file "test-guards"))))
+                 (:file "test-guards")
+                 ;; The body agrees with the state (issue 27)
+                 (:file "test-settle"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -66,8 +66,10 @@ character (else where it was placed), turned as it was placed."
             (setf next end)))))))
 
 (defun run-drivers (run)
-  "Every driver RUN and the runs it started made in this replay."
-  (append (script-run-drivers run) (mapcan #'run-drivers (script-run-children run))))
+  "Every driver RUN and the runs it started made in this replay, their slaves too."
+  (append (mapcan (lambda (driver) (cons driver (copy-list (slave-drivers driver))))
+                  (script-run-drivers run))
+          (mapcan #'run-drivers (script-run-children run))))
 
 (defun settle-due (performance time)
   "Do the settling due at TIME (the replay having come to it): settle the runs
