@@ -146,7 +146,10 @@ with an end; scripts that loop unstopped do not count."
                                       :initial-value 0d0)
                               (reduce #'max (replay-bindings performance)
                                       :key (lambda (b) (or (binding-end b) 0d0)) :initial-value 0d0))))
-               (if (<= next end)
-                   (return end)
-                   (setf end next)))
-          finally (return end))))
+               (when (<= next end)
+                 (return))
+               (setf end next)))
+    ;; A fresh replay again, as SIMULATE leaves it: a caller holding the
+    ;; bodies of the scene and playing from 0 keeps them.
+    (rebuild-scene performance)
+    end))
