@@ -430,6 +430,9 @@
 
 (defscript stop-cd (:duration 1
                     :documentation "Stop the music: a look at the jukebox and a raised wing, palm out; it stops.")
+  ;; He turns to the jukebox himself: the body settles facing front after an
+  ;; op, and from there the jukebox is beyond the reach of his eyes and head.
+  (:at 0 :motor (:facing :target (:object jukebox) :duration 0.4))
   (:at 0 :motor (:gaze :target (:object jukebox) :speed 2) :for 0.6)
   (:at 0 :motor (:keyframe :keys ((0 :start) (0.35 ((r_shoulder x -30 y -20 z -70) (r_elbow unfold 20) (r_wrist unfold 10 y 0)
                                                     (r_primaries spread 35)))
@@ -437,6 +440,7 @@
                                   (1 :start))
                            :priority 10))
   (:at 0.4 :set (jukebox playing) nil)
+  (:at 0.6 :motor (:facing :target (:object camera) :duration 0.4))
   (:at 0.6 :motor (:gaze :target (:object camera) :speed 2)))
 
 (defscript next-track (:duration 0.75
@@ -609,6 +613,7 @@
                   :documentation "There: the left wing points out to the CD title beside him; he looks at it, then back at the camera.")
   (:at 0 :motor (:gaze :target (:object cd-title) :speed 1.5) :for 0.6)
   (:at 0 :motor (:keyframe :keys ((0 :start) (0.3 point-left) (0.6 point-left) (1 :start)) :priority 10))
+  (:at 0.6 :motor (:facing :target (:object camera) :duration 0.4))
   (:at 0.6 :motor (:gaze :target (:object camera) :speed 2)))
 
 (defscript preen (:duration 2.5

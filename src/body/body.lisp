@@ -21,7 +21,12 @@
    (held :reader body-held :documentation "Per channel, the angle it had at its last change of owner.")
    (owners :reader body-owners :documentation "Per channel, its owner, or NIL.")
    (handovers :reader body-handovers :documentation "Per channel, the time of its last change of owner.")
-   (blends :reader body-blends :documentation "Per channel, that change's crossfade seconds.")
+   (blends :reader body-blends :documentation "Per channel, that change's crossfade seconds
+\(for a settling channel nobody drives: the seconds its settling takes).")
+   (target :reader body-target :documentation "The settled pose: where settling channels go (settling.lisp).")
+   (settling :reader body-settling
+             :documentation "Per channel, true when, driven by nobody, it eases to the settled pose instead of holding.")
+   (last-owners :reader body-last-owners :documentation "Per channel, the last driver that owned it, or NIL.")
    (transforms :reader body-transforms :documentation "The joints' world transforms at BODY-TIME.")
    (pending :initform '() :accessor body-pending :documentation "Drivers not yet started, by start time.")
    (active :initform '() :accessor body-active :documentation "Started drivers, least precedence first.")
@@ -50,6 +55,10 @@ POSITION and ROTATION place the skeleton's rest frame in the world."))
             (slot-value body 'base) (angles)
             (slot-value body 'held) (angles)
             (slot-value body 'owners) (slots nil)
+            (slot-value body 'target) (angles)
+            ;; A channel nobody ever drove is settled: it follows the settled pose.
+            (slot-value body 'settling) (slots t)
+            (slot-value body 'last-owners) (slots nil)
             (slot-value body 'handovers) (make-array count :element-type 'double-float
                                                            :initial-element 0d0)
             (slot-value body 'blends) (make-array count :element-type 'double-float
@@ -160,7 +169,8 @@ too) and joins the active drivers."
 
 (defun refresh-owners (body time)
   "Re-read each channel's owner; where it changed, hold the angle the channel
-has now and stamp the crossfade."
+has now and stamp the crossfade.  A channel a driver takes holds when let go
+until told to settle; one let go while settling starts settling now."
   (let ((arbitrator (body-arbitrator body)))
     (dotimes (i (length (body-owners body)))
       (let ((owner (channel-owner arbitrator i)))
@@ -169,7 +179,12 @@ has now and stamp the crossfade."
             (setf (svref (body-owners body) i) owner
                   (aref (body-held body) i) (aref (body-base body) i)
                   (aref (body-handovers body) i) (float (or handover time) 1d0)
-                  (aref (body-blends body) i) (float blend 1d0))))))))
+                  (aref (body-blends body) i) (float blend 1d0))
+            (cond (owner (setf (svref (body-last-owners body) i) owner
+                               (svref (body-settling body) i) nil))
+                  ((svref (body-settling body) i)
+                   (setf (aref (body-blends body) i)
+                         (settle-seconds (channel-travel body i)))))))))))
 
 ;;;# Composition
 
@@ -198,7 +213,7 @@ has now and stamp the crossfade."
                           1d0
                           (min 1d0 (max 0d0 (/ (- time (aref (body-handovers body) i)) blend))))))
               (setf (aref base i) (+ (aref held i) (* u (- (aref base i) (aref held i))))))
-            (setf (aref base i) (aref held i)))))
+            (setf (aref base i) (settling-value body i time)))))
     (%clamp-pose skeleton base)
     (replace pose base)
     (dolist (driver (body-active body))

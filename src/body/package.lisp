@@ -11,7 +11,8 @@
    #:*property-types* #:*skeleton-roles* #:add-object #:add-slave #:aim-link-channels
    #:anim-control-error #:anim-error #:anim-fail #:apply-pose-angles #:arbitration-error
    #:arms-raised #:beak #:body #:body-add-driver #:body-base #:body-dof-name
-   #:body-evaluate #:body-held #:body-joint-center #:body-joint-children #:body-joint-dof
+   #:body-evaluate #:body-settle-channels #:body-settle-to #:body-settled-time #:body-target
+   #:*settle-speed* #:settle-seconds #:*shortest-settle* #:*longest-settle* #:body-held #:body-joint-center #:body-joint-children #:body-joint-dof
    #:body-joint-dof-start #:body-joint-dofs #:body-joint-index #:body-joint-name
    #:body-joint-parent #:body-joint-position #:body-joint-radius #:body-pose
    #:body-pose-library #:body-reports #:body-seed #:body-skeleton #:body-stop-driver

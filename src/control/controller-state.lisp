@@ -185,6 +185,8 @@ NOTIFY-AUTOSCRIPTS does, from the table)."
       (dolist (watch (machine-watches machine))
         (when (logtest watched (watch-mask watch))
           (notify-watch controller watch old-bits new-bits time))))
+    (unless (eql old-bits new-bits)
+      (present-state-change (controller-presenter controller) controller time))
     new-bits))
 
 (declaim (inline state-with-fields))

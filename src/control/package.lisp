@@ -15,7 +15,7 @@
    #:find-compiled-event #:finish-events #:follow-spec #:initial-state-p #:make-controller
    #:make-null-presenter #:make-trace-presenter #:null-presenter #:op-channel-set
    #:planned-op-duration #:play-events #:play-script #:present-cut #:present-event
-   #:present-failure #:present-initial-state #:present-macro-end #:present-macro-start
+   #:present-failure #:present-initial-state #:present-state-change #:present-macro-end #:present-macro-start
    #:present-op #:present-state #:presenter #:presenter-result-error
    #:presenter-result-error-function #:presenter-result-error-op
    #:presenter-result-error-presenter #:presenter-result-error-value #:recompile #:redefine-controller

@@ -149,6 +149,29 @@ ARGUMENT-ERROR for an argument of the wrong kind."
       (setf (performance-starting-pose performance) start)
       (rebuild-scene performance))))
 
+(defun state-settled-pose (presenter bits)
+  "The settled pose of the state BITS (one-hot) for PRESENTER's character, as
+\(values ANGLES POSITION ROTATION): the first (:pose-when ...) entry whose
+expression holds, on the skeleton's rest pose, else the rest pose; at the
+entry's :position, else where the character was placed; turned as it was placed."
+  (let* ((performance (presenter-performance presenter))
+         (character (first (performance-characters performance)))
+         (start (choose-starting-pose (presenter-starting-poses presenter) bits))
+         (angles (make-pose (character-spec-skeleton character))))
+    (when start
+      (apply-pose-angles (starting-pose-angles start) angles)
+      (%clamp-pose (character-spec-skeleton character) angles))
+    (values angles
+            (or (and start (pose-when-position (starting-pose-entry start)))
+                (character-spec-position character))
+            (character-spec-rotation character))))
+
+(defmethod present-state-change ((presenter body-presenter) controller time)
+  ;; Channels at rest turn toward the new state's pose (settle.lisp).
+  (multiple-value-bind (angles position rotation)
+      (state-settled-pose presenter (controller-bits controller))
+    (performance-settle-to (presenter-performance presenter) angles position rotation time)))
+
 (defun check-scripts-play (spec performance)
   "Signal a SCRIPT-ERROR for the first item of a script SPEC needs that cannot
 play on PERFORMANCE's character (CHECK-LIBRARY-SCRIPTS), so a render never
@@ -172,22 +195,23 @@ stops halfway on it."
     (if (find-director library script nil)
         (run-director presenter script nil start)
         (script-duration (script-run-script
-                          (perform-script (presenter-performance presenter) script start))))))
+                          (perform-script (presenter-performance presenter) script start :settle t))))))
 
 (defmethod run-director ((presenter body-presenter) director op start)
   (declare (ignore op))
   ;; A placeholder library plays every director as a script of its name.
   (when (presenter-placeholder-p presenter)
     (return-from run-director
-      (script-duration (script-run-script (perform-script (presenter-performance presenter) director start)))))
-  (or (perform-director (presenter-performance presenter) director start)
+      (script-duration (script-run-script (perform-script (presenter-performance presenter) director start
+                                                          :settle t)))))
+  (or (perform-director (presenter-performance presenter) director start :settle t)
       (error 'script-error :form director
                            :message (format nil "director ~A never ends (a script it starts loops unstopped), so it cannot play an op"
                                             (lisp-text director)))))
 
 (defmethod start-autoscript :after ((presenter body-presenter) proc variable value time)
   (setf (gethash (list proc variable value) (autoscript-runs presenter))
-        (perform-script (presenter-performance presenter) proc time :loop t)))
+        (perform-script (presenter-performance presenter) proc time :loop t :settle t)))
 
 (defmethod stop-autoscript :after ((presenter body-presenter) proc variable value time)
   (let ((key (list proc variable value)))

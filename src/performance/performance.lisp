@@ -6,14 +6,17 @@
 
 (in-package #:player.performance)
 
-(defstruct (script-run (:constructor make-script-run (script start stop body loop)))
-  "SCRIPT started at START on BODY (a body's name), until STOP (or NIL), repeated when LOOP.
+(defstruct (script-run (:constructor make-script-run (script start stop body loop &optional settles)))
+  "SCRIPT started at START on BODY (a body's name), until STOP (or NIL), repeated when LOOP;
+when SETTLES, the channels it drove settle once it is over (settle.lisp).
 The rest is what the current replay has made of it."
   (script nil :read-only t)
   (start 0d0 :type double-float :read-only t)
   (stop nil)
   (body nil :read-only t)
   (loop nil :read-only t)
+  (settles nil :read-only t)
+  (settled nil)
   (iterations 0 :type fixnum)
   (drivers '())
   (bindings '())
@@ -70,6 +73,10 @@ would hang from the world from a group object, its stage, at ORIGIN.")
                   :documentation "The STARTING-POSE the first character starts in (starting-pose.lisp), or NIL.")
    (captions :initform '() :accessor performance-captions
              :documentation "CAPTIONs shown over the frames, newest first (see captions.lisp).")
+   (settle-targets :initform '() :accessor performance-settle-targets
+                   :documentation "SETTLE-TARGETs, oldest first: when the first character's settled pose changes (settle.lisp).")
+   (settle-state :initform nil :accessor replay-settle-state
+                 :documentation "The SETTLE-TARGET in force in the replay, and those still to come.")
    ;; The replay: rebuilt from the runs whenever time goes back.
    (scene :initform nil :accessor performance-scene)
    (all-runs :initform '() :accessor replay-runs)
@@ -144,9 +151,11 @@ With SILENT, speech and sounds play nothing (so no speech library is needed)."
 
 ;;;# Starting and stopping
 
-(defun perform-script (performance name start &key stop body loop)
+(defun perform-script (performance name start &key stop body loop settle)
   "Start the script NAME of PERFORMANCE's library at START on BODY (default: the
-first character); LOOP repeats it even when the script does not loop.
+first character); LOOP repeats it even when the script does not loop; with
+SETTLE, the channels and the place it drove settle to the settled pose once it
+is over (PERFORMANCE-SETTLE-TO), instead of holding where it left them.
 Returns the SCRIPT-RUN; its duration is the script's."
   (check-argument 'perform-script 'performance performance #'performance-p "a performance (from make-performance)")
   (check-argument 'perform-script 'name name #'string-designator-p "a script's name (a symbol or string)")
@@ -157,7 +166,7 @@ Returns the SCRIPT-RUN; its duration is the script's."
     (add-script-run performance
                     (make-script-run script (float start 1d0) (and stop (float stop 1d0))
                                      (or body (performance-character performance))
-                                     (or loop (script-loop script))))))
+                                     (or loop (script-loop script)) (and settle t)))))
 
 (defun add-script-run (performance run)
   "Add RUN to PERFORMANCE's runs (the replay goes stale if it starts before
@@ -180,8 +189,9 @@ the time last shown); returns RUN."
                           (mapcar (lambda (c) (lisp-text (character-spec-name c)))
                                   (performance-characters performance)))))
 
-(defun perform-director (performance name start &key body)
-  "Start the director NAME at START: its scripts at the times its schedule gives.
+(defun perform-director (performance name start &key body settle)
+  "Start the director NAME at START: its scripts at the times its schedule gives
+\(each settling when over, with SETTLE: see PERFORM-SCRIPT).
 Returns its duration (NIL when it loops for ever)."
   (check-argument 'perform-director 'performance performance #'performance-p "a performance (from make-performance)")
   (check-argument 'perform-director 'name name #'string-designator-p "a director's name (a symbol or string)")
@@ -191,7 +201,7 @@ Returns its duration (NIL when it loops for ever)."
       (director-schedule (find-director (performance-library performance) name t)
                          (performance-library performance) start)
     (loop for (script script-start script-stop) in schedule
-          do (perform-script performance script script-start :stop script-stop :body body))
+          do (perform-script performance script script-start :stop script-stop :body body :settle settle))
     duration))
 
 (defun stop-script-run (performance run time)
@@ -268,6 +278,8 @@ Returns its duration (NIL when it loops for ever)."
               (resolve-parent performance (scene-object-spec-parent spec) nil))))
     (dolist (run (performance-runs performance))
       (reset-run run))
+    (setf (replay-settle-state performance) (cons (initial-settle-target performance)
+                                                  (performance-settle-targets performance)))
     (setf (replay-runs performance) (reverse (performance-runs performance))
           (replay-cues performance) '()
           (replay-bindings performance) '()
@@ -278,6 +290,7 @@ Returns its duration (NIL when it loops for ever)."
 (defun reset-run (run)
   "Forget what an earlier replay made of RUN."
   (setf (script-run-iterations run) 0
+        (script-run-settled run) nil
         (script-run-drivers run) '()
         (script-run-bindings run) '()
         (script-run-children run) '()
@@ -429,14 +442,22 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
       (rebuild-scene performance))
     (loop
       (expand-runs performance time)
-      (let ((cue (first (replay-cues performance))))
-        (unless (and cue (<= (cue-time cue) time))
-          (return))
-        (pop (replay-cues performance))
-        (when (or (null (script-run-stop (cue-run cue)))
-                  (< (cue-time cue) (script-run-stop (cue-run cue))))
-          (bring-to performance (cue-time cue))
-          (play-cue performance cue))))
+      (let ((cue (first (replay-cues performance)))
+            (settle-time (next-settle-time performance)))
+        (cond ((and settle-time (<= settle-time time)
+                    (or (null cue) (< settle-time (cue-time cue))))
+               ;; A script over, or a new settled pose, before the next cue (cues at
+               ;; the same instant first: a channel a new script takes then never settles).
+               (bring-to performance settle-time)
+               (settle-due performance settle-time))
+              ((not (and cue (<= (cue-time cue) time)))
+               (return))
+              (t
+               (pop (replay-cues performance))
+               (when (or (null (script-run-stop (cue-run cue)))
+                         (< (cue-time cue) (script-run-stop (cue-run cue))))
+                 (bring-to performance (cue-time cue))
+                 (play-cue performance cue))))))
     (bring-to performance time)
     (setf (scene-caption (performance-scene performance)) (caption-at performance time))
     (performance-scene performance)))

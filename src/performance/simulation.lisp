@@ -6,7 +6,7 @@
 
 (defstruct (simulation (:constructor %make-simulation))
   "A played scenario: the CONTROLLER, its PRESENTER, the END time (when the last
-op finished) and FPS.  Frames are sampled from the presenter's performance."
+op finished and the body settled) and FPS.  Frames are sampled from the presenter's performance."
   controller presenter (end 0d0) (fps 30))
 
 (defparameter *max-fps* 1000
@@ -40,8 +40,14 @@ SIMULATION-FRAMES samples it."
     (dolist (entry events)
       (find-compiled-event controller (event-entry-name entry) 'simulate))
     (play-events controller events :until until :when-busy when-busy)
+    ;; Played on until the body has settled, so the last frame shows the settled
+    ;; pose -- unless the caller stopped the clock with UNTIL.
     (%make-simulation :controller controller :presenter presenter
-                      :end (controller-clock controller) :fps fps)))
+                      :end (if until
+                               (controller-clock controller)
+                               (performance-settled-time (presenter-performance presenter)
+                                                         (controller-clock controller)))
+                      :fps fps)))
 
 (defun controller-simulation (controller &key (fps 30) end)
   "A SIMULATION of what CONTROLLER (made with a body presenter) has played so

@@ -71,6 +71,8 @@ if BODY had always been so: its held angles, so channels nobody drives keep them
     (apply-pose-angles (starting-pose-angles start) held)
     (%clamp-pose (body-skeleton body) held)
     (replace (body-base body) held)
+    ;; The starting pose is also where the body settles until the state changes.
+    (replace (body-target body) held)
     (replace (body-pose body) held)
     (pose-world-transforms (body-skeleton body) (body-pose body)
                            :placement (object-world-transform body) :result (body-transforms body)))

@@ -37,12 +37,14 @@ then skips telling it (asked once, when the controller is made)."
          *quiet-methods*))
 
 (defun quiet-autoscripts-p (presenter)
-  "Does PRESENTER do nothing when autoscripts start and stop: do only the base
-class's empty methods of START-AUTOSCRIPT and STOP-AUTOSCRIPT apply to it?  A
+  "Does PRESENTER do nothing when autoscripts start and stop or the state
+changes: do only the base class's empty methods of START-AUTOSCRIPT,
+STOP-AUTOSCRIPT and PRESENT-STATE-CHANGE apply to it?  A
 timed controller then applies state changes without looking for autoscripts
 (asked once, when the controller is made)."
   (and (quiet-method-p 'start-autoscript 'presenter presenter)
-       (quiet-method-p 'stop-autoscript 'presenter presenter)))
+       (quiet-method-p 'stop-autoscript 'presenter presenter)
+       (quiet-method-p 'present-state-change 'presenter presenter)))
 
 ;;; Silence, for the whole-event controller: a presenter that does nothing
 ;;; with anything SEND-EVENT tells it is not told (the closures' SILENT-P).
@@ -50,7 +52,7 @@ timed controller then applies state changes without looking for autoscripts
 ;;; protocol's changes tells a controller when to ask again.
 
 (defparameter *silence-functions*
-  (append (mapcar #'first *quiet-methods*) '(start-autoscript stop-autoscript))
+  (append (mapcar #'first *quiet-methods*) '(start-autoscript stop-autoscript present-state-change))
   "The protocol functions whose methods decide whether a presenter is silent.")
 
 (defvar *protocol-generation* 0

@@ -39,6 +39,11 @@ method here, so a presenter overrides only what it needs."))
 (defgeneric present-state (presenter controller)
   (:documentation "An event has finished; CONTROLLER holds the resulting state."))
 
+(defgeneric present-state-change (presenter controller time)
+  (:documentation "CONTROLLER's plannable state has just changed, at TIME: an
+op's effects, a cut's, a :state directive's.  A body presenter settles its
+character toward the pose of the new state.  The default does nothing."))
+
 (defgeneric present-initial-state (presenter controller)
   (:documentation "CONTROLLER, just made, holds its initial state; nothing has
 played yet (its initial autoscripts start next).  A body presenter puts its
@@ -145,6 +150,9 @@ OP's declared :channels; a presenter with a script library infers the rest."))
 
 (defmethod present-initial-state ((presenter presenter) controller)
   (declare (ignore controller)))
+
+(defmethod present-state-change ((presenter presenter) controller time)
+  (declare (ignore controller time)))
 
 ;;; The null presenter
 
