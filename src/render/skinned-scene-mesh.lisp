@@ -60,28 +60,34 @@ antialiasing pass at an edge (the picture stays right)."
 a RIG (its RIG-SKINS), or a MODEL-PROP (its meshes as skins of one joint)."
   (%make-skinned-scene-mesh
    :object object :body-mesh nil
-   :vertices (make-array (* 8 +vertex-floats+ (reduce #'+ skins :key (lambda (skin) (length (skin-palette skin)))))
+   :vertices (make-array (* 6 +vertex-floats+ (reduce #'+ skins :key (lambda (skin) (length (skin-palette skin)))))
                          :element-type 'single-float :initial-element 0f0)
    :skins skins
    :palettes (mapcar (lambda (skin) (make-array (length (skin-palette skin)) :initial-element nil)) skins)
    :reaches (mapcar #'skin-reaches skins)))
 
-(defun write-box-corners (vertices low high &optional (start 0))
-  "Write the 8 corners of the box from LOW to HIGH (lists X Y Z) as positions
-into the interleaved VERTICES from the float START on, normals up."
-  (dotimes (corner 8)
-    (let ((at (+ start (* corner +vertex-floats+))))
-      (dotimes (axis 3)
-        (setf (aref vertices (+ at axis))
-              (float (nth axis (if (logbitp axis corner) high low)) 1f0)))
+(defun write-sphere-points (vertices centre radius start)
+  "Write the 6 points RADIUS from the vec3 CENTRE along +-x, +-y and +-z as
+positions into the interleaved VERTICES from the float START on, normals up."
+  (dotimes (point 6)
+    (let ((at (+ start (* point +vertex-floats+)))
+          (axis (floor point 2))
+          (sign (if (evenp point) -1 1)))
+      (dotimes (k 3)
+        (setf (aref vertices (+ at k))
+              (float (+ (ecase k (0 (vec3-x centre)) (1 (vec3-y centre)) (2 (vec3-z centre)))
+                        (if (= k axis) (* sign radius) 0d0))
+                     1f0)))
       (setf (aref vertices (+ at 4)) 1f0))))
 
 (defmethod pose-scene-mesh ((mesh skinned-scene-mesh) transforms)
   "Compute each skin's palette at TRANSFORMS and the points bounding the posed
-skin: the corners of a cube around each palette entry's joint, its reach
-across.  Their box is the skin's box (the contact shadow's); projected one by
-one they bound its outline on screen far more tightly than that box's
-corners would, which keeps the antialiasing pass to the pixels near it."
+skin: the 6 points of the sphere around each palette entry's joint, its reach
+across, along the axes.  Their box is the skin's box (the contact shadow's);
+projected one by one they bound its outline on screen far more tightly than
+that box's corners would (give or take the few pixels a sphere's outline
+passes its axis points by, which the screen box's margin covers), and that
+keeps the antialiasing pass to the pixels near it."
   (loop for skin in (skinned-scene-mesh-skins mesh)
         for palette in (skinned-scene-mesh-palettes mesh)
         do (skin-palette-matrices skin transforms palette))
@@ -92,9 +98,6 @@ corners would, which keeps the antialiasing pass to the pixels near it."
           do (loop for joint across (skin-palette-joints skin)
                    for reach across reaches
                    for p = (transform-translation (svref transforms joint))
-                   do (write-box-corners vertices
-                                         (list (- (vec3-x p) reach) (- (vec3-y p) reach) (- (vec3-z p) reach))
-                                         (list (+ (vec3-x p) reach) (+ (vec3-y p) reach) (+ (vec3-z p) reach))
-                                         start)
-                      (incf start (* 8 +vertex-floats+)))))
+                   do (write-sphere-points vertices p reach start)
+                      (incf start (* 6 +vertex-floats+)))))
   mesh)
