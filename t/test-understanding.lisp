@@ -90,3 +90,22 @@ true for the last third, after the file's `;;; HELD-OUT` line.  Read, not evalua
     (turn! c "play something by pearl jam" "stPlaying" "stPlaying" '("ev-search" "ev-found"))
     (is (eql 0 (context-value c "queued")))
     (is (no-failures-p c))))
+
+(test chat-explain-prints-readings-and-keeps-the-input-line
+  (multiple-value-bind (out err code)
+      (player-command-with-input (format nil "how about a little debussy~%what time is it~%")
+                                 "chat" "specs/peedy-dialogue.lisp" "--explain")
+    (is (= 0 code) "~A" err)
+    (let ((explained (chat-lines-starting "explain: " out)))
+      ;; The best reading first, with its score and why; then the threshold.
+      (is (alexandria:starts-with-subseq "explain: 0.8" (first explained)) "~S" explained)
+      (is (search "evPlayArtist artist=\"Claude Debussy\"" (first explained)))
+      (is (search "\"how about\" is \"play\"" (first explained)))
+      (is (search "(last name of Claude Debussy)" (first explained)))
+      (is (find "explain: understood at 0.60 or more; nothing is: evBadSpeech" explained :test #'string=)))
+    ;; The input line keeps its shape, which other tools read.
+    (is (equal '("input: evPlayArtist artist=\"Claude Debussy\"" "input: evBadSpeech (not understood)")
+               (chat-lines-starting "input: " out))))
+  ;; Without --explain, no explain lines.
+  (is (null (chat-lines-starting "explain: " (player-command-with-input (format nil "hi~%")
+                                                                        "chat" "specs/peedy-dialogue.lisp")))))

@@ -159,3 +159,28 @@ event, no slots and MATCHED NIL."
     (if (and best (>= (reading-score best) *understanding-threshold*))
         (values (reading-event best) (reading-slots best) t (reading-score best))
         (values (dialogue-not-understood dialogue) '() nil (if best (reading-score best) 0.0)))))
+
+;;;# Explaining
+
+(defun reading-line (reading)
+  "READING as `explain:` shows it: score, event, slots, and why."
+  (format nil "explain: ~,2F ~A~:{ ~(~A~)=~S~} (~{~A~^; ~})"
+          (reading-score reading) (display-name (reading-event reading))
+          (mapcar (lambda (pair) (list (car pair) (template-value-text (cdr pair)))) (reading-slots reading))
+          (or (reading-notes reading) '("word for word"))))
+
+(defun explain-utterance (dialogue text &key (stream *standard-output*) (count 3))
+  "Print on STREAM the best COUNT readings of TEXT in DIALOGUE, one event
+each, best first, as `explain: SCORE EVENT slot=\"value\"... (WHY)` lines,
+then the threshold the best must reach.  Returns the readings printed."
+  (let ((shown (loop with seen = '()
+                     for reading in (utterance-readings dialogue text)
+                     unless (member (reading-event reading) seen :test #'same-name-p)
+                       collect reading and do (push (reading-event reading) seen)
+                     until (= (length seen) count))))
+    (dolist (reading shown) (write-line (reading-line reading) stream))
+    (format stream "explain: understood at ~,2F or more~:[; nothing is: ~A~;~*~]~%"
+            *understanding-threshold*
+            (and shown (>= (reading-score (first shown)) *understanding-threshold*))
+            (display-name (dialogue-not-understood dialogue)))
+    shown))
