@@ -1,7 +1,8 @@
 ;;;; dialogue.lisp -- issue 15's figure: one turn of Peedy's jukebox dialogue,
 ;;;; from the typed sentence to the Player events it sends (matching, the
 ;;;; input's query, choosing the transition, templates, episodic memory and
-;;;; Peedy's controller on a null presenter), without audio.
+;;;; Peedy's controller on a null presenter), without audio.  Two turns are
+;;;; paraphrases, scored against every pattern (issue 28).
 
 (in-package #:player-bench)
 
@@ -9,7 +10,8 @@
 
 (defparameter *dialogue-turns*
   '("hello" "have you got anything by bonnie raitt" "sure" "no" "who wrote that" "yes"
-    "mumble" "stop the music" "play something by andrew lloyd webber after that" "thanks")
+    "mumble" "stop the music" "play something by andrew lloyd webber after that" "thanks"
+    "let's see, i think i'd like to hear a little debussy" "play before you accuse me by clapton")
   "A conversation that visits every state; the benchmark plays it again and again.")
 
 (defun play-dialogue-round (dialogue machine)

@@ -149,7 +149,7 @@
    #:dialogue-player-initial #:dialogue-player-spec #:dialogue-presenter
    #:dialogue-state-names #:episodic-memory #:expand-template #:find-dialogue
    #:load-dialogue #:load-memory #:make-conversation #:make-memory #:make-speaker
-   #:make-text-presenter #:match-utterance #:memory-conversations #:memory-log #:memory-mood
+   #:make-text-presenter #:match-utterance #:explain-utterance #:memory-conversations #:memory-log #:memory-mood
    #:memory-user #:present-input #:present-transition #:present-utterance #:save-memory
    #:speaker #:speaker-end #:speaker-lines #:speaker-listen #:speaker-say
    #:speaker-say-function #:speaker-wait #:text-presenter #:text-words #:turn-event
@@ -316,7 +316,7 @@
    ;; The dialogue manager (src/dialogue/)
    #:defdialogue #:define-dialogue #:load-dialogue #:find-dialogue #:dialogue #:dialogue-p #:dialogue-name
    #:dialogue-state-names #:dialogue-initial-state #:dialogue-not-understood #:dialogue-player-spec #:dialogue-player-initial
-   #:dialogue-error #:dialogue-jsgf #:match-utterance #:text-words
+   #:dialogue-error #:dialogue-jsgf #:match-utterance #:explain-utterance #:text-words
    #:make-conversation #:conversation #:conversation-state #:conversation-hear #:conversation-input
    #:conversation-memory #:conversation-player-events #:conversation-controller #:conversation-dialogue
    #:context-value

@@ -25,10 +25,18 @@
 
 ;;;; Turns from typed lines
 
-(defun chat-lines (conversation &key speaker)
+(defun hear-turn (conversation text explain)
+  "Play the turn of CONVERSATION on TEXT (a string or NIL); with EXPLAIN, print
+the matcher's best readings of it first."
+  (when explain
+    (explain-utterance (conversation-dialogue conversation) (or text "")))
+  (conversation-hear conversation text))
+
+(defun chat-lines (conversation &key speaker explain)
   "Play a turn of CONVERSATION for each line of standard input, until its end or
 a line `quit`.  From a pipe, each line is echoed as `you: TEXT`.  With
-SPEAKER, each turn waits until the speech before it has ended."
+SPEAKER, each turn waits until the speech before it has ended; with EXPLAIN,
+the readings of each line are printed before its turn."
   (let ((terminal (terminal-input-p)))
     (loop (when terminal (format t "> ") (finish-output))
           (let ((line (read-line *standard-input* nil nil)))
@@ -38,7 +46,7 @@ SPEAKER, each turn waits until the speech before it has ended."
                     ((member text '("quit" "exit" "bye-bye") :test #'string-equal) (return))
                     (t (unless terminal (format t "you: ~A~%" text))
                        (when speaker (speaker-wait speaker (conversation-controller conversation)))
-                       (conversation-hear conversation text)
+                       (hear-turn conversation text explain)
                        (finish-output))))))))
 
 ;;;; Turns from spoken requests
@@ -57,18 +65,19 @@ when it is unreadable or empty."
   (pocketsphinx-model-files)
   t)
 
-(defun chat-wavs (conversation requests grammar &key speaker)
+(defun chat-wavs (conversation requests grammar &key speaker explain)
   "Play a turn of CONVERSATION for each of REQUESTS, a list of (PATH . SOUND):
 pocketsphinx hears the SOUND against GRAMMAR (JSGF text), `heard: \"...\"` (or
 `heard: nothing`) is printed and the sentence heard is the turn's text.  With
-SPEAKER, the request goes on the audio track before Peedy answers."
+SPEAKER, the request goes on the audio track before Peedy answers; with
+EXPLAIN, the readings of what was heard are printed before its turn."
   (loop for (path . sound) in requests
         for heard = (recognize-sound sound :grammar grammar)
         do (if heard (format t "heard: ~S~%" heard) (format t "heard: nothing~%"))
            (when speaker
              (speaker-wait speaker (conversation-controller conversation))
              (speaker-listen speaker sound (file-namestring path) (conversation-controller conversation)))
-           (conversation-hear conversation heard)
+           (hear-turn conversation heard explain)
            (finish-output)))
 
 ;;;; Speech when rendering
@@ -81,7 +90,7 @@ so: the conversation is then drawn or viewed silently."
       (format t "; no speech: ~A~%" (condition-line condition))
       nil)))
 
-(define-command "chat" (file &key initial seed memory user wav render video silent view frames fps size)
+(define-command "chat" (file &key initial seed memory user wav explain render video silent view frames fps size)
     (:summary "talk to the character: typed or spoken requests in; input events, transitions, Player's trace and spoken text out"
      :description "Reads one request a line from standard input (a terminal or a pipe) until
 its end or `quit`, or with --wav hears each WAV file with pocketsphinx
@@ -92,6 +101,9 @@ understood)` when no utterance pattern matched), `transition: FROM --EVENT-->
 TO` (`(no rule)` when none applied), the trace lines of the Player events the
 transition sends, as `run` prints them, and `peedy: \"TEXT\"` for each thing
 said.  From a pipe, each request is echoed first as `you: TEXT`.  With
+--explain, each request's best readings come first, one a line, as
+`explain: SCORE EVENT slot=\"value\"... (WHY)`: how the matcher scored it
+against the dialogue's utterance patterns, and the least score understood.  With
 --render, the conversation is played on Peedy's body as it goes: each reply
 is spoken by espeak-ng at the time he says it, his beak in sync, the next
 turn starting once he has finished; the requests heard from --wav are on the
@@ -103,6 +115,7 @@ libespeak-ng it is drawn or viewed silently, after a note."
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
                ("--wav" :names "FILE.wav,..." "instead of standard input, hear these WAV files, a turn each, in order (pocketsphinx, Debian pocketsphinx and pocketsphinx-en-us)")
+               ("--explain" :flag "" "before each turn, print the best readings of the request, their scores and why")
                ("--render" :string "DIR" "draw the conversation offscreen into DIR at the end, as render does, Peedy's replies in DIR/speech.wav")
                ("--video" :string "FILE.mp4" "with --render, also encode the frames as a video with the sound (ffmpeg)")
                ("--silent" :help "with --render or --view, Peedy says nothing aloud and his beak stays still (espeak-ng is then not needed)")
@@ -142,9 +155,10 @@ libespeak-ng it is drawn or viewed silently, after a note."
             (display-name (dialogue-name dialogue)) (display-name (spec-name spec))
             (display-name (conversation-state conversation)))
     (with-speaker (speaker)
-      (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames :silent silent))
-            (wav (chat-wavs conversation requests grammar :speaker speaker))
-            (t (chat-lines conversation :speaker speaker))))
+      (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames
+                                                                :silent silent :explain explain))
+            (wav (chat-wavs conversation requests grammar :speaker speaker :explain explain))
+            (t (chat-lines conversation :speaker speaker :explain explain))))
     (format t "; ~D turn~:P; state ~A, mood ~(~A~)~%" (conversation-turns conversation)
             (display-name (conversation-state conversation)) (memory-mood remembered))
     (when memory
@@ -153,11 +167,12 @@ libespeak-ng it is drawn or viewed silently, after a note."
     (when render
       (render-conversation controller speaker :fps fps :size size :out render :video video))))
 
-(defun view-conversation (conversation spec initial &key seed size frames silent)
+(defun view-conversation (conversation spec initial &key seed size frames silent explain)
   "Play CONVERSATION live in a window on SPEC's body from INITIAL: each line
 typed at the terminal is a turn, its Player events sent to the viewer's
 (timed) controller at the current playback time.  Unless SILENT, Peedy says
-his replies at once, the beak moving, through the viewer's sound."
+his replies at once, the beak moving, through the viewer's sound.  EXPLAIN
+prints each line's readings first."
   (let ((speaker nil))
     (view-spec spec :initial initial :seed seed :size size :frames frames :silent silent
                     :line-handler (lambda (viewer text)
@@ -166,7 +181,7 @@ his replies at once, the beak moving, through the viewer's sound."
                                       (setf speaker (make-speaker (viewer-performance viewer))))
                                     (format t "you: ~A~%" text)
                                     (with-speaker (speaker)
-                                      (conversation-hear conversation text))
+                                      (hear-turn conversation text explain))
                                     (finish-output)))))
 
 (defun render-conversation (controller speaker &key fps size out video)

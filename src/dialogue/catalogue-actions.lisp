@@ -67,3 +67,49 @@ and `cnt0` (1, or 0 when unknown)."
     ;; A track named is now what "that" refers to.
     (when (and composer (not (eq object (context-value conversation "lastRef"))))
       (refer-to conversation object))))
+
+(defun track-by-p (track artist)
+  "Is TRACK by ARTIST (a string): its composer, or its CD's artist?"
+  (or (string-equal (track-composer track) artist) (string-equal (cd-artist (track-cd track)) artist)))
+
+(define-dialogue-action findTrack (conversation)
+  "The track named by the context variable `title` (by `artist`, when that is
+set too; Figure 4's \"play before you accuse me by clapton\"): `track`, its
+`cd` and the CD's `tracks`, `cnt0` (1, or 0 when there is no such track)."
+  (let* ((catalogue (dialogue-catalogue (conversation-dialogue conversation)))
+         (title (context-value conversation "title"))
+         (artist (context-value conversation "artist"))
+         (track (and (stringp title)
+                     (loop for cd in catalogue
+                           thereis (find-if (lambda (track)
+                                              (and (string-equal (track-title track) title)
+                                                   (or (not (stringp artist)) (track-by-p track artist))))
+                                            (cd-tracks cd))))))
+    (setf (context-value conversation "cnt0") (if track 1 0))
+    (when track
+      (setf (context-value conversation "track") track
+            (context-value conversation "cd") (track-cd track)
+            (context-value conversation "tracks") (cd-tracks (track-cd track)))
+      (refer-to conversation track))))
+
+;;;# The queue: "after that" and "next" wait for the playing track
+
+(define-dialogue-action queueTrack (conversation)
+  "Put `track` at the end of the queue (`queue`, a list); `queued` counts it."
+  (let ((queue (append (context-value conversation "queue") (list (context-value conversation "track")))))
+    (setf (context-value conversation "queue") queue
+          (context-value conversation "queued") (length queue))))
+
+(define-dialogue-action playNext (conversation)
+  "Take the first queued track off the queue: it becomes `track` and the last referenced object."
+  (let ((queue (context-value conversation "queue")))
+    (when queue
+      (setf (context-value conversation "track") (first queue)
+            (context-value conversation "queue") (rest queue)
+            (context-value conversation "queued") (length (rest queue)))
+      (refer-to conversation (first queue)))))
+
+(define-dialogue-action clearQueue (conversation)
+  "Forget the queued tracks (a new request, or the music stopped)."
+  (setf (context-value conversation "queue") '()
+        (context-value conversation "queued") 0))

@@ -8,7 +8,8 @@
 (defstruct (dialogue (:constructor %make-dialogue))
   "A conversational state machine.  STATES, INPUTS, TEMPLATES and ANIMATIONS
 are hash tables by DIALOGUE-KEY; TRANSITIONS a list in the order written;
-UTTERANCES the input patterns in the order written; PHRASES named word
+UTTERANCES the input patterns in the order written; REWRITES its synonyms
+and fillers (vocabulary.lisp), longest first; PHRASES named word
 alternatives for patterns; PLAYER-SPEC the Player spec whose events animate
 it, with PLAYER-INITIAL its initial state (an alist); CATALOGUE the music."
   (name nil)
@@ -20,6 +21,7 @@ it, with PLAYER-INITIAL its initial state (an alist); CATALOGUE the music."
   (inputs (make-hash-table :test 'equal))
   (not-understood nil)
   (ignore-words '())
+  (rewrites '())
   (utterances '())
   (phrases (make-hash-table :test 'equal))
   (transitions '())

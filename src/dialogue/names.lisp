@@ -44,16 +44,24 @@ stays mixed, EV-SEARCH becomes ev-search), a string as it is."
              (or (symbolp (second form)) (stringp (second form))))
     (format nil "~(~A~) ~A" (symbol-name (first form)) (display-name (second form)))))
 
+(defun without-accents (text)
+  "TEXT with its accents taken off (\"Débussy\" is \"Debussy\"), so a name
+said or typed without them still meets the catalogue's."
+  (if (every (lambda (char) (< (char-code char) 128)) text)
+      text
+      (remove-if (lambda (char) (eq (sb-unicode:general-category char) :mn))
+                 (sb-unicode:normalize-string text :nfkd))))
+
 (defun text-words (text)
-  "TEXT as a list of lower-case words: letters and digits only, apostrophes
-dropped (\"I've\" is \"ive\"), everything else a separator.  Both what the
+  "TEXT as a list of lower-case words: letters and digits only, accents
+taken off, apostrophes dropped (\"I've\" is \"ive\"), everything else a separator.  Both what the
 user says and the dialogue's utterance patterns go through it, so they meet."
   (let ((words '()) (word (make-string-output-stream)) (any nil))
     (flet ((end-word ()
              (when any
                (push (get-output-stream-string word) words)
                (setf any nil))))
-      (loop for char across text
+      (loop for char across (without-accents text)
             do (cond ((alphanumericp char)
                       (write-char (char-downcase char) word)
                       (setf any t))

@@ -9,6 +9,8 @@
 ;;;; (animation NAME PLAYER-EVENT...); (template CATEGORY PROBABILITY "TEXT"
 ;;;; [:if EXPRESSION] [:limit :conversation|:user]); (on STATE EVENT [:if
 ;;;; EXPRESSION] [:to STATE] [:do (ACTION...)]), STATE * for any state;
+;;;; (synonyms "CANONICAL" "PHRASE"...) and (fillers "PHRASE"...), the
+;;;; vocabulary sentences are rewritten with before they are matched;
 ;;;; (cd ...) catalogue entries.  Declarations are read first, so forms may
 ;;;; name what is defined after them.
 
@@ -152,11 +154,15 @@ templates, CDs) in DIALOGUE."
            (unless (and (cddr form) (every (lambda (p) (and (stringp p) (text-words p))) (cddr form)))
              (dialogue-fail form "(phrases NAME \"words\" ...) needs strings of words"))
            (setf (gethash (dialogue-key name) (dialogue-phrases dialogue)) (cddr form))))
+        ((form-head-p form "synonyms")
+         (alexandria:appendf (dialogue-rewrites dialogue) (parse-synonyms-form form)))
+        ((form-head-p form "fillers")
+         (alexandria:appendf (dialogue-rewrites dialogue) (parse-fillers-form form)))
         ((form-head-p form "animation") (declare-animation dialogue form))
         ((form-head-p form "template") (declare-template dialogue form))
         ((catalogue-form-p form) (alexandria:appendf (dialogue-catalogue dialogue) (list (parse-cd form))))
         ((or (form-head-p form "utterance") (form-head-p form "on")))
-        (t (dialogue-fail form "unknown dialogue form ~A (known: state input phrases utterance animation template on cd)"
+        (t (dialogue-fail form "unknown dialogue form ~A (known: state input phrases synonyms fillers utterance animation template on cd)"
                           (display-name (first form))))))
 
 (defun declare-animation (dialogue form)
@@ -194,7 +200,12 @@ templates, CDs) in DIALOGUE."
                                          :index (1+ (length templates)) :form form)))))))
 
 (defun finish-declarations (dialogue)
-  "After the first pass: the initial state and the not-understood event exist."
+  "After the first pass: the initial state and the not-understood event exist;
+the ignored words join the fillers, and the vocabulary is sorted longest first."
+  (setf (dialogue-rewrites dialogue)
+        (sort-rewrites (append (dialogue-rewrites dialogue)
+                               (mapcar (lambda (word) (make-rewrite (list word) '() :filler))
+                                       (dialogue-ignore-words dialogue)))))
   (unless (dialogue-state-order dialogue)
     (dialogue-fail nil "a dialogue needs at least one (state NAME)"))
   (let ((initial (or (dialogue-initial-state dialogue) (first (dialogue-state-names dialogue)))))
