@@ -273,10 +273,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                   :serial t
                   :components ((:file "scripts")
                                (:file "audio-items")
-                               (:file "clip-items")
-                               (:file "model-form")
                                (:file "directors")
                                (:file "script-library")
+                               (:file "clip-items")
+                               (:file "model-form")
                                (:file "pose-when")))
                  (:file "performance")
                  (:file "settle")

@@ -19,6 +19,23 @@ the IMAGE-ERROR saying why not."
   (octets nil :type (or null (simple-array (unsigned-byte 8) (*))))
   (image nil))
 
+(defstruct (morph-target (:constructor make-morph-target (name deltas)))
+  "One morph target of a mesh: its NAME and its position DELTAS from the
+mesh (a FLOAT-VECTOR, 3 per vertex)."
+  (name "" :type string)
+  (deltas nil :type float-vector))
+
+(defstruct (morph-channel (:constructor make-morph-channel (node meshes times weights target-count)))
+  "The keys of the morph weights of the meshes a node holds in an animation:
+NODE, the node's (or mesh's) name; MESHES, the indices of the model's meshes
+it drives; TIMES in seconds; WEIGHTS, TARGET-COUNT per key (a target a key
+does not name weighs 0)."
+  (node "" :type string)
+  (meshes '() :type list)
+  (times nil :type double-vector)
+  (weights nil :type double-vector)
+  (target-count 0 :type (integer 0)))
+
 (defstruct model-mesh
   "One mesh: its NAME; POSITIONS and NORMALS (3 per vertex), UVS (the first
 UV set, 2 per vertex) and COLOURS (the first colour set, RGBA), each NIL when

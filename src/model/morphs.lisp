@@ -6,23 +6,6 @@
 
 (in-package #:player.model)
 
-(defstruct (morph-target (:constructor make-morph-target (name deltas)))
-  "One morph target of a mesh: its NAME and its position DELTAS from the
-mesh (a FLOAT-VECTOR, 3 per vertex)."
-  (name "" :type string)
-  (deltas nil :type float-vector))
-
-(defstruct (morph-channel (:constructor make-morph-channel (node meshes times weights target-count)))
-  "The keys of the morph weights of the meshes a node holds in an animation:
-NODE, the node's (or mesh's) name; MESHES, the indices of the model's meshes
-it drives; TIMES in seconds; WEIGHTS, TARGET-COUNT per key (a target a key
-does not name weighs 0)."
-  (node "" :type string)
-  (meshes '() :type list)
-  (times nil :type double-vector)
-  (weights nil :type double-vector)
-  (target-count 0 :type (integer 0)))
-
 (defun copy-morph-targets (mesh base vertex-count)
   "The MORPH-TARGETs of the aiMesh MESH, whose positions are BASE (a
 FLOAT-VECTOR of VERTEX-COUNT vertices): each aiAnimMesh's positions minus
