@@ -56,11 +56,29 @@
     (declare (ignore err))
     (is (= 0 code))
     (is (search "warning: op pan declares :duration 3 but its script pan lasts 2 s" out)))
-  ;; Simulate refuses a library that lacks scripts, so check calls it an error.
+  ;; Scripts the library lacks play placeholder gestures (issue 27), so check
+  ;; warns of them and the spec still passes.
   (multiple-value-bind (out err code) (player-command "check" (fixture "anim-missing.lisp"))
-    (is (= 1 code))
-    (is (search "error: the script library lacks juggle, deep-bow" out) "~A" out)
-    (is (search "player: error: check found" err) "~A" err)))
+    (is (= 0 code) "~A" err)
+    (is (search "warning: the script library lacks juggle, deep-bow: they play placeholder gestures" out) "~A" out)))
+
+(test missing-scripts-play-placeholder-gestures
+  ;; anim-scripts.lisp has pick-up but neither juggle nor deep-bow: they play
+  ;; placeholders, lasting their ops, beside the library's own scripts.
+  (multiple-value-bind (out err code)
+      (player-command "simulate" (fixture "anim-missing.lisp") "--events" "ev-juggle")
+    (is (= 0 code) "~A" err)
+    (is (search "(:op juggle :script juggle :start 0 :end 2)" out) "~A" out))
+  (let* ((spec (first (player::load-spec (fixture "anim-missing.lisp"))))
+         (library (player.performance::spec-script-library spec))
+         (filled (player.performance::library-with-placeholders
+                  library spec (player:load-skeleton 'humanoid))))
+    (is (player:find-script filled 'pick-up) "the library's own script stays")
+    (is (eq (player:find-script filled 'pick-up) (player:find-script library 'pick-up)))
+    (is (player:find-script filled 'juggle))
+    (is (player:find-script filled 'deep-bow))
+    (is (null (player:find-script library 'juggle)) "the library read is not changed")
+    (is (= 2 (player.performance::script-duration (player:find-script filled 'juggle))) "a placeholder lasts its op")))
 
 (defun simulate-error (&rest arguments)
   "Run simulate with ARGUMENTS; return its stderr and exit code."
@@ -75,10 +93,25 @@
              (is (= 1 (length (lines err))) "one line: ~A" err)
              (is (search "player: error:" err))
              (is (search expected-text err) "~S in ~A" expected-text err))))
-    (fails 1 "does not define: juggle, deep-bow" (fixture "anim-missing.lisp") "--events" "ev-juggle")
     (fails 1 "unknown skeleton robot" (fixture "anim.lisp") "--events" "ev-pick" "--body" "robot")
     (fails 1 "no script library file" (fixture "anim.lisp") "--events" "ev-pick" "--scripts" "/nonexistent/lib.lisp")
     (fails 1 "cannot write the BVH file" (fixture "anim.lisp") "--events" "ev-pick" "--bvh" "/proc/no/x.bvh")
     (fails 2 "--fps takes" (fixture "anim.lisp") "--events" "ev-pick" "--fps" "-3")
     (fails 2 "--seed takes" (fixture "anim.lisp") "--events" "ev-pick" "--seed" "x")
     (fails 1 "unknown event" (fixture "anim.lisp") "--events" "ev-nothing")))
+
+(test your-pose-library-keeps-the-shipped-poses
+  ;; Yours override the skeleton's shipped poses by name; the others stay.
+  (let* ((skeleton (player:load-skeleton 'humanoid))
+         (shipped (player.body:shipped-pose-library skeleton))
+         (path (temp-path "my-poses.lisp")))
+    (with-open-file (out path :direction :output :if-exists :supersede)
+      (format out "(defpose arms-raised \"Mine: one arm up.\" (l_shoulder z 90))~%(defpose salute (r_shoulder z -80) (:include bow-down))~%"))
+    (let ((mine (player.body::load-pose-library path :skeleton skeleton :fallback shipped)))
+      (is (search "Mine" (player.body::pose-definition-documentation (player.body:find-pose mine 'arms-raised)))
+          "my arms-raised overrides the shipped one")
+      (is (player.body:find-pose mine 'salute))
+      (is (eq (player.body:find-pose mine 'bow-down) (player.body:find-pose shipped 'bow-down)) "the shipped bow-down stays")
+      (is (not (search "Mine" (or (player.body::pose-definition-documentation (player.body:find-pose shipped 'arms-raised)) "")))
+          "the shipped library is not changed")
+      (is (member "BOW-DOWN" (mapcar #'string (player.body::pose-library-names mine)) :test #'string-equal)))))

@@ -54,11 +54,13 @@ limits.  FORM is the offending form or clause."))
 
 (defstruct (pose-library (:constructor %make-pose-library (name source)))
   "Poses by name (a string, compared case-insensitively), in file order; NAME
-is the library's (a string), SOURCE its file or NIL."
+is the library's (a string), SOURCE its file or NIL; FALLBACK, the library
+whose poses it keeps under its own (the skeleton's shipped one), or NIL."
   (name "" :type string :read-only t)
   (source nil :read-only t)
   (table (make-hash-table :test #'equalp) :type hash-table :read-only t)
-  (order '() :type list))
+  (order '() :type list)
+  (fallback nil))
 
 (defmethod print-object ((definition pose-definition) stream)
   (print-unreadable-object (definition stream :type t)
@@ -70,14 +72,20 @@ is the library's (a string), SOURCE its file or NIL."
             (length (pose-library-order library)))))
 
 (defun pose-library-names (library)
-  "The names of LIBRARY's poses, in file order."
-  (mapcar #'pose-definition-name (pose-library-order library)))
+  "The names of LIBRARY's poses, in file order, then those of its fallback it does not override."
+  (let ((own (mapcar #'pose-definition-name (pose-library-order library))))
+    (append own (and (pose-library-fallback library)
+                     (remove-if (lambda (name) (member name own :test #'string-equal))
+                                (pose-library-names (pose-library-fallback library)))))))
 
 (defun find-pose (library name &optional (errorp t))
   "LIBRARY's pose definition called NAME (a symbol or string).  When there is
 none: a POSE-ERROR naming the known poses, or NIL without ERRORP."
   (or (and (or (symbolp name) (stringp name))
            (gethash (string name) (pose-library-table library)))
+      ;; A pose the library does not define: its fallback's (the shipped one).
+      (and (pose-library-fallback library)
+           (find-pose (pose-library-fallback library) name nil))
       (and errorp
            (pose-fail name "pose library ~A has no pose ~A (known: ~{~A~^ ~})"
                       (pose-library-name library) (lisp-text name)
@@ -126,7 +134,8 @@ none: a POSE-ERROR naming the known poses, or NIL without ERRORP."
       (when (null clauses)
         (pose-fail form "pose ~A sets nothing: give at least one clause" (lisp-text name)))
       (mapc #'check-pose-clause clauses)
-      (when (find-pose library name nil)
+      ;; Twice in this file is an error; over a fallback's pose, an override.
+      (when (gethash (string name) (pose-library-table library))
         (pose-fail form "pose ~A is defined twice" (lisp-text name)))
       (let ((definition (make-pose-definition name documentation clauses form position library)))
         (setf (gethash (string name) (pose-library-table library)) definition)
@@ -140,9 +149,12 @@ POSE-ERROR for a malformed form.  (LOAD-POSE-LIBRARY reads them from a file.)"
     (dolist (form forms library)
       (add-pose-form library form nil))))
 
-(defun load-pose-library (path &key skeleton)
+(defun load-pose-library (path &key skeleton fallback)
   "Read the pose library file PATH and return a POSE-LIBRARY named after the
-file.  With SKELETON, every pose is also resolved against it (see
+file.  FALLBACK (a POSE-LIBRARY, or NIL) keeps its poses under the file's:
+a name the file does not define is found there, so naming your own library
+keeps the skeleton's shipped poses (SHIPPED-POSE-LIBRARY) and yours override
+them by name.  With SKELETON, every pose is also resolved against it (see
 RESOLVE-POSE).  Signals POSE-ERROR, naming the file and line, for a missing or
 unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
   (multiple-value-bind (entries text) (read-data-file path :what "pose library" :allow-in-package nil
@@ -156,6 +168,7 @@ unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
                                                    (t (pose-fail nil "~A" message))))))
     (let* ((path (probe-file path))
            (library (%make-pose-library (pathname-name path) path)))
+      (setf (pose-library-fallback library) fallback)
       ;; Errors about a clause name the clause's own line.
       (with-spec-context (:sub-form-places (sub-form-places entries text path))
         (loop for (form start) in entries

@@ -129,7 +129,10 @@ ARGUMENT-ERROR for an argument of the wrong kind."
          (body (library-character-body loaded spec body))
          ;; (:body none): a stand-in skeleton, not drawn (CHARACTER-SKELETON).
          (skeleton (values (character-skeleton body)))
-         (library (or loaded (make-placeholder-library spec skeleton)))
+         ;; Scripts the library lacks play placeholder gestures (CHECK warns).
+         (library (if loaded
+                      (library-with-placeholders loaded spec skeleton)
+                      (make-placeholder-library spec skeleton)))
          (performance (progn
                         (check-spec-scripts spec library)
                         (make-performance library (list (list (or name (spec-name spec))
@@ -304,17 +307,20 @@ else its (:scripts FILE)): errors for everything playing SPEC would fail on
 or a (:pose-when ...) entry naming what the spec or pose library lacks, as one
 :SCRIPT-LIBRARY diagnostic; and, set up on a scratch body of SPEC's
 skeleton as playing would, each item of a needed script that cannot play
-\(:MOTOR-CALL, :SCENE-NAME; see CHECK-LIBRARY-SCRIPTS) -- then warnings for
-missing scripts and durations that disagree.  NIL when SPEC names no library."
+\(:MOTOR-CALL, :SCENE-NAME; see CHECK-LIBRARY-SCRIPTS), a missing director
+-- then warnings for missing scripts (which play placeholders) and durations
+that disagree.  NIL when SPEC names no library."
   (when (or scripts (getf (spec-options spec) :scripts))
     (let ((library (handler-case (spec-script-library spec :scripts scripts)
                      (spec-error (condition)
                        (return-from script-diagnostics (list (library-failure-diagnostic condition)))))))
       (let* ((needed (spec-script-names spec))
-             (missing (missing-scripts library needed))
+             (placeholders (missing-placeholder-names library spec))
+             (missing (set-difference (missing-scripts library needed) placeholders :test #'string-equal))
              (skeleton (values (character-skeleton (library-character-body library spec nil))))
              (poses (and (script-library-poses library)
-                         (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton)
+                         (handler-case (load-pose-library (script-library-poses library) :skeleton skeleton
+                                                            :fallback (shipped-pose-library skeleton))
                            (spec-error (condition)
                              (return-from script-diagnostics (list (library-failure-diagnostic condition))))))))
         (append (handler-case (progn (check-starting-poses library spec skeleton poses) '())
@@ -323,7 +329,12 @@ missing scripts and durations that disagree.  NIL when SPEC names no library."
                                        :characters (list (spec-name spec)) :poses poses)
                 (and missing
                      (list (make-diagnostic :missing-scripts
-                                            (format nil "the script library lacks ~{~A~^, ~}"
-                                                    (mapcar #'lisp-text missing))
+                                            (format nil "the script library lacks the director~P ~{~A~^, ~}"
+                                                    (length missing) (mapcar #'lisp-text missing))
                                             missing)))
+                (and placeholders
+                     (list (make-diagnostic :placeholder-scripts
+                                            (format nil "the script library lacks ~{~A~^, ~}: ~:[it plays~;they play~] placeholder gestures"
+                                                    (mapcar #'lisp-text placeholders) (rest placeholders))
+                                            placeholders)))
                 (script-duration-diagnostics spec library))))))

@@ -15,7 +15,8 @@ otherwise the SCRIPT-ERROR (or POSE-ERROR) MAKE-BODY-PRESENTER would signal."
   (let* ((character (first (performance-characters performance)))
          (skeleton (character-spec-skeleton character))
          (poses (and (script-library-poses library)
-                     (load-pose-library (script-library-poses library) :skeleton skeleton)))
+                     (load-pose-library (script-library-poses library) :skeleton skeleton
+                                                            :fallback (shipped-pose-library skeleton))))
          (failure (first (check-library-scripts library skeleton (spec-script-names spec)
                                                 :characters (list (character-spec-name character))
                                                 :poses poses))))
@@ -40,7 +41,9 @@ there is no file to read."
          (path (or path (script-library-source (performance-library performance))
                    (argument-fail 'reload-script-library 'path path
                                   "a file's path: the presenter's library was not read from a file")))
-         (library (load-script-library path))
+         (library (library-with-placeholders
+                   (load-script-library path) spec
+                   (character-spec-skeleton (first (performance-characters performance)))))
          (poses (checked-script-library spec performance library)))
     (setf (slot-value performance 'library) library
           (performance-poses performance) poses)

@@ -100,7 +100,8 @@ else in LIBRARY's (poses FILE), else in the shipped library."
   (let ((body (make-body "scratch" skeleton))
         (poses (or poses
                    (and (script-library-poses library)
-                        (load-pose-library (script-library-poses library) :skeleton skeleton)))))
+                        (load-pose-library (script-library-poses library) :skeleton skeleton
+                                                            :fallback (shipped-pose-library skeleton))))))
     (when poses
       (setf (body-pose-library body) poses))
     body))

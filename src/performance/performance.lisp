@@ -131,9 +131,10 @@ With SILENT, speech and sounds play nothing (so no speech library is needed)."
                                              characters))))
     (when (script-library-poses library)
       (setf (performance-poses performance)
-            (load-pose-library (script-library-poses library)
-                               :skeleton (character-spec-skeleton
-                                          (first (performance-characters performance))))))
+            (let ((skeleton (character-spec-skeleton (first (performance-characters performance)))))
+              ;; The shipped poses stay under the library's own.
+              (load-pose-library (script-library-poses library) :skeleton skeleton
+                                                                :fallback (shipped-pose-library skeleton)))))
     (rebuild-scene performance)
     performance))
 

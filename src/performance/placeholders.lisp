@@ -101,3 +101,46 @@ op's name; one looping script per autoscript procedure."
                               unless (assoc name op-scripts :test #'string-equal)
                                 collect (placeholder-loop-form name skeleton)))))
     (parse-script-library-forms forms)))
+
+;;;# Filling a library's gaps
+
+(defun spec-director-names (spec)
+  "The directors SPEC's ops run, each once: no placeholder script stands in for one."
+  (remove-duplicates (loop for op in (spec-ops spec)
+                           when (eq (op-kind op) :director) collect (op-director op))
+                     :test #'string-equal :from-end t))
+
+(defun missing-placeholder-names (library spec)
+  "The scripts SPEC's ops and autoscripts play that LIBRARY lacks and a
+placeholder can stand in for (every one but a director)."
+  (let ((directors (spec-director-names spec)))
+    (remove-if (lambda (name) (member name directors :test #'string-equal))
+               (missing-scripts library (spec-script-names spec)))))
+
+(defun library-with-placeholders (library spec skeleton)
+  "LIBRARY when it has every script SPEC plays; else a copy of it adding, for
+each script it lacks, the placeholder MAKE-PLACEHOLDER-LIBRARY makes on
+SKELETON, so an author who has written 4 of 12 ops' scripts sees those 4 and
+a gesture for the rest (CHECK warns of them).  A missing director stays
+missing: CHECK-SPEC-SCRIPTS refuses it.  LIBRARY itself is never changed."
+  (let ((missing (missing-placeholder-names library spec)))
+    (if (null missing)
+        library
+        (let ((placeholders (make-placeholder-library spec skeleton))
+              (copy (%make-script-library (script-library-source library))))
+          (maphash (lambda (name script) (setf (gethash name (script-library-scripts copy)) script))
+                   (script-library-scripts library))
+          (maphash (lambda (name director) (setf (gethash name (script-library-directors copy)) director))
+                   (script-library-directors library))
+          (setf (script-library-objects copy) (script-library-objects library)
+                (script-library-poses copy) (script-library-poses library)
+                (script-library-pose-whens copy) (script-library-pose-whens library)
+                (script-library-places copy) (script-library-places library)
+                (script-library-skeleton copy) (script-library-skeleton library)
+                (script-library-definitions copy)
+                (append (script-library-definitions library)
+                        (loop for name in missing
+                              for script = (find-script placeholders name)
+                              do (setf (gethash (string name) (script-library-scripts copy)) script)
+                              collect script)))
+          copy))))

@@ -30,8 +30,9 @@ Every other kind (:unreachable-goal, :unused-op, :truncated,
                    malformed form, an unknown motor function or parameter, a
                    value of the wrong type, a director starting an unknown
                    script ...);
-  :MISSING-SCRIPTS scripts or directors the spec's ops and autoscripts
-                   need that the library lacks (simulate refuses them);
+  :MISSING-SCRIPTS directors the spec's ops need that the library lacks
+                   (simulate refuses them; a missing script plays a
+                   placeholder gesture, a :PLACEHOLDER-SCRIPTS warning);
   :MOTOR-CALL      a motor call the spec's body cannot perform (an unknown
                    pose, joint, role or DOF, a written angle past its limit);
   :SCENE-NAME      an item or target naming an object, joint or role the

@@ -111,6 +111,11 @@
 ;;;   (poses "FILE")
 ;;;
 ;;; names the pose library the keyframe driver loads, relative to this file.
+;;; The skeleton's shipped poses stay: yours override them by name.
+;;;
+;;; A script an op or autoscript plays that the library lacks plays a
+;;; placeholder gesture for its op (placeholders.lisp), and `check` warns of
+;;; it; a missing director is an error.
 
 ;;; ---------------------------------------------------------------------------
 ;;; Errors
