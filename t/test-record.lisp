@@ -79,7 +79,7 @@
            (recording (record-scenario spec :events '(ev-rise (ev-fall . 1)) :when-busy :preempt :out path))
            (read (read-recording path)))
       (is (equal '("(:event ev-rise :time 0)" "(:op rise :script rise :start 0 :end 2)"
-                   "(:cut rise :time 2 :by ev-fall)" "(:event ev-fall :time 2)")
+                   "(:cut rise :time 2 :by ev-fall :end 2)" "(:event ev-fall :time 2)")
                  (subseq (recording-lines recording) 0 4)))
       (is (equal (recording-lines recording) (recording-lines read)))
       (is (eq :preempt (player.traces::recording-when-busy read)))
@@ -106,7 +106,7 @@
     (is (equal "(:op sit :script sit :start 19.25 :end 20.75)" (nth 22 (recording-lines paper))))
     (is (equal "../../specs/peedy.lisp" (player.traces::recording-spec-file paper))
         "the spec file is recorded relative to the recording")
-    (is (find "(:cut fly-loop :time 2 :by ev-sit)" (recording-lines timed) :test #'string=))
+    (is (find "(:cut fly-loop :time 2 :by ev-sit :end 2)" (recording-lines timed) :test #'string=))
     (is (equal '(("EV-FLY-TO" . 0d0) ("EV-SIT" . 2d0))
                (mapcar (lambda (e) (cons (symbol-name (car e)) (cdr e))) (player.traces::recording-events timed))))
     (is (< 1 (length (recording-frames frames)) 12) "a few frames: ~D" (length (recording-frames frames)))

@@ -158,9 +158,12 @@ the directive RUN would resume from (NIL: nothing left of it)."
           (tmx-active context) (remove run (tmx-active context)))
     (if shown
         (dolist (op shown)
-          (tm-expect context (list :cut (tmo-name op) :time (tmo-effective-end op) :by by)
+          (tm-expect context (list :cut (tmo-name op) :time (tmo-effective-end op) :by by
+                                   :end (tmo-effective-end op))
                      (format nil "~A cutting op ~A of ~A at ~A" by (tmo-name op) (tmr-name run) (float time 1d0))))
-        (tm-expect context (list :cut (and finishing (tmo-name finishing)) :time start :by by)
+        (tm-expect context (if finishing
+                               (list :cut (tmo-name finishing) :time start :by by :end start)
+                               (list :cut nil :time start :by by))
                    (format nil "~A cutting ~A at ~A (no op stopped short)" by (tmr-name run) (float time 1d0))))
     (values start resume)))
 
@@ -201,11 +204,17 @@ when no one asked)."
              (:queue
               (unless (member result '(:none (t)) :test #'equal)
                 (tm-fail "send-event of ~A at ~A (queued) returned ~S, not T" name (float time 1d0) result))
+              (tm-expect context (list :queued name :time time
+                                       :behind (if (tmx-queue context)
+                                                   (first (first (last (tmx-queue context))))
+                                                   (tmr-name (first met))))
+                         (format nil "~A sent at ~A while ~A runs, :queue" name (float time 1d0) (tmr-name (first met))))
               (setf (tmx-queue context) (append (tmx-queue context) (list (list name :event 0 :none)))))
              (:override
               (unless (member result '(:none (nil :dropped)) :test #'equal)
                 (tm-fail "send-event of ~A at ~A (dropped) returned ~S, not NIL :DROPPED" name (float time 1d0) result))
-              (tm-expect context (list :dropped name :time time :busy-with (tmr-name (first met)))
+              (tm-expect context (list :dropped name :time time :busy-with (tmr-name (first met))
+                                       :clash (tm-clash context footprint (tmr-footprint (first met))))
                          (format nil "~A sent at ~A while ~A runs, :override" name (float time 1d0) (tmr-name (first met)))))
              ((:preempt :interleave)
               (when (rest met) (tm-count context :multi-cuts))
