@@ -81,3 +81,14 @@ reaches one of its script's critical times, earliest first."
   (sort (loop for run in (performance-runs performance)
               nconc (script-run-critical-times run end))
         #'<))
+
+(defun performance-critical-time-between (performance from to)
+  "The earliest critical time a script PERFORMANCE started reaches after FROM
+and at or before TO seconds, or NIL: where a live viewer's next frame goes
+instead of TO, so that it shows the instant (the frame after catches up)."
+  (let ((earliest nil))
+    (dolist (run (performance-runs performance) earliest)
+      (when (<= (script-run-start run) to)
+        (dolist (time (script-run-critical-times run to))
+          (when (and (> time from) (or (null earliest) (< time earliest)))
+            (setf earliest time)))))))
