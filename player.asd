@@ -531,5 +531,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Traces that say why, critical frames, side effects (issues 27, 29)
                  (:file "test-trace-reasons")
                  (:file "test-critical-frames")
-                 (:file "test-side-effects"))))
+                 (:file "test-side-effects")
+                 (:file "test-pose-docs"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
