@@ -81,3 +81,29 @@ the running event it met, then the last one waiting before it."
                (is (equal (trace-of c) (run-c++-trace machine :events events))
                    "events ~S" events))))
       (remove-spec 'reasons))))
+
+(test recorded-traces-read-the-new-lines
+  "A recording holding :queued, :dropped with its :clash and :cut with its
+:end is written, read back and verifies; a changed clash is a difference."
+  (let ((spec (define-spec 'reasons *reason-forms* :package (find-package '#:player-tests)))
+        (path (temp-path "reasons.trace")))
+    (unwind-protect
+         (let ((recording (record-scenario spec :events '((ev-grab . 0) (ev-look . 0.5) (ev-wait . 0.7)
+                                                           (ev-stop . 0.9))
+                                                :out path)))
+           (dolist (kind '("(:queued " "(:dropped " "(:cut "))
+             (is (find kind (recording-lines recording) :test (lambda (k line) (search k line)))
+                 "no ~A line in ~S" kind (recording-lines recording)))
+           (let ((read (read-recording path)))
+             (is (equal (recording-lines recording) (recording-lines read)))
+             (is (verification-ok-p (verify-recording read :spec spec))))
+           ;; The same file with the clash changed fails, naming the line.
+           (let* ((text (alexandria:read-file-into-string path))
+                  (clash ":clash (\"head\" mood)")
+                  (at (search clash text)))
+             (is (not (null at)) "~A" text)
+             (alexandria:write-string-into-file
+              (concatenate 'string (subseq text 0 at) ":clash (\"head\")" (subseq text (+ at (length clash))))
+              path :if-exists :supersede)
+             (is (not (verification-ok-p (verify-recording (read-recording path) :spec spec))))))
+      (remove-spec 'reasons))))
