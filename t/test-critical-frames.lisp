@@ -60,3 +60,25 @@ frames as the frames file, at 1/FPS."
       (declare (ignore out))
       (is (= 0 code) "~A" err)
       (is (search ":time 0.55 " (alexandria:read-file-into-string frames))))))
+
+(test viewer-frame-lands-on-the-strike
+  "The viewer draws as the clock goes; a frame that would step over the
+strike is drawn at 0.55 s instead, and the next one catches up."
+  (let* ((simulation (hammer-simulation 30))
+         (viewer (player.render::%make-viewer
+                  :performance (player.performance:simulation-performance simulation))))
+    (flet ((tick (clock)
+             (player.render::viewer-tick viewer clock)
+             (player.render::viewer-now viewer)))
+      (is (= 0.5d0 (tick 0.5d0)))
+      (is (= 0.55d0 (tick 0.6d0)) "the frame after 0.5 s is the strike's")
+      (is (= 0.62d0 (tick 0.62d0)) "then the clock's again")
+      (is (= 0.7d0 (tick 0.7d0))))))
+
+(test scene-simulation-shows-every-members-critical-times
+  "A scene's frames show the critical times of all its members."
+  (let* ((simulation (hammer-simulation 10))
+         (scene (player.cast::%make-scene-simulation
+                 :members (list (cons 'one simulation)) :fps 10
+                 :end (player.performance::simulation-end simulation))))
+    (is (find 0.55d0 (simulation-frame-times scene)))))
