@@ -167,6 +167,20 @@ the directive RUN would resume from (NIL: nothing left of it)."
                    (format nil "~A cutting ~A at ~A (no op stopped short)" by (tmr-name run) (float time 1d0))))
     (values start resume)))
 
+(defun tm-clash (context a b)
+  "What footprints A and B, which meet, share: :ALL when either has no known
+channel, else their common channels; then the names of their common
+variables, unless either plays an op on no known channel (a set: TM-SAME-LINE-P compares lists as sets)."
+  (let ((variables (model-variables (tmx-model context))))
+    (append (if (or (member (car a) '(:all nil)) (member (car b) '(:all nil)))
+                (list :all)
+                (intersection (car a) (car b) :test #'string=))
+            ;; The controller works out no variables for a plan with an op
+            ;; on no known channel: it meets everything anyway.
+            (unless (or (eq (car a) :all) (eq (car b) :all))
+              (mapcar (lambda (index) (mvar-name (svref variables index)))
+                      (intersection (cdr a) (cdr b)))))))
+
 (defun tm-dispatch (context name time given-policy result source)
   "Event NAME arrives at TIME from SOURCE (:USER, :TIMER or :TRIGGER) with
 :when-busy GIVEN-POLICY (or none); RESULT is what SEND-EVENT returned (:NONE

@@ -387,20 +387,6 @@ variables."
       (intersection (car a) (car b) :test #'string=)
       (intersection (cdr a) (cdr b))))
 
-(defun tm-clash (context a b)
-  "What footprints A and B, which meet, share: :ALL when either has no known
-channel, else their common channels; then the names of their common
-variables, unless either plays an op on no known channel (a set: TM-SAME-LINE-P compares lists as sets)."
-  (let ((variables (model-variables (tmx-model context))))
-    (append (if (or (member (car a) '(:all nil)) (member (car b) '(:all nil)))
-                (list :all)
-                (intersection (car a) (car b) :test #'string=))
-            ;; The controller works out no variables for a plan with an op
-            ;; on no known channel: it meets everything anyway.
-            (unless (or (eq (car a) :all) (eq (car b) :all))
-              (mapcar (lambda (index) (mvar-name (svref variables index)))
-                      (intersection (cdr a) (cdr b)))))))
-
 (defun tm-op-channels (context name)
   "Op NAME's declared channels, or :ALL."
   (or (gethash name (tms-channels (tmx-spec context))) :all))
