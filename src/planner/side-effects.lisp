@@ -46,23 +46,34 @@ it no value but the one the plan ends with."
 (defun event-goal-directives (event machine)
   "(GOAL . OP) for each goal EVENT's directives plan for: a :state
 directive's goal (OP NIL), and for an :op directive the precondition of its OP."
-  (let ((found '()))
-    (map-directives (lambda (directive)
-                      (case (first directive)
-                        (:achieve (push (cons (machine-goal-with-cubes
-                                               machine (expression-cubes (second directive) (machine-spec machine))
-                                               (third directive))
-                                              nil)
-                                        found))
-                        (:op (let ((op (second directive)))
-                               (when (op-precond op)
-                                 (push (cons (machine-goal-with-cubes
-                                              machine (expression-cubes (op-precond op) (machine-spec machine))
-                                              (op-precond-form op))
-                                             op)
-                                       found))))))
-                    (event-directives event))
+  (let ((spec (machine-spec machine))
+        (found '()))
+    (flet ((note (expression form op)
+             (push (cons (machine-goal-with-cubes machine (expression-cubes expression spec) form) op)
+                   found)))
+      (map-directives (lambda (directive)
+                        (case (first directive)
+                          (:achieve (note (second directive) (third directive) nil))
+                          (:op (let ((op (second directive)))
+                                 (when (op-precond op)
+                                   (note (op-precond op) (op-precond-form op) op))))))
+                      (event-directives event)))
     (nreverse found)))
+
+(defun side-effect-diagnostic (event goal named-op plan var op spec)
+  "The :SIDE-EFFECT diagnostic of EVENT's PLAN for GOAL (the precondition of
+NAMED-OP, or a :state goal when it is NIL) running OP, which changes VAR."
+  (make-diagnostic
+   :side-effect
+   (format nil "event ~A, from ~A: its plan runs op ~A, which changes ~A, a variable ~A does not mention; if that is not meant, make ~A :must-ask"
+           (lisp-text (event-name event))
+           (lisp-text (cube-expression (plan-condition plan) spec))
+           (lisp-text (op-name op)) (lisp-text (var-name var))
+           (if named-op
+               (format nil "op ~A" (lisp-text (op-name named-op)))
+               (format nil "its goal ~A" (goal-description goal)))
+           (lisp-text (op-name op)))
+   (list :event (event-name event) :op (op-name op) :variable (var-name var) :from (plan-condition plan))))
 
 (defun side-effect-diagnostics (machine)
   "A :SIDE-EFFECT diagnostic for each event, op and variable where the
@@ -79,18 +90,8 @@ precondition) does not mention, nor a later step's precondition needs."
             do (loop for plan across (goal-plans goal)
                      do (loop for (var . op) in (plan-side-effects plan mentioned spec)
                               for key = (list (event-name event) (op-name op) (var-name var))
+                              ;; Once per event, op and variable: the first states found.
                               unless (gethash key seen)
                                 do (setf (gethash key seen) t)
-                                   (push (make-diagnostic
-                                          :side-effect
-                                          (format nil "event ~A, from ~A: its plan runs op ~A, which changes ~A, a variable ~A does not mention; if that is not meant, make ~A :must-ask"
-                                                  (lisp-text (event-name event))
-                                                  (lisp-text (cube-expression (plan-condition plan) spec))
-                                                  (lisp-text (op-name op)) (lisp-text (var-name var))
-                                                  (if named-op
-                                                      (format nil "op ~A" (lisp-text (op-name named-op)))
-                                                      (format nil "its goal ~A" (goal-description goal)))
-                                                  (lisp-text (op-name op)))
-                                          (list :event (event-name event) :op (op-name op)
-                                                :variable (var-name var) :from (plan-condition plan)))
+                                   (push (side-effect-diagnostic event goal named-op plan var op spec)
                                          diagnostics)))))))
