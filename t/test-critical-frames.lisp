@@ -19,6 +19,9 @@ interval add a frame for the third; the count is the grid's otherwise."
   (let ((times (player.performance::critical-frame-times 1 4 '(0.55d0 0.5d0 0.2d0))))
     ;; 0.5 is on the grid; 0.55 is nearest 0.5, taken, so 0.75 moves; 0.2 moves 0.25.
     (is (equalp #(0d0 0.2d0 0.5d0 0.55d0 1d0) times) "~S" times))
+  (let ((times (player.performance::critical-frame-times 1 4 '(0.45d0 0.5d0))))
+    ;; 0.5 keeps its frame though 0.45 is nearer it than to 0.25, which moves.
+    (is (equalp #(0d0 0.45d0 0.5d0 0.75d0 1d0) times) "~S" times))
   (let ((times (player.performance::critical-frame-times 1 4 '(0.55d0 0.6d0 0.65d0))))
     (is (equalp #(0d0 0.25d0 0.55d0 0.6d0 0.65d0 1d0) times) "~S" times))
   (let ((times (player.performance::critical-frame-times 1 10 '(0.01d0 0.99d0 1.5d0))))

@@ -36,24 +36,30 @@ nearer grid frame moved there (see the top of this file)."
       (setf (aref times i) (/ i (float fps 1d0))))
     (setf (aref claimed 0) 1
           (aref claimed (1- count)) 1)
-    (dolist (time (sort (remove-duplicates (mapcar (lambda (x) (float x 1d0)) critical-times)) #'<))
-      (let* ((position (* time fps))
-             (nearest (round position)))
-        (cond ((or (<= time 0) (>= time (aref times (1- count)))))
-              ((< (abs (- position nearest)) (* fps *critical-time-epsilon*))
-               ;; On the grid: that frame shows it; pin its time exactly.
-               (setf (aref times nearest) time
-                     (aref claimed nearest) 1))
-              (t
-               (let* ((below (floor position))
-                      (candidates (if (< (- position below) 0.5d0)
-                                      (list below (1+ below))
-                                      (list (1+ below) below)))
-                      (free (find-if (lambda (i) (zerop (aref claimed i))) candidates)))
-                 (if free
-                     (setf (aref times free) time
-                           (aref claimed free) 1)
-                     (push time extra)))))))
+    (let* ((inside (remove-if-not (lambda (time) (< 0 time (aref times (1- count))))
+                                  (sort (remove-duplicates (mapcar (lambda (x) (float x 1d0)) critical-times))
+                                        #'<)))
+           (between '()))
+      ;; Those on the grid first: each pins its frame, which no other may move.
+      (dolist (time inside)
+        (let* ((position (* time fps))
+               (nearest (round position)))
+          (if (< (abs (- position nearest)) (* fps *critical-time-epsilon*))
+              (setf (aref times nearest) time
+                    (aref claimed nearest) 1)
+              (push time between))))
+      ;; Then each between two frames moves the nearer one still free.
+      (dolist (time (nreverse between))
+        (let* ((position (* time fps))
+               (below (floor position))
+               (candidates (if (< (- position below) 0.5d0)
+                               (list below (1+ below))
+                               (list (1+ below) below)))
+               (free (find-if (lambda (i) (zerop (aref claimed i))) candidates)))
+          (if free
+              (setf (aref times free) time
+                    (aref claimed free) 1)
+              (push time extra)))))
     (if extra
         (sort (concatenate '(vector double-float) times extra) #'<)
         times)))
