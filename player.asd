@@ -65,7 +65,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "macro-exactness")
                  (:file "plan-memo")
                  (:file "machine")
-                 (:file "diagnostics")))
+                 (:file "diagnostics")
+                 (:file "side-effects")))
    ;; The steps an event's directives compile to, which both back ends (Lisp closures, C++) read.
    (:module "ir" :depends-on ("base" "spec" "planner")
     :serial t
@@ -287,6 +288,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "body-presenter")
                  (:file "op-channels")
                  (:file "script-check")
+                 (:file "frame-times")
                  (:file "simulation")
                  (:file "library-reload")))
    ;; Pictures: meshes, OpenGL through OSMesa and GLFW, PNG, the viewer and live authoring.
@@ -525,5 +527,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; The body agrees with the state (issue 27)
                  (:file "test-settle")
                  ;; Peedy understands paraphrases (issue 28, item 1)
-                 (:file "test-understanding"))))
+                 (:file "test-understanding")
+                 ;; Traces that say why, critical frames, side effects (issues 27, 29)
+                 (:file "test-trace-reasons")
+                 (:file "test-critical-frames")
+                 (:file "test-side-effects")
+                 (:file "test-pose-docs"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -120,7 +120,8 @@
    #:performance-body #:performance-clips #:performance-frame #:performance-play-sound
    #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
    #:script-critical-time #:script-duration #:script-error #:simulate
-   #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation)
+   #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation
+   #:simulation-frame-times #:simulation-critical-times)
   (:import-from #:player.render
    #:bind-msaa-target #:call-in-view #:compile-shader-program #:delete-msaa-target
    #:gl-version-string #:glfw-proc-address #:load-gl-functions #:make-msaa-target
@@ -204,6 +205,7 @@
    #:performance-frame #:performance-body #:performance-scene
    #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
    #:simulate #:controller-simulation #:write-simulation #:map-simulation-frames #:simulation-frame-count
+   #:simulation-frame-times #:simulation-critical-times
    #:write-bvh #:write-bvh-file
    ;; Speech: synthesis, sounds, the audio track, recognition
    #:synthesize-speech #:utterance #:utterance-text #:utterance-sound #:utterance-phonemes

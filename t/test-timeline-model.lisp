@@ -168,8 +168,9 @@ directive it was cut in, re-planned from the state then."
       (finish-events c)
       (is (equal '("(:event go :time 0)"
                    "(:op walk :script walk :start 0 :end 2)"
-                   "(:cut walk :time 2 :by hi)"
+                   "(:cut walk :time 2 :by hi :end 2)"
                    "(:event hi :time 2)"
+                   "(:queued yes :time 1 :behind hi)"
                    "(:cut nil :time 2 :by yes)"
                    "(:event yes :time 2)"
                    "(:op nod :script nod :start 2 :end 2.5)"
@@ -193,7 +194,7 @@ directive it was cut in, re-planned from the state then."
       (finish-events c)
       (is (equal '("(:event leave :time 0)"
                    "(:op to-door :script to-door :start 0 :end 2)"
-                   "(:cut to-door :time 1 :by dress)"
+                   "(:cut to-door :time 1 :by dress :end 1)"
                    "(:event dress :time 1)"
                    "(:op put-on :script put-on :start 1 :end 2)"
                    "(:state (pos . home) (coat . t))"
@@ -228,7 +229,7 @@ plans, exactly as a cut at a later point does: FIX must heal."
     (let ((stop (if (equal interrupt '(:at 1.5)) "1.5" "1")))
       (is (equal (list "(:event go :time 0)"
                        "(:op walk :script walk :start 0 :end 2)"
-                       (format nil "(:cut walk :time ~A :by fix)" stop)
+                       (format nil "(:cut walk :time ~A :by fix :end ~A)" stop stop)
                        (format nil "(:event fix :time ~A)" stop)
                        (format nil "(:op heal :script heal :start ~A :end ~A)" stop (if (string= stop "1") "2" "2.5"))
                        "(:state (hurt . nil))")
@@ -255,7 +256,7 @@ changes are internal), as without the cut."
       (is (equal '("(:event go :time 0)"
                    "(:op m :script m :start 0 :end 1)"
                    "(:op step :script step :start 0 :end 1)"
-                   "(:cut step :time 1 :by other)"
+                   "(:cut step :time 1 :by other :end 1)"
                    "(:event other :time 1)"
                    "(:op pause :script pause :start 1 :end 2)"
                    "(:state (a . t) (b . nil))")

@@ -48,7 +48,8 @@ lap at each quarter turn, the landing once his feet reach (then he stands).")
 (test fly-then-sit-sequential
   "Queue: he sits only after he has landed."
   (is (equal (append *flight-lines*
-                     '("(:op land :script land :start 4.25 :end 5.75)"
+                     '("(:queued ev-sit :time 1.8 :behind ev-fly)"
+                       "(:op land :script land :start 4.25 :end 5.75)"
                        "(:autoscript-stop flap :var posture :value fly :time 5.75)"
                        "(:state (posture . stand))"
                        "(:event ev-sit :time 5.75)"
@@ -60,7 +61,7 @@ lap at each quarter turn, the landing once his feet reach (then he stands).")
   "Preempt: the lap is cut at its next quarter turn (1.25 + 0.75 = 2) and the
 plan to sit starts from there: he is still flying, so he lands first."
   (is (equal (append *flight-lines*
-                     '("(:cut fly-loop :time 2 :by ev-sit)"
+                     '("(:cut fly-loop :time 2 :by ev-sit :end 2)"
                        "(:event ev-sit :time 2)"
                        "(:op land :script land :start 2 :end 3.5)"
                        "(:autoscript-stop flap :var posture :value fly :time 3.5)"
@@ -71,7 +72,7 @@ plan to sit starts from there: he is still flying, so he lands first."
 (test fly-then-sit-override
   "Override: the flight wins and the sit is dropped, as the trace says."
   (is (equal (append *flight-lines*
-                     '("(:dropped ev-sit :time 1.8 :busy-with ev-fly)"
+                     '("(:dropped ev-sit :time 1.8 :busy-with ev-fly :clash (:all))"
                        "(:op land :script land :start 4.25 :end 5.75)"
                        "(:autoscript-stop flap :var posture :value fly :time 5.75)"
                        "(:state (posture . stand))"))
@@ -81,7 +82,7 @@ plan to sit starts from there: he is still flying, so he lands first."
   "Interleave: he starts his flight, sits instead, then reconsiders and
 completes it: the lap he was cut in is re-planned from sitting."
   (is (equal (append *flight-lines*
-                     '("(:cut fly-loop :time 2 :by ev-sit)"
+                     '("(:cut fly-loop :time 2 :by ev-sit :end 2)"
                        "(:event ev-sit :time 2)"
                        "(:op land :script land :start 2 :end 3.5)"
                        "(:autoscript-stop flap :var posture :value fly :time 3.5)"
@@ -103,14 +104,14 @@ once; the plan after the cut starts from whatever the cut left."
   ;; Take-off cut at 0.4: still standing, so he just sits.
   (is (equal '("(:event ev-fly :time 0)"
                "(:op take-off :script take-off :start 0 :end 1.25)"
-               "(:cut take-off :time 0.4 :by ev-sit)"
+               "(:cut take-off :time 0.4 :by ev-sit :end 0.4)"
                "(:event ev-sit :time 0.4)"
                "(:op sit :script sit :start 0.4 :end 1.9)"
                "(:state (posture . sit))")
              (fly-sit-trace 0.4 :preempt)))
   ;; Landing cut once his feet reach (4.25 + 0.85): :if-cut says standing.
   (let ((lines (fly-sit-trace 4.5 :preempt)))
-    (is (equal (list "(:cut land :time 5.1 :by ev-sit)"
+    (is (equal (list "(:cut land :time 5.1 :by ev-sit :end 5.1)"
                      "(:event ev-sit :time 5.1)"
                      "(:autoscript-stop flap :var posture :value fly :time 5.1)"
                      "(:op sit :script sit :start 5.1 :end 6.6)"
@@ -120,7 +121,7 @@ once; the plan after the cut starts from whatever the cut left."
   (let ((lines (fly-sit-trace 0.4 :preempt
                               :forms (subst '(op take-off :precond posture.stand :add posture.fly :duration 1.25)
                                             (third *fly-sit-forms*) *fly-sit-forms* :test #'equal))))
-    (is (member "(:cut take-off :time 1.25 :by ev-sit)" lines :test #'string=))
+    (is (member "(:cut take-off :time 1.25 :by ev-sit :end 1.25)" lines :test #'string=))
     (is (member "(:event ev-sit :time 1.25)" lines :test #'string=))
     (is (member "(:op land :script land :start 1.25 :end 2.75)" lines :test #'string=))))
 
@@ -158,7 +159,7 @@ declared effects: the state is what its finished sub-ops made."
                    "(:op m :script m :start 0 :end 1.5)"
                    "(:op s1 :script s1 :start 0 :end 1)"
                    "(:op s2 :script s2 :start 1 :end 3)"
-                   "(:cut s2 :time 1.5 :by ev-x)"
+                   "(:cut s2 :time 1.5 :by ev-x :end 1.5)"
                    "(:event ev-x :time 1.5)")
                  (subseq (trace-of c) 0 6)))
       (is (eq t (state-value c 'a)) "the macro's first sub-op finished")
@@ -361,7 +362,7 @@ which ones the script has; a bare trace presenter says it needs a library."
                                                   "--events" "ev-fly-to@0,ev-sit@2")
     (declare (ignore err))
     (is (= 0 code))
-    (is (search "(:cut fly-loop :time 2 :by ev-sit)" out)))
+    (is (search "(:cut fly-loop :time 2 :by ev-sit :end 2)" out)))
   (multiple-value-bind (out err code) (player-command "run" "specs/peedy.lisp" "--at" "61")
     (declare (ignore err))
     (is (= 0 code))
@@ -414,12 +415,12 @@ the running one; one that meets it on a channel follows its policy."
                "(:op search :script search :start 0 :end 3)"
                "(:event ev-voice :time 1)"
                "(:op glance :script glance :start 1 :end 2)"
-               "(:dropped ev-nod :time 1.5 :busy-with ev-voice)"
+               "(:dropped ev-nod :time 1.5 :busy-with ev-voice :clash (\"head\"))"
                "(:state (holding . nil))"
                "(:state (holding . t))")
              (channel-trace '((ev-search . 0) (ev-voice . 1) (ev-nod . 1.5)))))
   ;; An op without declared channels meets everything.
-  (is (equal "(:dropped ev-shrug :time 1 :busy-with ev-search)"
+  (is (equal "(:dropped ev-shrug :time 1 :busy-with ev-search :clash (:all))"
              (third (channel-trace '((ev-search . 0) (ev-shrug . 1))))))
   ;; A nod after the glance has ended plays beside the search too.
   (is (member "(:op nod :script nod :start 2.5 :end 3.5)"

@@ -158,11 +158,28 @@ the directive RUN would resume from (NIL: nothing left of it)."
           (tmx-active context) (remove run (tmx-active context)))
     (if shown
         (dolist (op shown)
-          (tm-expect context (list :cut (tmo-name op) :time (tmo-effective-end op) :by by)
+          (tm-expect context (list :cut (tmo-name op) :time (tmo-effective-end op) :by by
+                                   :end (tmo-effective-end op))
                      (format nil "~A cutting op ~A of ~A at ~A" by (tmo-name op) (tmr-name run) (float time 1d0))))
-        (tm-expect context (list :cut (and finishing (tmo-name finishing)) :time start :by by)
+        (tm-expect context (if finishing
+                               (list :cut (tmo-name finishing) :time start :by by :end start)
+                               (list :cut nil :time start :by by))
                    (format nil "~A cutting ~A at ~A (no op stopped short)" by (tmr-name run) (float time 1d0))))
     (values start resume)))
+
+(defun tm-clash (context a b)
+  "What footprints A and B, which meet, share: :ALL when either has no known
+channel, else their common channels; then the names of their common
+variables, unless either plays an op on no known channel (a set: TM-SAME-LINE-P compares lists as sets)."
+  (let ((variables (model-variables (tmx-model context))))
+    (append (if (or (member (car a) '(:all nil)) (member (car b) '(:all nil)))
+                (list :all)
+                (intersection (car a) (car b) :test #'string=))
+            ;; The controller works out no variables for a plan with an op
+            ;; on no known channel: it meets everything anyway.
+            (unless (or (eq (car a) :all) (eq (car b) :all))
+              (mapcar (lambda (index) (mvar-name (svref variables index)))
+                      (intersection (cdr a) (cdr b)))))))
 
 (defun tm-dispatch (context name time given-policy result source)
   "Event NAME arrives at TIME from SOURCE (:USER, :TIMER or :TRIGGER) with
@@ -201,11 +218,17 @@ when no one asked)."
              (:queue
               (unless (member result '(:none (t)) :test #'equal)
                 (tm-fail "send-event of ~A at ~A (queued) returned ~S, not T" name (float time 1d0) result))
+              (tm-expect context (list :queued name :time time
+                                       :behind (if (tmx-queue context)
+                                                   (first (first (last (tmx-queue context))))
+                                                   (tmr-name (first met))))
+                         (format nil "~A sent at ~A while ~A runs, :queue" name (float time 1d0) (tmr-name (first met))))
               (setf (tmx-queue context) (append (tmx-queue context) (list (list name :event 0 :none)))))
              (:override
               (unless (member result '(:none (nil :dropped)) :test #'equal)
                 (tm-fail "send-event of ~A at ~A (dropped) returned ~S, not NIL :DROPPED" name (float time 1d0) result))
-              (tm-expect context (list :dropped name :time time :busy-with (tmr-name (first met)))
+              (tm-expect context (list :dropped name :time time :busy-with (tmr-name (first met))
+                                       :clash (tm-clash context footprint (tmr-footprint (first met))))
                          (format nil "~A sent at ~A while ~A runs, :override" name (float time 1d0) (tmr-name (first met)))))
              ((:preempt :interleave)
               (when (rest met) (tm-count context :multi-cuts))

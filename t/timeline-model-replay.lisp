@@ -14,7 +14,7 @@ the model take as they play, see TM-NEXT-LINE)."
     (loop for line in lines
           for index from 0
           do (case (first line)
-               ((:event :resume :dropped :cut :fail :state :timer :trigger)
+               ((:event :resume :dropped :queued :cut :fail :state :timer :trigger)
                 (push (cons index line) control))
                (:op
                 (let ((op (model-find-op model (second line))))

@@ -95,6 +95,12 @@ is seen by one framing all the bodies)."
                                       (scene-objects (simulation-scene-at member time)))))
     composite))
 
+(defmethod simulation-critical-times ((simulation scene-simulation))
+  ;; Every member's: a frame of the scene shows each (frame-times.lisp).
+  (sort (loop for (nil . member) in (scene-simulation-members simulation)
+              append (copy-list (simulation-critical-times member)))
+        #'<))
+
 (defmethod simulation-reports ((simulation scene-simulation))
   (loop for (name . member) in (scene-simulation-members simulation)
         append (loop for (time text) in (simulation-reports member)

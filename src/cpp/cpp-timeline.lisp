@@ -139,6 +139,7 @@ and the planning twins of the machine's procedures."
     (emit-table "int" "kTimerEvents" (mapcar (lambda (timer) (princ-to-string (event-number (timer-event timer) spec)))
                                              (spec-timers spec)))
     (emit-op-footprint-tables machine)
+    (emit-clash-name-tables machine)
     (emit-table "bool" "kEventRunsCode" (mapcar (lambda (event) (if (event-runs-code-p event) "true" "false"))
                                                 (spec-events spec))
                 "false")
@@ -179,6 +180,24 @@ and the planning twins of the machine's procedures."
           words (mapcar (lambda (op) (op-channel-words op names words)) ops))
     (emit-table "StateBits" "kOpFields" (mapcar (lambda (op) (c++-bits (op-variable-fields op spec))) ops)
                 "StateBits{}")))
+
+(defun emit-clash-name-tables (machine)
+  "The names a :dropped line's :clash prints, as Player's trace writes them:
+each channel by its bit (kChannelNames), each plannable variable beside its
+field in kFieldMasks (kFieldNames), each runtime variable by its slot
+\(kRuntimeNames)."
+  (let* ((spec (machine-spec machine))
+         (runtime (runtime-vars machine))
+         (slots (make-array (1+ (reduce #'max runtime :key #'runtime-slot :initial-value -1))
+                            :initial-element nil)))
+    (dolist (var runtime)
+      (setf (aref slots (runtime-slot var)) var))
+    (flet ((text (object) (c++-string (lisp-text object))))
+      (emit-table "char* const" "kChannelNames" (mapcar #'text (spec-channel-names spec)) "nullptr")
+      (emit-table "char* const" "kFieldNames" (mapcar (lambda (var) (text (var-name var))) (plannable-vars machine))
+                  "nullptr")
+      (emit-table "char* const" "kRuntimeNames"
+                  (map 'list (lambda (var) (if var (text (var-name var)) "nullptr")) slots) "nullptr"))))
 
 (defun event-number (event spec)
   "EVENT's index among SPEC's events (its Event value)."

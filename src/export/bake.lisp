@@ -60,7 +60,7 @@ body's placement carrying the root's centre and rotation."
   "Sample SIMULATION (from SIMULATE, or a scene's from SIMULATE-SCENE) at each
 of its frames.  Returns a list of BAKED-BODYs, one per body of its scene, in
 scene order, and a list of BAKED-PROPs, one per prop seen in any frame.
-Frame I is at I/FPS seconds, as RENDER and SIMULATE sample."
+Frame I is at SIMULATION-FRAME-TIMES' Ith time, as RENDER and SIMULATE sample."
   (check-argument 'bake-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
   (let ((frames (simulation-frame-count simulation))
         (bodies '())

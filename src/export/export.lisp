@@ -3,18 +3,13 @@
 ;;;; (CHARACTER-MODEL's joints and meshes), every prop a node with its mesh
 ;;;; (props.lisp), and the performance one animation named "performance": per
 ;;;; joint its local rotation at every frame, the root's and each prop's world
-;;;; place too, LINEAR keys at I/FPS seconds.
+;;;; place too, LINEAR keys at the simulation's frame times (I/FPS seconds,
+;;;; the nearest frame moved onto each critical time).
 
 (in-package #:player.export)
 
 (defparameter *animation-name* "performance"
   "The name of the one animation an exported performance holds.")
-
-(defun frame-times (frames fps)
-  "The times of FRAMES frames at FPS, I/FPS seconds, as a double vector."
-  (let ((times (make-array frames :element-type 'double-float)))
-    (dotimes (i frames times)
-      (setf (aref times i) (/ i (float fps 1d0))))))
 
 (defun body-channels (baked first times)
   "The MODEL-CHANNELs of BAKED (a BAKED-BODY) whose joints stand from FIRST
@@ -43,7 +38,8 @@ frame (BAKE-SIMULATION)."
   (multiple-value-bind (bodies props) (bake-simulation simulation)
     (let* ((several (rest bodies))
            (frames (simulation-frame-count simulation))
-           (times (frame-times frames (simulation-fps simulation)))
+           ;; The frames' own times: a critical time moves the nearest frame onto it.
+           (times (copy-seq (simulation-frame-times simulation)))
            (joints '()) (meshes '()) (channels '()) (first 0))
       (dolist (baked bodies)
         (let ((skeleton (baked-body-skeleton baked))

@@ -19,4 +19,6 @@
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
    #:simulation #:simulation-clips #:simulation-end #:simulation-fps
    #:simulation-frame-count #:simulation-p #:simulation-performance #:simulation-reports
+   #:simulation-frame-times #:simulation-critical-times #:performance-critical-times
+   #:performance-critical-time-between
    #:simulation-scene-at #:stop-script-run #:write-simulation #:write-simulation-audio))

@@ -6,8 +6,9 @@
 
 (defstruct (simulation (:constructor %make-simulation))
   "A played scenario: the CONTROLLER, its PRESENTER, the END time (when the last
-op finished and the body settled) and FPS.  Frames are sampled from the presenter's performance."
-  controller presenter (end 0d0) (fps 30))
+op finished and the body settled) and FPS.  Frames are sampled from the
+presenter's performance at FRAME-TIMES (frame-times.lisp), worked out when first asked."
+  controller presenter (end 0d0) (fps 30) (%frame-times nil))
 
 (defparameter *max-fps* 1000
   "The highest frame rate SIMULATE and RENDER-SIMULATION accept.")
@@ -65,14 +66,35 @@ that sent the events itself, as a conversation does, rather than through SIMULAT
   "The performance SIMULATION's presenter played."
   (presenter-performance (simulation-presenter simulation)))
 
+(defgeneric simulation-critical-times (simulation)
+  (:documentation "The critical times SIMULATION's scripts reach, in seconds,
+earliest first: a frame must show each.  A scene of several characters
+\(src/cast/) may add a method.")
+  (:method ((simulation simulation))
+    ;; A simulation without a presenter of its own (a scene's) has none here.
+    (and (simulation-presenter simulation)
+         (performance-critical-times (simulation-performance simulation) (simulation-end simulation)))))
+
+(defun simulation-frame-times (simulation &optional (fps (simulation-fps simulation)))
+  "The times of SIMULATION's frames at FPS (default its own), a vector of
+double-floats: the grid of 1/FPS from 0 to its end, each critical time its
+scripts reach shown by the nearest frame moved onto it (frame-times.lisp)."
+  (check-argument 'simulation-frame-times 'simulation simulation #'simulation-p "a simulation (from simulate)")
+  (check-fps 'simulation-frame-times fps)
+  (flet ((compute () (critical-frame-times (simulation-end simulation) fps (simulation-critical-times simulation))))
+    (if (= fps (simulation-fps simulation))
+        (or (simulation-%frame-times simulation)
+            (setf (simulation-%frame-times simulation) (compute)))
+        (compute))))
+
 (defun simulation-frame-count (simulation)
   "How many frames cover SIMULATION, the first at time 0 and the last at or after its end."
   (check-argument 'simulation-frame-count 'simulation simulation #'simulation-p "a simulation (from simulate)")
-  (1+ (ceiling (* (simulation-end simulation) (simulation-fps simulation)))))
+  (length (simulation-frame-times simulation)))
 
 (defun simulation-frame-time (simulation index)
   "The time of frame INDEX of SIMULATION."
-  (/ index (float (simulation-fps simulation) 1d0)))
+  (aref (simulation-frame-times simulation) index))
 
 (defgeneric simulation-clips (simulation end)
   (:documentation "The audio clips SIMULATION plays once played to END seconds,

@@ -6,7 +6,8 @@
 
 (defstruct (diagnostic (:constructor make-diagnostic (kind message &optional details)))
   "One finding of CHECK-SPEC. KIND is :UNREACHABLE-GOAL, :UNUSED-OP,
-:TRUNCATED, :UNREACHABLE-STATES, :INEXACT-MACRO or :SHARED-CHANNEL."
+:TRUNCATED, :UNREACHABLE-STATES, :INEXACT-MACRO, :SHARED-CHANNEL or
+:SIDE-EFFECT (side-effects.lisp)."
   (kind nil :type keyword)
   (message "" :type string)
   (details nil))
@@ -75,7 +76,8 @@ too) or event :add/:sub, with every precondition respected."
 (defun check-spec (spec)
   "Plan SPEC (a spec, its name, or a machine) and return a list of DIAGNOSTICs:
 goals unreachable from some or all states, ops nothing uses, goals whose search
-MAX-DEPTH truncated, and states unreachable from the initial state."
+MAX-DEPTH truncated, states unreachable from the initial state, and plans
+that change variables their event's goal does not mention."
   (let* ((machine (ensure-machine spec 'check-spec))
          (spec (machine-spec machine))
          (total (machine-state-count machine))
@@ -122,7 +124,8 @@ MAX-DEPTH truncated, and states unreachable from the initial state."
                                                    spec)))
                                unreachable)
               diagnostics)))
-    (nreverse (revappend (append (inexact-macro-diagnostics machine) (channel-diagnostics spec))
+    (nreverse (revappend (append (inexact-macro-diagnostics machine) (channel-diagnostics spec)
+                                 (side-effect-diagnostics machine))
                          diagnostics))))
 
 (defun inexact-macro-diagnostics (machine)

@@ -50,10 +50,17 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
 
 (defun viewer-tick (viewer clock)
   "Set VIEWER-NOW, the animation time of a frame begun at CLOCK (glfwGetTime
-seconds): seconds since the start, paused time excluded.  Everything the frame
-does happens at that time."
-  (setf (viewer-now viewer)
-        (- (or (viewer-paused-at viewer) clock) (viewer-start viewer) (viewer-paused-total viewer))))
+seconds): seconds since the start, paused time excluded -- or the first
+critical time a script reaches since the last frame, so the viewer shows it
+as every other output does (frame-times.lisp).  Everything the frame does
+happens at that time."
+  (let* ((previous (viewer-now viewer))
+         (now (- (or (viewer-paused-at viewer) clock) (viewer-start viewer) (viewer-paused-total viewer)))
+         (performance (viewer-performance viewer)))
+    (setf (viewer-now viewer)
+          (or (and performance (> now previous)
+                   (performance-critical-time-between performance previous now))
+              now))))
 
 (defun toggle-pause (viewer)
   "Pause VIEWER's clock, or resume it."

@@ -11,7 +11,7 @@
 (defparameter *quiet-methods*
   '((present-op null-presenter) (present-macro-start presenter) (present-macro-end presenter)
     (present-event presenter) (present-resume presenter) (present-failure presenter)
-    (present-state presenter) (present-cut presenter))
+    (present-state presenter) (present-cut presenter) (present-queued presenter))
   "(FUNCTION CLASS): the protocol's reports of what a timed controller plays,
 and the class whose method of it, in presenter.lisp, does nothing (a null
 presenter's PRESENT-OP only answers the declared duration).")

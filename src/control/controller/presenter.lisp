@@ -69,8 +69,15 @@ with a script library knows critical times."))
   (:documentation "OP, begun at START, is cut at TIME by event BY (OP is NIL
 when the interrupted event had no op running)."))
 
-(defgeneric present-dropped (presenter event time busy-with)
-  (:documentation "EVENT, arriving at TIME while BUSY-WITH ran, is dropped (:override)."))
+(defgeneric present-dropped (presenter event time busy-with clash)
+  (:documentation "EVENT, arriving at TIME while BUSY-WITH ran, is dropped
+(:override).  CLASH is what the two met on: FOOTPRINT-CLASH's list of
+channels (or :ALL) and variables."))
+
+(defgeneric present-queued (presenter event time behind)
+  (:documentation "EVENT, arriving at TIME while events it meets play, waits
+in the queue (:queue) behind the event BEHIND: the last one waiting, or the
+running one it met."))
 
 (defgeneric present-resume (presenter event time)
   (:documentation "The interrupted EVENT resumes at TIME (:interleave)."))
@@ -101,8 +108,11 @@ OP's declared :channels; a presenter with a script library infers the rest."))
 (defmethod present-cut ((presenter presenter) op start time by)
   (declare (ignore op start time by)))
 
-(defmethod present-dropped ((presenter presenter) event time busy-with)
-  (declare (ignore event time busy-with)))
+(defmethod present-dropped ((presenter presenter) event time busy-with clash)
+  (declare (ignore event time busy-with clash)))
+
+(defmethod present-queued ((presenter presenter) event time behind)
+  (declare (ignore event time behind)))
 
 (defmethod present-resume ((presenter presenter) event time)
   (declare (ignore event time)))
@@ -325,11 +335,19 @@ lines are still waiting to be written (an open macro)."
   (record-line presenter (cons :state (controller-state controller))))
 
 (defmethod present-cut ((presenter trace-presenter) op start time by)
+  ;; The op's :op line, written when it began, gave the end it was planned
+  ;; to have; this line's :end is where it stopped, so no op seems to play
+  ;; past its cut.
   (declare (ignore start))
-  (record-line presenter (list :cut (and op (op-name op)) :time time :by by)))
+  (record-line presenter (if op
+                             (list :cut (op-name op) :time time :by by :end time)
+                             (list :cut nil :time time :by by))))
 
-(defmethod present-dropped ((presenter trace-presenter) event time busy-with)
-  (record-line presenter (list :dropped event :time time :busy-with busy-with)))
+(defmethod present-dropped ((presenter trace-presenter) event time busy-with clash)
+  (record-line presenter (list :dropped event :time time :busy-with busy-with :clash clash)))
+
+(defmethod present-queued ((presenter trace-presenter) event time behind)
+  (record-line presenter (list :queued event :time time :behind behind)))
 
 (defmethod present-resume ((presenter trace-presenter) event time)
   (record-line presenter (list :resume event :time time)))

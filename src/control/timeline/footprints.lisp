@@ -80,3 +80,22 @@ items play, and the variables its changes set."
         (setf (compiled-event-runs-code compiled)
               (and (event-runs-code-p (compiled-event-event compiled)) t))
         known)))
+
+;;;# What two events met on
+
+(defun footprint-clash (a b spec)
+  "What footprints A and B, which meet, have in common, for the :CLASH of a
+trace line: :ALL when either plays an op on no known channel (it may use any)
+or none at all, else the channels both use (strings, sorted); then the
+variables both mention (symbols), the plannable ones in SPEC's order, then the
+runtime ones by slot -- none when either plays an op on no known channel: its
+variables are not worked out (*EVERYTHING-FOOTPRINT*)."
+  (append (if (or (meets-everything-p a) (meets-everything-p b))
+              (list :all)
+              (sort (copy-list (intersection (footprint-channels a) (footprint-channels b) :test #'string=))
+                    #'string<))
+          (let ((shared (logand (footprint-fields a) (footprint-fields b))))
+            (loop for var in (plannable-variables spec)
+                  when (logtest shared (var-field-mask var)) collect (var-name var)))
+          (mapcar #'var-name (sort (copy-list (intersection (footprint-runtime a) (footprint-runtime b)))
+                                   #'< :key #'var-slot))))

@@ -1,8 +1,14 @@
   void cut(const ctl::Op* op, double, double time, const char* by) override {
-    add(std::string("(:cut ") + (op ? op->name : "nil") + " :time " + number(time) + " :by " + by + ")");
+    // An op's line gave its planned end: :end says where it stopped.
+    add(std::string("(:cut ") + (op ? op->name : "nil") + " :time " + number(time) + " :by " + by +
+        (op ? " :end " + number(time) : std::string()) + ")");
   }
-  void dropped(const char* event, double time, const char* busy_with) override {
-    add(std::string("(:dropped ") + event + " :time " + number(time) + " :busy-with " + busy_with + ")");
+  void dropped(const char* event, double time, const char* busy_with, const std::string& clash) override {
+    add(std::string("(:dropped ") + event + " :time " + number(time) + " :busy-with " + busy_with +
+        " :clash " + clash + ")");
+  }
+  void queued(const char* event, double time, const char* behind) override {
+    add(std::string("(:queued ") + event + " :time " + number(time) + " :behind " + behind + ")");
   }
   void resumed(const char* event, double time) override {
     add(std::string("(:resume ") + event + " :time " + number(time) + ")");

@@ -31,6 +31,7 @@
   static bool heap_order_(const std::shared_ptr<Item>& a, const std::shared_ptr<Item>& b);
   static bool meets_everything_(const Footprint& footprint);
   static bool footprints_meet_(const Footprint& a, const Footprint& b);
+  static std::string clash_text_(const Footprint& a, const Footprint& b);
   void start_timeline_();
   bool advance_to_(double time, bool dispatch = true);
   bool note_instant_(double time);

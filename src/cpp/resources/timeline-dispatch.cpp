@@ -97,11 +97,14 @@ int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int 
   if (!run->planned) footprint.all = true;
   forget_plan_(*run);
   if (policy == kQueue) {
+    presenter_.queued(kEventNames[run->event], time,
+                      kEventNames[(queue_.empty() ? met.front() : queue_.back())->event]);
     queue_.push_back(run);
     return 1;
   }
   if (policy == kOverride) {
-    presenter_.dropped(kEventNames[run->event], time, kEventNames[met.front()->event]);
+    presenter_.dropped(kEventNames[run->event], time, kEventNames[met.front()->event],
+                       clash_text_(footprint, met.front()->footprint));
     return 0;
   }
   double cut_time = time;

@@ -16,6 +16,36 @@ bool Controller::footprints_meet_(const Footprint& a, const Footprint& b) {
   return false;
 }
 
+// What footprints A and B, which meet, share, as the :clash of a :dropped
+// line (footprint-clash in src/control/timeline/footprints.lisp): :all when
+// either has no known channel, else the channels both use, sorted; then the
+// variables both mention, plannable ones in order, then runtime ones by slot
+// (none when either has an op on no known channel: the Lisp does not work
+// them out).
+std::string Controller::clash_text_(const Footprint& a, const Footprint& b) {
+  std::vector<std::string> names;
+  if (meets_everything_(a) || meets_everything_(b)) {
+    names.push_back(":all");
+  } else {
+    std::vector<std::string> channels;
+    for (std::size_t i = 0; i < sizeof a.channels / sizeof a.channels[0]; ++i)
+      for (int bit = 0; bit < 64; ++bit)
+        if ((a.channels[i] & b.channels[i]) >> bit & 1u) channels.push_back(kChannelNames[i * 64 + bit]);
+    std::sort(channels.begin(), channels.end());
+    names.insert(names.end(), channels.begin(), channels.end());
+  }
+  if (a.all || b.all) return "(:all)";
+  const StateBits shared = common_bits(a.fields, b.fields);
+  for (std::size_t i = 0; i < sizeof kFieldNames / sizeof kFieldNames[0] - 1; ++i)
+    if (bits_meet(shared, kFieldMasks[i])) names.push_back(kFieldNames[i]);
+  for (std::size_t i = 0; i < sizeof a.runtime / sizeof a.runtime[0]; ++i)
+    for (int bit = 0; bit < 64; ++bit)
+      if ((a.runtime[i] & b.runtime[i]) >> bit & 1u) names.push_back(kRuntimeNames[i * 64 + bit]);
+  std::string text = "(";
+  for (std::size_t i = 0; i < names.size(); ++i) text += (i ? " " : "") + names[i];
+  return text + ")";
+}
+
 // RUN's footprint as planned: the channels and fields of the ops its items
 // play, and the variables its changes set.
 void Controller::note_footprint_(Run& run) const {
