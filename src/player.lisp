@@ -69,7 +69,7 @@
    #:phoneme-viseme #:read-wav #:recognize-sound #:recognize-wav #:sound #:sound-duration
    #:sound-rate #:sound-samples #:speech-error #:speech-unavailable #:synthesize-speech
    #:utterance #:utterance-duration #:utterance-phonemes #:utterance-sound #:utterance-text
-   #:utterance-visemes #:write-wav)
+   #:utterance-visemes #:utterance-word-time #:utterance-words #:write-wav)
   (:import-from #:player.model
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint
    #:import-model #:model-error #:model-error-file #:model-library-missing
@@ -147,7 +147,7 @@
    #:define-dialogue-action #:dialogue #:dialogue-error #:dialogue-initial-state
    #:dialogue-jsgf #:dialogue-name #:dialogue-not-understood #:dialogue-p
    #:dialogue-player-initial #:dialogue-player-spec #:dialogue-presenter
-   #:dialogue-state-names #:episodic-memory #:expand-template #:find-dialogue
+   #:dialogue-state-names #:episodic-memory #:expand-template #:find-dialogue #:gesture-marks
    #:load-dialogue #:load-memory #:make-conversation #:make-memory #:make-speaker
    #:make-text-presenter #:match-utterance #:explain-utterance #:memory-conversations #:memory-log #:memory-mood
    #:memory-user #:present-input #:present-transition #:present-utterance #:save-memory
@@ -208,6 +208,7 @@
    ;; Speech: synthesis, sounds, the audio track, recognition
    #:synthesize-speech #:utterance #:utterance-text #:utterance-sound #:utterance-phonemes
    #:utterance-duration #:utterance-visemes #:phoneme-viseme #:*default-voice* #:*default-speech-rate*
+   #:utterance-words #:utterance-word-time
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
    #:performance-say #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
@@ -325,7 +326,7 @@
    #:text-presenter #:make-text-presenter
    #:speaker #:make-speaker #:speaker-say #:speaker-listen #:speaker-wait #:speaker-end #:speaker-lines
    #:speaker-say-function #:with-speaker #:call-with-speaker
-   #:define-dialogue-action #:choose-template #:expand-template
+   #:define-dialogue-action #:choose-template #:expand-template #:gesture-marks
    #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
    #:memory-user #:memory-mood #:memory-conversations #:memory-log))
 

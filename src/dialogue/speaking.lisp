@@ -37,12 +37,15 @@ later when the track is still busy."
 
 (defun speaker-say (speaker text controller)
   "Say TEXT on SPEAKER's performance at CONTROLLER's clock (after any speech
-still sounding): the beak moves and the sound goes on the track.  Returns
-the time the speech ends.  Signals what SYNTHESIZE-SPEECH signals."
-  (let* ((start (speaker-start-time speaker controller))
-         (duration (performance-say (speaker-performance speaker) text :at start
-                                    :voice (speaker-voice speaker) :rate (speaker-rate speaker))))
-    (speaker-add-line speaker start duration text :peedy)))
+still sounding): the beak moves and the sound goes on the track, and each
+gesture mark of TEXT (<!beat>, <!point>: GESTURE-MARKS) lands its gesture on
+the word after it.  Returns the time the speech ends.  Signals what
+SYNTHESIZE-SPEECH signals."
+  (multiple-value-bind (plain gestures) (gesture-marks text)
+    (let* ((start (speaker-start-time speaker controller))
+           (duration (performance-say (speaker-performance speaker) plain :at start :gestures gestures
+                                      :voice (speaker-voice speaker) :rate (speaker-rate speaker))))
+      (speaker-add-line speaker start duration plain :peedy))))
 
 (defun speaker-listen (speaker sound label controller)
   "Put the user's spoken request SOUND (LABEL: its file) on SPEAKER's track at

@@ -332,6 +332,7 @@ checks critical times and looping against it.  Nested cycles were ruled out."
   (let ((at (script-item-at item)))
     (cond ((script-item-end item))
           ((sound-item-p item) (+ at (sound-duration (sound-item-sound item))))
+          ((and (say-item-p item) (say-item-length item)) (+ at (say-item-length item)))
           ((and (motor-item-p item) (clip-item-length library item))
            (+ at (clip-item-length library item)))
           ((play-item-p item)

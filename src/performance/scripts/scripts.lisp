@@ -53,9 +53,13 @@
 ;;;       Speak TEXT (espeak-ng; VOICE default "en-us", RATE words a minute,
 ;;;       default 160): the jaw (a parrot's beak) moves through the visemes of
 ;;;       its phonemes, timed by the synthesiser, and the sound goes on the
-;;;       performance's audio track.  Its length is known only once spoken, so
-;;;       for the script's inferred duration it counts its start: give the
-;;;       script a :duration that covers the speech.
+;;;       performance's audio track.  Its length is known before it plays
+;;;       (synthesised when the library is read), so the script's inferred
+;;;       duration covers the whole sentence (without a speech library, only
+;;;       its start).  Its words are sync points: a later item's TIME may be
+;;;       (:word "WORD" [OFFSET]) or (:word N [OFFSET]), when the nearest :say
+;;;       written before it says that word (the first spelt so, ignoring case
+;;;       and punctuation) or its Nth word, plus OFFSET seconds (word-sync.lisp).
 ;;;   (:at T :sound "FILE.wav" [:for D])
 ;;;       Play a sound effect (Persona's snore), a PCM WAV file named relative
 ;;;       to the library file, read when the library is.
@@ -129,6 +133,10 @@ FORM is the offending item, step or definition; the position names the file."))
 (defvar *script-context* nil
   "While a definition is parsed or checked: \"script NAME\" or \"director NAME\",
 the prefix of every error message.")
+
+(defvar *last-say-item* nil
+  "While a script's items are parsed: the last :say item parsed, which a
+\(:word ...) time refers to (word-sync.lisp).")
 
 (defun script-fail (form control &rest arguments)
   "Signal a SCRIPT-ERROR about FORM, with a message from CONTROL and ARGUMENTS
@@ -267,8 +275,11 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
           (unless (typep documentation '(or null string))
             (script-fail form ":documentation must be a string"))
           (%make-script :name name :duration duration :loop loop :critical critical
-                        :items (mapcar (lambda (item) (parse-script-item item critical duration))
-                                       items)
+                        :items (let ((*last-say-item* nil))
+                                 (loop for item in items
+                                       for parsed = (parse-script-item item critical duration)
+                                       when (say-item-p parsed) do (setf *last-say-item* parsed)
+                                       collect parsed))
                         :documentation documentation :source source :form form))))))
 
 (defun parse-critical-times (critical duration form)
@@ -299,11 +310,12 @@ times and DURATION (NIL when inferred)."
     (script-fail item "an item is written (:at TIME KIND ...) with KIND one of ~{~A~^ ~}"
                  (mapcar #'lisp-text *script-item-kinds*)))
   (destructuring-bind (time kind &rest arguments) (rest item)
-    (let ((at (if (usable-name-p time)
-                  (or (cdr (assoc time critical :test #'name=))
-                      (script-fail item "unknown critical time ~A (known: ~:[none~;~:*~{~A~^ ~}~])"
-                                   (lisp-text time) (mapcar (lambda (e) (lisp-text (car e))) critical)))
-                  (parse-seconds time item "an item's time (or the name of a critical time)"))))
+    (let ((at (cond ((usable-name-p time)
+                     (or (cdr (assoc time critical :test #'name=))
+                         (script-fail item "unknown critical time ~A (known: ~:[none~;~:*~{~A~^ ~}~])"
+                                      (lisp-text time) (mapcar (lambda (e) (lisp-text (car e))) critical))))
+                    ((word-sync-form-p time) (word-sync-time item time))
+                    (t (parse-seconds time item "an item's time (the name of a critical time, or (:word WORD))")))))
       (unless (member kind *script-item-kinds*)
         (script-fail item "unknown item kind ~A (known: ~{~A~^ ~})"
                      (lisp-text kind) (mapcar #'lisp-text *script-item-kinds*)))
