@@ -118,7 +118,7 @@
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
    #:map-simulation-frames #:perform-director #:perform-script #:performance-audio
    #:performance-body #:performance-clips #:performance-frame #:performance-play-sound
-   #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
+   #:performance-sent-events #:performance-signal #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
    #:script-critical-time #:script-duration #:script-error #:simulate
    #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation)
   (:import-from #:player.render
@@ -201,6 +201,7 @@
    #:load-script-library #:script-error #:find-script #:find-director #:script-duration
    #:script-critical-time #:director-schedule
    #:make-performance #:perform-script #:perform-director #:stop-script-run
+   #:performance-signal #:performance-sent-events
    #:performance-frame #:performance-body #:performance-scene
    #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
    #:simulate #:controller-simulation #:write-simulation #:map-simulation-frames #:simulation-frame-count

@@ -75,6 +75,8 @@ would hang from the world from a group object, its stage, at ORIGIN.")
              :documentation "CAPTIONs shown over the frames, newest first (see captions.lisp).")
    (settle-targets :initform '() :accessor performance-settle-targets
                    :documentation "SETTLE-TARGETs, oldest first: when the first character's settled pose changes (settle.lisp).")
+   (reaction-state :initform nil :accessor performance-reaction-state
+                   :documentation "What its reactive directors need (reactions.lisp), made on first use.")
    (settle-state :initform nil :accessor replay-settle-state
                  :documentation "The SETTLE-TARGET in force in the replay, and those still to come.")
    ;; The replay: rebuilt from the runs whenever time goes back.
@@ -192,18 +194,20 @@ the time last shown); returns RUN."
 
 (defun perform-director (performance name start &key body settle)
   "Start the director NAME at START: its scripts at the times its schedule gives
-\(each settling when over, with SETTLE: see PERFORM-SCRIPT).
-Returns its duration (NIL when it loops for ever)."
+\(each settling when over, with SETTLE: see PERFORM-SCRIPT), its :set and
+:send steps at theirs, and, once it ends, the directors written (:after NAME)
+\(reactions.lisp).  Returns its duration (NIL when it loops for ever)."
   (check-argument 'perform-director 'performance performance #'performance-p "a performance (from make-performance)")
   (check-argument 'perform-director 'name name #'string-designator-p "a director's name (a symbol or string)")
   (check-seconds 'perform-director 'start start)
   (when body (check-body-name 'perform-director performance body))
-  (multiple-value-bind (schedule duration)
-      (director-schedule (find-director (performance-library performance) name t)
-                         (performance-library performance) start)
-    (loop for (script script-start script-stop) in schedule
-          do (perform-script performance script script-start :stop script-stop :body body :settle settle))
-    duration))
+  (let ((director (find-director (performance-library performance) name t)))
+    (multiple-value-bind (schedule duration actions)
+        (director-schedule director (performance-library performance) start)
+      (loop for (script script-start script-stop) in schedule
+            do (perform-script performance script script-start :stop script-stop :body body :settle settle))
+      (director-started performance director (float start 1d0) duration actions)
+      duration)))
 
 (defun stop-script-run (performance run time)
   "Stop RUN (and what it started) at TIME."
@@ -460,5 +464,6 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
                  (bring-to performance (cue-time cue))
                  (play-cue performance cue))))))
     (bring-to performance time)
+    (check-property-reactions performance time)
     (setf (scene-caption (performance-scene performance)) (caption-at performance time))
     (performance-scene performance)))
