@@ -105,8 +105,8 @@
                        :documentation "Wing beats in flight: down, up, down again.")
   (:at 0 :motor (:keyframe :keys ((0 fly-down) (0.2 fly-up) (0.4 fly-down)) :priority 5)))
 
-(defscript tap-foot (:duration 1 :loop t
-                     :documentation "Music is playing: the right toes tap the beat, the tail wags with it.")
+(defscript tap-foot (:duration 1 :loop t :beats 2
+                     :documentation "Music is playing: the right toes tap the beat (two a loop, at the track's tempo), the tail wags with it.")
   (:at 0 :motor (:keyframe :keys ((0 ((r_foot curl 40))) (0.12 ((r_foot curl 5))) (0.25 ((r_foot curl 40)))
                                   (0.62 ((r_foot curl 5))) (0.75 ((r_foot curl 40))) (1 ((r_foot curl 40))))
                            :priority 5))

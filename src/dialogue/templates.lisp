@@ -48,9 +48,15 @@ a list as \"A, B and C\", a number plainly, a name in lower case."
 
 (defun expand-template (template conversation)
   "TEMPLATE's text with each <=Var> replaced by the context variable Var's
-value; a DIALOGUE-ERROR naming the template when Var is unset.  Its gesture
-marks (<!beat>, <!point>) stay, for the speaker: GESTURE-MARKS takes them out
-and says where they land; an unknown one is a DIALOGUE-ERROR here."
+value, without its gesture marks; the gestures they ask for are the second
+value (see GESTURE-MARKS).  A DIALOGUE-ERROR naming the template when Var is
+unset or a mark is unknown."
+  (gesture-marks (expand-template-marked template conversation) template))
+
+(defun expand-template-marked (template conversation)
+  "As EXPAND-TEMPLATE, but the gesture marks (<!beat>, <!point>) stay in the
+text, for the speaker to land (GESTURE-MARKS); an unknown one is a
+DIALOGUE-ERROR here."
   (let ((text (template-text template)))
     (gesture-marks text template)
     (with-output-to-string (out)

@@ -23,10 +23,10 @@ silent performance plays nothing."
               (driver (make-driver (say-item-motor-call (utterance-visemes utterance)) body time :stop end)))
          (push driver (script-run-drivers run))
          (body-add-driver body driver)
-         (add-clip performance run (make-clip time (utterance-sound utterance) end (utterance-text utterance)))))
+         (add-clip performance run (make-clip time (utterance-sound utterance) end (utterance-text utterance) :voice))))
       (sound-item
        (add-clip performance run (make-clip time (sound-item-sound item) end
-                                            (namestring (sound-item-path item))))))))
+                                            (namestring (sound-item-path item)) (sound-item-kind item)))))))
 
 (defparameter *word-gestures*
   '((:beat 0.15 (:beat :arm :right :times (0.15) :stroke 0.12 :retract 0.25))

@@ -38,3 +38,36 @@ plays on).  Returns the process, or NIL when there is no player."
                             (append (list "-c" "\"$@\"; rm -f \"$0\"" (namestring path))
                                     player (list (namestring path)))
                             :wait nil :output nil :error nil :input nil)))))
+
+;;;# Clips that can be cut while they play (music the user stops)
+
+(defvar *playing-clips* '()
+  "Clips played by PLAY-CLIP-NOW that may still sound: (CLIP PROCESS PATH).")
+
+(defun play-clip-now (clip)
+  "Start playing CLIP's sound on the audio device and return at once; unlike
+PLAY-SOUND-NOW, the player runs as its own process, so STOP-CUT-CLIPS can
+silence it when CLIP is cut (\"stop the music\").  Returns the process, or
+NIL when there is no player."
+  (let ((player (audio-player)))
+    (when player
+      (let ((path (temporary-file (format nil "player-~D-~D.wav" (sb-posix:getpid) (incf *playback-counter*)))))
+        (write-wav path (clip-sound clip))
+        (let ((process (sb-ext:run-program (first player) (append (rest player) (list (namestring path)))
+                                           :wait nil :output nil :error nil :input nil)))
+          (push (list clip process path) *playing-clips*)
+          process)))))
+
+(defun stop-cut-clips (time)
+  "Silence each clip PLAY-CLIP-NOW started whose cut comes by TIME (seconds on
+its track), and forget those that have finished, removing their files."
+  (setf *playing-clips*
+        (loop for entry in *playing-clips*
+              for (clip process path) = entry
+              for cut = (and (clip-cut clip) (<= (clip-cut clip) time))
+              do (when (and cut (sb-ext:process-alive-p process))
+                   (ignore-errors (sb-ext:process-kill process 15)))
+              if (or cut (not (sb-ext:process-alive-p process)))
+                do (ignore-errors (sb-ext:process-wait process))
+                   (ignore-errors (delete-file path))
+              else collect entry)))

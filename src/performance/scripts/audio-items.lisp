@@ -11,9 +11,11 @@
   (rate nil :read-only t))
 
 (defstruct (sound-item (:include script-item))
-  "The sound effect read from the WAV file PATH."
+  "The sound effect read from the WAV file PATH; KIND :music for music
+\(ducked under voices), else NIL."
   (path nil :read-only t)
-  (sound nil :read-only t))
+  (sound nil :read-only t)
+  (kind nil :read-only t))
 
 ;;; Speech and sounds: the text is checked now, spoken when it plays; a sound
 ;;; file is read now, so a missing one is an error at its line.

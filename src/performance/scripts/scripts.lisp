@@ -12,10 +12,13 @@
 ;;; in the package PLAYER-USER.  Names (of scripts, directors, objects, tags,
 ;;; critical times) are compared by name, case-insensitively.  Times are seconds.
 ;;;
-;;;   (defscript NAME (&key duration loop critical documentation)
+;;;   (defscript NAME (&key duration loop critical beats documentation)
 ;;;     ITEM ...)
 ;;;
-;;; NAME is a non-keyword symbol.  :DURATION is a positive number of seconds;
+;;; NAME is a non-keyword symbol.  :BEATS N says the script spans N beats of
+;;; music: looping, each iteration is stretched to N beats at the tempo of the
+;;; music playing when it begins (tempo.lisp; Peedy's foot taps in time).
+;;; :DURATION is a positive number of seconds;
 ;;; without it the script lasts until the latest end of its items: an item with
 ;;; :for D ends D after its start, a :play without :for when the nested script
 ;;; does, an :animate without :for at the last key of its control when that is
@@ -185,6 +188,7 @@ the DEFSCRIPT form."
   (duration nil :type (or null double-float))
   (loop nil :type boolean :read-only t)
   (critical '() :type list :read-only t)
+  (beats nil :type (or null double-float) :read-only t)
   (items '() :type list :read-only t)
   (documentation nil :type (or null string) :read-only t)
   (source nil :read-only t)
@@ -198,9 +202,10 @@ the DEFSCRIPT form."
 (defstruct (script-item (:constructor nil))
   "One timed item of a script: it starts AT seconds into the script and lasts
 UNTIL seconds (the :for value), or, when UNTIL is NIL, until the script (the
-iteration) ends.  FORM is the item as written."
-  (at 0d0 :type double-float :read-only t)
-  (until nil :type (or null double-float) :read-only t)
+iteration) ends.  FORM is the item as written.  (AT and UNTIL are written
+only to a copy, when a script is played at a tempo: tempo.lisp.)"
+  (at 0d0 :type double-float)
+  (until nil :type (or null double-float))
   (form nil :read-only t))
 
 (defstruct (motor-item (:include script-item))
@@ -260,11 +265,13 @@ its (FILE . POSITION).  Nested scripts stay names and an omitted duration NIL
 until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
   (unless (and (alexandria:proper-list-p form) (>= (length form) 3)
                (usable-name-p (second form)) (listp (third form)))
-    (script-fail form "a script is written (defscript NAME (&key duration loop critical documentation) ITEM...)"))
+    (script-fail form "a script is written (defscript NAME (&key duration loop critical beats documentation) ITEM...)"))
   (destructuring-bind (name options &rest items) (rest form)
     (let ((*script-context* (format nil "script ~A" (lisp-text name))))
-      (check-options form options '(:duration :loop :critical :documentation) "defscript")
-      (destructuring-bind (&key duration loop critical documentation) options
+      (check-options form options '(:duration :loop :critical :beats :documentation) "defscript")
+      (destructuring-bind (&key duration loop critical beats documentation) options
+        (unless (or (null beats) (and (realp beats) (< 0 beats 1000)))
+          (script-fail form ":beats must be a positive number of beats, not ~A" (argument-value-text beats)))
         (let* ((duration (and duration (parse-seconds duration form ":duration" :positive t)))
                (critical (parse-critical-times critical duration form)))
           (unless (member loop '(t nil))
@@ -275,6 +282,7 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
           (unless (typep documentation '(or null string))
             (script-fail form ":documentation must be a string"))
           (%make-script :name name :duration duration :loop loop :critical critical
+                        :beats (and beats (float beats 1d0))
                         :items (let ((*last-say-item* nil))
                                  (loop for item in items
                                        for parsed = (parse-script-item item critical duration)
