@@ -81,13 +81,18 @@
 ;;; No item may start after an explicit :duration, nor end after it with :for;
 ;;; every item ends at the latest with its script (with each iteration).
 ;;;
-;;;   (defdirector NAME [DOCSTRING] STEP ...)
+;;;   (defdirector NAME [DOCSTRING] [TRIGGER] STEP ...)
 ;;;
 ;;; A director starts scripts at times relative to its own start, taking its
 ;;; steps in order:
 ;;;   (:start SCRIPT [:as TAG] [:at WHEN])  start SCRIPT, known to later steps as
 ;;;                                         TAG (default: the script's name)
 ;;;   (:stop TAG [:at WHEN])                stop the script started as TAG
+;;;   (:set (OBJECT PROPERTY) VALUE [:at WHEN])  set a property, as a :set item
+;;;   (:send EVENT [:at WHEN])              send a Player event to the controller
+;;; A TRIGGER, (:when EXPRESSION), (:on EVENT) or (:after DIRECTOR), makes
+;;; it start by itself (reactions.lisp): when a state or property expression
+;;; becomes true, a Player event is processed, or another director ends.
 ;;; WHEN is seconds after the director starts, or one of
 ;;;   (:start TAG [OFFSET])                 when TAG starts
 ;;;   (:critical TAG NAME [OFFSET])         when TAG reaches its critical time NAME
