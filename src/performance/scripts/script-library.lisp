@@ -292,7 +292,11 @@ declared objects and properties, director schedules."
     (dolist (script scripts)
       (check-declared-properties library script))
     (dolist (director (remove-if-not #'director-p (script-library-definitions library)))
-      (director-schedule director library 0))))
+      (director-schedule director library 0)
+      (let ((trigger (director-trigger director)))
+        (when (and (eq (first trigger) :after) (not (find-director library (second trigger))))
+          (script-fail (director-form director) "director ~A: (:after ~A): the library has no director ~A"
+                       (lisp-text (director-name director)) (lisp-text (second trigger)) (lisp-text (second trigger))))))))
 
 (defun check-play-cycles (library script path checked)
   "Signal a SCRIPT-ERROR when SCRIPT, reached by the :play chain PATH (innermost
