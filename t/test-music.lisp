@@ -165,3 +165,30 @@
                  (is (= 1 (length (lines err))) "one line: ~S" err)
                  (is (and (alexandria:starts-with-subseq "player: error: " err) (search fragment err))
                      "~S" err))))))
+
+(test a-long-track-is-mixed-only-as-far-as-it-is-heard
+  (let* ((rate 22050)
+         (long (player::make-sound (make-array (* 600 rate) :element-type '(signed-byte 16) :initial-element 1000) rate))
+         (started (get-internal-real-time))
+         (mix (player::mix-clips (list (player::make-clip 1d0 long nil "ten minutes" :music)) :end 3)))
+    (is (= (* 3 rate) (length (player::sound-samples mix))))
+    (is (= 1000 (aref (player::sound-samples mix) (* 2 rate))))
+    (is (< (- (get-internal-real-time) started) (* 2 internal-time-units-per-second))
+        "ten minutes of music under a 3 s track costs what 2 s of it do")))
+
+(test the-viewer-silences-a-track-once-it-is-cut
+  ;; A stand-in player that plays for 30 s: sh -c 'sleep 30' FILE.
+  (let ((player.speech::*audio-players* '(("sh" "-c" "sleep 30")))
+        (player.speech::*playing-clips* '())
+        (clip (player::make-clip 0d0 (player::make-sound (make-array 100 :element-type '(signed-byte 16)
+                                                                         :initial-element 0)
+                                                         22050)
+                                 nil "music" :music)))
+    (let ((process (player.speech::play-clip-now clip)))
+      (is (sb-ext:process-alive-p process))
+      (player.speech::stop-cut-clips 5)
+      (is (sb-ext:process-alive-p process) "not cut: it plays on")
+      (setf (player.speech::clip-cut clip) 4d0)
+      (player.speech::stop-cut-clips 5)
+      (is (not (sb-ext:process-alive-p process)) "cut at 4 s: silenced at 5 s")
+      (is (null player.speech::*playing-clips*)))))

@@ -41,6 +41,18 @@ on either side."
                                        (t (max 0d0 (- 1d0 (/ (- time end) *duck-ramp*))))))))
     (- 1d0 (* (- 1d0 *duck-gain*) nearness))))
 
+(defun clip-heard-part (clip end)
+  "The part of CLIP's sound that sounds before END on the track (a little
+more, for the resampler's window): a long track cut early, or a ten-minute
+WAV under a short render, is resampled only as far as it is heard."
+  (let* ((sound (clip-sound clip))
+         (seconds (- (min end (clip-end clip)) (clip-start clip)))
+         (count (min (length (sound-samples sound))
+                     (max 0 (ceiling (* (+ seconds 0.05d0) (sound-rate sound)))))))
+    (if (= count (length (sound-samples sound)))
+        sound
+        (make-sound (subseq (sound-samples sound) 0 count) (sound-rate sound)))))
+
 (defun mix-clips (clips &key (rate *track-rate*) end)
   "CLIPS mixed into one SOUND at RATE, from time 0 to END (default: the last
 clip's end), each clip resampled to RATE and the sum clipped to 16 bits;
@@ -52,7 +64,7 @@ music clips duck under voice clips (see DUCK-GAIN).  NIL when there are no clips
                          when (eq (clip-kind clip) :voice)
                            collect (cons (clip-start clip) (clip-end clip)))))
       (dolist (clip clips)
-        (let* ((samples (sound-samples (resample-sound (clip-sound clip) rate)))
+        (let* ((samples (sound-samples (resample-sound (clip-heard-part clip end) rate)))
                (offset (round (* (clip-start clip) rate)))
                (stop (min (length total) (round (* (clip-end clip) rate))))
                (ducked (and voices (eq (clip-kind clip) :music))))
