@@ -61,6 +61,27 @@
                      (+ 0.5 (player::utterance-word-time utterance 2) -0.1)))
              1d-6)))))
 
+(test a-word-sync-point-may-name-its-sentence
+  (with-espeak
+    (let* ((library (word-library `(:at 0.2 :say ,*raitt-line* :as offer)
+                                  '(:at 3 :say "Thank you")
+                                  '(:at (:word offer "raitt") :motor (:beat :times (0.15)))
+                                  '(:at (:word "you") :motor (:beat :times (0.15)))))
+           (items (player.performance::script-items (player::find-script library 'talk))))
+      (is (< (abs (- (player.performance::script-item-at (third items))
+                     (+ 0.2 (player::utterance-word-time (player::synthesize-speech *raitt-line*) "raitt"))))
+             1d-6)
+          "the named sentence, though another was said since")
+      (is (< (abs (- (player.performance::script-item-at (fourth items))
+                     (+ 3 (player::utterance-word-time (player::synthesize-speech "Thank you") 2))))
+             1d-6)
+          "unnamed: the last sentence before it"))
+    (is (search "names no :say item written before it with :as greeting"
+                (handler-case (progn (word-library `(:at 0 :say ,*raitt-line* :as offer)
+                                                   '(:at (:word greeting 1) :motor (:beat :times (0.15))))
+                                     "")
+                  (player::script-error (e) (princ-to-string e)))))))
+
 (test a-word-sync-point-that-names-nothing-is-an-error-at-its-item
   (with-espeak
     (loop for (items fragment)

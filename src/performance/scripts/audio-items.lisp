@@ -5,7 +5,9 @@
 (in-package #:player.performance)
 
 (defstruct (say-item (:include script-item))
-  "TEXT spoken by VOICE (or NIL for the default) at RATE words a minute (or NIL)."
+  "TEXT spoken by VOICE (or NIL for the default) at RATE words a minute (or
+NIL); NAME (or NIL) is what word sync points call it (word-sync.lisp)."
+  (name nil :type symbol :read-only t)
   (text "" :type string :read-only t)
   (voice nil :read-only t)
   (rate nil :read-only t))
@@ -24,9 +26,11 @@
   "While a library is read: the directory its file names (poses, sounds) are relative to.")
 
 (defun parse-say-item (item at arguments)
-  "(:at T :say \"TEXT\" [:voice \"VOICE\"] [:rate WPM] [:for D])."
-  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:voice :rate :for))
-    (destructuring-bind (&key voice rate &allow-other-keys) options
+  "(:at T :say \"TEXT\" [:voice \"VOICE\"] [:rate WPM] [:as NAME] [:for D])."
+  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:voice :rate :as :for))
+    (destructuring-bind (&key voice rate (as nil as-given) &allow-other-keys) options
+      (when (and as-given (not (usable-name-p as)))
+        (script-fail item ":as takes a name for the speech's word sync points, not ~A" (lisp-text as)))
       (unless (and (stringp (first parts)) (<= 1 (length (first parts)) 2000))
         (script-fail item ":say takes the text to speak, a string of 1 to 2000 characters, not ~A"
                      (argument-value-text (first parts))))
@@ -35,7 +39,7 @@
       (unless (or (null rate) (and (integerp rate) (<= 80 rate 450)))
         (script-fail item ":rate must be an integer from 80 to 450 (words a minute), not ~A"
                      (argument-value-text rate)))
-      (make-say-item :at at :until until :form item :text (first parts) :voice voice :rate rate))))
+      (make-say-item :at at :until until :form item :text (first parts) :voice voice :rate rate :name as))))
 
 (defun say-item-motor-call (visemes)
   "The :lips call that moves the jaw through VISEMES, ((SECONDS VISEME) ...):

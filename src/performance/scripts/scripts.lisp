@@ -52,7 +52,7 @@
 ;;;       for a joint of a body (a joint's name or a role such as :right-hand;
 ;;;       OBJECT may be :self), or NIL for the scene root.  With :keep-world T
 ;;;       (the default) OBJECT stays where it is in the world.
-;;;   (:at T :say "TEXT" [:voice "VOICE"] [:rate WPM] [:for D])
+;;;   (:at T :say "TEXT" [:voice "VOICE"] [:rate WPM] [:as NAME] [:for D])
 ;;;       Speak TEXT (espeak-ng; VOICE default "en-us", RATE words a minute,
 ;;;       default 160): the jaw (a parrot's beak) moves through the visemes of
 ;;;       its phonemes, timed by the synthesiser, and the sound goes on the
@@ -62,7 +62,8 @@
 ;;;       its start).  Its words are sync points: a later item's TIME may be
 ;;;       (:word "WORD" [OFFSET]) or (:word N [OFFSET]), when the nearest :say
 ;;;       written before it says that word (the first spelt so, ignoring case
-;;;       and punctuation) or its Nth word, plus OFFSET seconds (word-sync.lisp).
+;;;       and punctuation) or its Nth word, plus OFFSET seconds; (:word NAME
+;;;       "WORD" [OFFSET]) names the :say written :as NAME (word-sync.lisp).
 ;;;   (:at T :sound "FILE.wav" [:for D])
 ;;;       Play a sound effect (Persona's snore), a PCM WAV file named relative
 ;;;       to the library file, read when the library is.
@@ -142,9 +143,9 @@ FORM is the offending item, step or definition; the position names the file."))
   "While a definition is parsed or checked: \"script NAME\" or \"director NAME\",
 the prefix of every error message.")
 
-(defvar *last-say-item* nil
-  "While a script's items are parsed: the last :say item parsed, which a
-\(:word ...) time refers to (word-sync.lisp).")
+(defvar *say-items* '()
+  "While a script's items are parsed: the :say items parsed so far, newest
+first, which a (:word ...) time refers to (word-sync.lisp).")
 
 (defun script-fail (form control &rest arguments)
   "Signal a SCRIPT-ERROR about FORM, with a message from CONTROL and ARGUMENTS
@@ -288,10 +289,10 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
             (script-fail form ":documentation must be a string"))
           (%make-script :name name :duration duration :loop loop :critical critical
                         :beats (and beats (float beats 1d0))
-                        :items (let ((*last-say-item* nil))
+                        :items (let ((*say-items* '()))
                                  (loop for item in items
                                        for parsed = (parse-script-item item critical duration)
-                                       when (say-item-p parsed) do (setf *last-say-item* parsed)
+                                       when (say-item-p parsed) do (push parsed *say-items*)
                                        collect parsed))
                         :documentation documentation :source source :form form))))))
 
