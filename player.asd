@@ -274,6 +274,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:module "scripts"
                   :serial t
                   :components ((:file "scripts")
+                               (:file "scene-items")
                                (:file "audio-items")
                                (:file "word-sync")
                                (:file "tempo")

@@ -56,33 +56,3 @@ what a :say item drives, so channel and playability checks treat it as one."
       (make-sound-item :at at :until until :form item :path path
                        :sound (handler-case (read-wav path)
                                 (speech-error (error) (script-fail item "~A" error)))))))
-
-;;; ---------------------------------------------------------------------------
-;;; Property types
-
-(defun builtin-property-type (property)
-  "The type of the built-in PROPERTY, or NIL for any other."
-  (second (assoc property *builtin-properties* :test #'name=)))
-
-(defun set-value-kind (value)
-  "The kind of a :set VALUE: :boolean for T and NIL, else its control value kind."
-  (if (member value '(t nil)) :boolean (value-kind-of value)))
-
-(defun check-property-kind (form property type kind &key value animated)
-  "Signal a SCRIPT-ERROR about the item FORM when values of KIND (:number, :vec3,
-:quat or :boolean), set (VALUE, for a range check) or ANIMATED by a control,
-cannot go into PROPERTY of TYPE (NIL when unknown: anything goes)."
-  (let ((item form)
-        (wanted (ecase type
-                  ((nil) kind) (:number :number) ((:vector :colour) :vec3)
-                  (:rotation :quat) (:boolean :boolean))))
-    (cond ((and (eq type :boolean) animated)
-           (script-fail item "~A is a boolean property: set it with :set, it cannot be animated"
-                        (lisp-text property)))
-          ((not (eq kind wanted))
-           (script-fail item "~A is a ~(~A~) property, and this gives it a ~(~A~)"
-                        (lisp-text property) type kind))
-          ((and (eq type :colour) (vec3-p value)
-                (notevery (lambda (x) (<= 0 x 1)) (list (vec3-x value) (vec3-y value) (vec3-z value))))
-           (script-fail item "~A is a colour: each of red, green and blue must lie in [0, 1]"
-                        (lisp-text property))))))

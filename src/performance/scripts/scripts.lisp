@@ -219,28 +219,9 @@ only to a copy, when a script is played at a tempo: tempo.lisp.)"
   (frame nil :read-only t)
   (call nil :read-only t))
 
-(defstruct (animate-item (:include script-item))
-  "A CONTROL bound to OBJECT's PROPERTY; control time 0 is the item's start."
-  (object nil :type symbol :read-only t)
-  (property nil :type symbol :read-only t)
-  (control nil :read-only t))
-
-(defstruct (set-item (:include script-item))
-  "OBJECT's PROPERTY set to VALUE (a double-float, VEC3, QUAT, T or NIL)."
-  (object nil :type symbol :read-only t)
-  (property nil :type symbol :read-only t)
-  (value nil :read-only t))
-
 (defstruct (play-item (:include script-item))
   "The script named SCRIPT played with its timeline starting at the item's start."
   (script nil :type symbol :read-only t))
-
-(defstruct (attach-item (:include script-item))
-  "OBJECT reparented to PARENT (NIL, an object's name or (OBJECT JOINT-OR-ROLE)),
-keeping its world placement when KEEP-WORLD."
-  (object nil :type symbol :read-only t)
-  (parent nil :read-only t)
-  (keep-world t :type boolean :read-only t))
 
 (defun script-item-end (item)
   "Where ITEM ends on its script's timeline when it has a :for, else NIL."
@@ -368,39 +349,6 @@ the :for value as seconds or NIL."
                              (spec-error (error)
                                (script-fail item "~A" (spec-error-message error)))))))
 
-(defun parse-object-property (item target)
-  "The OBJECT and PROPERTY of TARGET, (OBJECT PROPERTY), as two values."
-  (unless (and (alexandria:proper-list-p target) (= (length target) 2)
-               (or (eq (first target) :self) (usable-name-p (first target)))
-               (usable-name-p (second target)))
-    (script-fail item "a property is written (OBJECT PROPERTY), OBJECT a name or :self, not ~A"
-                 (lisp-text target)))
-  (values (first target) (second target)))
-
-(defun parse-animate-item (item at arguments)
-  "(:at T :animate (OBJECT PROPERTY) CONTROL [:for D])."
-  (multiple-value-bind (parts options until) (item-parts item arguments 2 '(:for))
-    (declare (ignore options))
-    (multiple-value-bind (object property) (parse-object-property item (first parts))
-      (let ((control (handler-case (parse-control (second parts))
-                       (anim-error (error) (script-fail item "bad control: ~A" error)))))
-        (check-property-kind item property (builtin-property-type property) (control-kind control)
-                             :animated t)
-        (make-animate-item :at at :until until :form item
-                           :object object :property property :control control)))))
-
-(defun parse-set-item (item at arguments)
-  "(:at T :set (OBJECT PROPERTY) VALUE)."
-  (destructuring-bind (target value) (item-parts item arguments 2 '())
-    (multiple-value-bind (object property) (parse-object-property item target)
-      (let ((value (if (member value '(t nil))
-                       value
-                       (handler-case (parse-value value)
-                         (anim-error (error) (script-fail item "bad value: ~A" error))))))
-        (check-property-kind item property (builtin-property-type property) (set-value-kind value)
-                             :value value)
-        (make-set-item :at at :form item :object object :property property :value value)))))
-
 (defun parse-play-item (item at arguments)
   "(:at T :play SCRIPT [:for D]); the library checks that SCRIPT exists."
   (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:for))
@@ -408,31 +356,3 @@ the :for value as seconds or NIL."
     (unless (usable-name-p (first parts))
       (script-fail item ":play takes the name of a script, not ~A" (lisp-text (first parts))))
     (make-play-item :at at :until until :form item :script (first parts))))
-
-(defun parse-attach-item (item at arguments)
-  "(:at T :attach OBJECT :to PARENT [:keep-world BOOLEAN])."
-  (multiple-value-bind (parts options) (item-parts item arguments 1 '(:to :keep-world))
-    (let ((object (first parts))
-          (keep-world (getf options :keep-world t)))
-      (unless (or (eq object :self) (usable-name-p object))
-        (script-fail item ":attach takes an object's name or :self, not ~A" (lisp-text object)))
-      (unless (member :to options)
-        (script-fail item ":attach needs :to PARENT (NIL for the scene root)"))
-      (unless (member keep-world '(t nil))
-        (script-fail item ":keep-world must be T or NIL, not ~A" (lisp-text keep-world)))
-      (make-attach-item :at at :form item :object object :keep-world keep-world
-                        :parent (parse-object-parent item (getf options :to))))))
-
-(defun parse-object-parent (form parent)
-  "PARENT if it is NIL, an object's name, or (OBJECT JOINT-OR-ROLE) with a joint's
-name or a role of *SKELETON-ROLES*; else a SCRIPT-ERROR about FORM."
-  (cond ((or (null parent) (usable-name-p parent)) parent)
-        ((not (and (alexandria:proper-list-p parent) (= (length parent) 2)
-                   (or (eq (first parent) :self) (usable-name-p (first parent)))
-                   (second parent) (symbolp (second parent))))
-         (script-fail form "a parent is an object's name, (OBJECT JOINT-OR-ROLE) or NIL, not ~A"
-                      (lisp-text parent)))
-        ((and (keywordp (second parent)) (not (assoc (second parent) *skeleton-roles*)))
-         (script-fail form "unknown role ~A (roles: ~{~A~^ ~})" (lisp-text (second parent))
-                      (mapcar (lambda (entry) (lisp-text (car entry))) *skeleton-roles*)))
-        (t parent)))
