@@ -18,9 +18,9 @@
 that sends a Player event (the body presenter's controller); SENT lists
 \(TIME EVENT) sent, newest first.  WATCHES holds the property watches, each
 \(DIRECTOR . HELD), checked up to HORIZON seconds; STATE-WATCHES the state
-ones, each (DIRECTOR CUBES . HELD).  DEPTH counts directors starting each
-other in one chain."
-  (send nil) (sent '()) (watches :unset) (horizon nil) (state-watches '()) (depth 0))
+ones, each (DIRECTOR CUBES . HELD), BITS the state they were last checked
+in.  DEPTH counts directors starting each other in one chain."
+  (send nil) (sent '()) (watches :unset) (horizon nil) (state-watches '()) (depth 0) (bits nil))
 
 (defun performance-reactions (performance)
   "PERFORMANCE's REACTIONS, made on first use."
@@ -28,9 +28,11 @@ other in one chain."
       (setf (performance-reaction-state performance) (make-reactions))))
 
 (defun reactive-directors (library kind)
-  "LIBRARY's directors whose trigger is of KIND (:when, :on or :after)."
-  (loop for director being the hash-values of (script-library-directors library)
-        when (eq kind (first (director-trigger director))) collect director))
+  "LIBRARY's directors whose trigger is of KIND (:when, :on or :after), in
+file order (so directors fired together start in the order written)."
+  (loop for definition in (script-library-definitions library)
+        when (and (director-p definition) (eq kind (first (director-trigger definition))))
+          collect definition))
 
 ;;;# Property expressions
 
@@ -172,6 +174,7 @@ the start does not start them twice)."
   "Make PERFORMANCE watch its (:when STATE-EXPRESSION) directors' expressions
 in SPEC, holding or not in the one-hot state BITS; a SCRIPT-ERROR at the
 director for an expression that is not one of SPEC's."
+  (setf (reactions-bits (performance-reactions performance)) bits)
   (setf (reactions-state-watches (performance-reactions performance))
         (loop for director in (reactive-directors (performance-library performance) :when)
               for expression = (second (director-trigger director))
@@ -192,6 +195,7 @@ director for an expression that is not one of SPEC's."
 (defun check-state-reactions (performance bits time)
   "Start each (:when STATE-EXPRESSION) director whose expression has become
 true in the state BITS, reached at TIME."
+  (setf (reactions-bits (performance-reactions performance)) bits)
   (dolist (watch (reactions-state-watches (performance-reactions performance)))
     (destructuring-bind (director cubes . held) watch
       (let ((holds (cubes-hold-p cubes bits)))
@@ -222,7 +226,7 @@ true in the state BITS, reached at TIME."
   "Signal a SCRIPT-ERROR for a director of PERFORMANCE's library that waits
 \(:on) for, or sends, an event SPEC does not have."
   (let ((events (mapcar #'event-name (spec-events spec))))
-    (loop for director being the hash-values of (script-library-directors (performance-library performance))
+    (loop for director in (remove-if-not #'director-p (script-library-definitions (performance-library performance)))
           do (flet ((check (event form)
                       (unless (member event events :test #'name=)
                         (script-fail form "director ~A: spec ~A has no event ~A"
@@ -233,3 +237,12 @@ true in the state BITS, reached at TIME."
                (dolist (step (director-steps director))
                  (when (send-step-p step)
                    (check (send-step-event step) (director-step-form step))))))))
+
+(defun reactions-library-changed (performance spec)
+  "PERFORMANCE plays a new library (live reloading): watch its directors'
+expressions from now on, in SPEC, as they hold in the last state seen."
+  (let ((reactions (performance-reactions performance)))
+    (setf (reactions-watches reactions) :unset)
+    (when (reactions-bits reactions)
+      (watch-state-reactions performance spec (reactions-bits reactions))
+      (check-director-events performance spec))))
