@@ -162,3 +162,19 @@
       (player:send-event controller 'ev-light)
       (is (equal '(0d0) (run-starts performance 'cheer)) "the new director reacts")
       (is (null (run-starts performance 'glow)) "the old ones are gone"))))
+
+(test check-reports-what-reactive-directors-name-that-the-spec-lacks
+  (with-reactive-spec (spec)
+    (flet ((diagnostics (&rest forms)
+             (player.performance::script-diagnostics
+              spec (player.performance::parse-script-library-forms (append *reactive-library-forms* forms)))))
+      (is (notany #'player.performance::diagnostic-error-p (diagnostics)) "the library as it is: no error")
+      (let ((found (diagnostics '(defdirector d (:on ev-nonesuch) (:start glow)))))
+        (is (some (lambda (d) (and (player.performance::diagnostic-error-p d)
+                                   (search "has no event ev-nonesuch" (player:diagnostic-message d))))
+                  found)
+            "~A" (mapcar #'player:diagnostic-message found)))
+      ;; A reactive director's scripts must play on the body, as an op's must.
+      (let ((found (diagnostics '(defscript bend (:duration 1) (:at 0 :motor (:keyframe :keys ((0 ((r_elbow x 500)))))))
+                                '(defdirector bender (:when lit) (:start bend)))))
+        (is (some #'player.performance::diagnostic-error-p found) "~A" (mapcar #'player:diagnostic-message found))))))

@@ -170,23 +170,32 @@ the start does not start them twice)."
             (start-reactive-director performance (car watch) time))
           (setf (cdr watch) holds))))))
 
+(defun director-state-cubes (director spec)
+  "The cubes in SPEC of DIRECTOR's (:when STATE-EXPRESSION); a SCRIPT-ERROR
+at the director when it is not a state expression of SPEC."
+  (let ((expression (second (director-trigger director))))
+    (handler-case
+        (with-spec-context (:spec spec :spec-name (spec-name spec) :form-places nil)
+          (expression-cubes (parse-expression expression) spec))
+      (spec-error (condition)
+        (script-fail (director-form director) "director ~A: ~A is not a state expression of spec ~A: ~A"
+                     (lisp-text (director-name director)) (lisp-text expression)
+                     (lisp-text (spec-name spec)) (spec-error-message condition))))))
+
+(defun state-directors (library)
+  "LIBRARY's (:when STATE-EXPRESSION) directors."
+  (remove-if (lambda (director) (property-expression-p (second (director-trigger director))))
+             (reactive-directors library :when)))
+
 (defun watch-state-reactions (performance spec bits)
   "Make PERFORMANCE watch its (:when STATE-EXPRESSION) directors' expressions
 in SPEC, holding or not in the one-hot state BITS; a SCRIPT-ERROR at the
 director for an expression that is not one of SPEC's."
   (setf (reactions-bits (performance-reactions performance)) bits)
   (setf (reactions-state-watches (performance-reactions performance))
-        (loop for director in (reactive-directors (performance-library performance) :when)
-              for expression = (second (director-trigger director))
-              unless (property-expression-p expression)
-                collect (let ((cubes (handler-case
-                                         (with-spec-context (:spec spec :spec-name (spec-name spec) :form-places nil)
-                                           (expression-cubes (parse-expression expression) spec))
-                                       (spec-error (condition)
-                                         (script-fail (director-form director) "director ~A: ~A is not a state expression of spec ~A: ~A"
-                                                      (lisp-text (director-name director)) (lisp-text expression)
-                                                      (lisp-text (spec-name spec)) (spec-error-message condition))))))
-                          (list* director cubes (cubes-hold-p cubes bits))))))
+        (loop for director in (state-directors (performance-library performance))
+              collect (let ((cubes (director-state-cubes director spec)))
+                        (list* director cubes (cubes-hold-p cubes bits))))))
 
 (defun cubes-hold-p (cubes bits)
   "Does the one-hot state BITS lie in one of CUBES?"
@@ -208,7 +217,7 @@ true in the state BITS, reached at TIME."
 (defmethod present-initial-state :after ((presenter body-presenter) controller)
   (let ((performance (presenter-performance presenter)))
     (watch-state-reactions performance (spec-of controller) (controller-bits controller))
-    (check-director-events performance (spec-of controller))
+    (check-director-events (performance-library performance) (spec-of controller))
     (setf (reactions-send (performance-reactions performance))
           (lambda (event time)
             ;; A timed controller takes events from now on; the untimed one at any time.
@@ -222,11 +231,11 @@ true in the state BITS, reached at TIME."
 (defmethod present-state-change :after ((presenter body-presenter) controller time)
   (check-state-reactions (presenter-performance presenter) (controller-bits controller) time))
 
-(defun check-director-events (performance spec)
-  "Signal a SCRIPT-ERROR for a director of PERFORMANCE's library that waits
-\(:on) for, or sends, an event SPEC does not have."
+(defun check-director-events (library spec)
+  "Signal a SCRIPT-ERROR for a director of LIBRARY that waits (:on) for, or
+sends, an event SPEC does not have."
   (let ((events (mapcar #'event-name (spec-events spec))))
-    (loop for director in (remove-if-not #'director-p (script-library-definitions (performance-library performance)))
+    (loop for director in (remove-if-not #'director-p (script-library-definitions library))
           do (flet ((check (event form)
                       (unless (member event events :test #'name=)
                         (script-fail form "director ~A: spec ~A has no event ~A"
@@ -238,6 +247,19 @@ true in the state BITS, reached at TIME."
                  (when (send-step-p step)
                    (check (send-step-event step) (director-step-form step))))))))
 
+(defun check-reactive-directors (library spec)
+  "Signal a SCRIPT-ERROR for the first director of LIBRARY whose trigger or
+:send names what SPEC lacks: what CHECK reports, and playing would fail on."
+  (check-director-events library spec)
+  (dolist (director (state-directors library))
+    (director-state-cubes director spec)))
+
+(defun reactive-director-names (library)
+  "The names of LIBRARY's directors that start by themselves (a trigger)."
+  (loop for definition in (script-library-definitions library)
+        when (and (director-p definition) (director-trigger definition))
+          collect (director-name definition)))
+
 (defun reactions-library-changed (performance spec)
   "PERFORMANCE plays a new library (live reloading): watch its directors'
 expressions from now on, in SPEC, as they hold in the last state seen."
@@ -245,4 +267,4 @@ expressions from now on, in SPEC, as they hold in the last state seen."
     (setf (reactions-watches reactions) :unset)
     (when (reactions-bits reactions)
       (watch-state-reactions performance spec (reactions-bits reactions))
-      (check-director-events performance spec))))
+      (check-director-events (performance-library performance) spec))))
