@@ -177,8 +177,8 @@
         "ten minutes of music under a 3 s track costs what 2 s of it do")))
 
 (test the-viewer-silences-a-track-once-it-is-cut
-  ;; A stand-in player that plays for 30 s: sh -c 'sleep 30' FILE.
-  (let ((player.speech::*audio-players* '(("sh" "-c" "sleep 30")))
+  ;; A stand-in player that plays for 30 s: sh -c 'exec sleep 30' FILE.
+  (let ((player.speech::*audio-players* '(("sh" "-c" "exec sleep 30")))
         (player.speech::*playing-clips* '())
         (clip (player::make-clip 0d0 (player::make-sound (make-array 100 :element-type '(signed-byte 16)
                                                                          :initial-element 0)
@@ -192,3 +192,31 @@
       (player.speech::stop-cut-clips 5)
       (is (not (sb-ext:process-alive-p process)) "cut at 4 s: silenced at 5 s")
       (is (null player.speech::*playing-clips*)))))
+
+(test the-viewer-ducks-the-music-under-a-voice
+  (let* ((player.speech::*audio-players* '(("sh" "-c" "exec sleep 30")))
+         (player.speech::*playing-clips* '())
+         (rate 22050)
+         (music (player::make-clip 0d0 (player::make-sound (make-array (* 10 rate) :element-type '(signed-byte 16)
+                                                                                     :initial-element 8000)
+                                                           rate)
+                                   nil "music" :music))
+         (voice (player::make-clip 2d0 (player::make-sound (make-array rate :element-type '(signed-byte 16)
+                                                                            :initial-element 0)
+                                                           rate)
+                                   nil "hi" :voice))
+         (first-process (player.speech::play-clip-now music)))
+    (player.speech::play-clip-now voice)
+    (let ((entry (find music player.speech::*playing-clips* :key #'first)))
+      (is (not (sb-ext:process-alive-p first-process)) "the music restarted, ducked")
+      (is-true entry)
+      (when entry
+        (let ((samples (player::sound-samples (player::read-wav (third entry)))))
+          ;; It restarts at 2 s: its first half second is under the voice.
+          (is (= (* 8 rate) (length samples)))
+          (is (< (abs (- (aref samples (round (* 0.5 rate))) (* 8000 player.speech::*duck-gain*))) 2))
+          (is (= 8000 (aref samples (* 2 rate))) "full again after the voice"))))
+    (dolist (entry player.speech::*playing-clips*)
+      (setf (player.speech::clip-cut (first entry)) 0d0))
+    (player.speech::stop-cut-clips 1)
+    (is (null player.speech::*playing-clips*))))
