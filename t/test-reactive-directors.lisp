@@ -111,6 +111,9 @@
                ((defdirector d (:when (frob (:property ball y) 1)) (:start glow)) "is not part of a property expression")
                ((defdirector d (:on ev-wave)) "at least one step")
                ((defdirector d (:after nonesuch) (:start glow)) "the library has no director nonesuch")
+               ((defdirector d (:when (> (:property ball . y) 1)) (:start glow)) "a property is read as")
+               ((defdirector d (:start glow) (:set (ball visible))) "a :set step is")
+               ((defdirector d (:start glow) (:send ev-wave :at)) "must be :keyword value pairs")
                ((defdirector d (:send 3)) ":send takes the name of a Player event")
                ((defdirector d (:set (ball) 1)) "a property is written"))
         do (let ((text (handler-case (progn (player.performance::parse-script-library-forms

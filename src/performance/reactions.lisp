@@ -43,7 +43,8 @@ file order (so directors fired together start in the order written)."
   "Does EXPRESSION read a scene property, (:property OBJECT PROPERTY [AXIS])?"
   (and (consp expression)
        (or (eq (first expression) :property)
-           (some #'property-expression-p (rest expression)))))
+           (and (alexandria:proper-list-p expression)
+                (some #'property-expression-p (rest expression))))))
 
 (defun check-property-expression (form expression)
   "Signal a SCRIPT-ERROR about FORM unless EXPRESSION, when it reads a
