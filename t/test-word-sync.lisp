@@ -47,6 +47,13 @@
       (is (< (abs (- (+ 0.5 length) (player::script-duration script))) 1d-9)
           "the script lasts ~,3F s, the speech ends at ~,3F s" (player::script-duration script) (+ 0.5 length)))))
 
+(test an-unknown-voice-is-an-error-at-its-item
+  (with-espeak
+    (let ((text (handler-case (progn (word-library '(:at 0 :say "hello" :voice "xx-nonesuch")) nil)
+                  (player::script-error (e) (princ-to-string e)))))
+      (is (and text (search "has no voice xx-nonesuch" text) (search ":voice \"xx-nonesuch\"" text))
+          "~A" text))))
+
 (test items-start-on-the-words-they-name
   (with-espeak
     (let* ((library (word-library `(:at 0.5 :say ,*raitt-line*)

@@ -17,9 +17,11 @@
 
 (defun say-item-length (item)
   "How long the :say ITEM speaks, in seconds, or NIL when no speech library is
-here to say (then its script's inferred duration counts only its start)."
+here to say (then its script's inferred duration counts only its start).
+A SCRIPT-ERROR about ITEM when espeak-ng refuses it (an unknown voice)."
   (handler-case (utterance-duration (say-item-utterance item))
-    (speech-unavailable () nil)))
+    (speech-unavailable () nil)
+    (speech-error (error) (script-fail (script-item-form item) "~A" error))))
 
 (defun word-sync-form-p (time)
   "Is the item time TIME a word sync point, (:word ...)?"
