@@ -220,3 +220,32 @@
       (setf (player.speech::clip-cut (first entry)) 0d0))
     (player.speech::stop-cut-clips 1)
     (is (null player.speech::*playing-clips*))))
+
+(defun op-line-times (text op)
+  "The :start and :end of the trace line (:op OP ...) in TEXT, as two values."
+  (let ((line (find-if (lambda (line) (alexandria:starts-with-subseq (format nil "(:op ~(~A~) " op) line))
+                       (lines text))))
+    (when line
+      (let ((form (let ((*read-eval* nil) (*package* (find-package '#:keyword))) (read-from-string line))))
+        (values (getf (cddr form) :start) (getf (cddr form) :end))))))
+
+(test chat-render-puts-the-music-into-speech-wav
+  (if (not (and (espeak-available-p) (player.base::find-executable "sox")))
+      (skip "libespeak-ng or sox is missing: the rendered music not tested")
+      (let ((out (speech-file "chat-music/")))
+        (multiple-value-bind (text err code)
+            (player-command-with-input (format nil "hi~%play something by madonna~%stop~%")
+                                       "chat" "specs/peedy-dialogue.lisp" "--render" out "--fps" "4" "--size" "64x48")
+          (is (= 0 code) "~A" err)
+          (multiple-value-bind (play-start play-end) (op-line-times text 'play-cd)
+            (multiple-value-bind (stop-start stop-end) (op-line-times text 'stop-cd)
+              (is (and play-end stop-end) "~A" text)
+              (when (and play-end stop-end)
+                (let ((sound (read-wav (format nil "~Aspeech.wav" out))))
+                  (is (< (loudness sound play-start (- play-end 0.1)) 50) "no music while the CD goes in")
+                  (is (< 1000 (loudness sound (+ stop-start 0.1) (- stop-end 0.1)))
+                      "the music plays while he reaches for stop")
+                  ;; The render ends after his last words ("OK, the music is off."):
+                  ;; had the music not stopped, it would sound there.
+                  (let ((end (player::sound-duration sound)))
+                    (is (< (loudness sound (- end 0.15) end) 50) "and stops with the CD"))))))))))
