@@ -114,8 +114,8 @@
                                   (0.75 ((tail y -10))) (1 ((tail y 0))))
                            :priority 5)))
 
-(defscript bob-head (:duration 0.8 :loop t
-                     :documentation "Headphones on: the head bobs to the music, eyes half closed.")
+(defscript bob-head (:duration 0.8 :loop t :beats 2
+                     :documentation "Headphones on: the head bobs to the music (two nods a loop, at its tempo), eyes half closed.")
   (:at 0 :motor (:keyframe :keys ((0 ((neck x 2) (head x -2) (:left-upper-lid close 25) (:right-upper-lid close 25)))
                                   (0.2 ((neck x 14) (head x 6)))
                                   (0.4 ((neck x 2) (head x -2)))
