@@ -130,7 +130,20 @@
                       "it starts when the CD is in, as Peedy answers (~A, ~A)" (player.speech::clip-start music) answer))
                 (is (= (or (player.dialogue::track-tempo track) (player.speech::title-tempo (player.dialogue::track-title track)))
                        (player::performance-tempo performance (+ 0.1 (player.speech::clip-start music))))
-                    "its tempo leads the tap-foot"))
+                    "its tempo leads the tap-foot")
+                (let ((tap (find "tap-foot" (player.performance::performance-runs performance)
+                                 :key (lambda (run) (string (player.performance::script-name
+                                                             (player.performance::script-run-script run))))
+                                 :test #'string-equal))
+                      (tempo (player::performance-tempo performance (+ 0.1 (player.speech::clip-start music)))))
+                  (is-true tap "music-playing: Peedy taps his foot")
+                  (when (and tap tempo)
+                    (is (< (abs (- (/ 120d0 tempo)
+                                   (player::script-duration
+                                    (player.performance::run-iteration-script
+                                     performance tap (+ 0.1 (player.speech::clip-start music))))))
+                           1d-9)
+                        "two taps a loop, at ~A beats a minute" tempo))))
               (speaker-wait speaker controller)
               (conversation-hear conversation "stop")
               (when music
