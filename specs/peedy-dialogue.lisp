@@ -108,21 +108,21 @@
       :do ((do peSearch) (genTracks) (doSelect) (queueTrack) (say queued)))
   (on stPlaying evPlayTrack :if (and timeref (> cnt0 0)) :do ((do peSearch) (queueTrack) (say queued)))
   (on * evPlayTrack :if (= cnt0 0) :to stAttending :do ((do peSearch) (do ev-not-found) (say noTrack)))
-  (on * evPlayTrack :to stPlaying :do ((do peSearch) (clearQueue) (do pePlay) (mood happy) (say playing)))
-  (on stPlaying evTrackEnded :if (> queued 0) :do ((playNext) (do pePlay) (say playing)))
-  (on stPlaying evTrackEnded :to stAttending :do ((say trackOver)))
+  (on * evPlayTrack :to stPlaying :do ((do peSearch) (clearQueue) (do pePlay) (playMusic) (mood happy) (say playing)))
+  (on stPlaying evTrackEnded :if (> queued 0) :do ((playNext) (do pePlay) (playMusic) (say playing)))
+  (on stPlaying evTrackEnded :to stAttending :do ((stopMusic) (say trackOver)))
   (on * evPlayArtist :if (= cnt0 0) :to stAttending :do ((do peSearch) (do ev-not-found) (say noCD)))
   (on * evPlayArtist :to stPlaying
-      :do ((do peSearch) (genTracks) (doSelect) (clearQueue) (do pePlay) (mood happy) (say playing)))
+      :do ((do peSearch) (genTracks) (doSelect) (clearQueue) (do pePlay) (playMusic) (mood happy) (say playing)))
   (on stGotCD evOK :to stSuggested :do ((do pePickTrack) (genTracks) (doSelect) (say suggestTrack))) ; Figure 7
   (on stGotCD evNo :to stAttending :do ((do ev-confirm) (say maybeLater)))
-  (on stSuggested evOK :to stPlaying :do ((do pePlay) (mood happy) (say playing)))
+  (on stSuggested evOK :to stPlaying :do ((do pePlay) (playMusic) (mood happy) (say playing)))
   (on stSuggested evNo :do ((do pePickTrack) (doSelect) (say suggestOther)))
   (on * evOK :do ((do ev-think) (say whatToPlay)))
   (on * evNo :do ((do ev-confirm) (say whatToPlay)))
   (on * evWhoWroteTrack :if (= cnt0 1) :do ((do ev-point) (say composer)))     ; Figure 8
   (on * evWhoWroteTrack :if (= cnt0 0) :do ((do ev-no) (say dontKnow)))
-  (on stPlaying evStop :to stAttending :do ((clearQueue) (do ev-stop) (say stopped)))
+  (on stPlaying evStop :to stAttending :do ((clearQueue) (do ev-stop) (stopMusic) (say stopped)))
   (on * evStop :do ((do ev-no) (say nothingPlays)))
   (on stPlaying evThanks :do ((do peThanks) (say welcome)))
   (on * evThanks :to stIdle :do ((do peThanks) (say welcome)))
@@ -135,7 +135,7 @@
 
   (template greeting 1 "Hi! What would you like to hear?")
   (template haveCD 0.25 "I have <=Title> from <=Year>.")
-  (template haveCD 0.333 "I've got <=Title>.")
+  (template haveCD 0.333 "I've got <!point><=Title>.")
   (template haveCD 0.5 "I've got <=Title>, would you like to hear something from that?")
   (template haveCD 1 "I have <=Title> from <=Year>, would you like to hear something from that?")
   (template haveCDAgain 1 "<=Artist> again? I still have <=Title>, would you like to hear something from that?")
@@ -145,7 +145,7 @@
   (template suggestTrack 1 "Would you like to hear <=track>?")
   (template suggestOther 1 "Then how about <=track>?")
   (template playing 0.25 "Crank it up! Here is <=track>." :limit :conversation)  ; once per conversation
-  (template playing 1 "Here is <=track>.")
+  (template playing 1 "Here is <!beat><=track>.")     ; <!beat>: a beat lands on the title
   (template noTrack 1 "Sorry, I can't find that one.")
   (template queued 1 "After this one, <=track>.")
   (template trackOver 1 "That was the last track.")

@@ -105,8 +105,8 @@
                        :documentation "Wing beats in flight: down, up, down again.")
   (:at 0 :motor (:keyframe :keys ((0 fly-down) (0.2 fly-up) (0.4 fly-down)) :priority 5)))
 
-(defscript tap-foot (:duration 1 :loop t
-                     :documentation "Music is playing: the right toes tap the beat, the tail wags with it.")
+(defscript tap-foot (:duration 1 :loop t :beats 2
+                     :documentation "Music is playing: the right toes tap the beat (two a loop, at the track's tempo), the tail wags with it.")
   (:at 0 :motor (:keyframe :keys ((0 ((r_foot curl 40))) (0.12 ((r_foot curl 5))) (0.25 ((r_foot curl 40)))
                                   (0.62 ((r_foot curl 5))) (0.75 ((r_foot curl 40))) (1 ((r_foot curl 40))))
                            :priority 5))
@@ -114,8 +114,8 @@
                                   (0.75 ((tail y -10))) (1 ((tail y 0))))
                            :priority 5)))
 
-(defscript bob-head (:duration 0.8 :loop t
-                     :documentation "Headphones on: the head bobs to the music, eyes half closed.")
+(defscript bob-head (:duration 0.8 :loop t :beats 2
+                     :documentation "Headphones on: the head bobs to the music (two nods a loop, at its tempo), eyes half closed.")
   (:at 0 :motor (:keyframe :keys ((0 ((neck x 2) (head x -2) (:left-upper-lid close 25) (:right-upper-lid close 25)))
                                   (0.2 ((neck x 14) (head x 6)))
                                   (0.4 ((neck x 2) (head x -2)))

@@ -69,7 +69,7 @@
    #:phoneme-viseme #:read-wav #:recognize-sound #:recognize-wav #:sound #:sound-duration
    #:sound-rate #:sound-samples #:speech-error #:speech-unavailable #:synthesize-speech
    #:utterance #:utterance-duration #:utterance-phonemes #:utterance-sound #:utterance-text
-   #:utterance-visemes #:write-wav)
+   #:utterance-visemes #:utterance-word-time #:utterance-words #:write-wav #:track-tune)
   (:import-from #:player.model
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint
    #:import-model #:model-error #:model-error-file #:model-library-missing
@@ -118,7 +118,7 @@
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
    #:map-simulation-frames #:perform-director #:perform-script #:performance-audio
    #:performance-body #:performance-clips #:performance-frame #:performance-play-sound
-   #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
+   #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
    #:script-critical-time #:script-duration #:script-error #:simulate
    #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation
    #:simulation-frame-times #:simulation-critical-times)
@@ -148,7 +148,7 @@
    #:define-dialogue-action #:dialogue #:dialogue-error #:dialogue-initial-state
    #:dialogue-jsgf #:dialogue-name #:dialogue-not-understood #:dialogue-p
    #:dialogue-player-initial #:dialogue-player-spec #:dialogue-presenter
-   #:dialogue-state-names #:episodic-memory #:expand-template #:find-dialogue
+   #:dialogue-state-names #:episodic-memory #:expand-template #:find-dialogue #:gesture-marks #:*music-function* #:speaker-play-music #:track-sound
    #:load-dialogue #:load-memory #:make-conversation #:make-memory #:make-speaker
    #:make-text-presenter #:match-utterance #:explain-utterance #:memory-conversations #:memory-log #:memory-mood
    #:memory-user #:present-input #:present-transition #:present-utterance #:save-memory
@@ -202,6 +202,8 @@
    #:load-script-library #:script-error #:find-script #:find-director #:script-duration
    #:script-critical-time #:director-schedule
    #:make-performance #:perform-script #:perform-director #:stop-script-run
+   #:performance-signal #:performance-sent-events
+   #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:track-tune
    #:performance-frame #:performance-body #:performance-scene
    #:body-presenter #:make-body-presenter #:play-script #:presenter-performance
    #:simulate #:controller-simulation #:write-simulation #:map-simulation-frames #:simulation-frame-count
@@ -210,6 +212,7 @@
    ;; Speech: synthesis, sounds, the audio track, recognition
    #:synthesize-speech #:utterance #:utterance-text #:utterance-sound #:utterance-phonemes
    #:utterance-duration #:utterance-visemes #:phoneme-viseme #:*default-voice* #:*default-speech-rate*
+   #:utterance-words #:utterance-word-time
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
    #:performance-say #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
@@ -327,7 +330,8 @@
    #:text-presenter #:make-text-presenter
    #:speaker #:make-speaker #:speaker-say #:speaker-listen #:speaker-wait #:speaker-end #:speaker-lines
    #:speaker-say-function #:with-speaker #:call-with-speaker
-   #:define-dialogue-action #:choose-template #:expand-template
+   #:define-dialogue-action #:choose-template #:expand-template #:gesture-marks
+   #:*music-function* #:speaker-play-music #:track-sound
    #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
    #:memory-user #:memory-mood #:memory-conversations #:memory-log))
 

@@ -113,3 +113,34 @@ set too; Figure 4's \"play before you accuse me by clapton\"): `track`, its
   "Forget the queued tracks (a new request, or the music stopped)."
   (setf (context-value conversation "queue") '()
         (context-value conversation "queued") 0))
+
+;;;# The music: the jukebox plays the track
+
+(defvar *music-function* nil
+  "NIL, or a function of (COMMAND TRACK CONVERSATION) that plays the music:
+COMMAND :play starts TRACK (stopping what played), :stop stops it (TRACK
+NIL).  A SPEAKER binds it (speaking.lisp), so the music sounds on the
+performance; without one the jukebox only says what it plays.")
+
+(defun track-sound (track)
+  "TRACK's sound and tempo: its WAV file when the catalogue names one, else
+its own tune (TRACK-TUNE, made by sox once); the tempo is the catalogue's,
+else the tune's.  Signals SPEECH-ERROR when the sound cannot be had."
+  (let ((tempo (or (track-tempo track) (title-tempo (track-title track)))))
+    (values (if (track-wav track)
+                (read-wav (track-wav track))
+                (track-tune (track-title track) :tempo tempo))
+            tempo)))
+
+(define-dialogue-action playMusic (conversation)
+  "The jukebox plays `track` (what played before stops): `playing` is the
+track now sounding."
+  (let ((track (context-value conversation "track")))
+    (when (track-p track)
+      (setf (context-value conversation "playing") track)
+      (when *music-function* (funcall *music-function* :play track conversation)))))
+
+(define-dialogue-action stopMusic (conversation)
+  "The jukebox stops: `playing` is unset."
+  (setf (context-value conversation "playing") nil)
+  (when *music-function* (funcall *music-function* :stop nil conversation)))

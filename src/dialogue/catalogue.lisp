@@ -1,7 +1,9 @@
 ;;;; catalogue.lisp -- the music the jukebox knows: CDs with artist, year and
 ;;;; tracks.  A catalogue is data, written as (cd ID :title T :artist A :year Y
-;;;; :tracks (TRACK...)) forms, a TRACK being a title or (TITLE :composer C)
-;;;; when someone other than the CD's artist wrote it.  The forms may stand in
+;;;; :tracks (TRACK...)) forms, a TRACK being a title or (TITLE [:composer C]
+;;;; [:wav "FILE.wav"] [:tempo BPM]): :composer when someone other than the
+;;;; CD's artist wrote it, :wav its sound (beside the file holding the form;
+;;;; else a tune of its own is made, music.lisp), :tempo its beats a minute.  The forms may stand in
 ;;;; a defdialogue or in a catalogue file; queries over them are dialogue
 ;;;; actions (catalogue-actions.lisp).
 
@@ -12,8 +14,9 @@
   id title artist year (tracks '()))
 
 (defstruct (track (:constructor %make-track))
-  "A track: its TITLE, its COMPOSER (a string) and the CD it is on."
-  title composer cd)
+  "A track: its TITLE, its COMPOSER (a string), the CD it is on, its WAV file
+\(a pathname, or NIL for a made tune) and TEMPO (beats a minute, or NIL)."
+  title composer cd wav tempo)
 
 (defmethod print-object ((cd cd) stream)
   (print-unreadable-object (cd stream :type t) (write-string (cd-title cd) stream)))
@@ -46,16 +49,31 @@ a DIALOGUE-ERROR naming FORM when it is malformed."
       cd)))
 
 (defun parse-track (entry cd form)
-  "The track ENTRY of CD describes: a title string, or (TITLE :composer C)."
-  (destructuring-bind (title &key (composer (cd-artist cd)))
-      (if (and (alexandria:proper-list-p entry) (stringp (first entry))
-               (member (length entry) '(1 3)) (or (null (cdr entry)) (eq (second entry) :composer)))
-          entry
-          (list entry))
-    (unless (and (stringp title) (text-words title) (stringp composer) (text-words composer))
-      (dialogue-fail form "a track is a title string or (\"TITLE\" :composer \"NAME\"), not ~A"
-                     (bounded-lisp-text entry 80)))
-    (%make-track :title title :composer composer :cd cd)))
+  "The track ENTRY of CD describes: a title string, or (TITLE [:composer C]
+[:wav \"FILE\"] [:tempo BPM]).  A DIALOGUE-ERROR naming FORM when it is
+malformed or its WAV file does not exist."
+  (flet ((bad ()
+           (dialogue-fail form "a track is a title string or (\"TITLE\" [:composer \"NAME\"] [:wav \"FILE.wav\"] [:tempo BPM]), not ~A"
+                          (bounded-lisp-text entry 80))))
+    (unless (or (stringp entry)
+                (and (alexandria:proper-list-p entry) (stringp (first entry)) (oddp (length entry))
+                     (loop for (key) on (rest entry) by #'cddr always (member key '(:composer :wav :tempo)))))
+      (bad))
+    (destructuring-bind (title &key (composer (cd-artist cd)) wav tempo) (alexandria:ensure-list entry)
+      (unless (and (text-words title) (stringp composer) (text-words composer)
+                   (or (null wav) (and (stringp wav) (plusp (length wav))))
+                   (or (null tempo) (and (integerp tempo) (<= 30 tempo 300))))
+        (bad))
+      (%make-track :title title :composer composer :cd cd :tempo tempo
+                   :wav (and wav (track-wav-file wav title form))))))
+
+(defun track-wav-file (file title form)
+  "The WAV FILE of the track TITLE, beside the file holding FORM; a
+DIALOGUE-ERROR naming FORM when it does not exist."
+  (let* ((place (and (hash-table-p *form-places*) (gethash form *form-places*)))
+         (path (merge-pathnames file (or (car place) *default-pathname-defaults*))))
+    (or (probe-file path)
+        (dialogue-fail form "track ~S: its WAV file ~A does not exist" title (namestring path)))))
 
 (defun read-catalogue-file (file)
   "The CDs of the catalogue FILE, read as data: it may hold only in-package and

@@ -94,11 +94,12 @@ to the conversation's controller, recording them for the turn."
   "Say a template of CATEGORY: choose one by the cascade, expand it, remember
 it, tell the presenter and *SAY-FUNCTION*; return the text."
   (let* ((template (choose-template conversation category))
-         (text (expand-template template conversation)))
+         (marked (expand-template-marked template conversation))
+         (text (values (gesture-marks marked))))       ; the speaker lands the marks' gestures
     (remember (conversation-memory conversation) :said
               :category (display-name (template-category template)) :template (template-index template) :text text)
     (when (conversation-turn conversation)
       (alexandria:appendf (turn-utterances (conversation-turn conversation)) (list text)))
     (present-utterance (conversation-presenter conversation) conversation text category)
-    (when *say-function* (funcall *say-function* text conversation))
+    (when *say-function* (funcall *say-function* marked conversation))
     text))

@@ -14,7 +14,7 @@
    #:define-dialogue #:define-dialogue-action #:dialogue #:dialogue-error
    #:dialogue-initial-state #:dialogue-jsgf #:dialogue-name #:dialogue-not-understood
    #:dialogue-p #:dialogue-player-initial #:dialogue-player-spec #:dialogue-presenter
-   #:dialogue-state-names #:display-name #:episodic-memory #:expand-template #:explain-utterance
+   #:dialogue-state-names #:display-name #:episodic-memory #:expand-template #:gesture-marks #:*music-function* #:speaker-play-music #:track-sound #:explain-utterance
    #:find-dialogue #:load-dialogue #:load-memory #:make-conversation #:make-memory
    #:make-speaker #:make-text-presenter #:match-utterance #:memory-conversations
    #:memory-log #:memory-mood #:memory-user #:present-input #:present-transition

@@ -11,8 +11,10 @@
   "Speaks a conversation on PERFORMANCE: espeak-ng's VOICE and RATE (NIL: the
 defaults), PAUSE seconds of quiet after each speech, FREE-AT the time the
 track is free again (the last speech's end plus PAUSE), and LINES, what was
-said or heard, newest first, as (START END TEXT WHO), WHO :peedy or :user."
-  performance voice rate (pause 0.4d0 :type double-float) (free-at 0d0 :type double-float) (lines '()))
+said or heard, newest first, as (START END TEXT WHO), WHO :peedy or :user;
+MUSIC the run of the music playing, or NIL."
+  performance voice rate (pause 0.4d0 :type double-float) (free-at 0d0 :type double-float) (lines '())
+  (music nil))
 
 (defun make-speaker (performance &key voice rate (pause 0.4))
   "A SPEAKER saying a conversation on PERFORMANCE (a body presenter's
@@ -37,12 +39,15 @@ later when the track is still busy."
 
 (defun speaker-say (speaker text controller)
   "Say TEXT on SPEAKER's performance at CONTROLLER's clock (after any speech
-still sounding): the beak moves and the sound goes on the track.  Returns
-the time the speech ends.  Signals what SYNTHESIZE-SPEECH signals."
-  (let* ((start (speaker-start-time speaker controller))
-         (duration (performance-say (speaker-performance speaker) text :at start
-                                    :voice (speaker-voice speaker) :rate (speaker-rate speaker))))
-    (speaker-add-line speaker start duration text :peedy)))
+still sounding): the beak moves and the sound goes on the track, and each
+gesture mark of TEXT (<!beat>, <!point>: GESTURE-MARKS) lands its gesture on
+the word after it.  Returns the time the speech ends.  Signals what
+SYNTHESIZE-SPEECH signals."
+  (multiple-value-bind (plain gestures) (gesture-marks text)
+    (let* ((start (speaker-start-time speaker controller))
+           (duration (performance-say (speaker-performance speaker) plain :at start :gestures gestures
+                                      :voice (speaker-voice speaker) :rate (speaker-rate speaker))))
+      (speaker-add-line speaker start duration plain :peedy))))
 
 (defun speaker-listen (speaker sound label controller)
   "Put the user's spoken request SOUND (LABEL: its file) on SPEAKER's track at
@@ -77,13 +82,34 @@ conversation's controller has reached."
         (dialogue-fail nil "a speaker needs a conversation with a Player controller (make-conversation :controller ...)"))
       (speaker-say speaker text controller))))
 
+(defun speaker-play-music (speaker command track controller)
+  "Play TRACK (COMMAND :play) or stop the music (:stop) on SPEAKER's
+performance at CONTROLLER's time: the track's sound goes on the track as
+music, ducked under the voices, and its tempo leads the scripts of :beats.
+What played before stops there.  Signals what TRACK-SOUND signals."
+  (let ((performance (speaker-performance speaker))
+        (time (float (controller-time controller) 1d0)))
+    (when (speaker-music speaker)
+      (performance-stop-music performance (speaker-music speaker) time)
+      (setf (speaker-music speaker) nil))
+    (when (eq command :play)
+      (multiple-value-bind (sound tempo) (track-sound track)
+        (setf (speaker-music speaker)
+              (performance-play-music performance sound :at time :tempo tempo
+                                                        :label (track-title track)))))))
+
 (defmacro with-speaker ((speaker) &body body)
-  "Run BODY with Peedy's replies said by SPEAKER (NIL: not said)."
+  "Run BODY with Peedy's replies said, and the music played, by SPEAKER (NIL: neither)."
   `(call-with-speaker ,speaker (lambda () ,@body)))
 
 (defun call-with-speaker (speaker function)
-  "Call FUNCTION with *SAY-FUNCTION* saying through SPEAKER, when SPEAKER is not NIL."
+  "Call FUNCTION with *SAY-FUNCTION* and *MUSIC-FUNCTION* going through
+SPEAKER, when SPEAKER is not NIL."
   (if speaker
-      (let ((*say-function* (speaker-say-function speaker)))
+      (let ((*say-function* (speaker-say-function speaker))
+            (*music-function* (lambda (command track conversation)
+                                (let ((controller (conversation-controller conversation)))
+                                  (when controller
+                                    (speaker-play-music speaker command track controller))))))
         (funcall function))
       (funcall function)))

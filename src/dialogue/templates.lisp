@@ -48,8 +48,17 @@ a list as \"A, B and C\", a number plainly, a name in lower case."
 
 (defun expand-template (template conversation)
   "TEMPLATE's text with each <=Var> replaced by the context variable Var's
-value; a DIALOGUE-ERROR naming the template when Var is unset."
+value, without its gesture marks; the gestures they ask for are the second
+value (see GESTURE-MARKS).  A DIALOGUE-ERROR naming the template when Var is
+unset or a mark is unknown."
+  (gesture-marks (expand-template-marked template conversation) template))
+
+(defun expand-template-marked (template conversation)
+  "As EXPAND-TEMPLATE, but the gesture marks (<!beat>, <!point>) stay in the
+text, for the speaker to land (GESTURE-MARKS); an unknown one is a
+DIALOGUE-ERROR here."
   (let ((text (template-text template)))
+    (gesture-marks text template)
     (with-output-to-string (out)
       (loop with start = 0
             for open = (search "<=" text :start2 start)
@@ -65,3 +74,45 @@ value; a DIALOGUE-ERROR naming the template when Var is unset."
                  (write-string (template-value-text value) out))
                (setf start (1+ close))
             finally (write-string text out :start start)))))
+
+;;;# Gestures on words: <!beat> and <!point>
+
+(defparameter *gesture-marks* '(("beat" . :beat) ("point" . :point))
+  "The marks a template may put before a word, <!NAME>, and the gesture
+\(of the performance's *WORD-GESTURES*) each lands on that word.")
+
+(defun count-words (text &key (start 0) (end (length text)))
+  "How many words (runs of non-blank characters holding a letter or digit) TEXT has between START and END."
+  (let ((count 0) (in-word nil) (alphanumeric nil))
+    (loop for i from start below end
+          for c = (char text i)
+          do (cond ((member c '(#\Space #\Tab #\Newline))
+                    (when (and in-word alphanumeric) (incf count))
+                    (setf in-word nil alphanumeric nil))
+                   (t (setf in-word t)
+                      (when (alphanumericp c) (setf alphanumeric t))))
+          finally (when (and in-word alphanumeric) (incf count)))
+    count))
+
+(defun gesture-marks (text &optional template)
+  "TEXT without its gesture marks, and the gestures they ask for as a second
+value, ((WORD-NUMBER GESTURE) ...), WORD-NUMBER counting from 1 the word the
+mark stands before.  An unknown mark is a DIALOGUE-ERROR naming TEMPLATE."
+  (let ((plain (make-array (length text) :element-type 'character :fill-pointer 0))
+        (gestures '()))
+    (with-output-to-string (out plain)
+      (loop with start = 0
+            for open = (search "<!" text :start2 start)
+            for close = (and open (position #\> text :start (+ open 2)))
+            while close
+            do (write-string text out :start start :end open)
+               (let* ((name (subseq text (+ open 2) close))
+                      (gesture (cdr (assoc name *gesture-marks* :test #'string-equal))))
+                 (unless gesture
+                   (dialogue-fail (and template (template-form template))
+                                  "unknown gesture mark <!~A> (known: ~{<!~A>~^ ~})" name
+                                  (mapcar #'car *gesture-marks*)))
+                 (push (list (1+ (count-words plain)) gesture) gestures))
+               (setf start (1+ close))
+            finally (write-string text out :start start)))
+    (values (coerce plain 'simple-string) (nreverse gestures))))

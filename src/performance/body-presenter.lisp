@@ -182,7 +182,8 @@ stops halfway on it."
   (let ((failure (first (check-library-scripts
                          (performance-library performance)
                          (character-spec-skeleton (first (performance-characters performance)))
-                         (spec-script-names spec)
+                         (append (spec-script-names spec)
+                                 (reactive-director-names (performance-library performance)))
                          :characters (list (performance-character performance))
                          :poses (performance-poses performance)))))
     (when failure
@@ -314,7 +315,7 @@ that disagree.  NIL when SPEC names no library."
     (let ((library (handler-case (spec-script-library spec :scripts scripts)
                      (spec-error (condition)
                        (return-from script-diagnostics (list (library-failure-diagnostic condition)))))))
-      (let* ((needed (spec-script-names spec))
+      (let* ((needed (append (spec-script-names spec) (reactive-director-names library)))
              (placeholders (missing-placeholder-names library spec))
              (missing (set-difference (missing-scripts library needed) placeholders :test #'string-equal))
              (skeleton (values (character-skeleton (library-character-body library spec nil))))
@@ -323,7 +324,9 @@ that disagree.  NIL when SPEC names no library."
                                                             :fallback (shipped-pose-library skeleton))
                            (spec-error (condition)
                              (return-from script-diagnostics (list (library-failure-diagnostic condition))))))))
-        (append (handler-case (progn (check-starting-poses library spec skeleton poses) '())
+        (append (handler-case (progn (check-starting-poses library spec skeleton poses)
+                                     (check-reactive-directors library spec)
+                                     '())
                   (spec-error (condition) (list (library-failure-diagnostic condition))))
                 (check-library-scripts library skeleton needed
                                        :characters (list (spec-name spec)) :poses poses)

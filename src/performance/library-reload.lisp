@@ -47,4 +47,5 @@ there is no file to read."
          (poses (checked-script-library spec performance library)))
     (setf (slot-value performance 'library) library
           (performance-poses performance) poses)
+    (reactions-library-changed performance spec)
     library))

@@ -18,6 +18,7 @@ The rest is what the current replay has made of it."
   (settles nil :read-only t)
   (settled nil)
   (iterations 0 :type fixnum)
+  (next-begin nil)
   (drivers '())
   (bindings '())
   (children '())
@@ -75,6 +76,10 @@ would hang from the world from a group object, its stage, at ORIGIN.")
              :documentation "CAPTIONs shown over the frames, newest first (see captions.lisp).")
    (settle-targets :initform '() :accessor performance-settle-targets
                    :documentation "SETTLE-TARGETs, oldest first: when the first character's settled pose changes (settle.lisp).")
+   (tempi :initform '() :accessor performance-tempi
+          :documentation "((TIME . BPM) ...), newest first: the music's tempo from TIME on (BPM NIL: none).")
+   (reaction-state :initform nil :accessor performance-reaction-state
+                   :documentation "What its reactive directors need (reactions.lisp), made on first use.")
    (settle-state :initform nil :accessor replay-settle-state
                  :documentation "The SETTLE-TARGET in force in the replay, and those still to come.")
    ;; The replay: rebuilt from the runs whenever time goes back.
@@ -192,18 +197,20 @@ the time last shown); returns RUN."
 
 (defun perform-director (performance name start &key body settle)
   "Start the director NAME at START: its scripts at the times its schedule gives
-\(each settling when over, with SETTLE: see PERFORM-SCRIPT).
-Returns its duration (NIL when it loops for ever)."
+\(each settling when over, with SETTLE: see PERFORM-SCRIPT), its :set and
+:send steps at theirs, and, once it ends, the directors written (:after NAME)
+\(reactions.lisp).  Returns its duration (NIL when it loops for ever)."
   (check-argument 'perform-director 'performance performance #'performance-p "a performance (from make-performance)")
   (check-argument 'perform-director 'name name #'string-designator-p "a director's name (a symbol or string)")
   (check-seconds 'perform-director 'start start)
   (when body (check-body-name 'perform-director performance body))
-  (multiple-value-bind (schedule duration)
-      (director-schedule (find-director (performance-library performance) name t)
-                         (performance-library performance) start)
-    (loop for (script script-start script-stop) in schedule
-          do (perform-script performance script script-start :stop script-stop :body body :settle settle))
-    duration))
+  (let ((director (find-director (performance-library performance) name t)))
+    (multiple-value-bind (schedule duration actions)
+        (director-schedule director (performance-library performance) start)
+      (loop for (script script-start script-stop) in schedule
+            do (perform-script performance script script-start :stop script-stop :body body :settle settle))
+      (director-started performance director (float start 1d0) duration actions)
+      duration)))
 
 (defun stop-script-run (performance run time)
   "Stop RUN (and what it started) at TIME."
@@ -291,6 +298,7 @@ Returns its duration (NIL when it loops for ever)."
 (defun reset-run (run)
   "Forget what an earlier replay made of RUN."
   (setf (script-run-iterations run) 0
+        (script-run-next-begin run) nil
         (script-run-settled run) nil
         (script-run-drivers run) '()
         (script-run-bindings run) '()
@@ -329,23 +337,26 @@ chain's last joint)."
     (expand-run performance run time)))
 
 (defun expand-run (performance run time)
-  "Add RUN's cues for its iterations starting at or before TIME (and before its stop)."
-  (let* ((script (script-run-script run))
-         (duration (script-duration script)))
-    (loop for k = (script-run-iterations run)
-          for begin = (+ (script-run-start run) (* k duration))
-          while (and (<= begin time)
-                     (or (zerop k) (and (script-run-loop run) (plusp duration)))
-                     (or (null (script-run-stop run)) (< begin (script-run-stop run))))
-          do (incf (script-run-iterations run))
-             ;; Items due at the same time play in the order they are written.
-             (setf (replay-cues performance)
-                   (merge 'list (replay-cues performance)
-                          (stable-sort (loop for item in (script-items script)
-                                             collect (make-cue (+ begin (script-item-at item)) item
-                                                               run (+ begin duration)))
-                                       #'< :key #'cue-time)
-                          #'< :key #'cue-time)))))
+  "Add RUN's cues for its iterations starting at or before TIME (and before
+its stop).  A looping script of :beats takes each iteration at the tempo of
+its start (RUN-ITERATION-SCRIPT, tempo.lisp)."
+  (loop for k = (script-run-iterations run)
+        for begin = (or (script-run-next-begin run) (script-run-start run))
+        for iteration = (run-iteration-script performance run begin)
+        for duration = (script-duration iteration)
+        while (and (<= begin time)
+                   (or (zerop k) (and (script-run-loop run) (plusp duration)))
+                   (or (null (script-run-stop run)) (< begin (script-run-stop run))))
+        do (incf (script-run-iterations run))
+           (setf (script-run-next-begin run) (+ begin duration))
+           ;; Items due at the same time play in the order they are written.
+           (setf (replay-cues performance)
+                 (merge 'list (replay-cues performance)
+                        (stable-sort (loop for item in (script-items iteration)
+                                           collect (make-cue (+ begin (script-item-at item)) item
+                                                             run (+ begin duration)))
+                                     #'< :key #'cue-time)
+                        #'< :key #'cue-time))))
 
 (defun item-end (cue)
   "When CUE's item ends: its :for, its iteration's end, its run's stop, whichever
@@ -460,5 +471,6 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
                  (bring-to performance (cue-time cue))
                  (play-cue performance cue))))))
     (bring-to performance time)
+    (check-property-reactions performance time)
     (setf (scene-caption (performance-scene performance)) (caption-at performance time))
     (performance-scene performance)))

@@ -6,12 +6,6 @@
 
 (in-package #:player.performance)
 
-(defun item-utterance (item)
-  "The utterance of the :say ITEM, synthesised (once per text, voice and rate)."
-  (synthesize-speech (say-item-text item)
-                     :voice (or (say-item-voice item) *default-voice*)
-                     :rate (or (say-item-rate item) *default-speech-rate*)))
-
 (defun add-clip (performance run clip)
   "Put CLIP on PERFORMANCE's track, remembered by RUN so stopping RUN cuts it."
   (push clip (script-run-clips run))
@@ -24,41 +18,87 @@ silent performance plays nothing."
   (unless (performance-silent performance)
     (etypecase item
       (say-item
-       (let* ((utterance (item-utterance item))
+       (let* ((utterance (say-item-utterance item))
               (body (performance-body performance body-name))
               (driver (make-driver (say-item-motor-call (utterance-visemes utterance)) body time :stop end)))
          (push driver (script-run-drivers run))
          (body-add-driver body driver)
-         (add-clip performance run (make-clip time (utterance-sound utterance) end (utterance-text utterance)))))
+         (add-clip performance run (make-clip time (utterance-sound utterance) end (utterance-text utterance) :voice))))
       (sound-item
        (add-clip performance run (make-clip time (sound-item-sound item) end
-                                            (namestring (sound-item-path item))))))))
+                                            (namestring (sound-item-path item)) (sound-item-kind item)))))))
+
+(defparameter *word-gestures*
+  '((:beat 0.15 (:beat :arm :right :times (0.15) :stroke 0.12 :retract 0.25))
+    (:point 0.35 (:reach :arm :right :target :listener :duration 0.35 :hold t) 0.5))
+  "(NAME LEAD FRAME [HOLD]): a gesture a dialogue template or PERFORMANCE-SAY
+lands on a word.  FRAME starts LEAD seconds before the word, so a beat's
+stroke or a point's arrival falls on it; with HOLD it lasts until HOLD
+seconds after the word ends.  The target :LISTENER is the scene's USER
+object, else its CAMERA, else a point ahead of the body.")
 
 ;;;# Saying something on a running performance
 
-(defun performance-say (performance text &key (at 0) voice rate body)
+(defun performance-say (performance text &key (at 0) voice rate body gestures)
   "Make BODY (default: the first character) of PERFORMANCE say TEXT at AT
 seconds: its jaw moves through the utterance's visemes and the sound goes on
 the audio track, as a :say item does.  VOICE and RATE as for
-SYNTHESIZE-SPEECH.  Returns the seconds the speech lasts (0 when PERFORMANCE
-is silent) and the SCRIPT-RUN playing it (STOP-SCRIPT-RUN cuts it short).
-Signals what SYNTHESIZE-SPEECH signals."
+SYNTHESIZE-SPEECH.  GESTURES, ((WORD GESTURE) ...), lands each GESTURE (a
+name of *WORD-GESTURES*, :beat or :point) on a word of TEXT (its number from
+1, or the word itself), as an item timed (:word WORD) does.  Returns the
+seconds the speech lasts (0 when PERFORMANCE is silent) and the SCRIPT-RUN
+playing it (STOP-SCRIPT-RUN cuts it short).  Signals what SYNTHESIZE-SPEECH
+signals."
   (check-argument 'performance-say 'performance performance #'performance-p "a performance (from make-performance)")
   (check-argument 'performance-say 'text text (lambda (x) (and (stringp x) (<= 1 (length x) 2000)))
                   "a string of 1 to 2000 characters")
   (check-seconds 'performance-say :at at :minimum 0)
   (when body (check-body-name 'performance-say performance body))
-  (let* ((duration (if (performance-silent performance)
+  (check-argument 'performance-say :gestures gestures
+                  (lambda (x) (and (alexandria:proper-list-p x)
+                                   (every (lambda (g) (and (alexandria:proper-list-p g) (= 2 (length g))
+                                                           (typep (first g) '(or (integer 1) string))
+                                                           (assoc (second g) *word-gestures*)))
+                                          x)))
+                  "a list of (WORD GESTURE), WORD a word's number from 1 or the word, GESTURE :beat or :point")
+  (let* ((silent (performance-silent performance))
+         (duration (if silent
                        0d0
                        (utterance-duration (synthesize-speech text :voice (or voice *default-voice*)
                                                                    :rate (or rate *default-speech-rate*)))))
          (item (make-say-item :at 0d0 :form (list :at 0 :say text) :text text :voice voice :rate rate))
-         (script (%make-script :name (make-symbol "SAY") :duration duration :items (list item)
+         (script (%make-script :name (make-symbol "SAY") :duration duration
+                               :items (cons item (unless silent
+                                                   (word-gesture-items performance item gestures body)))
                                :form (list :say text))))
     (values duration
             (add-script-run performance
                             (make-script-run script (float at 1d0) nil
                                              (or body (performance-character performance)) nil)))))
+
+;;;# Gestures on words
+
+(defun listener-target (performance)
+  "Where a pointing gesture points in PERFORMANCE's scene: see *WORD-GESTURES*."
+  (let ((scene (performance-scene performance)))
+    (cond ((find-object scene 'user nil) '(:object user))
+          ((find-object scene 'camera nil) '(:object camera))
+          (t '(:point 0 1.2 1.5)))))
+
+(defun word-gesture-items (performance say gestures body)
+  "Motor items that land GESTURES, ((WORD GESTURE) ...), on the words of the
+:say item SAY, each timed as (:at (:word WORD)) would be."
+  (declare (ignore body))
+  (loop for (word name) in gestures
+        for (nil lead frame hold) = (assoc name *word-gestures*)
+        for utterance = (say-item-utterance say)
+        for (start end) = (multiple-value-list (utterance-word-time utterance word))
+        when start
+          collect (let* ((frame (subst (listener-target performance) :listener frame))
+                         (at (max 0d0 (- start lead))))
+                    (make-motor-item :at at :form (list :at (list :word word) :motor frame)
+                                     :until (and hold (- (+ end hold) at))
+                                     :frame frame :call (parse-motor-frame frame)))))
 
 ;;;# Playing a sound on a running performance
 

@@ -242,13 +242,15 @@ viewer of several characters (src/cast/) gathers every member's.")
     (replay-clips (viewer-performance viewer))))
 
 (defun play-new-clips (viewer)
-  "Play the audio clips the performance has started since the last frame; when
-the machine cannot play sound, say so once (the first time something sounds)."
+  "Play the audio clips the performance has started since the last frame, and
+silence those cut by now (the music stopped); when the machine cannot play
+sound, say so once (the first time something sounds)."
+  (stop-cut-clips (viewer-now viewer))
   (dolist (clip (viewer-clips viewer))
     (unless (gethash clip (viewer-clips-played viewer))
       (setf (gethash clip (viewer-clips-played viewer)) t)
       (let ((problem (audio-playback-problem)))
-        (cond ((null problem) (play-sound-now (clip-sound clip)))
+        (cond ((null problem) (play-clip-now clip))
               ((not (viewer-silence-reported viewer))
                (setf (viewer-silence-reported viewer) t)
                (write-live-line *standard-output* "; ~A: playing silently~%" problem)))))))

@@ -9,6 +9,7 @@
 ;;;# Raw bindings (speak_lib.h)
 
 (defconstant +espeak-event-list-terminated+ 0 "espeakEVENT_LIST_TERMINATED: the end of an event list.")
+(defconstant +espeak-event-word+ 1 "espeakEVENT_WORD: a word starts (text_position and length say which).")
 (defconstant +espeak-event-phoneme+ 7 "espeakEVENT_PHONEME: a phoneme starts (with espeakINITIALIZE_PHONEME_EVENTS).")
 (defconstant +espeak-event-msg-terminated+ 6 "espeakEVENT_MSG_TERMINATED: the text is all spoken.")
 (defconstant +audio-output-synchronous+ 2 "AUDIO_OUTPUT_SYNCHRONOUS: espeak_Synth returns when done, samples via the callback.")
@@ -46,7 +47,9 @@
 
 (defvar *synthesis-sink* nil
   "While espeak_Synth runs: a function of a sample vector chunk and the list of
-phoneme events (NAME . MILLISECONDS) that arrived with it.")
+events that arrived with it, each (:phoneme NAME MILLISECONDS) or (:word
+POSITION LENGTH MILLISECONDS), POSITION the word's first character (1-based)
+in the text and LENGTH its characters.")
 
 (defun espeak-event-name (event)
   "The phoneme name in the id field of the espeak_EVENT at the pointer EVENT."
@@ -58,14 +61,17 @@ phoneme events (NAME . MILLISECONDS) that arrived with it.")
             'string)))
 
 (defun espeak-events (events)
-  "The phoneme events in the list the callback got at EVENTS, as (NAME . MILLISECONDS)."
-  (loop for i from 0
-        for event = (cffi:mem-aptr events '(:struct %espeak-event) i)
-        for type = (cffi:foreign-slot-value event '(:struct %espeak-event) 'type)
-        until (= type +espeak-event-list-terminated+)
-        when (= type +espeak-event-phoneme+)
-          collect (cons (espeak-event-name event)
-                        (cffi:foreign-slot-value event '(:struct %espeak-event) 'audio-position))))
+  "The phoneme and word events in the list the callback got at EVENTS, as
+\(:phoneme NAME MILLISECONDS) and (:word POSITION LENGTH MILLISECONDS)."
+  (flet ((slot (event name) (cffi:foreign-slot-value event '(:struct %espeak-event) name)))
+    (loop for i from 0
+          for event = (cffi:mem-aptr events '(:struct %espeak-event) i)
+          for type = (slot event 'type)
+          until (= type +espeak-event-list-terminated+)
+          when (= type +espeak-event-phoneme+)
+            collect (list :phoneme (espeak-event-name event) (slot event 'audio-position))
+          when (= type +espeak-event-word+)
+            collect (list :word (slot event 'text-position) (slot event 'length) (slot event 'audio-position)))))
 
 (cffi:defcallback espeak-synth-callback :int ((wav :pointer) (count :int) (events :pointer))
   ;; A null WAV with the events of the end; returning 0 goes on, 1 aborts.
@@ -112,7 +118,7 @@ or its data (espeak-ng-data) is missing."
 
 (defun espeak-speak (text sink)
   "Synthesise TEXT, calling SINK with each chunk of samples and its phoneme
-events (see *SYNTHESIS-SINK*), and return when all is spoken.  A SPEECH-ERROR
+and word events (see *SYNTHESIS-SINK*), and return when all is spoken.  A SPEECH-ERROR
 when espeak-ng fails."
   (let* ((octets (sb-ext:string-to-octets text :external-format :utf-8 :null-terminate t))
          (status (cffi:with-pointer-to-vector-data (pointer octets)

@@ -13,4 +13,5 @@
    #:read-wav #:recognize-sound #:recognize-wav #:samples #:sound #:sound-duration
    #:sound-p #:sound-rate #:sound-samples #:speech-error #:speech-unavailable
    #:synthesize-speech #:utterance #:utterance-duration #:utterance-phonemes
-   #:utterance-sound #:utterance-text #:utterance-visemes #:wav-fail #:write-wav))
+   #:utterance-sound #:utterance-text #:utterance-visemes #:utterance-word #:utterance-word-time #:utterance-words #:wav-fail #:write-wav
+   #:track-tune #:title-tempo #:clip-kind #:clip-end #:clip-label #:play-clip-now #:stop-cut-clips))

@@ -1,5 +1,6 @@
-;;;; synthesis.lisp -- text to an UTTERANCE: the sound espeak-ng makes and
-;;;; the phoneme timeline its phoneme events give.  Synthesis is
+;;;; synthesis.lisp -- text to an UTTERANCE: the sound espeak-ng makes,
+;;;; the phoneme timeline its phoneme events give and the word timeline its
+;;;; word events give (words.lisp).  Synthesis is
 ;;;; deterministic, so utterances are kept by text, voice and rate.
 
 (in-package #:player.speech)
@@ -9,15 +10,18 @@
   "Words a minute SYNTHESIZE-SPEECH speaks unless told otherwise: a little
 slower than espeak-ng's 175, which pocketsphinx also hears better.")
 
-(defstruct (utterance (:constructor make-utterance (text voice rate sound phonemes)))
+(defstruct (utterance (:constructor make-utterance (text voice rate sound phonemes &optional words)))
   "TEXT spoken by VOICE at RATE words a minute: its SOUND and PHONEMES, a list
 of (NAME START END) in seconds from the start of the sound, in order and
-covering it (NAME is espeak-ng's mnemonic, \"_:\" and the like for pauses)."
+covering it (NAME is espeak-ng's mnemonic, \"_:\" and the like for pauses);
+WORDS, a list of (WORD START END), each word of TEXT as written (without
+the punctuation around it) and when it is spoken."
   (text "" :type string :read-only t)
   (voice "" :type string :read-only t)
   (rate 0 :type integer :read-only t)
   (sound nil :type sound :read-only t)
-  (phonemes '() :type list :read-only t))
+  (phonemes '() :type list :read-only t)
+  (words '() :type list :read-only t))
 
 (defun utterance-duration (utterance)
   "How long UTTERANCE lasts, in seconds."
@@ -29,7 +33,7 @@ covering it (NAME is espeak-ng's mnemonic, \"_:\" and the like for pauses)."
 (defun synthesize-speech (text &key (voice *default-voice*) (rate *default-speech-rate*))
   "TEXT spoken by espeak-ng's VOICE at RATE words a minute (80 to 450), as an
 UTTERANCE kept in memory: 16-bit samples at espeak-ng's rate (22050 Hz) and
-the phoneme timeline from its phoneme events.  The same arguments give the
+the phoneme and word timelines from its events.  The same arguments give the
 same utterance, synthesised once.  Signals SPEECH-UNAVAILABLE when
 libespeak-ng (Debian libespeak-ng1) is missing, a SPEECH-ERROR for an unknown
 voice, an ARGUMENT-ERROR for arguments of the wrong kind."
@@ -52,9 +56,14 @@ voice, an ARGUMENT-ERROR for arguments of the wrong kind."
     (espeak-speak text (lambda (chunk chunk-events)
                          (push chunk chunks)
                          (setf events (revappend chunk-events events))))
+    (setf events (nreverse events))
     (let* ((samples (apply #'concatenate 'samples (reverse chunks)))
-           (sound (make-sound samples sample-rate)))
-      (make-utterance text voice rate sound (phoneme-timeline (nreverse events) (sound-duration sound))))))
+           (sound (make-sound samples sample-rate))
+           (phonemes (phoneme-timeline (loop for (kind name ms) in events
+                                             when (eq kind :phoneme) collect (cons name ms))
+                                       (sound-duration sound))))
+      (make-utterance text voice rate sound phonemes
+                      (word-timeline text (remove :phoneme events :key #'first) phonemes)))))
 
 (defun phoneme-timeline (events duration)
   "The phonemes of EVENTS, (NAME . MILLISECONDS) in order, as (NAME START END):

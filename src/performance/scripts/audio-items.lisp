@@ -5,15 +5,19 @@
 (in-package #:player.performance)
 
 (defstruct (say-item (:include script-item))
-  "TEXT spoken by VOICE (or NIL for the default) at RATE words a minute (or NIL)."
+  "TEXT spoken by VOICE (or NIL for the default) at RATE words a minute (or
+NIL); NAME (or NIL) is what word sync points call it (word-sync.lisp)."
+  (name nil :type symbol :read-only t)
   (text "" :type string :read-only t)
   (voice nil :read-only t)
   (rate nil :read-only t))
 
 (defstruct (sound-item (:include script-item))
-  "The sound effect read from the WAV file PATH."
+  "The sound effect read from the WAV file PATH; KIND :music for music
+\(ducked under voices), else NIL."
   (path nil :read-only t)
-  (sound nil :read-only t))
+  (sound nil :read-only t)
+  (kind nil :read-only t))
 
 ;;; Speech and sounds: the text is checked now, spoken when it plays; a sound
 ;;; file is read now, so a missing one is an error at its line.
@@ -22,9 +26,11 @@
   "While a library is read: the directory its file names (poses, sounds) are relative to.")
 
 (defun parse-say-item (item at arguments)
-  "(:at T :say \"TEXT\" [:voice \"VOICE\"] [:rate WPM] [:for D])."
-  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:voice :rate :for))
-    (destructuring-bind (&key voice rate &allow-other-keys) options
+  "(:at T :say \"TEXT\" [:voice \"VOICE\"] [:rate WPM] [:as NAME] [:for D])."
+  (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:voice :rate :as :for))
+    (destructuring-bind (&key voice rate (as nil as-given) &allow-other-keys) options
+      (when (and as-given (not (usable-name-p as)))
+        (script-fail item ":as takes a name for the speech's word sync points, not ~A" (lisp-text as)))
       (unless (and (stringp (first parts)) (<= 1 (length (first parts)) 2000))
         (script-fail item ":say takes the text to speak, a string of 1 to 2000 characters, not ~A"
                      (argument-value-text (first parts))))
@@ -33,7 +39,7 @@
       (unless (or (null rate) (and (integerp rate) (<= 80 rate 450)))
         (script-fail item ":rate must be an integer from 80 to 450 (words a minute), not ~A"
                      (argument-value-text rate)))
-      (make-say-item :at at :until until :form item :text (first parts) :voice voice :rate rate))))
+      (make-say-item :at at :until until :form item :text (first parts) :voice voice :rate rate :name as))))
 
 (defun say-item-motor-call (visemes)
   "The :lips call that moves the jaw through VISEMES, ((SECONDS VISEME) ...):
@@ -50,33 +56,3 @@ what a :say item drives, so channel and playability checks treat it as one."
       (make-sound-item :at at :until until :form item :path path
                        :sound (handler-case (read-wav path)
                                 (speech-error (error) (script-fail item "~A" error)))))))
-
-;;; ---------------------------------------------------------------------------
-;;; Property types
-
-(defun builtin-property-type (property)
-  "The type of the built-in PROPERTY, or NIL for any other."
-  (second (assoc property *builtin-properties* :test #'name=)))
-
-(defun set-value-kind (value)
-  "The kind of a :set VALUE: :boolean for T and NIL, else its control value kind."
-  (if (member value '(t nil)) :boolean (value-kind-of value)))
-
-(defun check-property-kind (form property type kind &key value animated)
-  "Signal a SCRIPT-ERROR about the item FORM when values of KIND (:number, :vec3,
-:quat or :boolean), set (VALUE, for a range check) or ANIMATED by a control,
-cannot go into PROPERTY of TYPE (NIL when unknown: anything goes)."
-  (let ((item form)
-        (wanted (ecase type
-                  ((nil) kind) (:number :number) ((:vector :colour) :vec3)
-                  (:rotation :quat) (:boolean :boolean))))
-    (cond ((and (eq type :boolean) animated)
-           (script-fail item "~A is a boolean property: set it with :set, it cannot be animated"
-                        (lisp-text property)))
-          ((not (eq kind wanted))
-           (script-fail item "~A is a ~(~A~) property, and this gives it a ~(~A~)"
-                        (lisp-text property) type kind))
-          ((and (eq type :colour) (vec3-p value)
-                (notevery (lambda (x) (<= 0 x 1)) (list (vec3-x value) (vec3-y value) (vec3-z value))))
-           (script-fail item "~A is a colour: each of red, green and blue must lie in [0, 1]"
-                        (lisp-text property))))))

@@ -1,6 +1,8 @@
 ;;;; directors.lisp -- ReActor's directors as data: steps that start and stop
-;;;; scripts in sequence or in synchrony (start B at A's critical time), and
-;;;; their expansion into a schedule of timed script starts for the evaluator.
+;;;; scripts in sequence or in synchrony (start B at A's critical time), set
+;;;; properties and send Player events, and their expansion into a schedule
+;;;; of timed script starts and actions for the evaluator.  A director may
+;;;; name what starts it (:when, :on, :after: reactions.lisp plays those).
 ;;;; The language is described at the top of scripts.lisp.
 
 (in-package #:player.performance)
@@ -9,9 +11,12 @@
 ;;; Data
 
 (defstruct (director (:constructor %make-director))
-  "A director: STEPS (START-STEPs and STOP-STEPs) taken in order.  SOURCE is
-(FILE . POSITION) or NIL, FORM the DEFDIRECTOR form."
+  "A director: STEPS (START-STEPs, STOP-STEPs, SET-STEPs, SEND-STEPs) taken in
+order.  TRIGGER is NIL (ops and other directors start it) or what starts it
+by itself: (:when EXPRESSION), (:on EVENT) or (:after DIRECTOR).  SOURCE is
+\(FILE . POSITION) or NIL, FORM the DEFDIRECTOR form."
   (name nil :type symbol :read-only t)
+  (trigger nil :read-only t)
   (documentation nil :type (or null string) :read-only t)
   (steps '() :type list :read-only t)
   (source nil :read-only t)
@@ -40,6 +45,16 @@ FORM is the step as written."
                       (:constructor make-stop-step (tag when form)))
   "Stop the script started as TAG.")
 
+(defstruct (set-step (:include director-step)
+                     (:constructor make-set-step (item when form)))
+  "Set a property once: ITEM is the SET-ITEM (:at 0 :set (OBJECT PROPERTY) VALUE) would be."
+  (item nil :read-only t))
+
+(defstruct (send-step (:include director-step)
+                      (:constructor make-send-step (event when form)))
+  "Send the Player event EVENT (a symbol) to the controller the performance plays for."
+  (event nil :type symbol :read-only t))
+
 ;;; ---------------------------------------------------------------------------
 ;;; Parsing DEFDIRECTOR
 
@@ -53,21 +68,63 @@ them.  Signals SCRIPT-ERROR naming the bad step."
          (*script-context* (format nil "director ~A" (lisp-text name)))
          (documentation (and (stringp (third form)) (third form)))
          (step-forms (if documentation (cdddr form) (cddr form)))
+         (trigger (and (consp (first step-forms)) (member (first (first step-forms)) '(:when :on :after))
+                       (parse-director-trigger (pop step-forms))))
          (tags '()))
     (when (null step-forms)
       (script-fail form "a director needs at least one step"))
     (%make-director
-     :name name :documentation documentation :source source :form form
+     :name name :documentation documentation :source source :form form :trigger trigger
      :steps (loop for step-form in step-forms
                   for step = (parse-director-step step-form tags)
                   when (start-step-p step) do (push (director-step-tag step) tags)
                   collect step))))
 
+(defun parse-director-trigger (form)
+  "What starts a director, FORM: (:when EXPRESSION), (:on EVENT) or (:after
+DIRECTOR), checked for shape (the expression against the spec when played)."
+  (unless (and (alexandria:proper-list-p form) (= 2 (length form)))
+    (script-fail form "a director's trigger is (:when EXPRESSION), (:on EVENT) or (:after DIRECTOR)"))
+  (destructuring-bind (kind what) form
+    (ecase kind
+      (:when (when (or (null what) (keywordp what) (stringp what) (numberp what))
+               (script-fail form ":when takes a state or property expression, not ~A" (lisp-text what)))
+             (check-property-expression form what))
+      ((:on :after) (unless (usable-name-p what)
+                      (script-fail form "~A takes the name of ~:[a Player event~;a director~], not ~A"
+                                   (lisp-text kind) (eq kind :after) (lisp-text what)))))
+    (list kind what)))
+
 (defun parse-director-step (form tags)
   "The DIRECTOR-STEP FORM denotes, given the TAGS started by earlier steps."
   (unless (and (alexandria:proper-list-p form) (>= (length form) 2)
-               (member (first form) '(:start :stop)))
-    (script-fail form "a director step is (:start SCRIPT [:as TAG] [:at WHEN]) or (:stop TAG [:at WHEN])"))
+               (member (first form) '(:start :stop :set :send)))
+    (script-fail form "a director step is (:start SCRIPT [:as TAG] [:at WHEN]), (:stop TAG [:at WHEN]), ~
+                       (:set (OBJECT PROPERTY) VALUE [:at WHEN]) or (:send EVENT [:at WHEN])"))
+  (case (first form)
+    (:set (parse-set-step form tags))
+    (:send (parse-send-step form tags))
+    (t (parse-script-step form tags))))
+
+(defun parse-set-step (form tags)
+  "(:set (OBJECT PROPERTY) VALUE [:at WHEN]): checked as a :set item is."
+  (unless (>= (length form) 3)
+    (script-fail form "a :set step is (:set (OBJECT PROPERTY) VALUE [:at WHEN])"))
+  (destructuring-bind (target value &rest options) (rest form)
+    (check-options form options '(:at) "a :set step")
+    (make-set-step (parse-set-item (list :at 0 :set target value) 0d0 (list target value))
+                   (parse-when form (getf options :at) tags) form)))
+
+(defun parse-send-step (form tags)
+  "(:send EVENT [:at WHEN]): the event is checked against the spec when played."
+  (destructuring-bind (event &rest options) (rest form)
+    (check-options form options '(:at) "a :send step")
+    (unless (usable-name-p event)
+      (script-fail form ":send takes the name of a Player event, not ~A" (lisp-text event)))
+    (make-send-step event (parse-when form (getf options :at) tags) form)))
+
+(defun parse-script-step (form tags)
+  "(:start SCRIPT [:as TAG] [:at WHEN]) or (:stop TAG [:at WHEN])."
   (destructuring-bind (kind name &rest options) form
     (check-options form options (if (eq kind :start) '(:as :at) '(:at))
                    (format nil "a ~A step" (lisp-text kind)))
@@ -136,7 +193,8 @@ WAITS lists (TIME . WHAT), the moments of it that later steps wait for."
 a list of (SCRIPT-NAME START-TIME STOP-TIME-OR-NIL), in step order, STOP-TIME
 set when a :stop cuts the script short (NIL: it runs to its end, or for ever if
 it loops).  The second value is the director's duration, NIL when a script it
-starts loops unstopped.  Signals SCRIPT-ERROR for an unknown script or critical
+starts loops unstopped.  The third lists its other steps in order, as (TIME
+:set SET-ITEM) and (TIME :send EVENT).  Signals SCRIPT-ERROR for an unknown script or critical
 time, a wait for a looping script's end, or inconsistent stops; ARGUMENT-ERROR
 for arguments of the wrong kind."
   (check-argument 'director-schedule 'director director #'director-p "a director (from find-director)")
@@ -148,6 +206,7 @@ for arguments of the wrong kind."
   (check-seconds 'director-schedule 'start start)
   (let ((*script-context* (format nil "director ~A" (lisp-text (director-name director))))
         (runs '())
+        (actions '())
         (last nil))
     (with-spec-context (:source-position (director-source director))
       (dolist (step (director-steps director))
@@ -160,7 +219,9 @@ for arguments of the wrong kind."
                                          (+ time (script-duration script)))))
                (push last runs)))
             (stop-step
-             (stop-director-run (find-tagged-run step (director-step-tag step) runs) time step)))))
+             (stop-director-run (find-tagged-run step (director-step-tag step) runs) time step))
+            (set-step (push (list (+ start time) :set (set-step-item step)) actions))
+            (send-step (push (list (+ start time) :send (send-step-event step)) actions)))))
       (setf runs (reverse runs))
       (values (mapcar (lambda (run)
                         (let ((stop (director-run-stop run)) (end (director-run-natural-end run)))
@@ -168,7 +229,10 @@ for arguments of the wrong kind."
                                 (and stop (or (null end) (< stop end)) (+ start stop)))))
                       runs)
               (and (every #'director-run-end runs)
-                   (reduce #'max runs :key #'director-run-end :initial-value 0d0))))))
+                   (reduce #'max runs :key #'director-run-end
+                                      :initial-value (reduce #'max actions :key (lambda (a) (- (first a) start))
+                                                                           :initial-value 0d0)))
+              (reverse actions)))))
 
 (defun director-script (step library)
   "The script STEP starts; a SCRIPT-ERROR when LIBRARY has none of that name."

@@ -292,7 +292,11 @@ declared objects and properties, director schedules."
     (dolist (script scripts)
       (check-declared-properties library script))
     (dolist (director (remove-if-not #'director-p (script-library-definitions library)))
-      (director-schedule director library 0))))
+      (director-schedule director library 0)
+      (let ((trigger (director-trigger director)))
+        (when (and (eq (first trigger) :after) (not (find-director library (second trigger))))
+          (script-fail (director-form director) "director ~A: (:after ~A): the library has no director ~A"
+                       (lisp-text (director-name director)) (lisp-text (second trigger)) (lisp-text (second trigger))))))))
 
 (defun check-play-cycles (library script path checked)
   "Signal a SCRIPT-ERROR when SCRIPT, reached by the :play chain PATH (innermost
@@ -332,6 +336,7 @@ checks critical times and looping against it.  Nested cycles were ruled out."
   (let ((at (script-item-at item)))
     (cond ((script-item-end item))
           ((sound-item-p item) (+ at (sound-duration (sound-item-sound item))))
+          ((and (say-item-p item) (say-item-length item)) (+ at (say-item-length item)))
           ((and (motor-item-p item) (clip-item-length library item))
            (+ at (clip-item-length library item)))
           ((play-item-p item)

@@ -12,10 +12,13 @@
 ;;; in the package PLAYER-USER.  Names (of scripts, directors, objects, tags,
 ;;; critical times) are compared by name, case-insensitively.  Times are seconds.
 ;;;
-;;;   (defscript NAME (&key duration loop critical documentation)
+;;;   (defscript NAME (&key duration loop critical beats documentation)
 ;;;     ITEM ...)
 ;;;
-;;; NAME is a non-keyword symbol.  :DURATION is a positive number of seconds;
+;;; NAME is a non-keyword symbol.  :BEATS N says the script spans N beats of
+;;; music: looping, each iteration is stretched to N beats at the tempo of the
+;;; music playing when it begins (tempo.lisp; Peedy's foot taps in time).
+;;; :DURATION is a positive number of seconds;
 ;;; without it the script lasts until the latest end of its items: an item with
 ;;; :for D ends D after its start, a :play without :for when the nested script
 ;;; does, an :animate without :for at the last key of its control when that is
@@ -49,13 +52,18 @@
 ;;;       for a joint of a body (a joint's name or a role such as :right-hand;
 ;;;       OBJECT may be :self), or NIL for the scene root.  With :keep-world T
 ;;;       (the default) OBJECT stays where it is in the world.
-;;;   (:at T :say "TEXT" [:voice "VOICE"] [:rate WPM] [:for D])
+;;;   (:at T :say "TEXT" [:voice "VOICE"] [:rate WPM] [:as NAME] [:for D])
 ;;;       Speak TEXT (espeak-ng; VOICE default "en-us", RATE words a minute,
 ;;;       default 160): the jaw (a parrot's beak) moves through the visemes of
 ;;;       its phonemes, timed by the synthesiser, and the sound goes on the
-;;;       performance's audio track.  Its length is known only once spoken, so
-;;;       for the script's inferred duration it counts its start: give the
-;;;       script a :duration that covers the speech.
+;;;       performance's audio track.  Its length is known before it plays
+;;;       (synthesised when the library is read), so the script's inferred
+;;;       duration covers the whole sentence (without a speech library, only
+;;;       its start).  Its words are sync points: a later item's TIME may be
+;;;       (:word "WORD" [OFFSET]) or (:word N [OFFSET]), when the nearest :say
+;;;       written before it says that word (the first spelt so, ignoring case
+;;;       and punctuation) or its Nth word, plus OFFSET seconds; (:word NAME
+;;;       "WORD" [OFFSET]) names the :say written :as NAME (word-sync.lisp).
 ;;;   (:at T :sound "FILE.wav" [:for D])
 ;;;       Play a sound effect (Persona's snore), a PCM WAV file named relative
 ;;;       to the library file, read when the library is.
@@ -74,13 +82,18 @@
 ;;; No item may start after an explicit :duration, nor end after it with :for;
 ;;; every item ends at the latest with its script (with each iteration).
 ;;;
-;;;   (defdirector NAME [DOCSTRING] STEP ...)
+;;;   (defdirector NAME [DOCSTRING] [TRIGGER] STEP ...)
 ;;;
 ;;; A director starts scripts at times relative to its own start, taking its
 ;;; steps in order:
 ;;;   (:start SCRIPT [:as TAG] [:at WHEN])  start SCRIPT, known to later steps as
 ;;;                                         TAG (default: the script's name)
 ;;;   (:stop TAG [:at WHEN])                stop the script started as TAG
+;;;   (:set (OBJECT PROPERTY) VALUE [:at WHEN])  set a property, as a :set item
+;;;   (:send EVENT [:at WHEN])              send a Player event to the controller
+;;; A TRIGGER, (:when EXPRESSION), (:on EVENT) or (:after DIRECTOR), makes
+;;; it start by itself (reactions.lisp): when a state or property expression
+;;; becomes true, a Player event is processed, or another director ends.
 ;;; WHEN is seconds after the director starts, or one of
 ;;;   (:start TAG [OFFSET])                 when TAG starts
 ;;;   (:critical TAG NAME [OFFSET])         when TAG reaches its critical time NAME
@@ -130,6 +143,10 @@ FORM is the offending item, step or definition; the position names the file."))
   "While a definition is parsed or checked: \"script NAME\" or \"director NAME\",
 the prefix of every error message.")
 
+(defvar *say-items* '()
+  "While a script's items are parsed: the :say items parsed so far, newest
+first, which a (:word ...) time refers to (word-sync.lisp).")
+
 (defun script-fail (form control &rest arguments)
   "Signal a SCRIPT-ERROR about FORM, with a message from CONTROL and ARGUMENTS
 prefixed by *SCRIPT-CONTEXT*."
@@ -177,6 +194,7 @@ the DEFSCRIPT form."
   (duration nil :type (or null double-float))
   (loop nil :type boolean :read-only t)
   (critical '() :type list :read-only t)
+  (beats nil :type (or null double-float) :read-only t)
   (items '() :type list :read-only t)
   (documentation nil :type (or null string) :read-only t)
   (source nil :read-only t)
@@ -190,9 +208,10 @@ the DEFSCRIPT form."
 (defstruct (script-item (:constructor nil))
   "One timed item of a script: it starts AT seconds into the script and lasts
 UNTIL seconds (the :for value), or, when UNTIL is NIL, until the script (the
-iteration) ends.  FORM is the item as written."
-  (at 0d0 :type double-float :read-only t)
-  (until nil :type (or null double-float) :read-only t)
+iteration) ends.  FORM is the item as written.  (AT and UNTIL are written
+only to a copy, when a script is played at a tempo: tempo.lisp.)"
+  (at 0d0 :type double-float)
+  (until nil :type (or null double-float))
   (form nil :read-only t))
 
 (defstruct (motor-item (:include script-item))
@@ -200,28 +219,9 @@ iteration) ends.  FORM is the item as written."
   (frame nil :read-only t)
   (call nil :read-only t))
 
-(defstruct (animate-item (:include script-item))
-  "A CONTROL bound to OBJECT's PROPERTY; control time 0 is the item's start."
-  (object nil :type symbol :read-only t)
-  (property nil :type symbol :read-only t)
-  (control nil :read-only t))
-
-(defstruct (set-item (:include script-item))
-  "OBJECT's PROPERTY set to VALUE (a double-float, VEC3, QUAT, T or NIL)."
-  (object nil :type symbol :read-only t)
-  (property nil :type symbol :read-only t)
-  (value nil :read-only t))
-
 (defstruct (play-item (:include script-item))
   "The script named SCRIPT played with its timeline starting at the item's start."
   (script nil :type symbol :read-only t))
-
-(defstruct (attach-item (:include script-item))
-  "OBJECT reparented to PARENT (NIL, an object's name or (OBJECT JOINT-OR-ROLE)),
-keeping its world placement when KEEP-WORLD."
-  (object nil :type symbol :read-only t)
-  (parent nil :read-only t)
-  (keep-world t :type boolean :read-only t))
 
 (defun script-item-end (item)
   "Where ITEM ends on its script's timeline when it has a :for, else NIL."
@@ -252,11 +252,13 @@ its (FILE . POSITION).  Nested scripts stay names and an omitted duration NIL
 until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
   (unless (and (alexandria:proper-list-p form) (>= (length form) 3)
                (usable-name-p (second form)) (listp (third form)))
-    (script-fail form "a script is written (defscript NAME (&key duration loop critical documentation) ITEM...)"))
+    (script-fail form "a script is written (defscript NAME (&key duration loop critical beats documentation) ITEM...)"))
   (destructuring-bind (name options &rest items) (rest form)
     (let ((*script-context* (format nil "script ~A" (lisp-text name))))
-      (check-options form options '(:duration :loop :critical :documentation) "defscript")
-      (destructuring-bind (&key duration loop critical documentation) options
+      (check-options form options '(:duration :loop :critical :beats :documentation) "defscript")
+      (destructuring-bind (&key duration loop critical beats documentation) options
+        (unless (or (null beats) (and (realp beats) (< 0 beats 1000)))
+          (script-fail form ":beats must be a positive number of beats, not ~A" (argument-value-text beats)))
         (let* ((duration (and duration (parse-seconds duration form ":duration" :positive t)))
                (critical (parse-critical-times critical duration form)))
           (unless (member loop '(t nil))
@@ -267,8 +269,12 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
           (unless (typep documentation '(or null string))
             (script-fail form ":documentation must be a string"))
           (%make-script :name name :duration duration :loop loop :critical critical
-                        :items (mapcar (lambda (item) (parse-script-item item critical duration))
-                                       items)
+                        :beats (and beats (float beats 1d0))
+                        :items (let ((*say-items* '()))
+                                 (loop for item in items
+                                       for parsed = (parse-script-item item critical duration)
+                                       when (say-item-p parsed) do (push parsed *say-items*)
+                                       collect parsed))
                         :documentation documentation :source source :form form))))))
 
 (defun parse-critical-times (critical duration form)
@@ -299,11 +305,12 @@ times and DURATION (NIL when inferred)."
     (script-fail item "an item is written (:at TIME KIND ...) with KIND one of ~{~A~^ ~}"
                  (mapcar #'lisp-text *script-item-kinds*)))
   (destructuring-bind (time kind &rest arguments) (rest item)
-    (let ((at (if (usable-name-p time)
-                  (or (cdr (assoc time critical :test #'name=))
-                      (script-fail item "unknown critical time ~A (known: ~:[none~;~:*~{~A~^ ~}~])"
-                                   (lisp-text time) (mapcar (lambda (e) (lisp-text (car e))) critical)))
-                  (parse-seconds time item "an item's time (or the name of a critical time)"))))
+    (let ((at (cond ((usable-name-p time)
+                     (or (cdr (assoc time critical :test #'name=))
+                         (script-fail item "unknown critical time ~A (known: ~:[none~;~:*~{~A~^ ~}~])"
+                                      (lisp-text time) (mapcar (lambda (e) (lisp-text (car e))) critical))))
+                    ((word-sync-form-p time) (word-sync-time item time))
+                    (t (parse-seconds time item "an item's time (the name of a critical time, or (:word WORD))")))))
       (unless (member kind *script-item-kinds*)
         (script-fail item "unknown item kind ~A (known: ~{~A~^ ~})"
                      (lisp-text kind) (mapcar #'lisp-text *script-item-kinds*)))
@@ -342,39 +349,6 @@ the :for value as seconds or NIL."
                              (spec-error (error)
                                (script-fail item "~A" (spec-error-message error)))))))
 
-(defun parse-object-property (item target)
-  "The OBJECT and PROPERTY of TARGET, (OBJECT PROPERTY), as two values."
-  (unless (and (alexandria:proper-list-p target) (= (length target) 2)
-               (or (eq (first target) :self) (usable-name-p (first target)))
-               (usable-name-p (second target)))
-    (script-fail item "a property is written (OBJECT PROPERTY), OBJECT a name or :self, not ~A"
-                 (lisp-text target)))
-  (values (first target) (second target)))
-
-(defun parse-animate-item (item at arguments)
-  "(:at T :animate (OBJECT PROPERTY) CONTROL [:for D])."
-  (multiple-value-bind (parts options until) (item-parts item arguments 2 '(:for))
-    (declare (ignore options))
-    (multiple-value-bind (object property) (parse-object-property item (first parts))
-      (let ((control (handler-case (parse-control (second parts))
-                       (anim-error (error) (script-fail item "bad control: ~A" error)))))
-        (check-property-kind item property (builtin-property-type property) (control-kind control)
-                             :animated t)
-        (make-animate-item :at at :until until :form item
-                           :object object :property property :control control)))))
-
-(defun parse-set-item (item at arguments)
-  "(:at T :set (OBJECT PROPERTY) VALUE)."
-  (destructuring-bind (target value) (item-parts item arguments 2 '())
-    (multiple-value-bind (object property) (parse-object-property item target)
-      (let ((value (if (member value '(t nil))
-                       value
-                       (handler-case (parse-value value)
-                         (anim-error (error) (script-fail item "bad value: ~A" error))))))
-        (check-property-kind item property (builtin-property-type property) (set-value-kind value)
-                             :value value)
-        (make-set-item :at at :form item :object object :property property :value value)))))
-
 (defun parse-play-item (item at arguments)
   "(:at T :play SCRIPT [:for D]); the library checks that SCRIPT exists."
   (multiple-value-bind (parts options until) (item-parts item arguments 1 '(:for))
@@ -382,31 +356,3 @@ the :for value as seconds or NIL."
     (unless (usable-name-p (first parts))
       (script-fail item ":play takes the name of a script, not ~A" (lisp-text (first parts))))
     (make-play-item :at at :until until :form item :script (first parts))))
-
-(defun parse-attach-item (item at arguments)
-  "(:at T :attach OBJECT :to PARENT [:keep-world BOOLEAN])."
-  (multiple-value-bind (parts options) (item-parts item arguments 1 '(:to :keep-world))
-    (let ((object (first parts))
-          (keep-world (getf options :keep-world t)))
-      (unless (or (eq object :self) (usable-name-p object))
-        (script-fail item ":attach takes an object's name or :self, not ~A" (lisp-text object)))
-      (unless (member :to options)
-        (script-fail item ":attach needs :to PARENT (NIL for the scene root)"))
-      (unless (member keep-world '(t nil))
-        (script-fail item ":keep-world must be T or NIL, not ~A" (lisp-text keep-world)))
-      (make-attach-item :at at :form item :object object :keep-world keep-world
-                        :parent (parse-object-parent item (getf options :to))))))
-
-(defun parse-object-parent (form parent)
-  "PARENT if it is NIL, an object's name, or (OBJECT JOINT-OR-ROLE) with a joint's
-name or a role of *SKELETON-ROLES*; else a SCRIPT-ERROR about FORM."
-  (cond ((or (null parent) (usable-name-p parent)) parent)
-        ((not (and (alexandria:proper-list-p parent) (= (length parent) 2)
-                   (or (eq (first parent) :self) (usable-name-p (first parent)))
-                   (second parent) (symbolp (second parent))))
-         (script-fail form "a parent is an object's name, (OBJECT JOINT-OR-ROLE) or NIL, not ~A"
-                      (lisp-text parent)))
-        ((and (keywordp (second parent)) (not (assoc (second parent) *skeleton-roles*)))
-         (script-fail form "unknown role ~A (roles: ~{~A~^ ~})" (lisp-text (second parent))
-                      (mapcar (lambda (entry) (lisp-text (car entry))) *skeleton-roles*)))
-        (t parent)))
