@@ -27,6 +27,11 @@
    (settling :reader body-settling
              :documentation "Per channel, true when, driven by nobody, it eases to the settled pose instead of holding.")
    (last-owners :reader body-last-owners :documentation "Per channel, the last driver that owned it, or NIL.")
+   (sharers :reader body-sharers
+            :documentation "Per channel, the drivers of equal priority its owner blends with (itself first), or NIL.")
+   (shared :initform nil :accessor body-shared-p :documentation "True when some channel has sharers.")
+   (share-sums :reader body-share-sums :documentation "Per channel, the weighted sum of its sharers' angles.")
+   (share-weights :reader body-share-weights :documentation "Per channel, the sum of its sharers' weights.")
    (transforms :reader body-transforms :documentation "The joints' world transforms at BODY-TIME.")
    (pending :initform '() :accessor body-pending :documentation "Drivers not yet started, by start time.")
    (active :initform '() :accessor body-active :documentation "Started drivers, least precedence first.")
@@ -59,12 +64,16 @@ POSITION and ROTATION place the skeleton's rest frame in the world."))
             ;; A channel nobody ever drove is settled: it follows the settled pose.
             (slot-value body 'settling) (slots t)
             (slot-value body 'last-owners) (slots nil)
+            (slot-value body 'sharers) (slots nil)
+            (slot-value body 'share-sums) (angles)
+            (slot-value body 'share-weights) (angles)
             (slot-value body 'handovers) (make-array count :element-type 'double-float
                                                            :initial-element 0d0)
             (slot-value body 'blends) (make-array count :element-type 'double-float
                                                         :initial-element 0d0)
             (slot-value body 'transforms)
-            (pose-world-transforms skeleton (body-pose body))))))
+            (pose-world-transforms skeleton (body-pose body))))
+    (define-body-properties body)))
 
 (defun make-body (name skeleton &key scene (position (vec3)) (rotation (quat))
                                      (blend-time *default-blend-time*))
@@ -152,7 +161,8 @@ too) and joins the active drivers."
         (add-slave arbitrator driver d))
       (unless (driver-additive-p d)
         (request-channels arbitrator d (driver-channels d)
-                          :priority (driver-priority driver) :time time :blend blend))
+                          :priority (driver-priority driver) :time time :blend blend
+                          :usurp (driver-arg driver :usurp)))
       (setf (body-active body)
             (merge 'list (body-active body) (list d)
                    (lambda (a b) (driver-precedes-p body a b)))))))
@@ -184,7 +194,8 @@ until told to settle; one let go while settling starts settling now."
                                (svref (body-settling body) i) nil))
                   ((svref (body-settling body) i)
                    (setf (aref (body-blends body) i)
-                         (settle-seconds (channel-travel body i)))))))))))
+                         (settle-seconds (channel-travel body i)))))))))
+    (refresh-sharers body time)))
 
 ;;;# Composition
 
@@ -202,9 +213,11 @@ until told to settle; one let go while settling starts settling now."
     (unless (body-birth body)
       (setf (body-birth body) time))
     ;; Geometric drivers read the pose so far, so each sees the writes of those before it.
-    (dolist (driver (body-active body))
-      (unless (driver-additive-p driver)
-        (driver-drive driver time base)))
+    (if (body-shared-p body)
+        (drive-sharing body time base)
+        (dolist (driver (body-active body))
+          (unless (driver-additive-p driver)
+            (drive-owned driver time base))))
     (dotimes (i (length base))
       (let ((owner (svref owners i)))
         (if owner
@@ -218,7 +231,9 @@ until told to settle; one let go while settling starts settling now."
     (replace pose base)
     (dolist (driver (body-active body))
       (when (driver-additive-p driver)
-        (driver-drive driver time pose)))
+        (if (driver-idle-p driver)
+            (drive-idle-layer body driver time pose)
+            (driver-drive driver time pose))))
     (%clamp-pose skeleton pose)
     (pose-world-transforms skeleton pose :placement (object-world-transform body)
                                          :result (body-transforms body))
@@ -240,8 +255,10 @@ is an ARGUMENT-ERROR: make a fresh body to go back."
       (unless kind (return))
       (compose-pose body when)
       (ecase kind
-        (:start (start-driver body driver when))
+        (:start (start-driver body driver when)
+         (take-channel-sets body driver))
         (:finish (finish-driver body driver when)))
+      (lose-channel-sets body when)
       (refresh-owners body when)))
   (compose-pose body time))
 

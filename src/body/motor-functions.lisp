@@ -93,7 +93,13 @@ optionally followed by :offset (X Y Z)?"
 
 (defparameter *common-motor-parameters*
   (list (make-motor-parameter :blend '(:or :non-negative (:member nil)) nil
-                              "seconds to crossfade when this call takes or gives up a channel; NIL for the body's default"))
+                              "seconds to crossfade when this call takes or gives up a channel; NIL for the body's default")
+        (make-motor-parameter :weight :non-negative 1
+                              "how much this call counts where it blends with calls of equal priority on a channel, or how much of its motion an additive call adds")
+        (make-motor-parameter :usurp :boolean nil
+                              "take channels held at an equal priority instead of blending with them")
+        (make-motor-parameter :on-channel-loss '(:member :hand-over :end) :hand-over
+                              "when a higher priority takes one of a set of channels that move together (an arm's chain): :hand-over gives up the whole set, :end ends the call"))
   "Parameters every motor function takes besides its own (and :priority, whose
 default each function declares).")
 

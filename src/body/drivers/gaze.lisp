@@ -164,3 +164,7 @@ fixation (or pursuit, with :track) until stopped (Pantomime's saccade and eyetra
 (defmethod driver-default-blend ((driver gaze-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
   0d0)
+
+(defmethod driver-channel-sets ((driver gaze-driver))
+  ;; Both eyes converge on one point: neither looks alone.
+  (list (driver-channels driver)))

@@ -122,3 +122,7 @@ solution while nothing it depends on has moved."
     (when (and distance (> distance *reach-report-distance*))
       (format nil "reach ~A: target out of reach, ~,3F m short"
               (lisp-text (driver-arg driver :arm)) distance))))
+
+(defmethod driver-channel-sets ((driver reach-driver))
+  ;; The shoulder and elbow solve as one chain: half an arm reaches nowhere.
+  (list (driver-channels driver)))
