@@ -527,5 +527,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; The body agrees with the state (issue 27)
                  (:file "test-settle")
                  ;; Peedy understands paraphrases (issue 28, item 1)
-                 (:file "test-understanding"))))
+                 (:file "test-understanding")
+                 ;; issue 29: layered channels, idle life, the missing drivers
+                 (:file "test-layered-channels"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -139,11 +139,13 @@ its rest pose, placed at POSITION with ROTATION, added to SCENE when given."
 
 (defun driver-precedes-p (body a b)
   "Does A write before B when composing (so B wins a channel both drive)?
-Lower priority first; between equals, the later request first; a slave just
-before its master."
+Lower priority first; between equals, the later request first unless it
+usurps; a slave just before its master."
   (declare (ignore body))
   (let ((pa (driver-priority a)) (pb (driver-priority b)))
-    (if (/= pa pb) (< pa pb) (> (driver-sequence a) (driver-sequence b)))))
+    (cond ((/= pa pb) (< pa pb))
+          ((> (driver-sequence a) (driver-sequence b)) (not (driver-arg a :usurp)))
+          (t (and (driver-arg b :usurp) t)))))
 
 (defun start-driver (body driver time)
   "Start DRIVER at TIME: it captures the pose, requests its channels (its slaves

@@ -33,7 +33,7 @@ so a driver joining or leaving a blend never makes the channel jump."
       (let ((now (channel-sharers arbitrator i)))
         (when now (setf any t))
         (unless (equal now (svref sharers i))
-          (when (eq (first now) (first (svref sharers i)))
+          (unless (= (aref (body-handovers body) i) time)
             ;; A new owner was stamped already by REFRESH-OWNERS.
             (setf (aref (body-held body) i) (aref (body-base body) i)
                   (aref (body-handovers body) i) (float time 1d0)

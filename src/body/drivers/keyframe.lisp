@@ -147,3 +147,12 @@ where a key does not name it, START at :start keys and before the first."
   ;; Keys that begin from the captured start pose need no crossfade; a first
   ;; key at 0 that jumps to a pose keeps the body's, so nothing pops.
   (and (eq (first (keyframe-keys driver)) :start) 0d0))
+
+(defmethod driver-channel-sets ((driver keyframe-driver))
+  ;; Each limb's chain moves as one: keys that shape an arm lose it whole.
+  (let ((skeleton (driver-skeleton driver)))
+    (loop for role in '(:left-arm :right-arm :left-leg :right-leg)
+          for joints = (ensure-list (skeleton-role skeleton role))
+          for set = (remove-if-not (lambda (index) (member (skeleton-dof skeleton index) joints))
+                                   (driver-channels driver))
+          when (rest set) collect set)))
