@@ -103,7 +103,7 @@
    #:body-pose #:body-skeleton #:body-stop-driver #:body-transforms #:channel-blend-weight
    #:channel-owner #:clamp-pose #:control-value #:define-motor-function #:define-property
    #:describe-motor-function #:dof-index #:driver #:driver-additive-p #:driver-arg
-   #:driver-background-p #:driver-idle-p #:driver-channel-sets #:driver-weight #:channel-sharers
+   #:driver-background-p #:driver-idle-p #:driver-channel-sets #:driver-weight #:channel-sharers #:start-idle-life #:idle-life-drivers #:*idle-life-calls*
    #:emotion-mood #:body-mood
    #:driver-begin #:driver-drive #:driver-end-time #:driver-report #:driver-setup
    #:find-joint #:find-object #:joint-world-position #:load-skeleton #:make-arbitrator
@@ -198,7 +198,7 @@
    #:define-motor-function #:parse-motor-frame #:motor-error #:describe-motor-function
    #:motor-function-names #:make-driver #:driver #:driver-setup #:driver-begin #:driver-drive
    #:driver-end-time #:driver-additive-p #:slave-drivers #:driver-report #:driver-arg
-   #:driver-background-p #:driver-idle-p #:driver-channel-sets #:driver-weight #:channel-sharers
+   #:driver-background-p #:driver-idle-p #:driver-channel-sets #:driver-weight #:channel-sharers #:start-idle-life #:idle-life-drivers #:*idle-life-calls*
    #:emotion-mood #:body-mood
    #:resolve-target
    ;; Scripts, directors, performances

@@ -84,6 +84,11 @@ has neither."
   "DRIVER's reflex blink times (absolute, increasing), extended past UNTIL: the
 cumulative sums of its intervals from its start, computed once and cached."
   (let ((times (blink-reflex-times driver)))
+    ;; A forced blink (no :mean-interval): one, at the start.
+    (unless (driver-arg driver :mean-interval)
+      (when (zerop (fill-pointer times))
+        (vector-push-extend (float (driver-start driver) 1d0) times))
+      (return-from reflex-blink-times times))
     (loop while (or (zerop (fill-pointer times))
                     (<= (aref times (1- (fill-pointer times))) until))
           do (let ((index (fill-pointer times)))
@@ -138,19 +143,34 @@ eased shut by the middle, eased open by the end."
 
 (defmethod driver-drive ((driver blink-driver) time pose)
   (let ((closure (blink-closure-at driver time)))
+    (when (driver-idle-p driver)
+      ;; Idle life: shut from wherever the lids are.
+      (loop for index in (driver-channels driver)
+            for shut in (blink-lids driver)
+            do (incf (aref pose index) (* closure (- shut (aref pose index)))))
+      (return-from driver-drive pose))
     (loop for index in (driver-channels driver)
           for shut in (blink-lids driver)
           for open in (blink-open driver)
           do (setf (aref pose index) (+ open (* closure (- shut open)))))))
 
 (define-motor-function :blink blink-driver
-  "The blink reflex: the upper lids close and open at seeded, exponentially
-distributed intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
-  (:mean-interval :positive 4.0 "mean seconds between reflex blinks")
+  "One forced blink (Pantomime's eyeblink); with :mean-interval, the blink
+reflex: the upper lids close and open at seeded, exponentially distributed
+intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
+  (:mean-interval (:or :positive (:member nil)) nil "mean seconds between reflex blinks; NIL blinks once")
+  (:idle :boolean nil "run as idle life: add onto the lids, yielding to any op that holds them")
   (:duration :positive 0.15 "seconds a blink takes, shut at its middle")
   (:seed :non-negative 1 "an integer choosing the sequence of intervals")
   (:on-gaze-shift :boolean t "also blink when a gaze shift starts")
   (:priority :real 50 "arbitration priority; higher wins"))
+
+(defmethod driver-end-time ((driver blink-driver))
+  (unless (driver-arg driver :mean-interval)
+    (+ (driver-start driver) (driver-real driver :duration))))
+
+(defmethod driver-additive-p ((driver blink-driver)) (driver-arg driver :idle))
+(defmethod driver-idle-p ((driver blink-driver)) (driver-arg driver :idle))
 
 (defmethod driver-default-blend ((driver blink-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
