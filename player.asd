@@ -249,6 +249,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "blink")
                                (:file "facing")
                                (:file "eyebrows")
+                               (:file "gesture-space")
                                (:file "reach")
                                (:file "face-morphs")
                                (:file "breathing")
@@ -536,5 +537,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Peedy understands paraphrases (issue 28, item 1)
                  (:file "test-understanding")
                  ;; issue 29: layered channels, idle life, the missing drivers
-                 (:file "test-layered-channels"))))
+                 (:file "test-layered-channels")
+                 (:file "test-idle-life")
+                 (:file "test-new-drivers"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

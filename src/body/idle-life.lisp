@@ -7,7 +7,7 @@
 (in-package #:player.body)
 
 (defparameter *idle-life-calls*
-  '((:blink :mean-interval 4 :idle t)
+  '((:blink :mean-interval 4 :regularity 8 :idle t)
     (:breathe)
     (:saccades)
     (:weight-shift)

@@ -28,7 +28,8 @@ parameter, a missing parameter, a value of the wrong type.  FORM is the frame.")
     (:list alexandria:proper-list-p "a list")
     (:string stringp "a string")
     (:target target-form-p "a target: (:point X Y Z), (:object NAME) or (:joint OBJECT JOINT) [:offset (X Y Z)]")
-    (:vector vector-form-p "three numbers (X Y Z)"))
+    (:vector vector-form-p "three numbers (X Y Z)")
+    (:zone zone-form-p "a gesture-space zone: (:zone NAME), NAME one of :center-center :center :periphery-upper :periphery-lower :periphery-side :extreme-periphery-upper :extreme-periphery-lower :extreme-periphery-side"))
   "The parameter types a motor function may declare: (TYPE PREDICATE DESCRIPTION).
 A type may also be (:member VALUE...) or (:or TYPE...).")
 

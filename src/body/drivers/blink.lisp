@@ -17,11 +17,15 @@ OOPSLA 2014): a pure function of SEED and INDEX."
            (z (u64 (* (logxor z (ash z -27)) #x94D049BB133111EB))))
       (logxor z (ash z -31)))))
 
-(defun blink-interval (seed index mean)
-  "The INDEX-th interval (seconds) between blinks for SEED: exponentially
-distributed with mean MEAN, by inverting the distribution at a uniform draw in [0, 1)."
-  (let ((uniform (* (ash (splitmix64 seed index) -11) (scale-float 1d0 -53))))
-    (* (to-double mean) (- (log (- 1d0 uniform))))))
+(defun blink-interval (seed index mean &optional (regularity 1))
+  "The INDEX-th interval (seconds) between blinks for SEED, with mean MEAN:
+exponentially distributed (by inverting the distribution at a uniform draw in
+[0, 1)), or for a REGULARITY K above 1 the sum of K such draws of mean MEAN/K
+\(a gamma distribution: intervals spread less, about MEAN/sqrt(K) apart)."
+  (flet ((draw (n)
+           (- (log (- 1d0 (* (ash (splitmix64 seed n) -11) (scale-float 1d0 -53)))))))
+    (* (/ (to-double mean) regularity)
+       (loop for j below regularity sum (draw (+ (* index regularity) j))))))
 
 (defun blink-intervals (n &key (seed 1) (mean-interval 4.0))
   "The first N intervals (seconds) between the blinks of a blink driver with
@@ -42,6 +46,8 @@ lid's close DOF's limit, or 1 for a morph target that closes the eyes.")
 its start, and at the start of each later gaze shift, until stopped."))
 
 (defmethod driver-setup ((driver blink-driver))
+  (unless (integerp (driver-arg driver :regularity))
+    (driver-frame-fail driver ":regularity must be a whole number, not ~A" (lisp-text (driver-arg driver :regularity))))
   (unless (integerp (driver-arg driver :seed))
     (motor-fail (motor-call-frame (driver-call driver)) "blink :seed must be an integer, not ~A"
                 (lisp-text (driver-arg driver :seed))))
@@ -94,7 +100,8 @@ cumulative sums of its intervals from its start, computed once and cached."
           do (let ((index (fill-pointer times)))
                (vector-push-extend
                 (+ (if (zerop index) (float (driver-start driver) 1d0) (aref times (1- index)))
-                   (blink-interval (blink-seed driver) index (driver-real driver :mean-interval)))
+                   (blink-interval (blink-seed driver) index (driver-real driver :mean-interval)
+                                   (driver-arg driver :regularity)))
                 times)))
     times))
 
@@ -159,6 +166,7 @@ eased shut by the middle, eased open by the end."
 reflex: the upper lids close and open at seeded, exponentially distributed
 intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
   (:mean-interval (:or :positive (:member nil)) nil "mean seconds between reflex blinks; NIL blinks once")
+  (:regularity :positive 1 "1: exponential intervals (the reflex); a whole K above 1 spreads them less (a gamma of shape K)")
   (:idle :boolean nil "run as idle life: add onto the lids, yielding to any op that holds them")
   (:duration :positive 0.15 "seconds a blink takes, shut at its middle")
   (:seed :non-negative 1 "an integer choosing the sequence of intervals")

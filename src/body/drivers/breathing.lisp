@@ -75,7 +75,8 @@ Returns the phase (cycles) and the depth at TIME."
   (let ((rate (breathing-setting driver :rate 'breathing-rate))
         (depth (breathing-setting driver :depth 'breathing-depth)))
     (cond ((null (breathing-anchor driver))
-           (setf (breathing-anchor driver) time (breathing-rate driver) rate
+           ;; The first breath begins at the start, whenever the body is first looked at.
+           (setf (breathing-anchor driver) (float (driver-start driver) 1d0) (breathing-rate driver) rate
                  (breathing-depth-time driver) time
                  (breathing-depth-from driver) depth (breathing-depth-to driver) depth))
           (t
