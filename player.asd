@@ -255,7 +255,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "breathing")
                                (:file "saccades")
                                (:file "weight-shift")
-                               (:file "hand-relaxer")))
+                               (:file "hand-relaxer")
+                               (:file "leg-swing")))
                  (:file "idle-life")))
    ;; Scripts played on a body: script libraries, directors, the performance, the body presenter, simulation.
    ;; Characters from imported models: skeletons and skins made from a model's joints, clips, retargeting.

@@ -105,3 +105,19 @@
     (is (subsetp '(:blink :breathe :saccades :weight-shift) kinds) "~A" kinds)
     (is (not (member :hand-relaxer kinds)) "a parrot has no fingers to relax")
     (is (closing-times body 20) "his lids blink")))
+
+(defun knee-range (&rest frames)
+  "How far a parrot's left knee moves between 2 and 4.5 s with idle life, after FRAMES (ending by 1 s) shape it."
+  (let ((body (idle-body 'parrot 0)))
+    (dolist (frame frames)
+      (player:body-add-driver body (player:make-driver (player:parse-motor-frame frame) body 0)))
+    (let ((angles (loop for time from 2 to 4.5 by 0.05d0 collect (dof-at body time 'l_knee :x))))
+      (- (reduce #'max angles) (reduce #'min angles)))))
+
+(test peedy-waves-his-legs-while-sitting-awake
+  (let ((sit '(:keyframe :keys ((0 ((l_knee x 45) (r_knee x 45))) (0.5 ((l_knee x 45) (r_knee x 45))))))
+        (doze '(:keyframe :keys ((0 ((:left-upper-lid close 56) (:right-upper-lid close 56)))
+                                 (0.5 ((:left-upper-lid close 56) (:right-upper-lid close 56)))))))
+    (is (> (knee-range sit) 15) "sitting awake, the legs swing (~,2F degrees)" (knee-range sit))
+    (is (< (knee-range) 1d-9) "standing, they do not")
+    (is (< (knee-range sit doze) 1d-9) "dozing, they rest")))

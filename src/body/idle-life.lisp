@@ -11,9 +11,10 @@
     (:breathe)
     (:saccades)
     (:weight-shift)
-    (:hand-relaxer))
+    (:hand-relaxer)
+    (:swing-legs))
   "The motor calls of idle life: blinks (every 4 s on average), breathing, small
-saccades, weight shifts and relaxed hands.")
+saccades, weight shifts, relaxed hands, and legs that swing while sitting awake.")
 
 (defun idle-life-drivers (body start &key (seed 0))
   "Drivers performing *IDLE-LIFE-CALLS* on BODY from START, those its skeleton
