@@ -32,6 +32,7 @@
    (shared :initform nil :accessor body-shared-p :documentation "True when some channel has sharers.")
    (share-sums :reader body-share-sums :documentation "Per channel, the weighted sum of its sharers' angles.")
    (share-weights :reader body-share-weights :documentation "Per channel, the sum of its sharers' weights.")
+   (scratch :reader body-scratch :documentation "Per channel, room for an angle an idle driver is about to change.")
    (transforms :reader body-transforms :documentation "The joints' world transforms at BODY-TIME.")
    (pending :initform '() :accessor body-pending :documentation "Drivers not yet started, by start time.")
    (active :initform '() :accessor body-active :documentation "Started drivers, least precedence first.")
@@ -67,6 +68,7 @@ POSITION and ROTATION place the skeleton's rest frame in the world."))
             (slot-value body 'sharers) (slots nil)
             (slot-value body 'share-sums) (angles)
             (slot-value body 'share-weights) (angles)
+            (slot-value body 'scratch) (angles)
             (slot-value body 'handovers) (make-array count :element-type 'double-float
                                                            :initial-element 0d0)
             (slot-value body 'blends) (make-array count :element-type 'double-float
@@ -220,15 +222,26 @@ until told to settle; one let go while settling starts settling now."
         (dolist (driver (body-active body))
           (unless (driver-additive-p driver)
             (drive-owned driver time base))))
-    (dotimes (i (length base))
-      (let ((owner (svref owners i)))
-        (if owner
-            (let* ((blend (aref (body-blends body) i))
-                   (u (if (<= blend 0d0)
-                          1d0
-                          (min 1d0 (max 0d0 (/ (- time (aref (body-handovers body) i)) blend))))))
-              (setf (aref base i) (+ (aref held i) (* u (- (aref base i) (aref held i))))))
-            (setf (aref base i) (settling-value body i time)))))
+    (let ((blends (body-blends body))
+          (handovers (body-handovers body))
+          (settling (body-settling body))
+          (target (body-target body)))
+      (declare (type (simple-array double-float (*)) blends handovers) (type pose target)
+               (type simple-vector settling owners))
+      (dotimes (i (length base))
+        (let* ((blend (aref blends i))
+               (since (- time (aref handovers i)))
+               (from (aref held i)))
+          (declare (type double-float blend since from))
+          (cond ((svref owners i)
+                 (let ((u (if (<= blend 0d0) 1d0 (min 1d0 (max 0d0 (/ since blend))))))
+                   (setf (aref base i) (+ from (* u (- (aref base i) from))))))
+                ;; As SETTLING-VALUE: held, or eased toward the settled pose.
+                ((svref settling i)
+                 (setf (aref base i)
+                       (+ from (* (if (<= blend 0d0) 1d0 (minimum-jerk (/ since blend)))
+                                  (- (aref target i) from)))))
+                (t (setf (aref base i) from))))))
     (%clamp-pose skeleton base)
     (replace pose base)
     (dolist (driver (body-active body))
@@ -237,8 +250,7 @@ until told to settle; one let go while settling starts settling now."
             (drive-idle-layer body driver time pose)
             (driver-drive driver time pose))))
     (%clamp-pose skeleton pose)
-    (pose-world-transforms skeleton pose :placement (object-world-transform body)
-                                         :result (body-transforms body))
+    (%pose-world-transforms skeleton pose (object-world-transform body) (body-transforms body))
     pose))
 
 (defun body-evaluate (body time)
@@ -310,6 +322,10 @@ a :point is in the frame BODY's parent gives (the world when it has none)."
   (when pose
     (check-argument 'resolve-target 'pose pose (lambda (x) (pose-of-p (body-skeleton body) x))
                     (pose-phrase (body-skeleton body))))
+  (%resolve-target target body pose))
+
+(defun %resolve-target (target body &optional pose)
+  "RESOLVE-TARGET of arguments known to be right: a driver's checked call, its body's pose."
   (destructuring-bind (kind &rest arguments) target
     (let* ((offset-form (getf (member :offset target) :offset))
            (offset (if offset-form (apply #'make-vec3 offset-form) (vec3)))

@@ -20,6 +20,8 @@
              :documentation "The pose indices it drives, from DRIVER-SETUP.")
    (sequence :initform 0 :accessor driver-sequence
              :documentation "When it started in its body, for the order of composition.")
+   (reals :initform '() :accessor driver-reals
+          :documentation "(KEY . DOUBLE) of the numeric parameters DRIVER-REAL has converted: once, not per frame.")
    (mood :initform 0d0 :accessor driver-mood
          :documentation "Its body's mood when it was made (mood.lisp): how it performs.")
    (lost :initform '() :accessor driver-lost
@@ -103,7 +105,7 @@ channel stands alone.")
 
 (defun driver-weight (driver)
   "How much DRIVER counts where it blends with equals, or how much of an additive motion it adds."
-  (to-double (driver-arg driver :weight)))
+  (driver-real driver :weight))
 
 (defmethod on-channel-loss ((driver driver) channel new-owner)
   ;; The body decides at once what follows (LOSE-CHANNEL-SETS): it knows the time.
@@ -247,7 +249,12 @@ for clauses that do not fit."
 (defun driver-real (driver key)
   "DRIVER's numeric parameter KEY as a double-float at its written value (a
 :duration of 0.6 is 0.6d0, not the single-float's 0.6000000238418579d0)."
-  (to-double (driver-arg driver key)))
+  (let ((cached (assoc key (driver-reals driver) :test #'eq)))
+    (if cached
+        (the double-float (cdr cached))
+        (let ((value (to-double (driver-arg driver key))))
+          (push (cons key value) (driver-reals driver))
+          value))))
 
 (defun minimum-jerk (u)
   "The minimum-jerk profile 10u^3 - 15u^4 + 6u^5 of U clamped to [0, 1]: a

@@ -113,25 +113,30 @@ go of; NIL (the default) for the body's blend time.")
   (:method ((driver driver))
     nil))
 
-(defun idle-weight (body driver index time)
-  "How much of DRIVER's idle motion channel INDEX of BODY takes at TIME: none
-while an op holds it (fading out over the op's crossfade), all once it has
-been free for DRIVER's yield seconds."
-  (let* ((handover (aref (body-handovers body) index))
-         (owner (svref (body-owners body) index)))
-    (if owner
-        (let ((blend (aref (body-blends body) index)))
-          (if (<= blend 0d0) 0d0 (- 1d0 (min 1d0 (max 0d0 (/ (- time handover) blend))))))
-        (let ((fade (float (or (driver-yield-seconds driver) (body-blend-time body)) 1d0)))
-          (if (or (<= fade 0d0) (null (svref (body-last-owners body) index)))
-              1d0
-              (min 1d0 (max 0d0 (/ (- time handover) fade))))))))
+(defun idle-weight (body fade index time)
+  "How much of an idle motion channel INDEX of BODY takes at TIME: none while
+an op holds it (fading out over the op's crossfade), all once it has been
+free for FADE seconds."
+  (declare (type double-float fade time) (type fixnum index))
+  (let ((handover (aref (the (simple-array double-float (*)) (body-handovers body)) index)))
+    (cond ((svref (body-owners body) index)
+           (let ((blend (aref (the (simple-array double-float (*)) (body-blends body)) index)))
+             (if (<= blend 0d0) 0d0 (- 1d0 (min 1d0 (max 0d0 (/ (- time handover) blend)))))))
+          ((or (<= fade 0d0) (null (svref (body-last-owners body) index))) 1d0)
+          (t (min 1d0 (max 0d0 (/ (- time handover) fade)))))))
 
 (defun drive-idle-layer (body driver time pose)
   "DRIVER (idle life) adds its motion to POSE, each channel scaled by its IDLE-WEIGHT."
-  (let ((before (mapcar (lambda (i) (aref pose i)) (driver-channels driver))))
+  (declare (type pose pose))
+  (let ((before (body-scratch body))
+        (channels (driver-channels driver))
+        (fade (float (or (driver-yield-seconds driver) (body-blend-time body)) 1d0))
+        (time (float time 1d0)))
+    (declare (type pose before))
+    (dolist (i channels)
+      (setf (aref before i) (aref pose i)))
     (driver-drive driver time pose)
-    (loop for i in (driver-channels driver)
-          for angle in before
-          do (setf (aref pose i)
-                   (+ angle (* (idle-weight body driver i time) (- (aref pose i) angle)))))))
+    (dolist (i channels)
+      (let ((angle (aref before i)))
+        (unless (= angle (aref pose i))
+          (setf (aref pose i) (+ angle (* (idle-weight body fade i time) (- (aref pose i) angle)))))))))

@@ -140,7 +140,8 @@ retraction eases back over RETRACT."
   (driver-arg driver :additive))
 
 (defmethod driver-end-time ((driver beat-driver))
-  (+ (driver-start driver) (car (last (driver-arg driver :times))) (gesture-seconds driver :retract)))
+  (let ((times (beat-times driver)))
+    (+ (driver-start driver) (svref times (1- (length times))) (gesture-seconds driver :retract))))
 
 (defmethod driver-default-blend ((driver beat-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.

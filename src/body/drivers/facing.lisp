@@ -39,7 +39,7 @@ otherwise stands upright (its x and z DOFs near zero)."
          ;; No target: the front the body was placed with (the audience).
          (direction (if target
                         (transform-vector (transform-invert placement)
-                                          (v- (resolve-target target body pose) position))
+                                          (v- (%resolve-target target body pose) position))
                         (vec3 0d0 0d0 1d0))))
     (unless (< (+ (expt (vec3-x direction) 2) (expt (vec3-z direction) 2)) 1d-18)
       (* (dof-sign (facing-dof driver)) (/ 180d0 pi)

@@ -57,7 +57,7 @@ the shoulders at rest, scaled by the arm's length, carried by the root joint
           ((and (eq (driver-arg driver :space) :gesture) (eq (first target) :point))
            (destructuring-bind (x y z) (subseq target 1 4)
              (gesture-space-point driver pose (to-double x) (to-double y) (to-double z))))
-          (t (resolve-target target (driver-body driver) pose)))))
+          (t (%resolve-target target (driver-body driver) pose)))))
 
 (defun swivel-arm (chain pose angles target degrees side)
   "Turn the shoulder of CHAIN's solved ANGLES (POSE holding the other joints)

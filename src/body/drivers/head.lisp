@@ -33,7 +33,7 @@ toward or away from a target held until stopped."))
       ;; The side the target is on, seen from the first link's parent frame.
       (let ((yaw (aim-angles (driver-skeleton driver) (first links) pose
                              (object-world-transform (driver-body driver))
-                             (resolve-target (driver-arg driver :target) (driver-body driver) pose))))
+                             (%resolve-target (driver-arg driver :target) (driver-body driver) pose))))
         (setf (head-away driver)
               (if (and yaw (minusp (* yaw (dof-sign (aim-link-yaw-dof (first links)))))) 1d0 -1d0))))))
 
@@ -104,7 +104,7 @@ envelope, so both start and end at rest with zero velocity."
       (:turn-to
        (drive-aim-links (driver-skeleton driver) links pose
                         (object-world-transform (driver-body driver))
-                        (resolve-target (driver-arg driver :target) (driver-body driver) pose)
+                        (%resolve-target (driver-arg driver :target) (driver-body driver) pose)
                         (minimum-jerk u)))
       (:turn-away
        ;; Yaw to the far side; the pitch holds where it was.

@@ -6,6 +6,8 @@
 
 (defclass saccade-driver (driver)
   ((links :initform '() :accessor saccade-links :documentation "The aim links of both eyes.")
+   (offsets :initform (make-array 16 :adjustable t :fill-pointer 0) :reader saccade-offsets
+            :documentation "The saccades' pitch and yaw offsets drawn so far, in pairs.")
    (times :initform (make-array 16 :adjustable t :fill-pointer 0) :reader saccade-times
           :documentation "The saccades' absolute times found so far, increasing."))
   (:documentation "Performs :saccades: both eyes jump together to seeded small
@@ -62,10 +64,15 @@ seeded exponential intervals of MEAN seconds) past UNTIL; return it."
   "The INDEX-th (from 1) saccade's pitch and yaw offsets; 0 and 0 for index 0."
   (if (zerop index)
       (values 0d0 0d0)
-      (let ((seed (driver-stream-seed driver 1))
-            (amplitude (driver-real driver :amplitude)))
-        (values (* 0.5d0 amplitude (seeded-unit seed (* 2 index)))
-                (* amplitude (seeded-unit seed (1+ (* 2 index))))))))
+      (let ((offsets (saccade-offsets driver)))
+        ;; Drawn once each: SplitMix64 works in bignums.
+        (loop while (< (fill-pointer offsets) (* 2 index))
+              do (let ((seed (driver-stream-seed driver 1))
+                       (k (1+ (floor (fill-pointer offsets) 2)))
+                       (amplitude (driver-real driver :amplitude)))
+                   (vector-push-extend (* 0.5d0 amplitude (seeded-unit seed (* 2 k))) offsets)
+                   (vector-push-extend (* amplitude (seeded-unit seed (1+ (* 2 k)))) offsets)))
+        (values (aref offsets (- (* 2 index) 2)) (aref offsets (- (* 2 index) 1))))))
 
 (defmethod driver-drive ((driver saccade-driver) time pose)
   (let* ((times (extend-seeded-times (saccade-times driver) (float (driver-start driver) 1d0)

@@ -7,7 +7,8 @@
 
 (defclass weight-shift-driver (driver)
   ((lean :initform nil :accessor weight-shift-lean :documentation "The lowest spine joint's z DOF.")
-   (head :initform nil :accessor weight-shift-head :documentation "The head's z DOF, or NIL."))
+   (head :initform nil :accessor weight-shift-head :documentation "The head's z DOF, or NIL.")
+   (leans :initform '() :accessor weight-shift-leans :documentation "(INDEX . LEAN) of the last two shifts."))
   (:documentation "Performs :weight-shift: every :period seconds the trunk eases,
 over :transition seconds, to a lean toward alternate sides of seeded size."))
 
@@ -41,8 +42,16 @@ staying upright; idle life, yielding to any op on the spine."
 alternating sides, each between half and all of :amplitude."
   (if (zerop index)
       0d0
-      (* (if (oddp index) 1d0 -1d0) (driver-real driver :amplitude)
-         (+ 0.75d0 (* 0.25d0 (seeded-unit (driver-stream-seed driver 0) index))))))
+      (let ((cached (assoc index (weight-shift-leans driver))))
+        (if cached
+            (cdr cached)
+            (let ((lean (* (if (oddp index) 1d0 -1d0) (driver-real driver :amplitude)
+                           (+ 0.75d0 (* 0.25d0 (seeded-unit (driver-stream-seed driver 0) index))))))
+              ;; The two in use are kept: SplitMix64 works in bignums.
+              (setf (weight-shift-leans driver)
+                    (list* (cons index lean) (subseq (weight-shift-leans driver) 0
+                                                     (min 1 (length (weight-shift-leans driver))))))
+              lean)))))
 
 (defmethod driver-drive ((driver weight-shift-driver) time pose)
   (let* ((period (driver-real driver :period))
