@@ -186,13 +186,19 @@ translation is where the joint is."
 
 (defun %pose-world-transforms (skeleton pose placement result)
   "POSE-WORLD-TRANSFORMS of arguments known to be right (a body's own, each frame)."
-  (loop for joint across (skeleton-joints skeleton)
-        for index from 0
-        for parent = (body-joint-parent joint)
-        for local = (make-transform :rotation (joint-local-rotation joint pose)
-                                    :translation (joint-offset joint))
-        do (transform-compose (if parent (svref result (body-joint-index parent)) placement)
-                              local (svref result index)))
+  ;; One local transform, filled in place joint by joint.
+  (let ((local (identity-transform)))
+    (declare (type mat4 local))
+    (loop for joint across (skeleton-joints skeleton)
+          for index from 0
+          for parent = (body-joint-parent joint)
+          for center = (body-joint-center joint)
+          do (%set-rotation-from-quat local (joint-local-rotation joint pose))
+             (dotimes (i 3)
+               (setf (aref local i 3)
+                     (- (svref center i) (if parent (svref (body-joint-center parent) i) 0d0))))
+             (transform-compose (if parent (svref result (body-joint-index parent)) placement)
+                                local (svref result index))))
   result)
 
 (defun joint-world-position (transforms joint)
