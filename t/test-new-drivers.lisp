@@ -167,3 +167,35 @@
     (is (plusp (player:emotion-mood 'happy)))
     (is (minusp (player:emotion-mood "sad")))
     (is (zerop (player:emotion-mood 'puzzled)))))
+
+(test breathing-adds-onto-a-held-chest-when-not-idle
+  (flet ((chest (&rest breathe)
+           (let ((body (lone-body)))
+             (add-call body 0 '(:direct :set ((vl5 :x 20)) :duration 0))
+             (add-call body 0 `(:breathe ,@breathe))
+             (dof-at body (/ 30d0 14) 'vl5 :x))))
+    (is (near-p 20 (chest)) "idle life yields to the op holding the chest")
+    (is (near-p 19 (chest :idle nil)) ":idle nil breathes on top of it")
+    (is (near-p 19.5 (chest :idle nil :weight 0.5)) "by its :weight")))
+
+(test saccades-and-weight-shifts-stay-within-their-amplitudes
+  (let ((body (lone-body)))
+    (add-call body 0 '(:saccades :amplitude 4 :mean-interval 0.5))
+    (add-call body 0 '(:weight-shift :amplitude 2 :period 1 :transition 0.2))
+    (let ((yaws '()) (leans '()))
+      (loop for time from 0.05d0 to 20 by 0.05d0
+            do (player:body-evaluate body time)
+               (let ((yaw (dof-at body time 'l_eyeball_joint 'yaw))
+                     (lean (dof-at body time 'vl5 :z)))
+                 (is (near-p yaw (dof-at body time 'r_eyeball_joint 'yaw)) "both eyes jump together")
+                 (is (<= (abs (dof-at body time 'l_eyeball_joint 'pitch)) 2.000001) "pitch: half the amplitude")
+                 (is (near-p (- lean) (dof-at body time 'skullbase :z)) "the head stays upright")
+                 (push yaw yaws) (push lean leans)))
+      (is (<= (reduce #'max (mapcar #'abs yaws)) 4.000001))
+      (is (> (length (remove-duplicates yaws)) 20) "many saccades in 20 s at 0.5 s apart")
+      (loop with shifting = (lone-body)
+            initially (add-call shifting 0 '(:weight-shift :amplitude 2 :period 1 :transition 0.2))
+            for k from 1 to 19
+            for lean = (dof-at shifting (+ k 0.5d0) 'vl5 :z)
+            do (is (<= 0.999999 (abs lean) 2.000001) "a shift leans between half and all of :amplitude (~,3F)" lean)
+               (is (eq (oddp k) (plusp lean)) "alternate sides")))))

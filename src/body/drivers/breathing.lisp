@@ -32,10 +32,11 @@ op on those joints.  Without :rate or :depth it follows the body's properties
 breathing-rate and breathing-depth, which a script may set while it runs."
   (:rate (:or :positive (:member nil)) nil "breaths a minute; NIL follows the body's breathing-rate (14)")
   (:depth (:or :non-negative (:member nil)) nil "degrees the chest lifts; NIL follows the body's breathing-depth (1)")
+  (:idle :boolean t "idle life: yield to any op on the chest; NIL adds the breaths onto whatever holds it")
   (:priority :real 0 "arbitration priority (idle life owns no channel)"))
 
 (defmethod driver-additive-p ((driver breathing-driver)) t)
-(defmethod driver-idle-p ((driver breathing-driver)) t)
+(defmethod driver-idle-p ((driver breathing-driver)) (driver-arg driver :idle))
 
 (defun first-dof-about (joint line)
   "The pose index of JOINT's first DOF about LINE (:x, :y or :z), or NIL."
@@ -105,7 +106,7 @@ Returns the phase (cycles) and the depth at TIME."
 
 (defmethod driver-drive ((driver breathing-driver) time pose)
   (multiple-value-bind (phase depth) (advance-breathing driver (float time 1d0))
-   (let ((lift (* depth (breath-lift phase))))
+   (let ((lift (* depth (breath-lift phase) (driver-weight driver))))
     ;; Inhaling extends the spine (a negative x: flexion is positive), the
     ;; head tips forward as much, so the face stays where it looked.
     (decf (aref pose (breathing-chest driver)) lift)
