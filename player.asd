@@ -293,6 +293,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "captions")
                  (:file "starting-pose")
                  (:file "idle-life")
+                 (:file "mood")
                  (:file "placeholders")
                  (:file "speech")
                  (:file "body-presenter")

@@ -120,7 +120,7 @@
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
    #:map-simulation-frames #:perform-director #:perform-script #:performance-audio
    #:performance-body #:performance-clips #:performance-frame #:performance-play-sound
-   #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
+   #:performance-say #:performance-set-mood #:performance-scene #:presenter-performance #:reload-script-library
    #:script-critical-time #:script-duration #:script-error #:simulate
    #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation)
   (:import-from #:player.render
@@ -213,7 +213,7 @@
    #:synthesize-speech #:utterance #:utterance-text #:utterance-sound #:utterance-phonemes
    #:utterance-duration #:utterance-visemes #:phoneme-viseme #:*default-voice* #:*default-speech-rate*
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
-   #:performance-say #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
+   #:performance-say #:performance-set-mood #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
    ;; Models imported through Assimp (doc/models.md)
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint

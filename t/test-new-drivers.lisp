@@ -199,3 +199,21 @@
             for lean = (dof-at shifting (+ k 0.5d0) 'vl5 :z)
             do (is (<= 0.999999 (abs lean) 2.000001) "a shift leans between half and all of :amplitude (~,3F)" lean)
                (is (eq (oddp k) (plusp lean)) "alternate sides")))))
+
+(test a-performance-mood-from-an-emotion
+  (let ((performance (player:make-performance
+                      (player.performance::parse-script-library-forms
+                       '((idle nil)
+                         (defscript nod (:duration 1) (:at 0 :motor (:head :action :nod :count 1 :amplitude 10 :duration 1)))))
+                      '((bob humanoid))))
+        (index (player:dof-index (player::load-skeleton 'humanoid) 'skullbase :x)))
+    (flet ((deepest (from)
+             (loop for time from from to (+ from 1) by 0.01d0
+                   maximize (progn (player:performance-frame performance time)
+                                   (aref (player:body-pose (player:performance-body performance)) index)))))
+      (player:perform-script performance 'nod 0)
+      (player:perform-script performance 'nod 2)
+      (is (= 0.6d0 (player:performance-set-mood performance 'happy :at 1.5)))
+      (is (near-p 10 (deepest 0) 1d-3) "neutral before")
+      (is (near-p 11.8 (deepest 2) 0.01) "happy (0.6): 18 % bigger after")
+      (is (near-p 10 (deepest 0) 1d-3) "and a replay from the start agrees"))))

@@ -33,7 +33,7 @@ BREATHING-RATE is breaths a minute, BREATHING-DEPTH a multiple of the
 HAPPY or SAD, compared by name); 0 for an emotion *EMOTION-MOODS* does not know."
   (check-argument 'emotion-mood 'emotion emotion #'string-designator-p "an emotion's name (a symbol or string)")
   (let ((entry (assoc (string emotion) *emotion-moods* :key #'string :test #'string-equal)))
-    (if entry (float (cdr entry) 1d0) 0d0)))
+    (if entry (to-double (cdr entry)) 0d0)))
 
 (defun body-mood (body)
   "BODY's mood, clamped to [-1, 1]."

@@ -14,7 +14,7 @@
    #:make-performance #:map-simulation-frames #:perform-director #:perform-script
    #:performance #:performance-audio #:performance-body #:performance-clips
    #:performance-frame #:performance-library #:performance-p #:performance-play-sound
-   #:performance-say #:performance-scene #:presenter-library #:presenter-performance
+   #:performance-say #:performance-set-mood #:performance-scene #:presenter-library #:presenter-performance
    #:reload-script-library #:replay-clips #:script #:script-critical-time
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
    #:simulation #:simulation-clips #:simulation-end #:simulation-fps
