@@ -121,3 +121,16 @@
     (is (> (knee-range sit) 15) "sitting awake, the legs swing (~,2F degrees)" (knee-range sit))
     (is (< (knee-range) 1d-9) "standing, they do not")
     (is (< (knee-range sit doze) 1d-9) "dozing, they rest")))
+
+(test two-characters-do-not-blink-as-one
+  (let* ((performance (player:make-performance (player.performance::parse-script-library-forms '())
+                                               (list '(ann humanoid) (list 'bob 'humanoid (player.body::make-vec3 1 0 0)))))
+         (lid (player:dof-index (player::load-skeleton 'humanoid) 'l_eyelid_joint 'close))
+         (shut (loop for time from 0 to 20 by 1/40
+                     do (player:performance-frame performance (float time 1d0))
+                     collect (mapcar (lambda (name)
+                                       (> (aref (player:body-pose (player:performance-body performance name)) lid) 30))
+                                     '(ann bob)))))
+    (is (some #'first shut) "ann blinks")
+    (is (some #'second shut) "bob blinks")
+    (is (notevery (lambda (both) (eq (first both) (second both))) shut) "but not at the same moments")))
