@@ -103,6 +103,8 @@
    #:body-pose #:body-skeleton #:body-stop-driver #:body-transforms #:channel-blend-weight
    #:channel-owner #:clamp-pose #:control-value #:define-motor-function #:define-property
    #:describe-motor-function #:dof-index #:driver #:driver-additive-p #:driver-arg
+   #:driver-background-p #:driver-idle-p #:driver-channel-sets #:driver-weight #:channel-sharers #:start-idle-life #:idle-life-drivers #:*idle-life-calls*
+   #:emotion-mood #:body-mood
    #:driver-begin #:driver-drive #:driver-end-time #:driver-report #:driver-setup
    #:find-joint #:find-object #:joint-world-position #:load-skeleton #:make-arbitrator
    #:make-body #:make-driver #:make-keys-control #:make-pose #:motor-error
@@ -119,6 +121,7 @@
    #:map-simulation-frames #:perform-director #:perform-script #:performance-audio
    #:performance-body #:performance-clips #:performance-frame #:performance-play-sound
    #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
+   #:performance-set-mood
    #:script-critical-time #:script-duration #:script-error #:simulate
    #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation
    #:simulation-frame-times #:simulation-critical-times)
@@ -197,6 +200,8 @@
    #:define-motor-function #:parse-motor-frame #:motor-error #:describe-motor-function
    #:motor-function-names #:make-driver #:driver #:driver-setup #:driver-begin #:driver-drive
    #:driver-end-time #:driver-additive-p #:slave-drivers #:driver-report #:driver-arg
+   #:driver-background-p #:driver-idle-p #:driver-channel-sets #:driver-weight #:channel-sharers #:start-idle-life #:idle-life-drivers #:*idle-life-calls*
+   #:emotion-mood #:body-mood
    #:resolve-target
    ;; Scripts, directors, performances
    #:load-script-library #:script-error #:find-script #:find-director #:script-duration
@@ -214,7 +219,7 @@
    #:utterance-duration #:utterance-visemes #:phoneme-viseme #:*default-voice* #:*default-speech-rate*
    #:utterance-words #:utterance-word-time
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
-   #:performance-say #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
+   #:performance-say #:performance-set-mood #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
    ;; Models imported through Assimp (doc/models.md)
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint

@@ -148,8 +148,9 @@ HORIZONTAL, both projected on the ground plane."
                (is (< off 1) "facing ~A from ~A: ~,2F degrees off" point position off))
              (is (not (member driver (player.body::body-active body))) "facing should end"))))
 
-(test facing-needs-a-target
-  (signals player::motor-error (player::parse-motor-frame '(:facing))))
+(test facing-needs-a-known-mode
+  ;; Without a :target the body faces the front it was placed with (issue 29).
+  (signals player::motor-error (player::parse-motor-frame '(:facing :mode :sideways))))
 
 ;;; ---------------------------------------------------------------------------
 ;;; Eyebrows

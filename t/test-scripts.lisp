@@ -302,7 +302,7 @@ contains every string of FRAGMENTS; DESCRIPTION says what THUNK does."
     (("a looping script must last some time") (defscript bow (:loop t) (:at 0 :set (a b) 1)))
     (("script bow is defined twice") (defscript bow ()) (defscript bow ()))
     (("bow is defined both as a script and as a director") (defscript bow ()) (defdirector bow (:start bow)))
-    (("a script library may contain defscript, defdirector, defobject, model, poses and :pose-when forms, not a defun form") (defun f ()))
+    (("a script library may contain defscript, defdirector, defobject, model, poses, idle and :pose-when forms, not a defun form") (defun f ()))
     (("a script library may contain" "not this") 42))
   "Each entry: (FRAGMENTS FORM...), a library whose error report contains every fragment.")
 

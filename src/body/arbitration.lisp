@@ -9,7 +9,8 @@
 
 ;;; The rule, in one sentence: the owner of a channel is always its best active
 ;;; request, where a higher priority beats a lower one and, between equal
-;;; priorities, the earlier request wins (so an equal priority never usurps).
+;;; priorities, the earlier request wins unless the later one usurps (else the
+;;; body blends the owner with its equals: CHANNEL-SHARERS, blending.lisp).
 ;;; A driver has at most one request per channel; requesting again changes its
 ;;; priority and keeps its place in time.  A usurped driver keeps its request,
 ;;; waiting: it gets the channel back (and ON-CHANNEL-GRANT) when the usurper
@@ -60,11 +61,12 @@ cycle, a non-real priority."))
 ;;; ---------------------------------------------------------------------------
 ;;; Data
 
-(defstruct (channel-request (:constructor make-channel-request (driver priority serial)))
-  "DRIVER's claim on one channel at PRIORITY; SERIAL orders requests in time."
+(defstruct (channel-request (:constructor make-channel-request (driver priority serial &optional usurp)))
+  "DRIVER's claim on one channel at PRIORITY; SERIAL orders requests in time; USURP beats earlier equals."
   (driver nil :read-only t)
   (priority 0 :type real)
-  (serial 0 :type (integer 0) :read-only t))
+  (serial 0 :type (integer 0) :read-only t)
+  (usurp nil :read-only t))
 
 (defstruct (channel-state (:constructor make-channel-state ()))
   "One channel: its requests, best first (the first is the owner), and its last
@@ -227,10 +229,13 @@ ARBITRATION-ERROR when there is none."
 ;;; Settling a channel
 
 (defun request-better-p (a b)
-  "Does request A beat request B: higher priority, or equal and earlier?"
+  "Does request A beat request B: higher priority; or equal, and A the later
+one usurping, or the earlier one when the later does not usurp?"
   (or (> (channel-request-priority a) (channel-request-priority b))
       (and (= (channel-request-priority a) (channel-request-priority b))
-           (< (channel-request-serial a) (channel-request-serial b)))))
+           (if (< (channel-request-serial a) (channel-request-serial b))
+               (not (channel-request-usurp b))
+               (channel-request-usurp a)))))
 
 (defvar *requesting-driver* nil
   "The driver whose REQUEST-CHANNELS is running: it learns of its grants from the
@@ -271,9 +276,9 @@ slave, that lost) has released CHANNEL, a grant once SUBJECT no longer owns it."
 ;;; ---------------------------------------------------------------------------
 ;;; Requests and releases
 
-(defun request-channels (arbitrator driver channels &key priority time blend)
+(defun request-channels (arbitrator driver channels &key priority time blend usurp)
   "Request CHANNELS (a list, or one channel) for DRIVER at PRIORITY (a real;
-higher wins).  Without PRIORITY a slave uses its master's, other drivers their
+higher wins; with USURP, an equal priority requested earlier loses too).  Without PRIORITY a slave uses its master's, other drivers their
 last one or DRIVER-PRIORITY.  A channel DRIVER already requested takes the new
 priority and keeps its place in time.  Usurped owners are told through
 ON-CHANNEL-LOSS after all CHANNELS are settled; each change of owner is stamped
@@ -306,7 +311,7 @@ to the arbitrator's clock, BLEND to its blend time."
               (setf (channel-request-priority request) priority)
               (progn
                 (push (make-channel-request driver priority
-                                            (incf (arbitrator-serial arbitrator)))
+                                            (incf (arbitrator-serial arbitrator)) usurp)
                       (channel-state-requests state))
                 (push channel (driver-record-channels record))))
           (setf notifications

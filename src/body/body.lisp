@@ -27,6 +27,12 @@
    (settling :reader body-settling
              :documentation "Per channel, true when, driven by nobody, it eases to the settled pose instead of holding.")
    (last-owners :reader body-last-owners :documentation "Per channel, the last driver that owned it, or NIL.")
+   (sharers :reader body-sharers
+            :documentation "Per channel, the drivers of equal priority its owner blends with (itself first), or NIL.")
+   (shared :initform nil :accessor body-shared-p :documentation "True when some channel has sharers.")
+   (share-sums :reader body-share-sums :documentation "Per channel, the weighted sum of its sharers' angles.")
+   (share-weights :reader body-share-weights :documentation "Per channel, the sum of its sharers' weights.")
+   (scratch :reader body-scratch :documentation "Per channel, room for an angle an idle driver is about to change.")
    (transforms :reader body-transforms :documentation "The joints' world transforms at BODY-TIME.")
    (pending :initform '() :accessor body-pending :documentation "Drivers not yet started, by start time.")
    (active :initform '() :accessor body-active :documentation "Started drivers, least precedence first.")
@@ -59,12 +65,17 @@ POSITION and ROTATION place the skeleton's rest frame in the world."))
             ;; A channel nobody ever drove is settled: it follows the settled pose.
             (slot-value body 'settling) (slots t)
             (slot-value body 'last-owners) (slots nil)
+            (slot-value body 'sharers) (slots nil)
+            (slot-value body 'share-sums) (angles)
+            (slot-value body 'share-weights) (angles)
+            (slot-value body 'scratch) (angles)
             (slot-value body 'handovers) (make-array count :element-type 'double-float
                                                            :initial-element 0d0)
             (slot-value body 'blends) (make-array count :element-type 'double-float
                                                         :initial-element 0d0)
             (slot-value body 'transforms)
-            (pose-world-transforms skeleton (body-pose body))))))
+            (pose-world-transforms skeleton (body-pose body))))
+    (define-body-properties body)))
 
 (defun make-body (name skeleton &key scene (position (vec3)) (rotation (quat))
                                      (blend-time *default-blend-time*))
@@ -130,11 +141,13 @@ its rest pose, placed at POSITION with ROTATION, added to SCENE when given."
 
 (defun driver-precedes-p (body a b)
   "Does A write before B when composing (so B wins a channel both drive)?
-Lower priority first; between equals, the later request first; a slave just
-before its master."
+Lower priority first; between equals, the later request first unless it
+usurps; a slave just before its master."
   (declare (ignore body))
   (let ((pa (driver-priority a)) (pb (driver-priority b)))
-    (if (/= pa pb) (< pa pb) (> (driver-sequence a) (driver-sequence b)))))
+    (cond ((/= pa pb) (< pa pb))
+          ((> (driver-sequence a) (driver-sequence b)) (not (driver-arg a :usurp)))
+          (t (and (driver-arg b :usurp) t)))))
 
 (defun start-driver (body driver time)
   "Start DRIVER at TIME: it captures the pose, requests its channels (its slaves
@@ -152,7 +165,8 @@ too) and joins the active drivers."
         (add-slave arbitrator driver d))
       (unless (driver-additive-p d)
         (request-channels arbitrator d (driver-channels d)
-                          :priority (driver-priority driver) :time time :blend blend))
+                          :priority (driver-priority driver) :time time :blend blend
+                          :usurp (driver-arg driver :usurp)))
       (setf (body-active body)
             (merge 'list (body-active body) (list d)
                    (lambda (a b) (driver-precedes-p body a b)))))))
@@ -184,7 +198,8 @@ until told to settle; one let go while settling starts settling now."
                                (svref (body-settling body) i) nil))
                   ((svref (body-settling body) i)
                    (setf (aref (body-blends body) i)
-                         (settle-seconds (channel-travel body i)))))))))))
+                         (settle-seconds (channel-travel body i)))))))))
+    (refresh-sharers body time)))
 
 ;;;# Composition
 
@@ -202,26 +217,40 @@ until told to settle; one let go while settling starts settling now."
     (unless (body-birth body)
       (setf (body-birth body) time))
     ;; Geometric drivers read the pose so far, so each sees the writes of those before it.
-    (dolist (driver (body-active body))
-      (unless (driver-additive-p driver)
-        (driver-drive driver time base)))
-    (dotimes (i (length base))
-      (let ((owner (svref owners i)))
-        (if owner
-            (let* ((blend (aref (body-blends body) i))
-                   (u (if (<= blend 0d0)
-                          1d0
-                          (min 1d0 (max 0d0 (/ (- time (aref (body-handovers body) i)) blend))))))
-              (setf (aref base i) (+ (aref held i) (* u (- (aref base i) (aref held i))))))
-            (setf (aref base i) (settling-value body i time)))))
+    (if (body-shared-p body)
+        (drive-sharing body time base)
+        (dolist (driver (body-active body))
+          (unless (driver-additive-p driver)
+            (drive-owned driver time base))))
+    (let ((blends (body-blends body))
+          (handovers (body-handovers body))
+          (settling (body-settling body))
+          (target (body-target body)))
+      (declare (type (simple-array double-float (*)) blends handovers) (type pose target)
+               (type simple-vector settling owners))
+      (dotimes (i (length base))
+        (let* ((blend (aref blends i))
+               (since (- time (aref handovers i)))
+               (from (aref held i)))
+          (declare (type double-float blend since from))
+          (cond ((svref owners i)
+                 (let ((u (if (<= blend 0d0) 1d0 (min 1d0 (max 0d0 (/ since blend))))))
+                   (setf (aref base i) (+ from (* u (- (aref base i) from))))))
+                ;; As SETTLING-VALUE: held, or eased toward the settled pose.
+                ((svref settling i)
+                 (setf (aref base i)
+                       (+ from (* (if (<= blend 0d0) 1d0 (minimum-jerk (/ since blend)))
+                                  (- (aref target i) from)))))
+                (t (setf (aref base i) from))))))
     (%clamp-pose skeleton base)
     (replace pose base)
     (dolist (driver (body-active body))
       (when (driver-additive-p driver)
-        (driver-drive driver time pose)))
+        (if (driver-idle-p driver)
+            (drive-idle-layer body driver time pose)
+            (driver-drive driver time pose))))
     (%clamp-pose skeleton pose)
-    (pose-world-transforms skeleton pose :placement (object-world-transform body)
-                                         :result (body-transforms body))
+    (%pose-world-transforms skeleton pose (object-world-transform body) (body-transforms body))
     pose))
 
 (defun body-evaluate (body time)
@@ -240,8 +269,10 @@ is an ARGUMENT-ERROR: make a fresh body to go back."
       (unless kind (return))
       (compose-pose body when)
       (ecase kind
-        (:start (start-driver body driver when))
+        (:start (start-driver body driver when)
+         (take-channel-sets body driver))
         (:finish (finish-driver body driver when)))
+      (lose-channel-sets body when)
       (refresh-owners body when)))
   (compose-pose body time))
 
@@ -291,6 +322,10 @@ a :point is in the frame BODY's parent gives (the world when it has none)."
   (when pose
     (check-argument 'resolve-target 'pose pose (lambda (x) (pose-of-p (body-skeleton body) x))
                     (pose-phrase (body-skeleton body))))
+  (%resolve-target target body pose))
+
+(defun %resolve-target (target body &optional pose)
+  "RESOLVE-TARGET of arguments known to be right: a driver's checked call, its body's pose."
   (destructuring-bind (kind &rest arguments) target
     (let* ((offset-form (getf (member :offset target) :offset))
            (offset (if offset-form (apply #'make-vec3 offset-form) (vec3)))

@@ -19,7 +19,15 @@
    (channels :initform '() :accessor driver-channels
              :documentation "The pose indices it drives, from DRIVER-SETUP.")
    (sequence :initform 0 :accessor driver-sequence
-             :documentation "When it started in its body, for the order of composition."))
+             :documentation "When it started in its body, for the order of composition.")
+   (reals :initform '() :accessor driver-reals
+          :documentation "(KEY . DOUBLE) of the numeric parameters DRIVER-REAL has converted: once, not per frame.")
+   (mood :initform 0d0 :accessor driver-mood
+         :documentation "Its body's mood when it was made (mood.lisp): how it performs.")
+   (lost :initform '() :accessor driver-lost
+         :documentation "Channels a higher priority took since the body last looked (ON-CHANNEL-LOSS).")
+   (released :initform '() :accessor driver-released
+             :documentation "Channels it handed over with their set: its writes there are undone."))
   (:documentation "Base class of drivers.  A subclass implements DRIVER-SETUP and
 DRIVER-DRIVE, and where it needs them DRIVER-BEGIN, DRIVER-END-TIME,
 DRIVER-ADDITIVE-P, SLAVE-DRIVERS and DRIVER-REPORT."))
@@ -73,6 +81,37 @@ noise) instead of owning its channels through arbitration.")
   (:method ((driver driver))
     nil))
 
+(defgeneric driver-idle-p (driver)
+  (:documentation "True for a driver of idle life (breathing, saccades, the blink
+reflex run as idle life): additive, it moves only channels no other driver
+holds, fading out where one takes them, so any op overrides it.")
+  (:method ((driver driver))
+    nil))
+
+(defgeneric driver-background-p (driver)
+  (:documentation "True for motion that only textures the rest (idle noise, idle
+life): an op playing it claims none of its channels.  Defaults to DRIVER-IDLE-P.")
+  (:method ((driver driver))
+    (driver-idle-p driver)))
+
+(defgeneric driver-channel-sets (driver)
+  (:documentation "Lists of DRIVER's channels that move together (an arm's chain,
+the head and neck): taken together and lost together.  When a higher priority
+takes one channel of a set, DRIVER's :on-channel-loss says what follows:
+:hand-over gives up the whole set, :end ends DRIVER.  NIL (the default): every
+channel stands alone.")
+  (:method ((driver driver))
+    nil))
+
+(defun driver-weight (driver)
+  "How much DRIVER counts where it blends with equals, or how much of an additive motion it adds."
+  (driver-real driver :weight))
+
+(defmethod on-channel-loss ((driver driver) channel new-owner)
+  ;; The body decides at once what follows (LOSE-CHANNEL-SETS): it knows the time.
+  (declare (ignore new-owner))
+  (pushnew channel (driver-lost driver)))
+
 (defgeneric slave-drivers (driver)
   (:documentation "The slave drivers DRIVER made in DRIVER-BEGIN (BaseDriver's
 master/slave: gaze drives the head for large shifts).  They start with their
@@ -104,8 +143,17 @@ seconds, STOP not before START."
   (let* ((function (find-motor-function (motor-call-function call)))
          (driver (make-instance (motor-function-driver-class function)
                                 :call call :body body :start start :stop stop)))
-    (setf (driver-channels driver) (driver-setup driver))
+    (setf (driver-mood driver) (body-mood body)
+          (driver-channels driver) (driver-setup driver))
     driver))
+
+(defun gesture-amplitude (driver key)
+  "DRIVER's numeric parameter KEY, an amplitude, scaled by the mood it was made in."
+  (* (driver-real driver key) (+ 1d0 (* *mood-amplitude-range* (driver-mood driver)))))
+
+(defun gesture-seconds (driver key)
+  "DRIVER's numeric parameter KEY, a duration, shortened (or lengthened) by the mood it was made in."
+  (/ (driver-real driver key) (+ 1d0 (* *mood-speed-range* (driver-mood driver)))))
 
 (defun driver-finish-time (driver)
   "When DRIVER ends: the earlier of its own end and its stop, or NIL."
@@ -201,7 +249,12 @@ for clauses that do not fit."
 (defun driver-real (driver key)
   "DRIVER's numeric parameter KEY as a double-float at its written value (a
 :duration of 0.6 is 0.6d0, not the single-float's 0.6000000238418579d0)."
-  (to-double (driver-arg driver key)))
+  (let ((cached (assoc key (driver-reals driver) :test #'eq)))
+    (if cached
+        (the double-float (cdr cached))
+        (let ((value (to-double (driver-arg driver key))))
+          (push (cons key value) (driver-reals driver))
+          value))))
 
 (defun minimum-jerk (u)
   "The minimum-jerk profile 10u^3 - 15u^4 + 6u^5 of U clamped to [0, 1]: a

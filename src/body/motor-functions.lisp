@@ -28,7 +28,8 @@ parameter, a missing parameter, a value of the wrong type.  FORM is the frame.")
     (:list alexandria:proper-list-p "a list")
     (:string stringp "a string")
     (:target target-form-p "a target: (:point X Y Z), (:object NAME) or (:joint OBJECT JOINT) [:offset (X Y Z)]")
-    (:vector vector-form-p "three numbers (X Y Z)"))
+    (:vector vector-form-p "three numbers (X Y Z)")
+    (:zone zone-form-p "a gesture-space zone: (:zone NAME), NAME one of :center-center :center :periphery-upper :periphery-lower :periphery-side :extreme-periphery-upper :extreme-periphery-lower :extreme-periphery-side"))
   "The parameter types a motor function may declare: (TYPE PREDICATE DESCRIPTION).
 A type may also be (:member VALUE...) or (:or TYPE...).")
 
@@ -93,7 +94,13 @@ optionally followed by :offset (X Y Z)?"
 
 (defparameter *common-motor-parameters*
   (list (make-motor-parameter :blend '(:or :non-negative (:member nil)) nil
-                              "seconds to crossfade when this call takes or gives up a channel; NIL for the body's default"))
+                              "seconds to crossfade when this call takes or gives up a channel; NIL for the body's default")
+        (make-motor-parameter :weight :non-negative 1
+                              "how much this call counts where it blends with calls of equal priority on a channel, or how much of its motion an additive call adds")
+        (make-motor-parameter :usurp :boolean nil
+                              "take channels held at an equal priority instead of blending with them")
+        (make-motor-parameter :on-channel-loss '(:member :hand-over :end) :hand-over
+                              "when a higher priority takes one of a set of channels that move together (an arm's chain): :hand-over gives up the whole set, :end ends the call"))
   "Parameters every motor function takes besides its own (and :priority, whose
 default each function declares).")
 

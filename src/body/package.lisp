@@ -20,7 +20,9 @@
    #:control #:control-kind #:control-p #:control-value #:copy-pose #:crest
    #:define-motor-function #:define-property #:describe-motor-function #:dof-axis-vector
    #:dof-index #:driver #:driver-additive-p #:driver-arg #:driver-begin #:driver-body
-   #:driver-channels #:driver-drive #:driver-end-time #:driver-report #:driver-setup
+   #:driver-channels #:driver-background-p #:driver-idle-p #:driver-channel-sets
+   #:driver-weight #:channel-sharers #:start-idle-life #:idle-life-drivers #:*idle-life-calls* #:emotion-mood #:body-mood #:mood-amplitude-scale #:mood-speed-scale
+   #:driver-drive #:driver-end-time #:driver-report #:driver-setup
    #:driver-skeleton #:find-joint #:find-object #:find-pose #:finite-quat-p #:finite-vec3-p
    #:gaze-driver #:head-chain #:humanoid #:humanoid-root #:identity-transform
    #:joint-local-rotation #:joint-world-position #:keys-control-loop #:keys-control-p

@@ -78,18 +78,30 @@ case-insensitively).  When there is none: a SKELETON-ERROR, or NIL without ERROR
   (check-argument 'clamp-pose 'pose pose (lambda (x) (pose-of-p skeleton x)) (pose-phrase skeleton))
   (%clamp-pose skeleton pose))
 
+(defvar *channel-limits* (make-hash-table :test #'eq :weakness :key :synchronized t)
+  "Per skeleton, its channels' least and greatest values as two double-float vectors.")
+
+(defun skeleton-channel-limits (skeleton)
+  "The least and greatest value of each of SKELETON's pose channels (CHANNEL-LIMITS), as a cons of two vectors, made once."
+  (or (gethash skeleton *channel-limits*)
+      (setf (gethash skeleton *channel-limits*)
+            (let* ((count (skeleton-channel-count skeleton))
+                   (low (make-array count :element-type 'double-float :initial-element 0d0))
+                   (high (make-array count :element-type 'double-float :initial-element 1d0)))
+              (loop for joint across (skeleton-joints skeleton)
+                    do (loop for dof in (body-joint-dofs joint)
+                             for i from (body-joint-dof-start joint)
+                             do (setf (aref low i) (float (body-dof-min dof) 1d0)
+                                      (aref high i) (float (body-dof-max dof) 1d0))))
+              (cons low high)))))
+
 (defun %clamp-pose (skeleton pose)
   "CLAMP-POSE of a known POSE of SKELETON."
   (declare (type pose pose))
-  (loop for joint across (skeleton-joints skeleton)
-        do (loop for dof in (body-joint-dofs joint)
-                 for i from (body-joint-dof-start joint)
-                 do (setf (aref pose i)
-                          (max (float (body-dof-min dof) 1d0)
-                               (min (float (body-dof-max dof) 1d0) (aref pose i))))))
-  (loop for i from (skeleton-dof-count skeleton) below (length pose)
-        do (setf (aref pose i) (max 0d0 (min 1d0 (aref pose i)))))
-  pose)
+  (destructuring-bind (low . high) (skeleton-channel-limits skeleton)
+    (declare (type (simple-array double-float (*)) low high))
+    (dotimes (i (min (length pose) (length low)) pose)
+      (setf (aref pose i) (max (aref low i) (min (aref high i) (aref pose i)))))))
 
 (defun channel-limits (skeleton index)
   "The least and greatest value of SKELETON's pose channel INDEX, two values:
@@ -125,11 +137,26 @@ its DOF's limits in degrees, or 0 and 1 for a morph target's weight."
 (defun joint-local-rotation (joint pose)
   "JOINT's rotation relative to its parent in POSE: the product of its DOF
 rotations in file order, as a new unit quaternion."
-  (let ((q (quat)))
+  (declare #.*anim-optimize* (type pose pose))
+  ;; Every DOF turns about a principal axis: (cos h, sin h along it), h half
+  ;; the angle, multiplied on the right in place; one quaternion made.
+  (let ((w 1d0) (x 0d0) (y 0d0) (z 0d0))
+    (declare (type double-float w x y z))
     (loop for dof in (body-joint-dofs joint)
-          for i from (body-joint-dof-start joint)
-          do (setf q (q* q (dof-rotation dof (aref pose i)))))
-    q))
+          for i of-type fixnum from (body-joint-dof-start joint)
+          do (let* ((h (* (aref pose i) (/ pi 360)))
+                    (c (cos h))
+                    (axis (body-dof-axis dof))
+                    (s (if (member axis '(:-x :-y :-z)) (- (sin h)) (sin h))))
+               (declare (type double-float h c s))
+               (ecase axis
+                 ((:x :-x) (psetf w (- (* w c) (* x s)) x (+ (* x c) (* w s))
+                                  y (+ (* y c) (* z s)) z (- (* z c) (* y s))))
+                 ((:y :-y) (psetf w (- (* w c) (* y s)) x (- (* x c) (* z s))
+                                  y (+ (* y c) (* w s)) z (+ (* z c) (* x s))))
+                 ((:z :-z) (psetf w (- (* w c) (* z s)) x (+ (* x c) (* y s))
+                                  y (- (* y c) (* x s)) z (+ (* z c) (* w s)))))))
+    (quat w x y z)))
 
 (defun joint-offset (joint)
   "JOINT's centre relative to its parent's centre (to the origin, for the root), as a vec3."
@@ -155,13 +182,23 @@ translation is where the joint is."
                       (format nil "NIL or a simple-vector of ~D MAT4s" (length (skeleton-joints skeleton))))
       (setf result (map 'simple-vector (lambda (joint) (declare (ignore joint)) (identity-transform))
                         (skeleton-joints skeleton))))
-  (loop for joint across (skeleton-joints skeleton)
-        for index from 0
-        for parent = (body-joint-parent joint)
-        for local = (make-transform :rotation (joint-local-rotation joint pose)
-                                    :translation (joint-offset joint))
-        do (transform-compose (if parent (svref result (body-joint-index parent)) placement)
-                              local (svref result index)))
+  (%pose-world-transforms skeleton pose placement result))
+
+(defun %pose-world-transforms (skeleton pose placement result)
+  "POSE-WORLD-TRANSFORMS of arguments known to be right (a body's own, each frame)."
+  ;; One local transform, filled in place joint by joint.
+  (let ((local (identity-transform)))
+    (declare (type mat4 local))
+    (loop for joint across (skeleton-joints skeleton)
+          for index from 0
+          for parent = (body-joint-parent joint)
+          for center = (body-joint-center joint)
+          do (%set-rotation-from-quat local (joint-local-rotation joint pose))
+             (dotimes (i 3)
+               (setf (aref local i 3)
+                     (- (svref center i) (if parent (svref (body-joint-center parent) i) 0d0))))
+             (transform-compose (if parent (svref result (body-joint-index parent)) placement)
+                                local (svref result index))))
   result)
 
 (defun joint-world-position (transforms joint)

@@ -29,9 +29,9 @@ scene at its start, so this is every channel its slaves could request.")
          (motor-error () nil))))
 
 (defun driver-reachable-channels (driver)
-  "The pose indices DRIVER requests from arbitration, its possible slaves' too;
-NIL for an additive driver (idle noise), which owns no channel."
-  (if (driver-additive-p driver)
+  "The pose indices DRIVER moves, its possible slaves' too; NIL for idle noise
+and idle life, which an op never claims (a nod, additive, still claims the head)."
+  (if (driver-background-p driver)
       '()
       (union (driver-channels driver) (potential-slave-channels driver))))
 

@@ -15,6 +15,7 @@
    #:performance #:performance-audio #:performance-body #:performance-clips
    #:performance-frame #:performance-library #:performance-p #:performance-play-sound
    #:performance-say #:performance-scene #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:presenter-library #:presenter-performance
+   #:performance-set-mood
    #:reload-script-library #:replay-clips #:script #:script-critical-time
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
    #:simulation #:simulation-clips #:simulation-end #:simulation-fps

@@ -266,6 +266,7 @@ the time last shown); returns RUN."
           (setf (body-pose-library body) (performance-poses performance)))))
     (setf (performance-scene performance) scene)
     (start-performance-pose performance)
+    (start-performance-idle-life performance)
     (dolist (spec (script-library-objects library))
       (let ((object (apply #'make-instance
                            (if (scene-object-spec-prop-model spec) 'model-prop 'scene-object)

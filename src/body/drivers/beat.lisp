@@ -30,6 +30,7 @@ around the arm's pose at the start; ends after the last beat."
   (:amplitude :non-negative 1.0 "size: 1 dips the forearm 12 degrees and the hand 15")
   (:stroke :positive 0.1 "seconds of the down stroke, ending at each beat time")
   (:retract :positive 0.25 "seconds back to the start pose after each beat")
+  (:additive :boolean t "add the flicks onto whatever holds the arm (a held reach, a pose); NIL takes the arm")
   (:priority :real 15 "arbitration priority; higher wins"))
 
 (defun beat-arm-joints (driver)
@@ -89,7 +90,7 @@ the first DOF, so the beat still shows."
   (declare (ignore time))
   (let ((skeleton (driver-skeleton driver))
         (placement (object-world-transform (driver-body driver)))
-        (amplitude (driver-arg driver :amplitude)))
+        (amplitude (gesture-amplitude driver :amplitude)))
     (setf (beat-from driver) (capture-angles pose (driver-channels driver)))
     (multiple-value-bind (elbow wrist) (beat-arm-joints driver)
       ;; The forearm takes whichever elbow DOF lowers the hand (flexion on
@@ -116,8 +117,8 @@ retraction eases back over RETRACT."
 
 (defmethod driver-drive ((driver beat-driver) time pose)
   (let* ((local (driver-local-time driver time))
-         (stroke (float (driver-arg driver :stroke) 1d0))
-         (retract (float (driver-arg driver :retract) 1d0))
+         (stroke (gesture-seconds driver :stroke))
+         (retract (gesture-seconds driver :retract))
          ;; Beats closer than a stroke and retraction merge rather than add.
          (times (beat-times driver))
          ;; Only beats whose stroke or retraction covers LOCAL can move the arm.
@@ -125,13 +126,22 @@ retraction eases back over RETRACT."
                       for at = (svref times i)
                       while (<= (- at stroke) local)
                       maximize (beat-pulse local at stroke retract))))
-    (loop for index in (driver-channels driver)
-          for start across (beat-from driver)
-          for flick = (assoc index (beat-flicks driver))
-          do (setf (aref pose index) (if flick (+ start (* pulse (cdr flick))) start)))))
+    (if (driver-additive-p driver)
+        ;; Onto whatever holds the arm: only the flicking DOFs move.
+        (loop with weight = (driver-weight driver)
+              for (index . degrees) in (beat-flicks driver)
+              do (incf (aref pose index) (* weight pulse degrees)))
+        (loop for index in (driver-channels driver)
+              for start across (beat-from driver)
+              for flick = (assoc index (beat-flicks driver))
+              do (setf (aref pose index) (if flick (+ start (* pulse (cdr flick))) start))))))
+
+(defmethod driver-additive-p ((driver beat-driver))
+  (driver-arg driver :additive))
 
 (defmethod driver-end-time ((driver beat-driver))
-  (+ (driver-start driver) (car (last (driver-arg driver :times))) (driver-arg driver :retract)))
+  (let ((times (beat-times driver)))
+    (+ (driver-start driver) (svref times (1- (length times))) (gesture-seconds driver :retract))))
 
 (defmethod driver-default-blend ((driver beat-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.

@@ -17,11 +17,15 @@ OOPSLA 2014): a pure function of SEED and INDEX."
            (z (u64 (* (logxor z (ash z -27)) #x94D049BB133111EB))))
       (logxor z (ash z -31)))))
 
-(defun blink-interval (seed index mean)
-  "The INDEX-th interval (seconds) between blinks for SEED: exponentially
-distributed with mean MEAN, by inverting the distribution at a uniform draw in [0, 1)."
-  (let ((uniform (* (ash (splitmix64 seed index) -11) (scale-float 1d0 -53))))
-    (* (to-double mean) (- (log (- 1d0 uniform))))))
+(defun blink-interval (seed index mean &optional (regularity 1))
+  "The INDEX-th interval (seconds) between blinks for SEED, with mean MEAN:
+exponentially distributed (by inverting the distribution at a uniform draw in
+[0, 1)), or for a REGULARITY K above 1 the sum of K such draws of mean MEAN/K
+\(a gamma distribution: intervals spread less, about MEAN/sqrt(K) apart)."
+  (flet ((draw (n)
+           (- (log (- 1d0 (* (ash (splitmix64 seed n) -11) (scale-float 1d0 -53)))))))
+    (* (/ (to-double mean) regularity)
+       (loop for j below regularity sum (draw (+ (* index regularity) j))))))
 
 (defun blink-intervals (n &key (seed 1) (mean-interval 4.0))
   "The first N intervals (seconds) between the blinks of a blink driver with
@@ -42,6 +46,8 @@ lid's close DOF's limit, or 1 for a morph target that closes the eyes.")
 its start, and at the start of each later gaze shift, until stopped."))
 
 (defmethod driver-setup ((driver blink-driver))
+  (unless (integerp (driver-arg driver :regularity))
+    (driver-frame-fail driver ":regularity must be a whole number, not ~A" (lisp-text (driver-arg driver :regularity))))
   (unless (integerp (driver-arg driver :seed))
     (motor-fail (motor-call-frame (driver-call driver)) "blink :seed must be an integer, not ~A"
                 (lisp-text (driver-arg driver :seed))))
@@ -84,12 +90,18 @@ has neither."
   "DRIVER's reflex blink times (absolute, increasing), extended past UNTIL: the
 cumulative sums of its intervals from its start, computed once and cached."
   (let ((times (blink-reflex-times driver)))
+    ;; A forced blink (no :mean-interval): one, at the start.
+    (unless (driver-arg driver :mean-interval)
+      (when (zerop (fill-pointer times))
+        (vector-push-extend (float (driver-start driver) 1d0) times))
+      (return-from reflex-blink-times times))
     (loop while (or (zerop (fill-pointer times))
                     (<= (aref times (1- (fill-pointer times))) until))
           do (let ((index (fill-pointer times)))
                (vector-push-extend
                 (+ (if (zerop index) (float (driver-start driver) 1d0) (aref times (1- index)))
-                   (blink-interval (blink-seed driver) index (driver-real driver :mean-interval)))
+                   (blink-interval (blink-seed driver) index (driver-real driver :mean-interval)
+                                   (driver-arg driver :regularity)))
                 times)))
     times))
 
@@ -138,19 +150,35 @@ eased shut by the middle, eased open by the end."
 
 (defmethod driver-drive ((driver blink-driver) time pose)
   (let ((closure (blink-closure-at driver time)))
+    (when (driver-idle-p driver)
+      ;; Idle life: shut from wherever the lids are.
+      (loop for index in (driver-channels driver)
+            for shut in (blink-lids driver)
+            do (incf (aref pose index) (* closure (- shut (aref pose index)))))
+      (return-from driver-drive pose))
     (loop for index in (driver-channels driver)
           for shut in (blink-lids driver)
           for open in (blink-open driver)
           do (setf (aref pose index) (+ open (* closure (- shut open)))))))
 
 (define-motor-function :blink blink-driver
-  "The blink reflex: the upper lids close and open at seeded, exponentially
-distributed intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
-  (:mean-interval :positive 4.0 "mean seconds between reflex blinks")
+  "One forced blink (Pantomime's eyeblink); with :mean-interval, the blink
+reflex: the upper lids close and open at seeded, exponentially distributed
+intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
+  (:mean-interval (:or :positive (:member nil)) nil "mean seconds between reflex blinks; NIL blinks once")
+  (:regularity :positive 1 "1: exponential intervals (the reflex); a whole K above 1 spreads them less (a gamma of shape K)")
+  (:idle :boolean nil "run as idle life: add onto the lids, yielding to any op that holds them")
   (:duration :positive 0.15 "seconds a blink takes, shut at its middle")
   (:seed :non-negative 1 "an integer choosing the sequence of intervals")
   (:on-gaze-shift :boolean t "also blink when a gaze shift starts")
   (:priority :real 50 "arbitration priority; higher wins"))
+
+(defmethod driver-end-time ((driver blink-driver))
+  (unless (driver-arg driver :mean-interval)
+    (+ (driver-start driver) (driver-real driver :duration))))
+
+(defmethod driver-additive-p ((driver blink-driver)) (driver-arg driver :idle))
+(defmethod driver-idle-p ((driver blink-driver)) (driver-arg driver :idle))
 
 (defmethod driver-default-blend ((driver blink-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.

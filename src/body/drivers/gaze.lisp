@@ -65,7 +65,7 @@ can move, else where it was at the start."
   (declare (ignore time))
   (let ((target (driver-arg driver :target)))
     (if (and (driver-arg driver :track) (not (eq (first target) :point)))
-        (resolve-target target (driver-body driver) pose)
+        (%resolve-target target (driver-body driver) pose)
         (gaze-fixed-point driver))))
 
 (defun eyes-line-of-sight (driver pose)
@@ -103,7 +103,7 @@ their +z axes, unit), in the world, in POSE."
 
 (defmethod driver-begin ((driver gaze-driver) pose time)
   (let* ((body (driver-body driver))
-         (point (resolve-target (driver-arg driver :target) body pose))
+         (point (%resolve-target (driver-arg driver :target) body pose))
          (speed (driver-real driver :speed))
          (threshold (driver-real driver :head-threshold)))
     (capture-aim-starts (gaze-eyes driver) pose)
@@ -164,3 +164,7 @@ fixation (or pursuit, with :track) until stopped (Pantomime's saccade and eyetra
 (defmethod driver-default-blend ((driver gaze-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
   0d0)
+
+(defmethod driver-channel-sets ((driver gaze-driver))
+  ;; Both eyes converge on one point: neither looks alone.
+  (list (driver-channels driver)))

@@ -33,13 +33,22 @@ toward or away from a target held until stopped."))
       ;; The side the target is on, seen from the first link's parent frame.
       (let ((yaw (aim-angles (driver-skeleton driver) (first links) pose
                              (object-world-transform (driver-body driver))
-                             (resolve-target (driver-arg driver :target) (driver-body driver) pose))))
+                             (%resolve-target (driver-arg driver :target) (driver-body driver) pose))))
         (setf (head-away driver)
               (if (and yaw (minusp (* yaw (dof-sign (aim-link-yaw-dof (first links)))))) 1d0 -1d0))))))
 
 (defmethod driver-end-time ((driver head-driver))
   (and (member (driver-arg driver :action) '(:nod :shake))
-       (+ (driver-start driver) (driver-real driver :duration))))
+       (+ (driver-start driver) (gesture-seconds driver :duration))))
+
+(defmethod driver-additive-p ((driver head-driver))
+  ;; A nod or shake adds onto whatever holds the head (a held turn, say).
+  (and (driver-arg driver :additive) (member (driver-arg driver :action) '(:nod :shake)) t))
+
+(defmethod driver-channel-sets ((driver head-driver))
+  ;; The neck and head turn as one.
+  (unless (driver-additive-p driver)
+    (list (driver-channels driver))))
 
 (defun gesture-offset (action u count amplitude)
   "The nod or shake angle (degrees) at U (0 to 1) of the gesture: a nod dips
@@ -61,11 +70,26 @@ envelope, so both start and end at rest with zero velocity."
                (setf (aref pose (aim-link-yaw-index link))
                      (clamp-to-dof (aim-link-yaw-dof link) angle)))))
 
+(defun add-link-angles (pose links key angles weight)
+  "Add WEIGHT times ANGLES, one per link of LINKS, to POSE at each link's pitch
+\(KEY :PITCH) or yaw (KEY :YAW) DOF."
+  (loop for link in links
+        for angle in angles
+        do (incf (aref pose (if (eq key :pitch) (aim-link-pitch-index link) (aim-link-yaw-index link)))
+                 (* weight angle))))
+
 (defmethod driver-drive ((driver head-driver) time pose)
   (let* ((links (head-links driver))
          (action (driver-arg driver :action))
-         (u (max 0d0 (min 1d0 (/ (- time (driver-start driver)) (driver-real driver :duration)))))
-         (amplitude (driver-real driver :amplitude)))
+         (u (max 0d0 (min 1d0 (/ (- time (driver-start driver)) (gesture-seconds driver :duration)))))
+         (amplitude (gesture-amplitude driver :amplitude)))
+    (when (driver-additive-p driver)
+      (let ((key (if (eq action :nod) :pitch :yaw)))
+        (add-link-angles pose links key
+                         (split-turn links (gesture-offset action u (driver-real driver :count) amplitude)
+                                     (if (eq key :pitch) #'aim-link-pitch-dof #'aim-link-yaw-dof))
+                         (driver-weight driver))
+        (return-from driver-drive pose)))
     (ecase action
       (:nod
        (set-link-angles pose links :pitch
@@ -80,7 +104,7 @@ envelope, so both start and end at rest with zero velocity."
       (:turn-to
        (drive-aim-links (driver-skeleton driver) links pose
                         (object-world-transform (driver-body driver))
-                        (resolve-target (driver-arg driver :target) (driver-body driver) pose)
+                        (%resolve-target (driver-arg driver :target) (driver-body driver) pose)
                         (minimum-jerk u)))
       (:turn-away
        ;; Yaw to the far side; the pitch holds where it was.
@@ -102,6 +126,7 @@ from a target and hold until stopped (Pantomime's headnod, headtowards, headaway
   (:amplitude :non-negative 15 "degrees of each nod or shake; for :turn-away, how far past straight ahead")
   (:duration :positive 0.6 "seconds for the whole nod or shake, or to complete a turn")
   (:target (:or :target (:member nil)) nil "what to turn toward or away from")
+  (:additive :boolean t "a nod or shake adds onto whatever holds the head; NIL makes it take the head")
   (:priority :real 20 "arbitration priority; higher wins"))
 
 ;;;# The head-follow driver: gaze's slave

@@ -24,6 +24,9 @@ on top of the other drivers (additive; it owns no channel)."
 (defmethod driver-additive-p ((driver idle-driver))
   t)
 
+(defmethod driver-background-p ((driver idle-driver))
+  t)
+
 (defun idle-joints (driver)
   "The joints DRIVER's :joints names, each once; a MOTOR-ERROR for an unknown one."
   (let ((skeleton (driver-skeleton driver))

@@ -25,6 +25,7 @@ key's angle for it (the start angle before the first key)."))
    "how angles move between keys: :ease (ease-in-out, resting at each key), :linear, :step, :catmull-rom")
   (:loop :boolean nil "repeat from the start after the last key, forever")
   (:hold :boolean nil "after the last key keep holding it until stopped, instead of ending")
+  (:repeat (:or :positive (:member nil)) nil "play the keys this many times (a whole number), then end or hold")
   (:priority :real 10 "arbitration priority; higher wins"))
 
 (defclass pose-driver (keyframe-driver)
@@ -80,7 +81,12 @@ pose into one named pose and holding it."))
                 (t (driver-resolve-clauses driver pose))))))
 
 (defmethod driver-setup ((driver keyframe-driver))
-  (let ((forms (keyframe-key-forms driver)))
+  (let ((forms (keyframe-key-forms driver))
+        (repeat (keyframe-repeat driver)))
+    (when (and repeat (not (integerp repeat)))
+      (driver-frame-fail driver ":repeat must be a whole number of times, not ~A" (lisp-text repeat)))
+    (when (and repeat (keyframe-loop-p driver))
+      (driver-frame-fail driver ":repeat and :loop t contradict each other: give one"))
     (unless (and (alexandria:proper-list-p forms) forms)
       (driver-frame-fail driver ":keys must be a nonempty list of (SECONDS POSE) keys"))
     (let ((keys (mapcar (lambda (key) (parse-keyframe-key driver key)) forms)))
@@ -127,8 +133,22 @@ where a key does not name it, START at :start keys and before the first."
                                     :interpolation interpolation :loop looping))
                (driver-channels driver)))))
 
+(defgeneric keyframe-repeat (driver)
+  (:documentation "How many times DRIVER plays its keys, or NIL for once (or for ever, with :loop).")
+  (:method ((driver keyframe-driver)) (driver-arg driver :repeat))
+  (:method ((driver pose-driver)) nil))
+
+(defun keyframe-cycle-time (driver local)
+  "LOCAL (seconds from DRIVER's start) within its keys: with :repeat N, the time
+into the current repetition, the last key's time once all N are played."
+  (let ((repeat (keyframe-repeat driver))
+        (length (car (last (keyframe-times driver)))))
+    (cond ((or (null repeat) (<= length 0d0)) local)
+          ((>= local (* repeat length)) length)
+          (t (mod local length)))))
+
 (defmethod driver-drive ((driver keyframe-driver) time pose)
-  (let ((local (driver-local-time driver time)))
+  (let ((local (keyframe-cycle-time driver (driver-local-time driver time))))
     (loop for index in (driver-channels driver)
           for control across (keyframe-controls driver)
           for (low . high) across (keyframe-limits driver)
@@ -137,7 +157,7 @@ where a key does not name it, START at :start keys and before the first."
 
 (defmethod driver-end-time ((driver keyframe-driver))
   (unless (or (keyframe-loop-p driver) (keyframe-hold-p driver))
-    (+ (driver-start driver) (car (last (keyframe-times driver))))))
+    (+ (driver-start driver) (* (or (keyframe-repeat driver) 1) (car (last (keyframe-times driver)))))))
 
 (defmethod driver-default-blend ((driver pose-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
@@ -147,3 +167,12 @@ where a key does not name it, START at :start keys and before the first."
   ;; Keys that begin from the captured start pose need no crossfade; a first
   ;; key at 0 that jumps to a pose keeps the body's, so nothing pops.
   (and (eq (first (keyframe-keys driver)) :start) 0d0))
+
+(defmethod driver-channel-sets ((driver keyframe-driver))
+  ;; Each limb's chain moves as one: keys that shape an arm lose it whole.
+  (let ((skeleton (driver-skeleton driver)))
+    (loop for role in '(:left-arm :right-arm :left-leg :right-leg)
+          for joints = (ensure-list (skeleton-role skeleton role))
+          for set = (remove-if-not (lambda (index) (member (skeleton-dof skeleton index) joints))
+                                   (driver-channels driver))
+          when (rest set) collect set)))

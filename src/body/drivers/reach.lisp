@@ -30,7 +30,10 @@ which makes a still target cost one solve."))
 (define-motor-function :reach reach-driver
     "Reach a hand (a wing tip, for a bird) to a target by inverse kinematics of the arm."
   (:arm (:member :left :right) :right "which arm")
-  (:target :target :required "the point to reach")
+  (:target (:or :target :zone) :required "the point to reach, or (:zone NAME) of McNeill's gesture space")
+  (:space (:member :world :gesture) :world "the space of a (:point X Y Z) target: :gesture is Pantomime's gesture space")
+  (:swivel :angle 0 "degrees the elbow swings outward about the shoulder-hand line (Pantomime's phi)")
+  (:twist (:or :angle (:member nil)) nil "degrees of forearm twist (Pantomime's rho); NIL keeps it")
   (:duration :positive 0.6 "seconds to move from where the arm is to the reach")
   (:hold :boolean t "stay at the target until stopped; NIL ends the reach on arrival")
   (:priority :real 40 "arbitration priority; higher wins"))
@@ -63,7 +66,7 @@ which makes a still target cost one solve."))
 
 (defmethod driver-end-time ((driver reach-driver))
   (unless (driver-arg driver :hold)
-    (+ (driver-start driver) (driver-arg driver :duration))))
+    (+ (driver-start driver) (gesture-seconds driver :duration))))
 
 (defun reach-held-joints (chain)
   "The joints from CHAIN's effector's parent up to (not including) its elbow:
@@ -87,7 +90,7 @@ composed) giving the frame of the arm and the held joints.  Reuses the last
 solution while nothing it depends on has moved."
   (let* ((chain (reach-chain driver))
          (body (driver-body driver))
-         (target (resolve-target (driver-arg driver :target) body pose))
+         (target (reach-target-point driver pose))
          (local (transform-point
                  (transform-invert (arm-chain-parent-transform chain pose (object-world-transform body)))
                  target))
@@ -101,20 +104,27 @@ solution while nothing it depends on has moved."
               do (setf (aref scratch i) angle))
         (setf (reach-distance driver)
               (nth-value 1 (solve-arm-chain-local chain scratch local (reach-solution driver)))
-              (reach-solved-for driver) key)))
+              (reach-solved-for driver) key)
+        (unless (zerop (driver-arg driver :swivel))
+          (swivel-arm chain scratch (reach-solution driver) local
+                      (driver-real driver :swivel) (arm-side driver)))))
     (reach-solution driver)))
 
 (defmethod driver-drive ((driver reach-driver) time pose)
   (let* ((solution (reach-solve driver pose))
-         (u (ramp time (driver-start driver) (float (driver-arg driver :duration) 1d0)))
-         (start (reach-start-angles driver)))
-    ;; Channels not solved (the elbow's twist) stay at their start angles.
+         (u (ramp time (driver-start driver) (gesture-seconds driver :duration)))
+         (start (reach-start-angles driver))
+         (twist (driver-arg driver :twist))
+         (twist-index (and twist (forearm-twist-index (reach-chain driver)))))
+    ;; Channels not solved (the elbow's twist) stay at their start angles, or turn to :twist.
     (loop for i in (driver-channels driver)
           for k from 0
           for from = (aref start k)
           for j = (position i (arm-chain-indices (reach-chain driver)))
           do (setf (aref pose i)
-                   (if j (+ from (* u (- (aref solution j) from))) from)))
+                   (cond (j (+ from (* u (- (aref solution j) from))))
+                         ((eql i twist-index) (+ from (* u (- (to-double twist) from))))
+                         (t from))))
     pose))
 
 (defmethod driver-report ((driver reach-driver))
@@ -122,3 +132,7 @@ solution while nothing it depends on has moved."
     (when (and distance (> distance *reach-report-distance*))
       (format nil "reach ~A: target out of reach, ~,3F m short"
               (lisp-text (driver-arg driver :arm)) distance))))
+
+(defmethod driver-channel-sets ((driver reach-driver))
+  ;; The shoulder and elbow solve as one chain: half an arm reaches nowhere.
+  (list (driver-channels driver)))

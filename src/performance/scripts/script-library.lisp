@@ -20,6 +20,7 @@ and the file it came from (or NIL)."
   (definitions '() :type list)          ; scripts and directors, in file order
   (pose-whens '() :type list)           ; (:pose-when ...) entries, in file order (pose-when.lisp)
   (skeleton nil)                        ; the skeleton of its (model "FILE" ...) form, or NIL (model-form.lisp)
+  (idle t)                              ; NIL after (idle nil): characters get no idle life (idle-form.lisp)
   (places nil))                         ; the *SUB-FORM-PLACES* of its forms, or NIL
 
 (defmethod print-object ((library script-library) stream)
@@ -148,8 +149,9 @@ SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
           ((equal head "poses") (set-pose-library library form))
           ((equal head "pose-when") (push (parse-pose-when form) (script-library-pose-whens library)))
           ((equal head "model") (set-library-model library form))
+          ((equal head "idle") (set-library-idle library form))
           (t (script-fail form "a script library may contain defscript, defdirector, defobject, ~
-                                model, poses and :pose-when forms, not ~:[this~;~:*a ~A form~]"
+                                model, poses, idle and :pose-when forms, not ~:[this~;~:*a ~A form~]"
                           head)))))
 
 (defun add-definition (library definition name-of table-of what form)
