@@ -288,7 +288,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "op-channels")
                  (:file "script-check")
                  (:file "simulation")
-                 (:file "library-reload")))
+                 (:file "library-reload")
+                 (:file "skeleton-reload")))
    ;; Pictures: meshes, OpenGL through OSMesa and GLFW, PNG, the viewer and live authoring.
    (:module "render" :depends-on ("base" "spec" "planner" "inspect" "control" "speech" "model" "body" "rig" "performance")
     :serial t
@@ -299,7 +300,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "watch")
                                (:file "output")
                                (:file "reports")
-                               (:file "swank")))
+                               (:file "swank")
+                               (:file "stop")))
                  (:file "mesh")
                  (:file "appearance")
                  (:file "body-mesh")
@@ -525,5 +527,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; The body agrees with the state (issue 27)
                  (:file "test-settle")
                  ;; Peedy understands paraphrases (issue 28, item 1)
-                 (:file "test-understanding"))))
+                 (:file "test-understanding")
+                 ;; Live authoring, scenes' one set, pictures that explain themselves (issue 27, items 3, 5, 6)
+                 (:file "test-live-authoring"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

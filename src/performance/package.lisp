@@ -15,7 +15,7 @@
    #:performance #:performance-audio #:performance-body #:performance-clips
    #:performance-frame #:performance-library #:performance-p #:performance-play-sound
    #:performance-say #:performance-scene #:presenter-library #:presenter-performance
-   #:reload-script-library #:replay-clips #:script #:script-critical-time
+   #:reload-script-library #:reload-character-skeleton #:script-library-poses #:replay-clips #:script #:script-critical-time
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
    #:simulation #:simulation-clips #:simulation-end #:simulation-fps
    #:simulation-frame-count #:simulation-p #:simulation-performance #:simulation-reports
