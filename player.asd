@@ -529,5 +529,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Peedy understands paraphrases (issue 28, item 1)
                  (:file "test-understanding")
                  ;; Live authoring, scenes' one set, pictures that explain themselves (issue 27, items 3, 5, 6)
-                 (:file "test-live-authoring"))))
+                 (:file "test-live-authoring")
+                 (:file "test-explaining-pictures"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

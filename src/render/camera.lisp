@@ -218,16 +218,62 @@ characters' centre, or 1.5 m when they are behind it or absent."
                      (transform-vector camera (vec3 0d0 0d0 -1d0)))))
     (if (> depth 0.1d0) depth 1.5d0)))
 
+;;;# Keeping the characters in frame
+
+(defun box-union (a b)
+  "The box around the boxes A and B, (MIN . MAX) vec3 pairs; either may be NIL."
+  (cond ((null a) b)
+        ((null b) a)
+        (t (cons (vec3 (min (vec3-x (car a)) (vec3-x (car b))) (min (vec3-y (car a)) (vec3-y (car b)))
+                       (min (vec3-z (car a)) (vec3-z (car b))))
+                 (vec3 (max (vec3-x (cdr a)) (vec3-x (cdr b))) (max (vec3-y (cdr a)) (vec3-y (cdr b)))
+                       (max (vec3-z (cdr a)) (vec3-z (cdr b))))))))
+
+(defun body-current-bounds (body)
+  "The box, (MIN . MAX) vec3s, around BODY's joints where they are now (as
+last evaluated), each grown by its radius; NIL before its first evaluation."
+  (let ((transforms (body-transforms body))
+        (joints (skeleton-joints (body-skeleton body))))
+    (when (and (simple-vector-p transforms) (= (length transforms) (length joints)))
+      (loop with box = nil
+            for joint across joints
+            for r = (float (body-joint-radius joint) 1d0)
+            for p = (joint-world-position transforms joint)
+            do (setf box (box-union box (cons (v- p (vec3 r r r)) (v+ p (vec3 r r r)))))
+            finally (return box)))))
+
+(defun scene-current-bounds (scene)
+  "The box around SCENE's visible bodies where they are now, or NIL."
+  (reduce #'box-union (mapcar #'body-current-bounds (scene-bodies scene)) :initial-value nil))
+
+(defparameter *keep-in-frame-fill* 0.7d0
+  "The share of the frame's height and width the box around the bodies fills
+when the framing camera takes over from a scene's camera that would lose them.")
+
+(defun keep-in-frame (transform scene fov aspect)
+  "TRANSFORM, a scene camera's, when every corner of the box around SCENE's
+bodies as they are now lies in its view of FOV degrees and ASPECT; else a
+framing camera driven by that box (FRAME-BOUNDS-CAMERA), so a character who
+flies out of the library's shot stays in the picture."
+  (let ((bounds (scene-current-bounds scene)))
+    (if (or (null bounds)
+            (corners-fit-p (box-corners bounds) transform (tan (* 0.5d0 fov (/ pi 180))) aspect 1d0))
+        transform
+        ;; Joints and their radii miss feathers and fingertips: leave room.
+        (frame-bounds-camera bounds :aspect aspect :fov fov :fill *keep-in-frame-fill*))))
+
 (defun scene-view (scene aspect &key orbit camera)
   "The VIEW of SCENE for a frame of width over height ASPECT: through CAMERA (a
-camera object, default the scene's first), or a default camera framing the
-characters (FRAME-BOUNDS-CAMERA when they are imported models), moved by
-ORBIT when given."
+camera object, default the scene's first; when that would lose a character,
+a camera framing the bodies where they are, see KEEP-IN-FRAME), or a default
+camera framing the characters (FRAME-BOUNDS-CAMERA when they are imported
+models), moved by ORBIT when given."
   (let* ((object (or camera (scene-camera scene)))
          (fov (camera-fov object))
          (models (and (null object) (scene-model-bounds scene)))
          ;; Scenes of Player's own skeletons keep the sphere framing they always had.
-         (transform (cond (object (object-world-transform object))
+         (transform (cond (object (keep-in-frame (object-world-transform object) scene fov
+                                                 (float aspect 1d0)))
                           (models (frame-bounds-camera models :aspect aspect :fov fov))
                           (t (default-camera-transform scene fov))))
          (transform (if orbit
