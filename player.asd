@@ -335,6 +335,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "addresses")
                  (:file "scene-files")
                  (:file "ensemble")
+                 (:file "scene-set")
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
    ;; A performance exported as glTF: each frame's poses baked, each body a model, one animation.
@@ -367,7 +368,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "parse")
                  (:file "files")
                  (:file "turns")
-                 (:file "speaking")))
+                 (:file "speaking")
+                 (:file "printing")))
    ;; Recorded traces as regression tests: record a scenario, verify a replay.
    (:module "traces" :depends-on ("base" "spec" "control" "model" "body" "rig" "performance")
     :serial t
@@ -530,5 +532,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-understanding")
                  ;; Live authoring, scenes' one set, pictures that explain themselves (issue 27, items 3, 5, 6)
                  (:file "test-live-authoring")
-                 (:file "test-explaining-pictures"))))
+                 (:file "test-explaining-pictures")
+                 (:file "test-scene-set"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

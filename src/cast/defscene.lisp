@@ -31,6 +31,21 @@ MEMBERS (CAST-MEMBERs, in order), EVENTS (scene events, an alist from a name to
 the event addresses it sends) and the SOURCE-FILE it came from, if any."
   name documentation members events source-file)
 
+;;; At the REPL, one line each, as specs and controllers print:
+;;;   #<CAST two-peedys: left right, 2 events>   #<CAST-MEMBER left: peedy at (-0.35 0 0)>
+
+(defmethod print-object ((cast cast) stream)
+  (print-unreadable-object (cast stream :type t)
+    (format stream "~A:~{ ~A~}~:[~;, ~:*~D event~:P~]" (lisp-text (cast-name cast))
+            (mapcar (lambda (member) (lisp-text (cast-member-name member))) (cast-members cast))
+            (and (cast-events cast) (length (cast-events cast))))))
+
+(defmethod print-object ((member cast-member) stream)
+  (print-unreadable-object (member stream :type t)
+    (format stream "~A: ~A~@[ at (~{~A~^ ~})~]" (lisp-text (cast-member-name member))
+            (lisp-text (cast-member-spec member))
+            (mapcar #'format-number (cast-member-position member)))))
+
 (defvar *casts* (make-hash-table :test 'equal)
   "Defined scenes, by name key.")
 

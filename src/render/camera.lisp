@@ -246,21 +246,34 @@ last evaluated), each grown by its radius; NIL before its first evaluation."
   "The box around SCENE's visible bodies where they are now, or NIL."
   (reduce #'box-union (mapcar #'body-current-bounds (scene-bodies scene)) :initial-value nil))
 
-(defparameter *keep-in-frame-fill* 0.7d0
-  "The share of the frame's height and width the box around the bodies fills
-when the framing camera takes over from a scene's camera that would lose them.")
+(defun dolly-back (transform distance)
+  "The camera TRANSFORM moved DISTANCE metres back along its own view axis."
+  (make-transform :rotation (transform-rotation transform)
+                  :translation (v+ (transform-translation transform)
+                                   (transform-vector transform (vec3 0d0 0d0 distance)))))
 
 (defun keep-in-frame (transform scene fov aspect)
   "TRANSFORM, a scene camera's, when every corner of the box around SCENE's
-bodies as they are now lies in its view of FOV degrees and ASPECT; else a
-framing camera driven by that box (FRAME-BOUNDS-CAMERA), so a character who
-flies out of the library's shot stays in the picture."
-  (let ((bounds (scene-current-bounds scene)))
-    (if (or (null bounds)
-            (corners-fit-p (box-corners bounds) transform (tan (* 0.5d0 fov (/ pi 180))) aspect 1d0))
-        transform
-        ;; Joints and their radii miss feathers and fingertips: leave room.
-        (frame-bounds-camera bounds :aspect aspect :fov fov :fill *keep-in-frame-fill*))))
+bodies as they are now lies in its view of FOV degrees and ASPECT; else that
+camera pulled back along its view axis just far enough to take the box in: a
+framing camera driven by the bodies' bounds, so a character who flies out of
+the library's shot stays in the picture.  The distance grows continuously
+with the box, so the picture never jumps."
+  (let ((bounds (scene-current-bounds scene))
+        (tangent (tan (* 0.5d0 fov (/ pi 180)))))
+    (flet ((fits-p (distance)
+             (corners-fit-p (box-corners bounds) (dolly-back transform distance) tangent aspect 1d0)))
+      (if (or (null bounds) (fits-p 0d0))
+          transform
+          ;; Double until the box fits (or hopelessly far), then halve the
+          ;; gap down to a millimetre: the nearest distance that fits.
+          (let ((far (loop for distance = 0.05d0 then (* 2 distance)
+                           when (or (fits-p distance) (> distance 1d3)) return distance)))
+            (loop with near = 0d0
+                  while (> (- far near) 1d-3)
+                  do (let ((middle (* 0.5d0 (+ near far))))
+                       (if (fits-p middle) (setf far middle) (setf near middle))))
+            (dolly-back transform far))))))
 
 (defun scene-view (scene aspect &key orbit camera)
   "The VIEW of SCENE for a frame of width over height ASPECT: through CAMERA (a

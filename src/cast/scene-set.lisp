@@ -1,0 +1,79 @@
+;;;; scene-set.lisp -- a scene's one set.  Each member plays in a world of its
+;;;; own, placed where it stands, so it moves exactly as it would alone; but
+;;;; the scene is drawn with one set -- one table, one jukebox, one camera and
+;;;; its lights -- taken from the first member's world and put back at the
+;;;; scene's origin.  A member brings only its bodies and what hangs from
+;;;; them (a note in its hand).  The camera is the set's; when it would lose
+;;;; a member, the framing camera of the render layer frames them together.
+
+(in-package #:player.cast)
+
+(defparameter *set-kinds* '(:prop :camera :light :group)
+  "The kinds of object a scene's set is made of.")
+
+(defun parent-object (object)
+  "The object OBJECT hangs from (from a joint of it, for a (BODY . JOINT) parent), or NIL."
+  (let ((parent (object-parent object)))
+    (if (consp parent) (car parent) parent)))
+
+(defun hangs-from-body-p (object)
+  "Does OBJECT hang, directly or not, from a body (held in a hand, say)?"
+  (loop for o = (parent-object object) then (parent-object o)
+        while o
+        thereis (typep o 'body)))
+
+(defun member-stage (scene)
+  "The group SCENE's bodies hang from, which stands at the member's place, or NIL."
+  (let ((body (find-if (lambda (object) (typep object 'body)) (scene-objects scene))))
+    (and body (parent-object body))))
+
+(defun member-objects (scene)
+  "What a member brings to the scene's picture: its bodies and what hangs from them."
+  (remove-if-not (lambda (object) (or (typep object 'body) (hangs-from-body-p object)))
+                 (scene-objects scene)))
+
+(defun set-object-p (object stage)
+  "Is OBJECT, of a member's world whose stage is STAGE, part of the set?"
+  (and (member (object-kind object) *set-kinds*)
+       (not (eq object stage))
+       (not (hangs-from-body-p object))))
+
+(defun shallow-copy (object)
+  "A new instance of OBJECT's class sharing every slot's value with OBJECT:
+the copy's properties are OBJECT's own tables, so it animates with it."
+  (let* ((class (class-of object))
+         (copy (allocate-instance class)))
+    (dolist (slot (sb-mop:class-slots class) copy)
+      (let ((name (sb-mop:slot-definition-name slot)))
+        (when (slot-boundp object name)
+          (setf (slot-value copy name) (slot-value object name)))))))
+
+(defun set-proxy (object stage proxies)
+  "OBJECT of the first member's world as the set draws it: a copy hanging
+from the scene's origin where OBJECT hangs from the member's STAGE, and from
+its parent's copy otherwise.  PROXIES (a weak EQ table) keeps one copy per
+object, so the renderer's caches see the same object every frame."
+  (or (gethash object proxies)
+      (let ((copy (shallow-copy object))
+            (parent (object-parent object)))
+        (setf (object-parent copy)
+              (cond ((or (null parent) (eq parent stage)) nil)
+                    ((and (typep parent 'scene-object) (set-object-p parent stage))
+                     (set-proxy parent stage proxies))
+                    (t parent)))
+        (setf (gethash object proxies) copy))))
+
+(defun scene-set-objects (scene proxies)
+  "The set of a scene whose first member's world is SCENE: its props,
+cameras and lights, copied to stand at the scene's origin (see SET-PROXY)."
+  (let ((stage (member-stage scene)))
+    (loop for object in (scene-objects scene)
+          when (set-object-p object stage)
+            collect (set-proxy object stage proxies))))
+
+(defun gather-scene-objects (member-scenes proxies)
+  "The objects of a scene's frame, given MEMBER-SCENES, each member's world
+in member order: the set of the first member's world, then every member's
+bodies and what they hold."
+  (append (and member-scenes (scene-set-objects (first member-scenes) proxies))
+          (loop for scene in member-scenes append (member-objects scene))))

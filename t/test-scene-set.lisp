@@ -1,0 +1,61 @@
+;;;; test-scene-set.lisp -- scenes share one set (issue 27, item 5): the
+;;;; props, camera and lights of a scene are drawn once, at the scene's
+;;;; origin, from the first member's library; members bring their bodies and
+;;;; what they hold, side by side and framed together.  Scenes, ensembles,
+;;;; dialogues and conversations print on one line at the REPL.
+
+(in-package #:player-tests)
+
+(def-suite* scene-set :in player-tests)
+
+(defun anim-duet ()
+  "A scene of two members of the anim fixture, ANIM1 and ANIM2, in a row."
+  (player.cast:replicate-cast (first (load-spec (fixture "anim.lisp"))) 2))
+
+(defun objects-named (scene name)
+  "SCENE's objects called NAME."
+  (remove-if-not (lambda (object) (string-equal (string (player.body:object-name object)) name))
+                 (player.body:scene-objects scene)))
+
+(test scene-draws-one-set
+  (let* ((cast (anim-duet))
+         (simulation (player.cast:simulate-scene cast :events '("anim2/ev-pick") :fps 10))
+         (start (player.performance:simulation-scene-at simulation 0d0)))
+    ;; One ball and one camera, not one a member; two bodies.
+    (is (= 1 (length (objects-named start "ball"))))
+    (is (= 1 (length (objects-named start "camera"))))
+    (is (= 2 (count :body (player.body:scene-objects start) :key #'player.body:object-kind)))
+    ;; The set stands where the library puts it, not at a member's place.
+    (is (< (player.body:vdistance (player.body:object-world-position (first (objects-named start "ball")))
+                                  (player.body:vec3 -0.3d0 0.9d0 0.3d0))
+           1d-9))
+    ;; The members stand apart, and the camera sees them both.
+    (let ((bodies (remove :body (player.body:scene-objects start) :key #'player.body:object-kind :test-not #'eq)))
+      (is (> (player.body:vdistance (player.body:object-world-position (first bodies))
+                                    (player.body:object-world-position (second bodies)))
+             0.3d0)))
+    (is-true (joints-in-frame-p start (player.render::scene-view start 4/3) 400 300))
+    ;; ANIM2 picked his ball up: he holds it, and the set keeps its own.
+    (let* ((end (player.performance:simulation-scene-at simulation 1.5d0))
+           (balls (objects-named end "ball")))
+      (is (= 2 (length balls)))
+      (is (= 1 (count-if #'player.cast::hangs-from-body-p balls))))))
+
+(defun one-line-p (text prefix)
+  "Is TEXT one line starting with PREFIX?"
+  (and (not (find #\Newline text)) (eql 0 (search prefix text))))
+
+(test scenes-and-dialogues-print-on-one-line
+  (let* ((cast (anim-duet))
+         (ensemble (player.cast:make-ensemble cast))
+         (dialogue (first (load-dialogue (checkout-file "specs/peedy-dialogue.lisp"))))
+         (conversation (make-conversation dialogue)))
+    (is (one-line-p (prin1-to-string cast) "#<CAST anim: anim1 anim2") "~A" (prin1-to-string cast))
+    (is (one-line-p (prin1-to-string (first (player.cast:cast-members cast))) "#<CAST-MEMBER anim1: anim at (")
+        "~A" (prin1-to-string (first (player.cast:cast-members cast))))
+    (is (one-line-p (prin1-to-string ensemble) "#<ENSEMBLE anim: anim1 t=0 anim2 t=0")
+        "~A" (prin1-to-string ensemble))
+    (is (one-line-p (prin1-to-string dialogue) "#<DIALOGUE ") "~A" (prin1-to-string dialogue))
+    (is (search "states" (prin1-to-string dialogue)))
+    (is (one-line-p (prin1-to-string conversation) "#<CONVERSATION ") "~A" (prin1-to-string conversation))
+    (is (search "0 turns" (prin1-to-string conversation)) "~A" (prin1-to-string conversation))))
