@@ -34,7 +34,14 @@
       (is (> (player.body:vdistance (player.body:object-world-position (first bodies))
                                     (player.body:object-world-position (second bodies)))
              0.3d0)))
-    (is-true (joints-in-frame-p start (player.render::scene-view start 4/3) 400 300))
+    (let ((view (player.render::scene-view start 4/3)))
+      (dolist (body (remove :body (player.body:scene-objects start) :key #'player.body:object-kind :test-not #'eq))
+        (multiple-value-bind (x y w)
+            (player.render::project-point view (player.body:joint-world-position
+                                                (player.body:body-transforms body)
+                                                (aref (player.body:skeleton-joints (player.body:body-skeleton body)) 0))
+                                             400 300)
+          (is (and (plusp w) (<= 0 x 400) (<= 0 y 300)) "~A is out of the picture" body))))
     ;; ANIM2 picked his ball up: he holds it, and the set keeps its own.
     (let* ((end (player.performance:simulation-scene-at simulation 1.5d0))
            (balls (objects-named end "ball")))

@@ -242,9 +242,44 @@ last evaluated), each grown by its radius; NIL before its first evaluation."
             do (setf box (box-union box (cons (v- p (vec3 r r r)) (v+ p (vec3 r r r)))))
             finally (return box)))))
 
-(defun scene-current-bounds (scene)
-  "The box around SCENE's visible bodies where they are now, or NIL."
-  (reduce #'box-union (mapcar #'body-current-bounds (scene-bodies scene)) :initial-value nil))
+(defun point-box-distance (point box)
+  "How far POINT lies outside BOX, a (MIN . MAX) pair (0 inside)."
+  (flet ((excess (p low high) (max 0d0 (- low p) (- p high))))
+    (let ((x (excess (vec3-x point) (vec3-x (car box)) (vec3-x (cdr box))))
+          (y (excess (vec3-y point) (vec3-y (car box)) (vec3-y (cdr box))))
+          (z (excess (vec3-z point) (vec3-z (car box)) (vec3-z (cdr box)))))
+      (sqrt (+ (* x x) (* y y) (* z z))))))
+
+(defun view-axis-miss (camera box)
+  "How far the ray the CAMERA transform looks along passes from BOX: 0 when
+it goes through it.  The distance from a ray to a convex box is convex
+along the ray, so a ternary search over the first kilometre finds it."
+  (let ((eye (transform-translation camera))
+        (forward (transform-vector camera (vec3 0d0 0d0 -1d0))))
+    (flet ((miss (s) (point-box-distance (v+ eye (v* forward s)) box)))
+      (loop with low = 0d0 and high = 1d3
+            repeat 80
+            do (let ((a (/ (+ low low high) 3)) (b (/ (+ low high high) 3)))
+                 (if (<= (miss a) (miss b)) (setf high b) (setf low a)))
+            finally (return (miss (* 0.5d0 (+ low high))))))))
+
+(defun fitting-dolly (camera box tangent aspect)
+  "The least distance the CAMERA transform must move back along its view
+axis for every corner of BOX to lie in its view (vertical half-field
+TANGENT, ASPECT): 0 when it fits already."
+  (flet ((fits-p (distance)
+           (corners-fit-p (box-corners box) (dolly-back camera distance) tangent aspect 1d0)))
+    (if (fits-p 0d0)
+        0d0
+        ;; Double until the box fits (or hopelessly far), then halve the gap
+        ;; down to a millimetre: the nearest distance that fits.
+        (let ((far (loop for distance = 0.05d0 then (* 2 distance)
+                         when (or (fits-p distance) (> distance 1d3)) return distance))
+              (near 0d0))
+          (loop while (> (- far near) 1d-3)
+                do (let ((middle (* 0.5d0 (+ near far))))
+                     (if (fits-p middle) (setf far middle) (setf near middle))))
+          far))))
 
 (defun dolly-back (transform distance)
   "The camera TRANSFORM moved DISTANCE metres back along its own view axis."
@@ -253,27 +288,23 @@ last evaluated), each grown by its radius; NIL before its first evaluation."
                                    (transform-vector transform (vec3 0d0 0d0 distance)))))
 
 (defun keep-in-frame (transform scene fov aspect)
-  "TRANSFORM, a scene camera's, when every corner of the box around SCENE's
-bodies as they are now lies in its view of FOV degrees and ASPECT; else that
-camera pulled back along its view axis just far enough to take the box in: a
-framing camera driven by the bodies' bounds, so a character who flies out of
-the library's shot stays in the picture.  The distance grows continuously
-with the box, so the picture never jumps."
-  (let ((bounds (scene-current-bounds scene))
-        (tangent (tan (* 0.5d0 fov (/ pi 180)))))
-    (flet ((fits-p (distance)
-             (corners-fit-p (box-corners bounds) (dolly-back transform distance) tangent aspect 1d0)))
-      (if (or (null bounds) (fits-p 0d0))
-          transform
-          ;; Double until the box fits (or hopelessly far), then halve the
-          ;; gap down to a millimetre: the nearest distance that fits.
-          (let ((far (loop for distance = 0.05d0 then (* 2 distance)
-                           when (or (fits-p distance) (> distance 1d3)) return distance)))
-            (loop with near = 0d0
-                  while (> (- far near) 1d-3)
-                  do (let ((middle (* 0.5d0 (+ near far))))
-                       (if (fits-p middle) (setf far middle) (setf near middle))))
-            (dolly-back transform far))))))
+  "TRANSFORM, a scene camera's, pulled back along its view axis as far as
+keeps each body of SCENE in frame: a framing camera driven by the bodies'
+bounds where they are now.  A body the camera looks at (its view axis goes
+through the body's box: a close-up, say) is the library's shot and pulls
+nothing; one the axis misses by a box's half-diagonal or more, flown out of
+the shot, pulls the camera back until all of it is in frame; in between, in
+proportion, so the picture never jumps."
+  (let ((tangent (tan (* 0.5d0 fov (/ pi 180))))
+        (distance 0d0))
+    (dolist (body (scene-bodies scene))
+      (let ((box (body-current-bounds body)))
+        (when box
+          (let* ((radius (max 1d-3 (* 0.5d0 (vdistance (car box) (cdr box)))))
+                 (weight (min 1d0 (/ (view-axis-miss transform box) radius))))
+            (when (plusp weight)
+              (setf distance (max distance (* weight (fitting-dolly transform box tangent aspect)))))))))
+    (if (plusp distance) (dolly-back transform distance) transform)))
 
 (defun scene-view (scene aspect &key orbit camera)
   "The VIEW of SCENE for a frame of width over height ASPECT: through CAMERA (a
