@@ -3,8 +3,9 @@
 ;;;; the scene is drawn with one set -- one table, one jukebox, one camera and
 ;;;; its lights -- taken from the first member's world and put back at the
 ;;;; scene's origin.  A member brings only its bodies and what hangs from
-;;;; them (a note in its hand).  The camera is the set's; when it would lose
-;;;; a member, the framing camera of the render layer frames them together.
+;;;; them (a note in its hand).  The camera is the set's, pulled back to
+;;;; take in every member side by side; when it would still lose one (he
+;;;; flies off), the render layer's framing camera keeps him in frame.
 
 (in-package #:player.cast)
 
@@ -71,9 +72,36 @@ cameras and lights, copied to stand at the scene's origin (see SET-PROXY)."
           when (set-object-p object stage)
             collect (set-proxy object stage proxies))))
 
+(defun members-rest-boxes (member-scenes)
+  "The box around each body of MEMBER-SCENES in its rest pose where it stands."
+  (loop for scene in member-scenes
+        append (loop for object in (scene-objects scene)
+                     when (and (typep object 'body) (property-value object 'visible))
+                       collect (multiple-value-call #'cons (body-rest-extent object)))))
+
+(defun take-in-members (camera member-scenes proxies)
+  "The scene's CAMERA, a set copy, made to take in every member: a camera
+object of the scene, where CAMERA would stand pulled back along its view
+until every member's body, at rest where it stands, is in the picture (see
+CAMERA-TAKING-IN).  Made once (kept in PROXIES under :camera) and moved each frame."
+  (let* ((fov (camera-fov camera))
+         (transform (camera-taking-in (object-world-transform camera) fov (members-rest-boxes member-scenes)))
+         (taking-in (or (gethash :camera proxies)
+                        (setf (gethash :camera proxies)
+                              (let ((object (make-instance 'scene-object :name (object-name camera) :kind :camera)))
+                                (define-property object 'fov :number fov)
+                                object)))))
+    (setf (property-value taking-in 'position) (transform-translation transform)
+          (property-value taking-in 'rotation) (transform-rotation transform))
+    taking-in))
+
 (defun gather-scene-objects (member-scenes proxies)
   "The objects of a scene's frame, given MEMBER-SCENES, each member's world
-in member order: the set of the first member's world, then every member's
-bodies and what they hold."
-  (append (and member-scenes (scene-set-objects (first member-scenes) proxies))
-          (loop for scene in member-scenes append (member-objects scene))))
+in member order: the set of the first member's world (its first camera
+taking in every member), then every member's bodies and what they hold."
+  (let* ((set (and member-scenes (scene-set-objects (first member-scenes) proxies)))
+         (camera (find :camera set :key #'object-kind)))
+    (append (if camera
+                (substitute (take-in-members camera member-scenes proxies) camera set)
+                set)
+            (loop for scene in member-scenes append (member-objects scene)))))

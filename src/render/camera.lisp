@@ -263,12 +263,12 @@ along the ray, so a ternary search over the first kilometre finds it."
                  (if (<= (miss a) (miss b)) (setf high b) (setf low a)))
             finally (return (miss (* 0.5d0 (+ low high))))))))
 
-(defun fitting-dolly (camera box tangent aspect)
+(defun fitting-dolly (camera box tangent aspect &optional (fill 1d0))
   "The least distance the CAMERA transform must move back along its view
-axis for every corner of BOX to lie in its view (vertical half-field
-TANGENT, ASPECT): 0 when it fits already."
+axis for every corner of BOX to lie within FILL of its view (vertical
+half-field TANGENT, ASPECT): 0 when it fits already."
   (flet ((fits-p (distance)
-           (corners-fit-p (box-corners box) (dolly-back camera distance) tangent aspect 1d0)))
+           (corners-fit-p (box-corners box) (dolly-back camera distance) tangent aspect fill)))
     (if (fits-p 0d0)
         0d0
         ;; Double until the box fits (or hopelessly far), then halve the gap
@@ -286,6 +286,16 @@ TANGENT, ASPECT): 0 when it fits already."
   (make-transform :rotation (transform-rotation transform)
                   :translation (v+ (transform-translation transform)
                                    (transform-vector transform (vec3 0d0 0d0 distance)))))
+
+(defun camera-taking-in (transform fov boxes &key (aspect 4/3) (fill 0.75d0))
+  "The camera TRANSFORM (of FOV degrees) pulled back along its view axis,
+if need be, until the box around BOXES ((MIN . MAX) vec3 pairs) lies within
+FILL of a view of ASPECT: how a scene's one camera takes in every member."
+  (let ((box (reduce #'box-union boxes :initial-value nil)))
+    (if box
+        (dolly-back transform (fitting-dolly transform box (tan (* 0.5d0 fov (/ pi 180))) (float aspect 1d0)
+                                             (float fill 1d0)))
+        transform)))
 
 (defun keep-in-frame (transform scene fov aspect)
   "TRANSFORM, a scene camera's, pulled back along its view axis as far as
