@@ -66,3 +66,27 @@
     (is (search "states" (prin1-to-string dialogue)))
     (is (one-line-p (prin1-to-string conversation) "#<CONVERSATION ") "~A" (prin1-to-string conversation))
     (is (search "0 turns" (prin1-to-string conversation)) "~A" (prin1-to-string conversation))))
+
+(test scene-file-names-its-own-set
+  ;; (set "stage.lisp") in the scene: its objects are the set, not the members'.
+  (let ((directory (live-scratch-directory "scene-set")))
+    (unwind-protect
+         (progn
+           (edit-file (merge-pathnames "anim.lisp" directory) (file-text (fixture "anim.lisp")))
+           (edit-file (merge-pathnames "anim-scripts.lisp" directory) (file-text (fixture "anim-scripts.lisp")))
+           (edit-file (merge-pathnames "stage.lisp" directory)
+                      (format nil "(defobject lamp :kind :prop :position (1 0 0))~%~
+                                   (defobject camera :kind :camera :position (0 1 6))~%"))
+           (edit-file (merge-pathnames "duo.lisp" directory)
+                      (format nil "(in-package :player-user)~%~
+                                   (defscene duo (anim :as a) (anim :as b) (set \"stage.lisp\"))~%"))
+           (let* ((cast (first (player.cast:load-scene-file (merge-pathnames "duo.lisp" directory))))
+                  (frame (player.performance:simulation-scene-at (player.cast:simulate-scene cast :fps 10) 0d0)))
+             (is (= 2 (length (player.cast:cast-members cast))))
+             (is (= 1 (length (objects-named frame "lamp"))))
+             (is (null (objects-named frame "ball")))
+             (is (= 1 (count :camera (player.body:scene-objects frame) :key #'player.body:object-kind)))
+             (is (< (player.body:vdistance (player.body:object-world-position (first (objects-named frame "lamp")))
+                                           (player.body:vec3 1d0 0d0 0d0))
+                    1d-9))))
+      (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore))))

@@ -1,8 +1,9 @@
 ;;;; scene-set.lisp -- a scene's one set.  Each member plays in a world of its
 ;;;; own, placed where it stands, so it moves exactly as it would alone; but
 ;;;; the scene is drawn with one set -- one table, one jukebox, one camera and
-;;;; its lights -- taken from the first member's world and put back at the
-;;;; scene's origin.  A member brings only its bodies and what hangs from
+;;;; its lights -- taken from the script library the scene's (set "FILE")
+;;;; names, or else from the first member's world, put back at the scene's
+;;;; origin.  A member brings only its bodies and what hangs from
 ;;;; them (a note in its hand).  The camera is the set's, pulled back to
 ;;;; take in every member side by side; when it would still lose one (he
 ;;;; flies off), the render layer's framing camera keeps him in frame.
@@ -95,11 +96,19 @@ CAMERA-TAKING-IN).  Made once (kept in PROXIES under :camera) and moved each fra
           (property-value taking-in 'rotation) (transform-rotation transform))
     taking-in))
 
-(defun gather-scene-objects (member-scenes proxies)
-  "The objects of a scene's frame, given MEMBER-SCENES, each member's world
-in member order: the set of the first member's world (its first camera
-taking in every member), then every member's bodies and what they hold."
-  (let* ((set (and member-scenes (scene-set-objects (first member-scenes) proxies)))
+(defun set-performance (cast)
+  "A performance of the script library CAST's (set \"FILE\") names, on a
+hidden stand-in body: the scene's set, standing at the origin; NIL when the
+set is the first member's.  Signals what LOAD-SCRIPT-LIBRARY signals."
+  (when (cast-set cast)
+    (make-performance (load-script-library (cast-set cast)) (list (list '%set 'none)) :silent t)))
+
+(defun gather-scene-objects (set-scene member-scenes proxies)
+  "The objects of a scene's frame, given SET-SCENE, the world its set comes
+from (the first member's, or the scene's own set), and MEMBER-SCENES, each
+member's world in member order: the set (its first camera taking in every
+member), then every member's bodies and what they hold."
+  (let* ((set (and set-scene (scene-set-objects set-scene proxies)))
          (camera (find :camera set :key #'object-kind)))
     (append (if camera
                 (substitute (take-in-members camera member-scenes proxies) camera set)

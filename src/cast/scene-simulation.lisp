@@ -13,7 +13,9 @@
 its own SIMULATION) and the COMPOSITE scene frames are gathered into.  END is
 the last member's end."
   ensemble members (composite (make-instance 'scene))
-  ;; The set's copies of the first member's objects (scene-set.lisp).
+  ;; The performance of the scene's own set, or NIL (the first member's
+  ;; world is the set), and the set's copies of its objects (scene-set.lisp).
+  (set nil)
   (proxies (make-hash-table :test 'eq :weakness :key)))
 
 (defun member-presenters (cast scripts body seed)
@@ -70,7 +72,8 @@ every member's frames (and BVH) cover that whole time."
          (end (reduce #'max members :key (lambda (m) (simulation-end (cdr m))))))
     (dolist (member members)
       (setf (simulation-end (cdr member)) end))
-    (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end)))
+    (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end
+                            :set (set-performance (ensemble-cast ensemble)))))
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
@@ -81,10 +84,12 @@ every member's frames (and BVH) cover that whole time."
               :key #'symbol-name :test #'string-equal)))
 
 (defmethod simulation-scene-at ((simulation scene-simulation) time)
-  (let ((composite (scene-simulation-composite simulation)))
+  (let ((composite (scene-simulation-composite simulation))
+        (members (loop for (nil . member) in (scene-simulation-members simulation)
+                       collect (simulation-scene-at member time)))
+        (set (scene-simulation-set simulation)))
     (setf (scene-objects composite)
-          (gather-scene-objects (loop for (nil . member) in (scene-simulation-members simulation)
-                                      collect (simulation-scene-at member time))
+          (gather-scene-objects (if set (performance-frame set time) (first members)) members
                                 (scene-simulation-proxies simulation)))
     composite))
 
