@@ -13,8 +13,9 @@
   (player.cast:replicate-cast (first (load-spec (fixture "anim.lisp"))) 2))
 
 (defun objects-named (scene name)
-  "SCENE's objects called NAME."
-  (remove-if-not (lambda (object) (string-equal (string (player.body:object-name object)) name))
+  "SCENE's visible objects called NAME."
+  (remove-if-not (lambda (object) (and (string-equal (string (player.body:object-name object)) name)
+                                       (player.body:property-value object 'player.body:visible)))
                  (player.body:scene-objects scene)))
 
 (test scene-draws-one-set
@@ -90,3 +91,15 @@
                                            (player.body:vec3 1d0 0d0 0d0))
                     1d-9))))
       (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore))))
+
+(test scene-frames-keep-their-objects
+  ;; ANIM2 picks his ball up and puts it down: his ball shows only while held,
+  ;; and every frame has the same objects, so an export sees each one throughout.
+  (let* ((simulation (player.cast:simulate-scene (anim-duet) :events '("anim2/ev-pick" "anim2/ev-drop") :fps 10))
+         (end (player.performance:simulation-end simulation))
+         (frames (loop for time in (list 0d0 0.8d0 end)
+                       collect (let ((scene (player.performance:simulation-scene-at simulation time)))
+                                 (list (copy-list (player.body:scene-objects scene))
+                                       (length (objects-named scene "ball")))))))
+    (is (every (lambda (frame) (equal (first frame) (first (first frames)))) frames))
+    (is (equal '(1 2 1) (mapcar #'second frames)) "~S" (mapcar #'second frames))))

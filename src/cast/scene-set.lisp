@@ -29,44 +29,72 @@
   (let ((body (find-if (lambda (object) (typep object 'body)) (scene-objects scene))))
     (and body (parent-object body))))
 
-(defun member-objects (scene)
-  "What a member brings to the scene's picture: its bodies and what hangs from them."
-  (remove-if-not (lambda (object) (or (typep object 'body) (hangs-from-body-p object)))
-                 (scene-objects scene)))
+(defun copy-slots (copy object &optional fresh-tables)
+  "Give COPY, an instance of OBJECT's class, each of OBJECT's slot values:
+shared, or with FRESH-TABLES its hash tables (the properties) copied, so
+COPY can be changed without changing OBJECT.  Returns COPY."
+  (dolist (slot (sb-mop:class-slots (class-of object)) copy)
+    (let ((name (sb-mop:slot-definition-name slot)))
+      (when (slot-boundp object name)
+        (let ((value (slot-value object name)))
+          (setf (slot-value copy name)
+                (if (and fresh-tables (hash-table-p value)) (alexandria:copy-hash-table value) value)))))))
+
+(defun held-prop-proxy (object proxies)
+  "The copy the scene draws of OBJECT, a prop of a member's own world: while
+it hangs from a body (held in a hand) it shares OBJECT's properties and
+follows it; otherwise it is a hidden copy (the set shows that prop).  One
+copy per prop, kept in PROXIES, so the objects of a scene's frames stay the
+same from frame to frame whatever the members pick up and put down."
+  (let* ((entry (or (gethash object proxies)
+                    (setf (gethash object proxies) (cons (allocate-instance (class-of object)) nil))))
+         (copy (car entry)))
+    (cond ((hangs-from-body-p object)
+           (unless (eq (cdr entry) :held)
+             (copy-slots copy object)
+             (setf (cdr entry) :held))
+           (setf (object-parent copy) (object-parent object)))
+          ((not (eq (cdr entry) :hidden))
+           (copy-slots copy object t)
+           (setf (property-value copy 'visible) nil
+                 (cdr entry) :hidden)))
+    copy))
+
+(defun member-objects (scene proxies &optional set-world)
+  "What a member whose world is SCENE brings to the scene's picture: its
+bodies and its props, each shown only while it hangs from a body (see
+HELD-PROP-PROXY); just the bodies when SCENE is the SET-WORLD, whose copies
+show what it holds."
+  (loop for object in (scene-objects scene)
+        when (typep object 'body)
+          collect object
+        else when (and (not set-world) (eq (object-kind object) :prop))
+               collect (held-prop-proxy object proxies)))
 
 (defun set-object-p (object stage)
-  "Is OBJECT, of a member's world whose stage is STAGE, part of the set?"
+  "Is OBJECT, of the world whose stage is STAGE, part of the set?  Every
+prop, camera, light and group but the stage: one held in a hand stays in
+the set, following the hand (see SET-PROXY)."
   (and (member (object-kind object) *set-kinds*)
-       (not (eq object stage))
-       (not (hangs-from-body-p object))))
-
-(defun shallow-copy (object)
-  "A new instance of OBJECT's class sharing every slot's value with OBJECT:
-the copy's properties are OBJECT's own tables, so it animates with it."
-  (let* ((class (class-of object))
-         (copy (allocate-instance class)))
-    (dolist (slot (sb-mop:class-slots class) copy)
-      (let ((name (sb-mop:slot-definition-name slot)))
-        (when (slot-boundp object name)
-          (setf (slot-value copy name) (slot-value object name)))))))
+       (not (eq object stage))))
 
 (defun set-proxy (object stage proxies)
-  "OBJECT of the first member's world as the set draws it: a copy hanging
-from the scene's origin where OBJECT hangs from the member's STAGE, and from
-its parent's copy otherwise.  PROXIES (a weak EQ table) keeps one copy per
-object, so the renderer's caches see the same object every frame."
-  (or (gethash object proxies)
-      (let ((copy (shallow-copy object))
-            (parent (object-parent object)))
-        (setf (object-parent copy)
-              (cond ((or (null parent) (eq parent stage)) nil)
-                    ((and (typep parent 'scene-object) (set-object-p parent stage))
-                     (set-proxy parent stage proxies))
-                    (t parent)))
-        (setf (gethash object proxies) copy))))
+  "OBJECT of the set's world as the scene draws it: one copy per object,
+kept in PROXIES (a weak EQ table) so the renderer's caches and an export see
+the same object every frame, hung each frame where OBJECT hangs now -- from
+the scene's origin for the world's STAGE, from a parent's copy for another
+object of the set, from a body's joint as OBJECT is (a note picked up)."
+  (let ((copy (or (gethash object proxies) (setf (gethash object proxies) (copy-slots (allocate-instance (class-of object)) object))))
+        (parent (object-parent object)))
+    (setf (object-parent copy)
+          (cond ((or (null parent) (eq parent stage)) nil)
+                ((and (typep parent 'scene-object) (set-object-p parent stage))
+                 (set-proxy parent stage proxies))
+                (t parent)))
+    copy))
 
 (defun scene-set-objects (scene proxies)
-  "The set of a scene whose first member's world is SCENE: its props,
+  "The set of a scene whose set comes from the world SCENE: its props,
 cameras and lights, copied to stand at the scene's origin (see SET-PROXY)."
   (let ((stage (member-stage scene)))
     (loop for object in (scene-objects scene)
@@ -113,4 +141,5 @@ member), then every member's bodies and what they hold."
     (append (if camera
                 (substitute (take-in-members camera member-scenes proxies) camera set)
                 set)
-            (loop for scene in member-scenes append (member-objects scene)))))
+            (loop for scene in member-scenes
+                  append (member-objects scene proxies (eq scene set-scene))))))
