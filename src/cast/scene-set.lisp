@@ -3,10 +3,12 @@
 ;;;; the scene is drawn with one set -- one table, one jukebox, one camera and
 ;;;; its lights -- taken from the script library the scene's (set "FILE")
 ;;;; names, or else from the first member's world, put back at the scene's
-;;;; origin.  A member brings only its bodies and what hangs from
-;;;; them (a note in its hand).  The camera is the set's, pulled back to
-;;;; take in every member side by side; when it would still lose one (he
-;;;; flies off), the render layer's framing camera keeps him in frame.
+;;;; origin.  A member brings only its bodies and what hangs from them (a
+;;;; note in its hand).  The camera is the set's, pulled back to take in
+;;;; every member side by side; when it would still lose one (he flies off),
+;;;; the render layer's framing camera keeps him in frame.  The objects the
+;;;; scene draws are copies made once, so they stay the same from frame to
+;;;; frame: the renderer's caches and an export follow each throughout.
 
 (in-package #:player.cast)
 
@@ -84,7 +86,8 @@ kept in PROXIES (a weak EQ table) so the renderer's caches and an export see
 the same object every frame, hung each frame where OBJECT hangs now -- from
 the scene's origin for the world's STAGE, from a parent's copy for another
 object of the set, from a body's joint as OBJECT is (a note picked up)."
-  (let ((copy (or (gethash object proxies) (setf (gethash object proxies) (copy-slots (allocate-instance (class-of object)) object))))
+  (let ((copy (or (gethash object proxies)
+                  (setf (gethash object proxies) (copy-slots (allocate-instance (class-of object)) object))))
         (parent (object-parent object)))
     (setf (object-parent copy)
           (cond ((or (null parent) (eq parent stage)) nil)
