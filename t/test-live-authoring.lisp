@@ -108,6 +108,36 @@ end; the lines its trace printed, as strings."
                (is (= 2 (length reports)) "~S" reports))))
       (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore))))
 
+;;;# A window on a display of its own
+
+(defun call-with-xvfb-display (function)
+  "Start an Xvfb server on a free display (it prints the number it took:
+-displayfd 1) and call FUNCTION with DISPLAY's value, \":N\"; stop it after.
+The viewer runs as a direct child of this Lisp, so its own exit status and
+pid are the test's to see (xvfb-run would stand between them)."
+  (let ((server (sb-ext:run-program "Xvfb" (list "-displayfd" "1" "-nolisten" "tcp" "-screen" "0" "320x240x24")
+                                    :search t :wait nil :input nil :output :stream :error nil)))
+    (unwind-protect
+         (let ((number (read-line (sb-ext:process-output server) nil)))
+           (if number
+               (funcall function (format nil ":~A" (string-trim " " number)))
+               (fail "Xvfb did not start")))
+      (when (sb-ext:process-alive-p server)
+        (sb-ext:process-kill server 15)
+        (sb-ext:process-wait server)))))
+
+(defun start-viewer-on (display directory &rest arguments)
+  "Start `bin/player view ARGUMENTS` (default: the anim fixture) in DIRECTORY
+on DISPLAY, its output in DIRECTORY's out.txt and err.txt."
+  (sb-ext:run-program (namestring (checkout-file "bin/player"))
+                      (list* "view" (or arguments (list (fixture "anim.lisp") "--size" "160x120" "--silent")))
+                      :wait nil :input nil :directory (namestring directory)
+                      :environment (cons (format nil "DISPLAY=~A" display)
+                                         (remove-if (lambda (entry) (eql 0 (search "DISPLAY=" entry)))
+                                                    (sb-ext:posix-environ)))
+                      :output (namestring (merge-pathnames "out.txt" directory)) :if-output-exists :supersede
+                      :error (namestring (merge-pathnames "err.txt" directory)) :if-error-exists :supersede))
+
 (defun humanoid-skeleton-text ()
   "The text of the humanoid skeleton shipped with Player."
   (file-text (merge-pathnames "humanoid.lisp" player.body::*shipped-skeletons-directory*)))
@@ -130,61 +160,43 @@ end; the lines its trace printed, as strings."
       (edit-file poses (format nil ";;;; no poses of its own~%"))
       (edit-file skeleton (humanoid-skeleton-text))
       (unwind-protect
-           (let ((process (start-windowed (namestring (checkout-file "bin/player"))
-                                          (list "view" "anim.lisp" "--watch" "--size" "160x120" "--silent"
-                                                "--frames" "100000" "--keys" "escape@12")
-                                          directory)))
-             (flet ((printed (text) (wait-until (lambda () (search text (file-text out))))))
-               (is-true (printed "; watching anim.lisp anim-scripts.lisp anim-poses.lisp figure.lisp for changes")
-                        "~A" (file-text out))
-               (edit-file poses (format nil ";;;; no poses of its own~%;;;; still none~%"))
-               (is-true (printed "; read the pose library anim-poses.lisp again") "~A" (file-text out))
-               (edit-file skeleton (format nil "~A~%;;; edited~%" (humanoid-skeleton-text)))
-               (is-true (printed "; read the skeleton figure.lisp again") "~A~A" (file-text out) (file-text err))
-               (edit-file skeleton "(skeleton")
-               (is-true (wait-until (lambda () (search "figure.lisp" (file-text err)))) "~A" (file-text err))
-               ;; One save of the spec, one line.
-               (edit-file spec (concatenate 'string (string-right-trim '(#\Newline #\)) (file-text spec))
-                                            (format nil ")~%  (event ev-again :op wave))~%")))
-               (is-true (printed "5 ev-again") "~A" (file-text out))
-               (sleep 1)
-               (let ((code (finish-windowed process)))
-                 (is (eql 0 code) "exit ~A, stderr: ~A" code (file-text err)))
-               (let ((lines (lines (file-text out))))
-                 (is (= 1 (count-if (lambda (line) (and (search "anim.lisp" line) (not (search "; watching" line))))
-                                    lines))
-                     "~A" (file-text out))
-                 (is (find "; now playing the new definition of anim" lines
-                           :test (lambda (a b) (and (eql 0 (search a b)) (search "anim.lisp read again" b))))
-                     "~A" (file-text out)))))
+           (call-with-xvfb-display
+            (lambda (display)
+              (let ((process (start-viewer-on display directory "anim.lisp" "--watch" "--size" "160x120" "--silent")))
+                (flet ((printed (text) (wait-until (lambda () (search text (file-text out))))))
+                  (unwind-protect
+                       (progn
+                         (is-true (printed "; watching anim.lisp anim-scripts.lisp anim-poses.lisp figure.lisp for changes")
+                                  "~A" (file-text out))
+                         (edit-file poses (format nil ";;;; no poses of its own~%;;;; still none~%"))
+                         (is-true (printed "; read the pose library anim-poses.lisp again") "~A" (file-text out))
+                         (edit-file skeleton (format nil "~A~%;;; edited~%" (humanoid-skeleton-text)))
+                         (is-true (printed "; read the skeleton figure.lisp again") "~A~A" (file-text out) (file-text err))
+                         (edit-file skeleton "(skeleton")
+                         (is-true (wait-until (lambda () (search "figure.lisp" (file-text err)))) "~A" (file-text err))
+                         ;; One save of the spec, one line.
+                         (edit-file spec (concatenate 'string (string-right-trim '(#\Newline #\)) (file-text spec))
+                                                      (format nil ")~%  (event ev-again :op wave))~%")))
+                         (is-true (printed "5 ev-again") "~A" (file-text out))
+                         (sleep 1)
+                         (sb-ext:process-kill process 15)
+                         (is-true (wait-until (lambda () (not (sb-ext:process-alive-p process)))))
+                         (is (eql 143 (sb-ext:process-exit-code process)) "exit ~A, stderr: ~A"
+                             (sb-ext:process-exit-code process) (file-text err))
+                         (let ((lines (lines (file-text out))))
+                           (is (= 1 (count-if (lambda (line)
+                                                (and (search "anim.lisp" line) (not (search "; watching" line))))
+                                              lines))
+                               "~A" (file-text out))
+                           (is (find "; now playing the new definition of anim" lines
+                                     :test (lambda (a b) (and (eql 0 (search a b)) (search "anim.lisp read again" b))))
+                               "~A" (file-text out))))
+                    (when (sb-ext:process-alive-p process)
+                      (sb-ext:process-kill process 9)
+                      (sb-ext:process-wait process)))))))
         (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore)))))
 
 ;;;# Signals
-
-(defun call-with-xvfb-display (function)
-  "Start an Xvfb server on a free display (it prints the number it took:
--displayfd 1) and call FUNCTION with DISPLAY's value, \":N\"; stop it after.
-The viewer runs as a direct child of this Lisp, so its own exit status and
-pid are the test's to see (xvfb-run would stand between them)."
-  (let ((server (sb-ext:run-program "Xvfb" (list "-displayfd" "1" "-nolisten" "tcp" "-screen" "0" "320x240x24")
-                                    :search t :wait nil :input nil :output :stream :error nil)))
-    (unwind-protect
-         (let ((number (read-line (sb-ext:process-output server) nil)))
-           (funcall function (format nil ":~A" (string-trim " " number))))
-      (when (sb-ext:process-alive-p server)
-        (sb-ext:process-kill server 15)
-        (sb-ext:process-wait server)))))
-
-(defun start-viewer-on (display directory)
-  "Start `bin/player view` of the anim fixture on DISPLAY, its output in DIRECTORY's out.txt and err.txt."
-  (sb-ext:run-program (namestring (checkout-file "bin/player"))
-                      (list "view" (fixture "anim.lisp") "--size" "160x120" "--silent")
-                      :wait nil :input nil :directory (namestring directory)
-                      :environment (cons (format nil "DISPLAY=~A" display)
-                                         (remove-if (lambda (entry) (eql 0 (search "DISPLAY=" entry)))
-                                                    (sb-ext:posix-environ)))
-                      :output (namestring (merge-pathnames "out.txt" directory)) :if-output-exists :supersede
-                      :error (namestring (merge-pathnames "err.txt" directory)) :if-error-exists :supersede))
 
 (test view-stops-on-signals-within-a-second
   (with-window-programs ()
