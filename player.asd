@@ -309,7 +309,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "script-check")
                  (:file "frame-times")
                  (:file "simulation")
-                 (:file "library-reload")))
+                 (:file "library-reload")
+                 (:file "skeleton-reload")))
    ;; Pictures: meshes, OpenGL through OSMesa and GLFW, PNG, the viewer and live authoring.
    (:module "render" :depends-on ("base" "spec" "planner" "inspect" "control" "speech" "model" "body" "rig" "performance")
     :serial t
@@ -320,7 +321,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "watch")
                                (:file "output")
                                (:file "reports")
-                               (:file "swank")))
+                               (:file "swank")
+                               (:file "stop")))
                  (:file "mesh")
                  (:file "appearance")
                  (:file "body-mesh")
@@ -354,6 +356,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "addresses")
                  (:file "scene-files")
                  (:file "ensemble")
+                 (:file "scene-set")
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
    ;; A performance exported as glTF: each frame's poses baked, each body a model, one animation.
@@ -386,7 +389,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "parse")
                  (:file "files")
                  (:file "turns")
-                 (:file "speaking")))
+                 (:file "speaking")
+                 (:file "printing")))
    ;; Recorded traces as regression tests: record a scenario, verify a replay.
    (:module "traces" :depends-on ("base" "spec" "control" "model" "body" "rig" "performance")
     :serial t
@@ -559,5 +563,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; issue 29: layered channels, idle life, the missing drivers
                  (:file "test-layered-channels")
                  (:file "test-idle-life")
-                 (:file "test-new-drivers"))))
+                 (:file "test-new-drivers")
+                 ;; Live authoring, scenes' one set, pictures that explain themselves (issue 27, items 3, 5, 6)
+                 (:file "test-live-authoring")
+                 (:file "test-explaining-pictures")
+                 (:file "test-scene-set"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -1,6 +1,6 @@
 ;;;; two-peedys.lisp -- two Peedys in one scene (issue 16, item 4).  Each
-;;;; member has its own controller over Peedy's one compiled machine, and its
-;;;; own world (table, jukebox, note) around the place it stands.  The spec
+;;;; member has its own controller over Peedy's one compiled machine; both
+;;;; stand in one set, his library's table and jukebox (issue 27).  The spec
 ;;;; is specs/peedy.lisp, found beside this file.  Try:
 ;;;;   bin/player run specs/two-peedys.lisp --events left/ev-search@0,right/ev-thanks@1
 ;;;;   bin/player render specs/two-peedys.lisp --events duet-search,all/ev-thanks --out two

@@ -122,6 +122,7 @@
    #:performance-body #:performance-clips #:performance-frame #:performance-play-sound
    #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:performance-say #:performance-scene #:presenter-performance #:reload-script-library
    #:performance-set-mood
+   #:reload-character-skeleton
    #:script-critical-time #:script-duration #:script-error #:simulate
    #:simulation-frame-count #:simulation-scene-at #:stop-script-run #:write-simulation
    #:simulation-frame-times #:simulation-critical-times)
@@ -259,6 +260,7 @@
    #:redefine-controller #:follow-spec #:unfollow-spec #:redefinition-warning
    #:redefinition-warning-error #:*plan-rows-built* #:machine-rows-built
    #:view #:stop-view #:call-in-view #:viewer-session #:view-running-p #:reload-script-library #:reload-view-scripts
+   #:reload-character-skeleton
    #:start-swank #:stop-swank
    #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
    #:presenter-result-error #:presenter-result-error-presenter #:presenter-result-error-function

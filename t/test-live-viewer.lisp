@@ -51,7 +51,7 @@ output and error going to out.txt and err.txt there; returns the process."
                                                 "--frames" "100000" "--keys" "1@0,escape@6")
                                           directory)))
              (flet ((printed (text file) (wait-until (lambda () (search text (file-text file))))))
-               (is-true (printed "; watching anim.lisp anim-scripts.lisp for changes" out) "~A" (file-text out))
+               (is-true (printed "; watching anim.lisp anim-scripts.lisp humanoid.lisp for changes" out) "~A" (file-text out))
                ;; A new event: the character switches, keeping its state, and the key map grows.
                (edit-file spec (concatenate 'string (string-right-trim '(#\Newline #\)) spec-text)
                                             (format nil ")~%  (event ev-again :op wave))~%")))

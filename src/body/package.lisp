@@ -41,7 +41,7 @@
    #:reparent-object #:request-channels #:resolve-pose #:resolve-target #:rotation
    #:sacroiliac #:scene #:scene-caption #:scene-object #:scene-objects
    #:shipped-pose-library #:skeleton #:skeleton-dof #:skeleton-error #:skeleton-fail
-   #:skeleton-joints #:skeleton-name #:skeleton-rig #:parse-skeleton #:skeleton-dof-count
+   #:skeleton-joints #:skeleton-name #:skeleton-source #:skeleton-rig #:parse-skeleton #:skeleton-dof-count
    #:skeleton-roles #:body-joint #:body-joint-p #:body-dof #:body-dof-min #:body-dof-max #:body-dof-axis
    #:skeleton-channels #:skeleton-joint-names #:driver-frame-fail #:driver-local-time #:driver-real #:driver-start #:transform-compose #:ramp #:driver-default-blend
    #:skeleton-morphs #:skeleton-channel-count #:morph-index #:channel-limits

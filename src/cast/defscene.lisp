@@ -28,8 +28,25 @@ FORM it was written as."
 (defstruct (cast (:constructor %make-cast))
   "A scene of several characters, as DEFSCENE defines it: its NAME, DOCUMENTATION,
 MEMBERS (CAST-MEMBERs, in order), EVENTS (scene events, an alist from a name to
-the event addresses it sends) and the SOURCE-FILE it came from, if any."
-  name documentation members events source-file)
+the event addresses it sends), the SOURCE-FILE it came from, if any, and the
+script library whose objects make its SET (a pathname from a (set \"FILE\")
+form), or NIL: then the set is the first member's library's."
+  name documentation members events source-file (set nil))
+
+;;; At the REPL, one line each, as specs and controllers print:
+;;;   #<CAST two-peedys: left right, 2 events>   #<CAST-MEMBER left: peedy at (-0.35 0 0)>
+
+(defmethod print-object ((cast cast) stream)
+  (print-unreadable-object (cast stream :type t)
+    (format stream "~A:~{ ~A~}~:[~;, ~:*~D event~:P~]" (lisp-text (cast-name cast))
+            (mapcar (lambda (member) (lisp-text (cast-member-name member))) (cast-members cast))
+            (and (cast-events cast) (length (cast-events cast))))))
+
+(defmethod print-object ((member cast-member) stream)
+  (print-unreadable-object (member stream :type t)
+    (format stream "~A: ~A~@[ at (~{~A~^ ~})~]" (lisp-text (cast-member-name member))
+            (lisp-text (cast-member-spec member))
+            (mapcar #'format-number (cast-member-position member)))))
 
 (defvar *casts* (make-hash-table :test 'equal)
   "Defined scenes, by name key.")
@@ -51,6 +68,27 @@ the event addresses it sends) and the SOURCE-FILE it came from, if any."
 (defun scene-event-form-p (form)
   "Is FORM an (event NAME ADDRESS...) form of a scene?"
   (and (consp form) (symbolp (first form)) (string= (symbol-name (first form)) "EVENT")))
+
+(defun scene-set-form-p (form)
+  "Is FORM a (set \"FILE\") form of a scene, naming the library of its set?"
+  (and (consp form) (symbolp (first form)) (string= (symbol-name (first form)) "SET")
+       (consp (rest form)) (stringp (second form))))
+
+(defun parse-scene-set (forms source-file)
+  "The script library file the (set \"FILE\") form among FORMS names,
+resolved against SOURCE-FILE, or NIL without one.  Signals a SCENE-ERROR for
+two set forms, a malformed one, or a file that does not exist."
+  (let ((sets (remove-if-not #'scene-set-form-p forms)))
+    (when sets
+      (with-spec-context (:source-position (or (form-place (first sets)) *source-position*))
+        (cond ((rest sets) (scene-fail 'scene-error (second sets) "a scene has one set: (set \"FILE\") is given twice"))
+              ((cddr (first sets))
+               (scene-fail 'scene-error (first sets) "a scene's set is (set \"FILE\"), a script library's file, not ~A"
+                           (bounded-lisp-text (first sets) 60))))
+        (let ((path (merge-pathnames (second (first sets))
+                                     (or source-file *default-pathname-defaults*))))
+          (or (probe-file path)
+              (scene-fail 'scene-error (first sets) "the scene's set ~A does not exist" (namestring path))))))))
 
 (defun parse-cast-member (form)
   "The CAST-MEMBER a (SPEC [:as NAME] [:at (X Y Z)] [:initial ALIST]) FORM
@@ -154,7 +192,7 @@ of one name, an UNKNOWN-MEMBER-ERROR for a scene event addressed to no member."
              (members '()) (events '()))
         (dolist (form forms)
           (with-spec-context (:source-position (or (form-place form) *source-position*))
-            (unless (scene-event-form-p form)
+            (unless (or (scene-event-form-p form) (scene-set-form-p form))
               (push (parse-cast-member form) members))))
         (setf members (place-members (nreverse members)))
         (unless members
@@ -170,12 +208,13 @@ of one name, an UNKNOWN-MEMBER-ERROR for a scene event addressed to no member."
                 (push event events)))))
         (setf (gethash (name-key name) *casts*)
               (%make-cast :name name :documentation documentation :members members
-                          :events (nreverse events) :source-file source-file))))))
+                          :events (nreverse events) :source-file source-file
+                          :set (parse-scene-set forms source-file)))))))
 
 (defmacro defscene (&rest name-and-body)
   "Define (or, re-evaluated, redefine) the scene NAME of several characters:
   (defscene NAME [DOCSTRING] (SPEC [:as MEMBER] [:at (X Y Z)] [:initial ALIST]) ...
-                             (event NAME MEMBER/EVENT ...) ...)
+                             (event NAME MEMBER/EVENT ...) ... [(set \"LIBRARY-FILE\")])
 Each member plays a defined spec; see DEFINE-CAST and doc/scenes.md.  A malformed
 form is DEFINE-CAST's SCENE-ERROR, when it runs, not a macroexpansion error."
   `(define-cast ',(if (consp name-and-body) (car name-and-body) nil)

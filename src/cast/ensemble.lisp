@@ -19,6 +19,15 @@ from each spec's name to the compiled machine its members share, and INDEX,
 the performers by name, so sending to every member costs linear time."
   cast performers machines index)
 
+(defmethod print-object ((ensemble ensemble) stream)
+  ;; One line: the scene and each member's controller's clock.
+  (print-unreadable-object (ensemble stream :type t)
+    (format stream "~A:~{ ~A~}" (lisp-text (cast-name (ensemble-cast ensemble)))
+            (mapcar (lambda (performer)
+                      (format nil "~A t=~A" (lisp-text (performer-name performer))
+                              (format-number (controller-clock (performer-controller performer)))))
+                    (ensemble-performers ensemble)))))
+
 (defun cast-designator-p (x)
   "Is X a cast or the name of a defined one?"
   (or (cast-p x) (and (name-designator-p x) (find-cast x nil))))

@@ -15,6 +15,7 @@ spec file beside FILE named after it (peedy: peedy.lisp), when there is one."
   (dolist (member (and (alexandria:proper-list-p form) (cddr form)))
     (when (and (consp member) (symbolp (first member)) (first member)
                (not (scene-event-form-p member))
+               (not (scene-set-form-p member))
                (not (find-spec (first member) nil)))
       (let ((sibling (merge-pathnames (make-pathname :name (string-downcase (symbol-name (first member)))
                                                      :type "lisp")

@@ -2,8 +2,9 @@
 ;;;; simulated time (what `simulate`, `render` and `view` run on a scene).
 ;;;; Each member plays on a performance of its own, its whole world (body,
 ;;;; props, camera) standing at the member's place, so a member moves exactly
-;;;; as it would alone; a frame of the scene gathers every member's bodies and
-;;;; props, and is seen by the camera framing all the bodies.
+;;;; as it would alone; a frame of the scene gathers every member's bodies
+;;;; into one set (scene-set.lisp), seen by the set's camera, or by one
+;;;; framing them all when it would lose one.
 
 (in-package #:player.cast)
 
@@ -11,7 +12,11 @@
   "A played scene: its ENSEMBLE, MEMBERS (an alist from each member's name to
 its own SIMULATION) and the COMPOSITE scene frames are gathered into.  END is
 the last member's end."
-  ensemble members (composite (make-instance 'scene)))
+  ensemble members (composite (make-instance 'scene))
+  ;; The performance of the scene's own set, or NIL (the first member's
+  ;; world is the set), and the set's copies of its objects (scene-set.lisp).
+  (set nil)
+  (proxies (make-hash-table :test 'eq :weakness :key)))
 
 (defun member-presenters (cast scripts body seed)
   "A table from each member's name in CAST to a body presenter placing its
@@ -67,7 +72,8 @@ every member's frames (and BVH) cover that whole time."
          (end (reduce #'max members :key (lambda (m) (simulation-end (cdr m))))))
     (dolist (member members)
       (setf (simulation-end (cdr member)) end))
-    (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end)))
+    (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end
+                            :set (set-performance (ensemble-cast ensemble)))))
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
@@ -77,22 +83,14 @@ every member's frames (and BVH) cover that whole time."
   (cdr (assoc (string member) (scene-simulation-members simulation)
               :key #'symbol-name :test #'string-equal)))
 
-(defun gathered-object-p (object first-member-p)
-  "Does a scene of several members draw OBJECT of one member's scene: bodies
-and props always, lights only the first member's, cameras never (the scene
-is seen by one framing all the bodies)."
-  (case (object-kind object)
-    ((:body :prop) t)
-    (:light first-member-p)
-    (t nil)))
-
 (defmethod simulation-scene-at ((simulation scene-simulation) time)
-  (let ((composite (scene-simulation-composite simulation)))
+  (let ((composite (scene-simulation-composite simulation))
+        (members (loop for (nil . member) in (scene-simulation-members simulation)
+                       collect (simulation-scene-at member time)))
+        (set (scene-simulation-set simulation)))
     (setf (scene-objects composite)
-          (loop for (nil . member) in (scene-simulation-members simulation)
-                for first = t then nil
-                append (remove-if-not (lambda (object) (gathered-object-p object first))
-                                      (scene-objects (simulation-scene-at member time)))))
+          (gather-scene-objects (if set (performance-frame set time) (first members)) members
+                                (scene-simulation-proxies simulation)))
     composite))
 
 (defmethod simulation-critical-times ((simulation scene-simulation))

@@ -45,9 +45,8 @@ member have been PRINTED-LINES (a hash table from member names)."
              (dropped (trace-dropped presenter))
              (count (max (gethash name printed 0) dropped)))
         (loop while (< (- count dropped) (length lines))
-              do (let* ((line (aref lines (- count dropped)))
-                        (at (trace-line-time line)))
-                   (unless (or (eq time t) (null at) (<= at time))
+              do (let ((line (aref lines (- count dropped))))
+                   (unless (trace-line-due-p presenter line time)
                      (return))
                    (write-scene-trace-line name line)
                    (incf count)))
@@ -62,13 +61,14 @@ member have been PRINTED-LINES (a hash table from member names)."
 
 (defun scene-event-keys (cast)
   "The key map of CAST's viewer: its scene events, then all/EV for each event
-of its first member's spec, as an alist from characters to addresses."
-  (loop for address in (append (mapcar (lambda (e) (lisp-text (car e))) (cast-events cast))
-                               (mapcar (lambda (event) (format nil "all/~A" (lisp-text (event-name event))))
-                                       (spec-events (find-spec (cast-member-spec (first (cast-members cast)))))))
-        for char across *view-event-keys*
-        ;; Symbols, so the key map prints them bare.
-        collect (cons char (intern (string-upcase address) '#:player-user))))
+of its first member's spec, as an alist from characters (NIL past the last
+key: typed by name) to addresses."
+  (event-key-map
+   (loop for address in (append (mapcar (lambda (e) (lisp-text (car e))) (cast-events cast))
+                                (mapcar (lambda (event) (format nil "all/~A" (lisp-text (event-name event))))
+                                        (spec-events (find-spec (cast-member-spec (first (cast-members cast)))))))
+         ;; Symbols, so the key map prints them bare.
+         collect (intern (string-upcase address) '#:player-user))))
 
 (defun view-scene (cast &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys)
   "Open a window and play every member of CAST (a cast or a scene's name) live

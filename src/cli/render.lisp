@@ -8,14 +8,15 @@
 of evenly spaced frames and, with --video, a video made by ffmpeg (Debian
 package ffmpeg).  What the character says and the sounds its scripts play go
 to DIR/speech.wav and into the video (--silent: nothing sounds, and espeak-ng
-is not needed).  A progress bar goes to standard error."
+is not needed).  A progress bar goes to standard error, redrawn in place
+on a terminal; in a log or a pipe, a line every 10 %."
      :arguments ("SPEC-FILE")
      :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" ("--fps" :default 24) "--seed" "--scripts" "--body" "--silent"
                "--size" "--cast"
                ("--out" :string "DIR" "the directory to write the frames into" :default "render/")
                ("--video" :string "FILE.mp4" "also encode the frames as a video")
                ("--policies" :policies "P1,P2,..."
-                "instead, play the scenario once per :when-busy policy (queue, preempt, override, interleave) and draw them side by side, a row each, in DIR/policies.png"))
+                "instead, play the scenario once per :when-busy policy (queue, preempt, override, interleave) and draw them side by side, a row each named by its policy, in DIR/policies.png"))
      :output "DIR/frame-0001.png ..., DIR/sheet.png (a contact sheet), DIR/speech.wav and the --video
         file, or with --policies DIR/policies.png alone; the trace and the paths
         written on standard output")

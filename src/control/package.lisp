@@ -23,4 +23,5 @@
    #:spec-of #:start-autoscript #:state-value #:stop-autoscript #:target-send-event
    #:timeline-error #:trace-dropped #:trace-line-p #:trace-line-string #:trace-line-vector
    #:trace-lines #:trace-presenter #:trace-presenter-p #:unfollow-spec #:watch
-   #:write-trace-line))
+   #:write-trace-line
+   #:trace-open-macros))

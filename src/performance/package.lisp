@@ -17,6 +17,7 @@
    #:performance-say #:performance-scene #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:presenter-library #:presenter-performance
    #:performance-set-mood
    #:reload-script-library #:replay-clips #:script #:script-critical-time
+   #:reload-character-skeleton #:script-library-poses
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
    #:simulation #:simulation-clips #:simulation-end #:simulation-fps
    #:simulation-frame-count #:simulation-p #:simulation-performance #:simulation-reports

@@ -218,16 +218,116 @@ characters' centre, or 1.5 m when they are behind it or absent."
                      (transform-vector camera (vec3 0d0 0d0 -1d0)))))
     (if (> depth 0.1d0) depth 1.5d0)))
 
+;;;# Keeping the characters in frame
+
+(defun box-union (a b)
+  "The box around the boxes A and B, (MIN . MAX) vec3 pairs; either may be NIL."
+  (cond ((null a) b)
+        ((null b) a)
+        (t (cons (vec3 (min (vec3-x (car a)) (vec3-x (car b))) (min (vec3-y (car a)) (vec3-y (car b)))
+                       (min (vec3-z (car a)) (vec3-z (car b))))
+                 (vec3 (max (vec3-x (cdr a)) (vec3-x (cdr b))) (max (vec3-y (cdr a)) (vec3-y (cdr b)))
+                       (max (vec3-z (cdr a)) (vec3-z (cdr b))))))))
+
+(defun body-current-bounds (body)
+  "The box, (MIN . MAX) vec3s, around BODY's joints where they are now (as
+last evaluated), each grown by its radius; NIL before its first evaluation."
+  (let ((transforms (body-transforms body))
+        (joints (skeleton-joints (body-skeleton body))))
+    (when (and (simple-vector-p transforms) (= (length transforms) (length joints)))
+      (loop with box = nil
+            for joint across joints
+            for r = (float (body-joint-radius joint) 1d0)
+            for p = (joint-world-position transforms joint)
+            do (setf box (box-union box (cons (v- p (vec3 r r r)) (v+ p (vec3 r r r)))))
+            finally (return box)))))
+
+(defun point-box-distance (point box)
+  "How far POINT lies outside BOX, a (MIN . MAX) pair (0 inside)."
+  (flet ((excess (p low high) (max 0d0 (- low p) (- p high))))
+    (let ((x (excess (vec3-x point) (vec3-x (car box)) (vec3-x (cdr box))))
+          (y (excess (vec3-y point) (vec3-y (car box)) (vec3-y (cdr box))))
+          (z (excess (vec3-z point) (vec3-z (car box)) (vec3-z (cdr box)))))
+      (sqrt (+ (* x x) (* y y) (* z z))))))
+
+(defun view-axis-miss (camera box)
+  "How far the ray the CAMERA transform looks along passes from BOX: 0 when
+it goes through it.  The distance from a ray to a convex box is convex
+along the ray, so a ternary search over the first kilometre finds it."
+  (let ((eye (transform-translation camera))
+        (forward (transform-vector camera (vec3 0d0 0d0 -1d0))))
+    (flet ((miss (s) (point-box-distance (v+ eye (v* forward s)) box)))
+      (loop with low = 0d0 and high = 1d3
+            repeat 80
+            do (let ((a (/ (+ low low high) 3)) (b (/ (+ low high high) 3)))
+                 (if (<= (miss a) (miss b)) (setf high b) (setf low a)))
+            finally (return (miss (* 0.5d0 (+ low high))))))))
+
+(defun fitting-dolly (camera box tangent aspect &optional (fill 1d0))
+  "The least distance the CAMERA transform must move back along its view
+axis for every corner of BOX to lie within FILL of its view (vertical
+half-field TANGENT, ASPECT): 0 when it fits already."
+  (flet ((fits-p (distance)
+           (corners-fit-p (box-corners box) (dolly-back camera distance) tangent aspect fill)))
+    (if (fits-p 0d0)
+        0d0
+        ;; Double until the box fits (or hopelessly far), then halve the gap
+        ;; down to a millimetre: the nearest distance that fits.
+        (let ((far (loop for distance = 0.05d0 then (* 2 distance)
+                         when (or (fits-p distance) (> distance 1d3)) return distance))
+              (near 0d0))
+          (loop while (> (- far near) 1d-3)
+                do (let ((middle (* 0.5d0 (+ near far))))
+                     (if (fits-p middle) (setf far middle) (setf near middle))))
+          far))))
+
+(defun dolly-back (transform distance)
+  "The camera TRANSFORM moved DISTANCE metres back along its own view axis."
+  (make-transform :rotation (transform-rotation transform)
+                  :translation (v+ (transform-translation transform)
+                                   (transform-vector transform (vec3 0d0 0d0 distance)))))
+
+(defun camera-taking-in (transform fov boxes &key (aspect 4/3) (fill 0.75d0))
+  "The camera TRANSFORM (of FOV degrees) pulled back along its view axis,
+if need be, until the box around BOXES ((MIN . MAX) vec3 pairs) lies within
+FILL of a view of ASPECT: how a scene's one camera takes in every member."
+  (let ((box (reduce #'box-union boxes :initial-value nil)))
+    (if box
+        (dolly-back transform (fitting-dolly transform box (tan (* 0.5d0 fov (/ pi 180))) (float aspect 1d0)
+                                             (float fill 1d0)))
+        transform)))
+
+(defun keep-in-frame (transform scene fov aspect)
+  "TRANSFORM, a scene camera's, pulled back along its view axis as far as
+keeps each body of SCENE in frame: a framing camera driven by the bodies'
+bounds where they are now.  A body the camera looks at (its view axis goes
+through the body's box: a close-up, say) is the library's shot and pulls
+nothing; one the axis misses by a box's half-diagonal or more, flown out of
+the shot, pulls the camera back until all of it is in frame; in between, in
+proportion, so the picture never jumps."
+  (let ((tangent (tan (* 0.5d0 fov (/ pi 180))))
+        (distance 0d0))
+    (dolist (body (scene-bodies scene))
+      (let ((box (body-current-bounds body)))
+        (when box
+          (let* ((radius (max 1d-3 (* 0.5d0 (vdistance (car box) (cdr box)))))
+                 (weight (min 1d0 (/ (view-axis-miss transform box) radius))))
+            (when (plusp weight)
+              (setf distance (max distance (* weight (fitting-dolly transform box tangent aspect)))))))))
+    (if (plusp distance) (dolly-back transform distance) transform)))
+
 (defun scene-view (scene aspect &key orbit camera)
   "The VIEW of SCENE for a frame of width over height ASPECT: through CAMERA (a
-camera object, default the scene's first), or a default camera framing the
-characters (FRAME-BOUNDS-CAMERA when they are imported models), moved by
-ORBIT when given."
+camera object, default the scene's first; when that would lose a character,
+a camera framing the bodies where they are, see KEEP-IN-FRAME), or a default
+camera framing the characters (FRAME-BOUNDS-CAMERA when they are imported
+models), moved by ORBIT when given."
   (let* ((object (or camera (scene-camera scene)))
          (fov (camera-fov object))
          (models (and (null object) (scene-model-bounds scene)))
          ;; Scenes of Player's own skeletons keep the sphere framing they always had.
-         (transform (cond (object (object-world-transform object))
+         (transform (cond (object (keep-in-frame (object-world-transform object) scene fov
+                                                 (float aspect 1d0)))
                           (models (frame-bounds-camera models :aspect aspect :fov fov))
                           (t (default-camera-transform scene fov))))
          (transform (if orbit

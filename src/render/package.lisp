@@ -18,5 +18,6 @@
    #:viewer-clips #:viewer-controller #:viewer-name #:viewer-now #:viewer-paused-at
    #:viewer-performance #:viewer-scene #:viewer-session #:with-gl-traps-masked
    #:with-offscreen-context #:write-png
+   #:event-key-map #:camera-taking-in #:body-rest-extent #:camera-fov #:trace-line-due-p #:request-viewer-stop #:viewer-stop-request #:clear-viewer-stop-request
    #:make-body-mesh #:body-mesh-positions #:body-mesh-normals #:body-mesh-colours #:body-mesh-indices
    #:body-mesh-joints #:body-mesh-starts #:body-mesh-ends #:object-prop-mesh #:prop-body-mesh))

@@ -65,13 +65,31 @@ RENDER-ERROR naming the directory otherwise."
 
 ;;;# Progress
 
-(defun show-progress (stream done total)
-  "Redraw the progress line on STREAM: a bar and DONE/TOTAL frames; a newline when done."
+(defparameter *progress-steps* 10
+  "How many lines the progress makes where it cannot be redrawn in place: one every 10 %.")
+
+(defun terminal-stream-p (stream)
+  "Is STREAM a terminal, where a line can be redrawn in place with a carriage return?"
+  (and (interactive-stream-p stream) t))
+
+(defun progress-text (done total)
+  "The progress line: a bar of 30 and DONE/TOTAL frames."
+  (let ((filled (floor (* 30 done) (max 1 total))))
+    (format nil "[~v,,,'#A~v,,,'.A] ~D/~D frames" filled "" (- 30 filled) "" done total)))
+
+(defun show-progress (stream done total &optional (terminal (and stream (terminal-stream-p stream))))
+  "Show that DONE of TOTAL frames are drawn on STREAM (NIL: nowhere).  On a
+TERMINAL the line is redrawn in place (a newline when done); elsewhere (a log,
+a pipe) a line is written each time another tenth is done, so a log holds
+*PROGRESS-STEPS* lines, not one per frame."
   (when stream
-    (let ((filled (floor (* 30 done) (max 1 total))))
-      (format stream "~C[~v,,,'#A~v,,,'.A] ~D/~D frames" #\Return filled "" (- 30 filled) "" done total)
-      (when (= done total) (terpri stream))
-      (force-output stream))))
+    (cond (terminal
+           (format stream "~C~A" #\Return (progress-text done total))
+           (when (= done total) (terpri stream)))
+          ((> (floor (* *progress-steps* done) (max 1 total))
+              (floor (* *progress-steps* (1- done)) (max 1 total)))
+           (write-line (progress-text done total) stream)))
+    (force-output stream)))
 
 ;;;# The contact sheet
 
@@ -129,20 +147,42 @@ spaced from the first to the last."
     (remove-duplicates (loop for k below cells
                              collect (if (= cells 1) 0 (round (* k (1- count)) (1- cells)))))))
 
-(defun write-contact-sheet (path thumbnails width height)
+(defparameter *row-label-scale* 2
+  "Pixels a side of a dot of the caption font in a contact sheet's row labels.")
+
+(defun draw-text (pixels width text x y &key (scale *row-label-scale*) (colour #(235 235 228 255)))
+  "Write TEXT in the caption font (caption-font.lisp), SCALE pixels a dot, in
+COLOUR into the RGBA image PIXELS of WIDTH, its top left at column X, row Y."
+  (loop for (column row length) in (caption-text-runs text)
+        do (dotimes (dy scale)
+             (loop for px from (+ x (* column scale)) below (+ x (* (+ column length) scale))
+                   do (replace pixels colour :start1 (* 4 (+ px (* width (+ y (* row scale) dy)))))))))
+
+(defun row-label-width (labels)
+  "The pixels the widest of LABELS (strings, or NIL for none) takes in the caption font."
+  (* *row-label-scale* (reduce #'max labels :key #'caption-text-width :initial-value 0)))
+
+(defun write-contact-sheet (path thumbnails width height &key row-labels)
   "Write the THUMBNAILS, a list of (PIXELS TIME) each WIDTH x HEIGHT, as a grid
-with their times to the PNG file PATH.  Returns PATH."
+with their times to the PNG file PATH, each row named by its string of
+ROW-LABELS, if given, drawn in the caption font in a margin at the left.
+Returns PATH."
   (let* ((gap 6)
+         (margin (if row-labels (+ gap (row-label-width row-labels)) 0))
          (columns (min *sheet-columns* (length thumbnails)))
          (rows (ceiling (length thumbnails) columns))
-         (sheet-width (+ gap (* columns (+ width gap))))
+         (sheet-width (+ margin gap (* columns (+ width gap))))
          (sheet-height (+ gap (* rows (+ height gap))))
          (sheet (make-array (* 4 sheet-width sheet-height) :element-type '(unsigned-byte 8))))
     (loop for i from 0 below (length sheet) by 4 do (replace sheet #(64 64 68 255) :start1 i))
+    (loop for label in row-labels
+          for row from 0 below rows
+          do (draw-text sheet sheet-width label gap
+                        (+ gap (* row (+ height gap)) (max 0 (floor (- height (* +glyph-rows+ *row-label-scale*)) 2)))))
     (loop for (pixels time) in thumbnails
           for k from 0
           do (multiple-value-bind (row column) (floor k columns)
-               (let ((x (+ gap (* column (+ width gap)))) (y (+ gap (* row (+ height gap)))))
+               (let ((x (+ margin gap (* column (+ width gap)))) (y (+ gap (* row (+ height gap)))))
                  (dotimes (line height)
                    (replace sheet pixels :start1 (* 4 (+ x (* sheet-width (+ y line))))
                                          :start2 (* 4 width line) :end2 (* 4 width (1+ line))))
@@ -217,6 +257,7 @@ arguments of the wrong kind."
                       ;; The track first (playing the performance to its end), so ffmpeg can take it.
            (audio (write-simulation-audio simulation (/ count (float fps 1d0))
                                            (merge-pathnames *audio-file-name* output)))
+           (terminal (and progress (terminal-stream-p progress)))
            (frames '()) (thumbnails '()) (process nil) (drawn nil))
       (unwind-protect
            (with-offscreen-context ((context) width height)
@@ -232,7 +273,7 @@ arguments of the wrong kind."
                        (push (list (thumbnail pixels width height factor) time) thumbnails))
                      (when process
                        (write-sequence pixels (sb-ext:process-input process)))))
-                 (show-progress progress (1+ index) count))
+                 (show-progress progress (1+ index) count terminal))
                (delete-renderer renderer)
                (setf drawn t)))
         ;; A frame failed: do not leave ffmpeg waiting for the rest.
@@ -251,8 +292,8 @@ arguments of the wrong kind."
                                                (size '(640 480)) (out "render/") (columns 6) silent)
   "Play the scenario EVENTS (as for SIMULATE) once per policy of POLICIES, every
 event that arrives while another plays following that policy, and draw one
-row per policy of COLUMNS frames evenly spaced over the longest run into
-OUT/policies.png (SILENT as for SIMULATE).  Returns its path.  Signals what SIMULATE and
+row per policy of COLUMNS frames evenly spaced over the longest run, named by
+its policy at its left, into OUT/policies.png (SILENT as for SIMULATE).  Returns its path.  Signals what SIMULATE and
 RENDER-SIMULATION signal."
   (check-argument 'render-policy-sheet 'policies policies
                   (lambda (x) (and (alexandria:proper-list-p x) x
@@ -282,4 +323,5 @@ RENDER-SIMULATION signal."
         (let ((*sheet-columns* columns)
               (*sheet-rows* (length policies)))
           (write-contact-sheet (merge-pathnames "policies.png" output) (nreverse thumbnails)
-                               (floor width factor) (floor height factor)))))))
+                               (floor width factor) (floor height factor)
+                               :row-labels (mapcar (lambda (policy) (string-downcase (symbol-name policy))) policies)))))))

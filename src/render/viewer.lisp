@@ -36,8 +36,9 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   (clips-played (make-hash-table :test #'eq)) (silence-reported nil)
   ;; Live authoring (live-viewer.lisp): work other threads post (an INBOX),
   ;; a FILE-WATCHER and the function that reloads what it reports, the spec
-  ;; whose key map was last printed, and the last error, shown in the title.
-  (inbox nil) (watcher nil) (reload nil) (spec nil) (message nil)
+  ;; whose key map was last printed, the last error, shown in the title, and
+  ;; the spec file read again whose line is still to be printed.
+  (inbox nil) (watcher nil) (reload nil) (spec nil) (message nil) (reloaded nil)
   (start 0d0) (paused-at nil) (paused-total 0d0) (now 0d0) (drag nil) (printed 0) (title "") (terminal t)
   ;; NIL, or a function of the viewer and each line typed at the terminal
   ;; (trimmed, not empty), which then is not read as an event's name: how
@@ -111,6 +112,16 @@ was last written, write the state graph there with the current state marked."
   (:documentation "Print the trace lines not yet printed whose time is at most TIME
 \(default: now; all when TIME is T)."))
 
+(defun trace-line-due-p (presenter line time)
+  "May the viewer print PRESENTER's trace LINE at TIME (T: the end)?  When
+its time has come, unless it is a macro-op's line still open: that line gets
+its real end when the macro ends, and it and the lines after it wait until
+then, as `run` writes them.  At the end every line is due."
+  (or (eq time t)
+      (let ((at (trace-line-time line)))
+        (and (or (null at) (<= at time))
+             (not (and (eq (first line) :op) (member line (trace-open-macros presenter) :test #'eq)))))))
+
 (defmethod print-due-trace ((viewer viewer) &optional (time (viewer-now viewer)))
   (let* ((presenter (controller-presenter (viewer-controller viewer)))
          (lines (trace-line-vector presenter))
@@ -121,9 +132,8 @@ was last written, write the state graph there with the current state marked."
     ;; The lines due are written as one group, no other thread's line among them.
     (with-output-lock ()
       (loop while (< (- (viewer-printed viewer) dropped) (length lines))
-            do (let* ((line (aref lines (- (viewer-printed viewer) dropped)))
-                      (at (trace-line-time line)))
-                 (unless (or (eq time t) (null at) (<= at time))
+            do (let ((line (aref lines (- (viewer-printed viewer) dropped))))
+                 (unless (trace-line-due-p presenter line time)
                    (return))
                  (write-trace-line line)
                  (incf (viewer-printed viewer))))
@@ -256,11 +266,12 @@ sound, say so once (the first time something sounds)."
                (write-live-line *standard-output* "; ~A: playing silently~%" problem)))))))
 
 (defun run-viewer (viewer frames)
-  "Play VIEWER until its window closes or FRAMES frames (NIL: no limit) are
-shown; return the number of frames shown."
+  "Play VIEWER until its window closes, FRAMES frames (NIL: no limit) are
+shown or REQUEST-VIEWER-STOP asks every viewer to close; return the number
+of frames shown."
   (let ((window (viewer-window viewer)))
     (loop for frame from 0
-          until (or (glfw-window-closing-p window) (and frames (>= frame frames)))
+          until (or (glfw-window-closing-p window) (viewer-stop-request) (and frames (>= frame frames)))
           do (let ((started (glfw-time)))
                (when (zerop frame) (setf (viewer-start viewer) started))
                (viewer-tick viewer started)
@@ -281,27 +292,38 @@ shown; return the number of frames shown."
           finally (return frame))))
 
 (defun print-key-map (keys &optional (terminal t))
-  "Print KEYS, an alist from characters to event names, and the other
-controls; TERMINAL says event names typed at the terminal are read too."
+  "Print KEYS, an alist from characters to event names (NIL for an event that
+has no key: it is typed by name), and the other controls; TERMINAL says
+event names typed at the terminal are read too."
   (with-output-lock ()
     (format t "; keys (in the window)~:[~;, or an event name typed here and Enter~]:~%" terminal)
-    (loop for (char . event) in keys do (format t "~C ~A~%" char (lisp-text event)))
+    (loop for (char . event) in keys
+          do (if char
+                 (format t "~C ~A~%" char (lisp-text event))
+                 (format t "  ~A~:[ (no key; not readable without a terminal)~;~]~%" (lisp-text event) terminal)))
     (write-line *view-help*)
     (finish-output)))
 
+(defun event-key-map (names)
+  "The key map of a viewer sending the events NAMES: an alist giving each of
+the first ones a key of *VIEW-EVENT-KEYS*, in order, and the rest NIL (they
+are typed by name)."
+  (loop for name in names
+        for k from 0
+        collect (cons (and (< k (length *view-event-keys*)) (char *view-event-keys* k)) name)))
+
 (defun view-event-keys (spec)
-  "The key map of SPEC's viewer: an alist from characters to event names, in spec order."
-  (loop for event in (mapcar #'event-name (spec-events spec))
-        for char across *view-event-keys*
-        collect (cons char event)))
+  "The key map of SPEC's viewer: an alist from characters to event names, in
+spec order, every event past the keys there are under NIL (see EVENT-KEY-MAP)."
+  (event-key-map (mapcar #'event-name (spec-events spec))))
 
 (defun scripted-keys-problem (keys event-keys)
   "Why the scripted KEYS ((SECONDS . KEY) ...) cannot be pressed in a viewer
 with EVENT-KEYS, as a message; NIL when they all can."
   (loop for (nil . key) in keys
-        unless (or (assoc key *view-control-keys*) (assoc key event-keys) (member key '(#\+ #\= #\-)))
+        unless (or (assoc key *view-control-keys*) (and key (assoc key event-keys)) (member key '(#\+ #\= #\-)))
           return (format nil "the scripted key ~A is neither an event's (~{~A~}) nor +, - or one of ~{~(~A~)~^, ~}"
-                         key (mapcar #'car event-keys) (mapcar #'car *view-control-keys*))))
+                         key (remove nil (mapcar #'car event-keys)) (mapcar #'car *view-control-keys*))))
 
 (defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot silent
                              (terminal t) inbox watch (allow-code t) line-handler)
