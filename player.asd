@@ -25,7 +25,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "conditions")
                  (:file "printing")
                  (:file "structure")
-                 (:file "arguments")))
+                 (:file "arguments")
+                 (:file "files")
+                 (:file "cleanup")
+                 (:file "outputs")))
    ;; The spec language: the model of a spec, its parser and checks, the registry, data files.
    (:module "spec" :depends-on ("base")
     :serial t
@@ -168,6 +171,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "cpp-source")
                  (:file "cpp-drivers")
                  (:file "cpp-build")
+                 (:file "cpp-cache")
                  (:file "cpp-batch")))
    ;; Sound files, espeak-ng synthesis with its phonemes as visemes, pocketsphinx recognition, playback.
    (:module "speech" :depends-on ("base" "spec")

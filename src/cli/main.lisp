@@ -27,13 +27,16 @@
 (defun main (&optional (arguments (rest sb-ext:*posix-argv*)))
   "Entry point of bin/player: run ARGUMENTS; exit 0 on success, 1 when the work
 fails, 2 for a wrong command line, 141 (as if killed by SIGPIPE) when standard
-output is closed early, 130 on an interrupt."
+output is closed early, 130 on SIGINT and 143 on SIGTERM."
   (handler-case
       (progn (run-command-line arguments)
              (finish-output *standard-output*)
              (sb-ext:exit :code 0))
     (usage-error (e) (exit-with-error 2 (condition-line e)))
     (sb-sys:interactive-interrupt () (sb-ext:exit :code 130 :abort t))
+    ;; SIGINT or SIGTERM (INSTALL-STOP-HANDLERS): children and temporaries are gone by now.
+    (interrupted (e) (ignore-errors (finish-output *standard-output*))
+      (sb-ext:exit :code (interrupted-exit-code e) :abort t))
     (storage-condition (e) (exit-with-error 1 (storage-message e)))
     (error (e)
       (if (closed-pipe-p e)
@@ -46,6 +49,9 @@ output is closed early, 130 on an interrupt."
   "The toplevel of the executable core bin/player builds: MAIN on the command line."
   (sb-ext:disable-debugger)
   (setf *default-pathname-defaults* (uiop:getcwd))
+  ;; SIGINT and SIGTERM unwind the command (killing its children, removing its
+  ;; temporaries) instead of SBCL's handlers, which can deadlock in EXIT.
+  (install-stop-handlers)
   (main (rest sb-ext:*posix-argv*)))
 
 (defun save-core (path)
