@@ -10,6 +10,11 @@
 (defvar *temporary-counter* 0
   "Makes temporary names unique within this process.")
 
+(defun unguessable (limit)
+  "A random integer below LIMIT from a fresh random state (a saved core's own
+state is the same at every start, so its names could be guessed and planted)."
+  (random limit (make-random-state t)))
+
 (defun output-target (file follow-links)
   "The file an output named FILE replaces: FILE itself, or when FOLLOW-LINKS and
 FILE is a link the user named, the file it points to.  An IO-ERROR when FILE
@@ -31,7 +36,7 @@ ending in SUFFIX.  Returns its
 descriptor and its name.  An IO-ERROR when the folder refuses it."
   (loop repeat 100
         for candidate = (format nil "~A.~A.~D-~D-~36R.~A" (os-file-name directory) name
-                                (sb-posix:getpid) (incf *temporary-counter*) (random (expt 36 6)) suffix)
+                                (sb-posix:getpid) (incf *temporary-counter*) (unguessable (expt 36 6)) suffix)
         do (handler-case
                (return (values (sb-posix:open candidate (logior sb-posix:o-wronly sb-posix:o-creat
                                                                 sb-posix:o-excl sb-posix:o-nofollow)
@@ -155,7 +160,7 @@ naming DIRECTORY and the reason otherwise."
 interrupt removes it.  Returns its directory pathname."
   (loop repeat 100
         for name = (format nil "~A.~A-~D-~36R/" (os-file-name (directory-pathname parent)) prefix
-                           (sb-posix:getpid) (random (expt 36 8)))
+                           (sb-posix:getpid) (unguessable (expt 36 8)))
         do (handler-case (progn (sb-posix:mkdir name #o700)
                                 (register-cleanup (pathname name))
                                 (return (pathname name)))
@@ -180,7 +185,16 @@ Returns FUNCTION's values."
          (work (make-private-folder directory "player-new"))
          (done nil))
     (unwind-protect
-         (multiple-value-prog1 (funcall function work)
+         (multiple-value-prog1
+             ;; An error names the file the user will look for, not its draft in WORK.
+             (handler-bind ((io-error
+                              (lambda (e)
+                                (let ((file (io-error-file e)))
+                                  (when (and (pathnamep file)
+                                             (equal (pathname-directory file) (pathname-directory work)))
+                                    (io-fail (merge-pathnames (file-namestring file) directory)
+                                             (io-error-reason e) :action (io-error-action e)))))))
+               (funcall function work))
            (let ((old (and stale (funcall stale directory)))
                  (new '()))
              (dolist (file (directory (merge-pathnames "*.*" work)))

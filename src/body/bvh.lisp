@@ -237,7 +237,7 @@ Signals a BVH-ERROR naming PATH when it cannot be written, and as WRITE-BVH."
   (handler-case
       (progn
         (ensure-directories-exist path)
-        (with-atomic-output-file (out path :follow-links t)
+        (with-atomic-output-file (out path)
           (write-bvh out skeleton frames :frame-time frame-time :placements placements))
         (truename path))
     ((or file-error stream-error) (condition)

@@ -55,7 +55,7 @@ without a screen."
          (problem (scripted-keys-problem keys (view-event-keys spec))))
     (when problem (usage-fail "--keys: ~A" problem))
     (when swank
-      (format t "; Swank listens on 127.0.0.1 port ~D and admits only clients sending the secret in ~A (SLIME does): M-x slime-connect RET 127.0.0.1 RET ~D~%"
+      (format t "; Swank listens on port ~D of 127.0.0.1, admitting only clients that send the secret in ~A (SLIME does): M-x slime-connect RET 127.0.0.1 RET ~D~%"
               swank (sb-ext:native-namestring (nth-value 1 (start-swank swank))) swank)
       (finish-output))
     (unwind-protect

@@ -57,6 +57,9 @@ matches the digest written when it was built?"
   "The verified program DIRECTORY/driver of the private cache: BUILD is called
 with a private work folder to compile \"driver\" in when the program is
 missing or fails its check.  The work folder is removed however BUILD ends."
+  ;; Player's own folder too: whoever owns it could swap the cache beneath us.
+  (let ((root (c++-cache-root)))
+    (private-directory (make-pathname :directory (butlast (pathname-directory root)) :defaults root)))
   (private-directory (c++-cache-root))
   (private-directory directory)
   (let ((executable (merge-pathnames "driver" directory)))

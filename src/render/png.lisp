@@ -110,7 +110,7 @@ PATH, an ARGUMENT-ERROR for a PATH that is not a file's path."
   (check-argument 'write-png :filter filter (lambda (x) (member x '(:up :sub :none))) ":up, :sub or :none")
   (let ((octets (png-octets width height pixels :channels channels :filter filter)))
     (handler-case
-        (write-file-octets path octets :follow-links t)
+        (write-file-octets path octets)
       ((or file-error stream-error) (condition)
         (render-fail "cannot write the PNG file ~A: ~A" path (condition-reason condition))))
     path))

@@ -99,7 +99,7 @@ Signals a SPEECH-ERROR naming PATH when it cannot be written."
            (put16 (out n) (dotimes (i 2) (write-byte (ldb (byte 8 (* 8 i)) n) out)))
            (tag (out text) (loop for c across text do (write-byte (char-code c) out))))
       (handler-case
-          (with-atomic-output-file (out path :element-type '(unsigned-byte 8) :follow-links t)
+          (with-atomic-output-file (out path :element-type '(unsigned-byte 8))
             (tag out "RIFF") (put32 out (+ 36 bytes)) (tag out "WAVE")
             (tag out "fmt ") (put32 out 16) (put16 out 1) (put16 out 1)
             (put32 out (sound-rate sound)) (put32 out (* 2 (sound-rate sound))) (put16 out 2) (put16 out 16)
