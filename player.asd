@@ -532,5 +532,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-understanding")
                  ;; Nothing lost, nothing hung, nobody in (issue 31, items 1, 2, 4)
                  (:file "test-hostile-files")
-                 (:file "test-hostile-outputs"))))
+                 (:file "test-hostile-outputs")
+                 (:file "test-swank-secret"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
