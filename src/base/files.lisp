@@ -59,7 +59,7 @@ without any Lisp object in it."
 
 (defun io-fail (file reason &key (action "write"))
   "Signal an IO-ERROR about FILE.  REASON is a phrase or the condition that failed."
-  (error 'io-error :file file :action action
+  (error 'io-error :file (final-file-name file) :action action
                    :reason (if (stringp reason) reason (condition-reason reason))))
 
 ;;;# What kind of file a path names

@@ -53,7 +53,7 @@ descriptor and its name.  An IO-ERROR when the folder refuses it."
     (and stat (logand (sb-posix:stat-mode stat) #o7777))))
 
 (defun stage-output-file (file function &key (element-type 'character) (external-format :utf-8)
-                                             (follow-links nil) (make-directories t))
+                                             (follow-links nil) (make-directories nil))
   "Call FUNCTION with a stream to a new temporary file beside FILE; flush, sync
 and close it.  Returns a function that renames the temporary over FILE (keeping
 FILE's old permissions), then FUNCTION's values.  The temporary stays
@@ -101,7 +101,7 @@ is removed at once and an IO-ERROR names FILE and the reason."
 flush and sync the temporary and rename it over FILE, keeping FILE's old
 permissions.  When FUNCTION or the disk fails, the temporary is removed and
 FILE is untouched.  OPTIONS: :ELEMENT-TYPE, :EXTERNAL-FORMAT (:UTF-8),
-:MAKE-DIRECTORIES (T) and :FOLLOW-LINKS: a FILE that is a link (one the user
+:MAKE-DIRECTORIES (NIL: a missing folder is an error) and :FOLLOW-LINKS: a FILE that is a link (one the user
 named) is replaced at its target; without it a link is replaced by the new
 file, so nothing is ever written through a link.  Returns FUNCTION's values.
 Signals an IO-ERROR naming FILE and the reason when it cannot be written."
@@ -155,6 +155,18 @@ naming DIRECTORY and the reason otherwise."
 
 ;;;# Sets of outputs
 
+(defvar *output-sets* '()
+  "While sets of outputs are written: (WORK-FOLDER . DIRECTORY) for each, so an
+error about a draft names the file it will replace (FINAL-FILE-NAME).")
+
+(defun final-file-name (file)
+  "FILE, or when it is a draft in an output set's work folder, the file in the
+set's directory it will become: what an error should name."
+  (let* ((path (and (or (pathnamep file) (stringp file)) (pathname file)))
+         (set (and path (assoc (pathname-directory path) *output-sets*
+                               :key #'pathname-directory :test #'equal))))
+    (if set (merge-pathnames (file-namestring path) (cdr set)) file)))
+
 (defun make-private-folder (parent prefix)
   "A new folder in PARENT, mode 0700, created exclusively; registered so an
 interrupt removes it.  Returns its directory pathname."
@@ -187,13 +199,7 @@ Returns FUNCTION's values."
     (unwind-protect
          (multiple-value-prog1
              ;; An error names the file the user will look for, not its draft in WORK.
-             (handler-bind ((io-error
-                              (lambda (e)
-                                (let ((file (io-error-file e)))
-                                  (when (and (pathnamep file)
-                                             (equal (pathname-directory file) (pathname-directory work)))
-                                    (io-fail (merge-pathnames (file-namestring file) directory)
-                                             (io-error-reason e) :action (io-error-action e)))))))
+             (let ((*output-sets* (acons work directory *output-sets*)))
                (funcall function work))
            (let ((old (and stale (funcall stale directory)))
                  (new '()))

@@ -237,10 +237,10 @@ Signals a BVH-ERROR naming PATH when it cannot be written, and as WRITE-BVH."
   (handler-case
       (progn
         (ensure-directories-exist path)
-        (with-atomic-output-file (out path)
+        (with-atomic-output-file (out path :make-directories t)
           (write-bvh out skeleton frames :frame-time frame-time :placements placements))
         (truename path))
-    ((or file-error stream-error) (condition)
+    ((or io-error file-error stream-error) (condition)
       ;; The path is in the message; a trailing " in FORM" would read oddly here.
       (error 'bvh-error
              :message (format nil "cannot write the BVH file ~A: ~A" (namestring path)

@@ -159,7 +159,7 @@ two pathnames, both inside DIRECTORY."
          (cpp (output-file directory name "cpp")))
     (multiple-value-bind (header source) (c++-sources machine name namespace :timed timed)
       ;; Both on the disk before either is replaced: the pair always matches.
-      (write-files-together (list (cons hpp header) (cons cpp source))))))
+      (write-files-together (list (cons hpp header) (cons cpp source)) :make-directories t))))
 
 (defun write-text-file (path text)
   "Write TEXT to PATH in UTF-8, replacing it atomically (never through a link)."

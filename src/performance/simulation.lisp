@@ -186,7 +186,7 @@ written."
             simulation)))
       ;; The frames file is replaced only once every frame is on the disk.
       (if frames
-          (with-atomic-output-file (out frames) (sample out))
+          (with-atomic-output-file (out frames :make-directories t) (sample out))
           (sample nil)))
     (append (and bvh (list (write-bvh-file bvh (body-skeleton (simulation-body simulation))
                                            (nreverse poses)

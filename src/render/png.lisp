@@ -111,6 +111,6 @@ PATH, an ARGUMENT-ERROR for a PATH that is not a file's path."
   (let ((octets (png-octets width height pixels :channels channels :filter filter)))
     (handler-case
         (write-file-octets path octets)
-      ((or file-error stream-error) (condition)
-        (render-fail "cannot write the PNG file ~A: ~A" path (condition-reason condition))))
+      ((or io-error file-error stream-error) (condition)
+        (render-fail "cannot write the PNG file ~A: ~A" (final-file-name path) (condition-reason condition))))
     path))

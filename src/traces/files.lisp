@@ -50,7 +50,7 @@ SCRIPTS are written as given; RECORD-SCENARIO makes them relative to FILE.
 Returns FILE's truename.  Signals a PLAYER-ERROR when FILE cannot be written."
   (check-argument 'write-recording 'recording recording #'recording-p "a recording (from record-scenario)")
   (check-argument 'write-recording 'file file #'pathname-designator-p *path-phrase*)
-  (with-atomic-output-file (out file :follow-links t)
+  (with-atomic-output-file (out file :follow-links t :make-directories t)
         (format out ";;;; A scenario recorded by `bin/player record`; replay it with~%~
                      ;;;; `bin/player verify SPEC-FILE ~A`.~%" (file-namestring file))
         (write-header recording out)
