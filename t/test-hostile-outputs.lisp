@@ -66,6 +66,9 @@ stdout, stderr, exit code, in time."
                                    "--frames" (funcall d "x.frames") "--bvh" (funcall d "x.bvh")))
                 ("x.frames" "x.bvh" "speech.wav"))
     ("dot" ,(lambda (d) (list "dot" (fixture "mini.lisp") "--out" (funcall d "g.dot"))) ("g.dot"))
+    ("verify-graph --dot" ,(lambda (d) (list "verify-graph" (fixture "mini.lisp") "--formula" "(AG (not holding-note))"
+                                             "--dot" (funcall d "c.dot")))
+                          ("c.dot"))
     ("speak" ,(lambda (d) (list "speak" "hello there" "--out" (funcall d "hello.wav"))) ("hello.wav"))
     ("export" ,(lambda (d) (list "export" (fixture "anim.lisp") "--events" "ev-wave" "--fps" "5"
                                  "--out" (funcall d "a.glb")))

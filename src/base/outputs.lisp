@@ -47,6 +47,12 @@ descriptor and its name.  An IO-ERROR when the folder refuses it."
                  (io-fail (merge-pathnames name directory) e :action "create"))))
         finally (io-fail directory "no unused temporary name" :action "create")))
 
+(defun current-umask ()
+  "The process's file-creation mask."
+  (let ((mask (sb-posix:umask #o022)))
+    (sb-posix:umask mask)
+    mask))
+
 (defun existing-mode (path)
   "The permission bits of the regular file PATH, or NIL when there is none."
   (let ((stat (ignore-errors (sb-posix:stat (os-file-name path)))))
@@ -65,22 +71,25 @@ is removed at once and an IO-ERROR names FILE and the reason."
     (when make-directories
       (handler-case (ensure-directories-exist directory)
         (file-error (e) (io-fail file e :action "create the folder of"))))
-    (multiple-value-bind (fd temporary) (create-exclusive-file directory (file-namestring target))
+    ;; Private while it is written: FILE may hold secrets (mode 0600).
+    (multiple-value-bind (fd temporary) (create-exclusive-file directory (file-namestring target) :mode #o600)
       (register-cleanup temporary)
       (let ((stream (sb-sys:make-fd-stream fd :output t :element-type element-type
                                               :external-format external-format :buffering :full
                                               :name (format nil "file ~A" (os-file-name file))))
             (written nil))
         (unwind-protect
-             (handler-bind (((or stream-error file-error sb-posix:syscall-error)
-                              (lambda (e)
-                                (when (or (not (typep e 'stream-error)) (eq (stream-error-stream e) stream))
-                                  (io-fail file e)))))
+             ;; Only the failures of this stream are this file's; FUNCTION's own
+             ;; errors (a file it reads) pass through as they are.
+             (handler-bind ((stream-error
+                              (lambda (e) (when (eq (stream-error-stream e) stream) (io-fail file e)))))
                (let ((values (multiple-value-list (funcall function stream))))
-                 (finish-output stream)
-                 (sb-posix:fsync fd)
-                 (when mode (sb-posix:fchmod fd mode))
-                 (close stream)
+                 (handler-case
+                     (progn (finish-output stream)
+                            (sb-posix:fsync fd)
+                            (sb-posix:fchmod fd (or mode (logandc2 #o666 (current-umask))))
+                            (close stream))
+                   ((or file-error sb-posix:syscall-error) (e) (io-fail file e)))
                  (setf written t)
                  (values-list
                   (cons (lambda (&optional abort)
@@ -101,9 +110,10 @@ is removed at once and an IO-ERROR names FILE and the reason."
 flush and sync the temporary and rename it over FILE, keeping FILE's old
 permissions.  When FUNCTION or the disk fails, the temporary is removed and
 FILE is untouched.  OPTIONS: :ELEMENT-TYPE, :EXTERNAL-FORMAT (:UTF-8),
-:MAKE-DIRECTORIES (NIL: a missing folder is an error) and :FOLLOW-LINKS: a FILE that is a link (one the user
-named) is replaced at its target; without it a link is replaced by the new
-file, so nothing is ever written through a link.  Returns FUNCTION's values.
+:MAKE-DIRECTORIES (NIL: a missing folder is an error) and :FOLLOW-LINKS: a
+FILE that is a link (one the user named) is replaced at its target; without
+it a link is replaced by the new file, so nothing is ever written through a
+link.  Returns FUNCTION's values.
 Signals an IO-ERROR naming FILE and the reason when it cannot be written."
   (destructuring-bind (commit &rest values)
       (multiple-value-list (apply #'stage-output-file file function options))
