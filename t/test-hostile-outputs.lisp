@@ -113,7 +113,20 @@ and optionally what the old memory user is called and the standard input.")
                         (is (search reason (string-downcase err)) "~A: ~S does not say ~S" name err reason)
                         (is (not (search "#<" err)) "~A: ~S" name err))
                       (is (equal before (folder-digests folder))
-                          "~A changed or lost a file, or left one: ~S -> ~S" name before (folder-digests folder)))))
+                          "~A changed or lost a file, or left one: ~S -> ~S" name before (folder-digests folder))))
+               finally
+                  ;; Standard output sent to the full disk: an error, not a quiet end as for a closed pipe.
+                  (let ((process (sb-ext:run-program
+                                  "/bin/sh" (list "-c" (format nil "~:[~;trap '' XFSZ; ulimit -f 1; ~]exec \"$0\" \"$@\" > ~A"
+                                                               (eq mode :rlimit)
+                                                               (namestring (merge-pathnames "out.txt" folder)))
+                                                  (namestring (checkout-file "bin/player"))
+                                                  "plans" (namestring (checkout-file "specs/peedy.lisp")))
+                                  :output nil :error :stream :wait nil)))
+                    (let ((err (read-line (sb-ext:process-error process) nil "")))
+                      (wait-for-process process 30)
+                      (is (eql 1 (sb-ext:process-exit-code process)))
+                      (is (search "cannot write standard output" err) "~S" err))))
       (when (eq mode :tmpfs)
         (sb-ext:run-program "/bin/umount" (list (namestring folder)) :output nil :error nil))
       (uiop:delete-directory-tree folder :validate t :if-does-not-exist :ignore))))

@@ -11,11 +11,17 @@
       "the input is nested too deeply (the control stack is exhausted)"
       "out of memory (the heap is exhausted): the input is too large"))
 
+(defun standard-output-error-p (condition)
+  "Is CONDITION a failed write to standard output?"
+  (and (typep condition 'stream-error)
+       (member (stream-error-stream condition) (list *standard-output* sb-sys:*stdout*))))
+
 (defun closed-pipe-p (condition)
-  "Is CONDITION a write to an output whose reader has gone (`player ... | head`)?"
+  "Is CONDITION a write to an output whose reader has gone (`player ... | head`)?
+A full disk under `player ... > file` is not: that is an error to report."
   (or (typep condition 'sb-int:broken-pipe)
-      (and (typep condition 'stream-error)
-           (member (stream-error-stream condition) (list *standard-output* sb-sys:*stdout*)))))
+      (and (standard-output-error-p condition)
+           (equal (condition-reason condition) (errno-reason sb-posix:epipe)))))
 
 (defun exit-with-error (status message)
   "Print MESSAGE as the one error line and exit with STATUS, flushing what was printed before."
@@ -39,9 +45,10 @@ output is closed early, 130 on SIGINT and 143 on SIGTERM."
       (sb-ext:exit :code (interrupted-exit-code e) :abort t))
     (storage-condition (e) (exit-with-error 1 (storage-message e)))
     (error (e)
-      (if (closed-pipe-p e)
-          (sb-ext:exit :code 141 :abort t)
-          (exit-with-error 1 (condition-line e))))))
+      (cond ((closed-pipe-p e) (sb-ext:exit :code 141 :abort t))
+            ((standard-output-error-p e)
+             (exit-with-error 1 (format nil "cannot write standard output: ~A" (condition-reason e))))
+            (t (exit-with-error 1 (condition-line e)))))))
 
 ;;;# The saved core
 
