@@ -94,7 +94,11 @@ whole viewer (the debugger is off)."
             (fdefinition accept)
             (lambda (socket style dont-close)
               (handler-case (funcall original socket style dont-close)
-                (error () nil)))))
+                (error ()
+                  (ignore-errors
+                   (write-live-line *standard-output* "; Swank closed a connection that did not send the secret~%"))
+                  (sleep 0.05)          ; never a busy loop, whatever failed
+                  nil)))))
     (let* ((authenticate (find-symbol "AUTHENTICATE-CLIENT" "SWANK"))
            (original (fdefinition authenticate)))
       (unless (get authenticate 'player-guarded)
