@@ -199,7 +199,16 @@ with status 1 and one error line containing FRAGMENT, with no Lisp object in it.
         (declare (ignore out))
         (is-true in-time)
         (is (eql 0 code) "simulate: ~A" err))
-      (is (equal "mine" (uiop:read-file-string speech)) "simulate --frames removed d/speech.wav"))))
+      (is (equal "mine" (uiop:read-file-string speech)) "simulate --frames removed d/speech.wav")
+      ;; The frames and the BVH change as a set: a BVH that cannot be written keeps the old frames.
+      (let ((frames (merge-pathnames "x.frames" folder)))
+        (player.base:write-file-string frames "old frames")
+        (ensure-directories-exist (merge-pathnames "x.bvh/" folder))
+        (check-one-error-line 120 "x.bvh"
+                              (list "simulate" (fixture "anim.lisp") "--events" "ev-wave" "--fps" "5"
+                                    "--frames" (namestring frames)
+                                    "--bvh" (namestring (merge-pathnames "x.bvh" folder))))
+        (is (equal "old frames" (uiop:read-file-string frames)))))))
 
 (test a-set-of-outputs-replaces-the-old-set-only-when-whole
   (with-scratch-folder (folder "set")

@@ -184,17 +184,23 @@ written."
                       (prin1 (frame-form index time scene) frame-stream)
                       (terpri frame-stream))))))
             simulation)))
-      ;; The frames file is replaced only once every frame is on the disk.
-      (if frames
-          (with-atomic-output-file (out frames :make-directories t) (sample out))
-          (sample nil)))
-    (append (and bvh (list (write-bvh-file bvh (body-skeleton (simulation-body simulation))
-                                           (nreverse poses)
-                                           :frame-time (/ 1d0 (simulation-fps simulation))
-                                           :placements (nreverse placements))))
-            (and frames (list (truename frames)))
-            (and audio (remove nil (list (write-performance-audio (simulation-performance simulation)
-                                                                  (simulation-duration simulation) audio)))))))
+      ;; The frames file is replaced only once every frame is on the disk, and
+      ;; the BVH and the audio are written: the outputs change as a set.
+      (let ((commit-frames (if frames
+                               (stage-output-file frames #'sample :make-directories t)
+                               (progn (sample nil) nil)))
+            (committed nil))
+        (unwind-protect
+             (let ((bvh-paths (and bvh (list (write-bvh-file bvh (body-skeleton (simulation-body simulation))
+                                                             (nreverse poses)
+                                                             :frame-time (/ 1d0 (simulation-fps simulation))
+                                                             :placements (nreverse placements)))))
+                   (audio-paths (and audio (remove nil (list (write-performance-audio
+                                                              (simulation-performance simulation)
+                                                              (simulation-duration simulation) audio))))))
+               (when commit-frames (funcall commit-frames) (setf committed t))
+               (append bvh-paths (and frames (list (truename frames))) audio-paths))
+          (when (and commit-frames (not committed)) (funcall commit-frames t)))))))
 
 (defgeneric simulation-reports (simulation)
   (:documentation "What the drivers reported (reaches that fell short), oldest first, as (TIME TEXT).")
