@@ -36,4 +36,4 @@
    #:install-stop-handlers #:emergency-exit
    #:call-with-atomic-output-file #:with-atomic-output-file #:write-file-octets #:write-file-string
    #:stage-output-file #:write-files-together
-   #:create-exclusive-file #:final-file-name #:check-writable-directory #:call-with-output-set #:with-output-set))
+   #:create-exclusive-file #:final-file-name #:output-target #:check-writable-directory #:call-with-output-set #:with-output-set))

@@ -262,6 +262,7 @@ arguments of the wrong kind."
 (defun video-temporary (video)
   "A new empty file beside VIDEO, with VIDEO's extension (ffmpeg chooses the format
 by it), for ffmpeg to write; renamed over VIDEO when the encoding succeeds."
+  (output-target video nil)             ; a folder, FIFO or device there is refused
   (multiple-value-bind (fd name)
       (create-exclusive-file (make-pathname :name nil :type nil :version nil :defaults video)
                              (file-namestring video) :suffix (format nil "tmp.~A" (or (pathname-type video) "mp4")))
