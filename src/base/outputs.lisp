@@ -204,8 +204,7 @@ function of DIRECTORY returning pathnames) lists that the new set did not
 replace.  When FUNCTION fails, the folder goes and DIRECTORY is untouched.
 Returns FUNCTION's values."
   (let* ((directory (check-writable-directory directory))
-         (work (make-private-folder directory "player-new"))
-         (done nil))
+         (work (make-private-folder directory "player-new")))
     (unwind-protect
          (multiple-value-prog1
              ;; An error names the file the user will look for, not its draft in WORK.
@@ -220,9 +219,7 @@ Returns FUNCTION's values."
                  (push (file-namestring target) new)))
              (dolist (file old)
                (unless (member (file-namestring file) new :test #'string=)
-                 (ignore-errors (sb-posix:unlink (os-file-name file))))))
-           (setf done t))
-      (declare (ignorable done))
+                 (ignore-errors (sb-posix:unlink (os-file-name file)))))))
       (remove-folder work))))
 
 (defmacro with-output-set ((folder directory &rest options) &body body)
