@@ -43,6 +43,7 @@ TERM, then KILL when it has not gone within a fifth of a second."
    (cond ((sb-ext:process-p thing) (kill-child thing))
          ((and (pathnamep thing) (null (pathname-name thing)))
           (sb-ext:delete-directory thing :recursive t))
+         ((stringp thing) (sb-posix:unlink thing)) ; a temporary's native name
          (t (sb-posix:unlink (os-file-name thing))))))
 
 (defun run-child (program arguments &rest options)

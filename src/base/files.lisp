@@ -19,12 +19,17 @@
            :documentation "Why it failed, as a phrase: \"no space left on device\"."))
   (:report (lambda (condition stream)
              (format stream "cannot ~A ~A: ~A" (io-error-action condition)
-                     (os-file-name (io-error-file condition)) (io-error-reason condition))))
+                     (shown-file-name (io-error-file condition)) (io-error-reason condition))))
   (:documentation "Reading or writing FILE failed for REASON (the operating system's, in words)."))
 
-(defun os-file-name (file)
-  "FILE as the operating system names it."
+(defun shown-file-name (file)
+  "FILE as an error shows it: as the user named it, in the system's spelling."
   (if (pathnamep file) (sb-ext:native-namestring file) (princ-to-string file)))
+
+(defun os-file-name (file)
+  "FILE (a pathname or a Lisp namestring) as the operating system names it,
+merged with *DEFAULT-PATHNAME-DEFAULTS* as OPEN would merge it."
+  (sb-ext:native-namestring (merge-pathnames file)))
 
 (defun sentence-case (text)
   "TEXT with its first letter lower case, as a reason inside a sentence reads."
