@@ -212,10 +212,13 @@ with status 1 and one error line containing FRAGMENT, with no Lisp object in it.
 
 (test a-set-of-outputs-replaces-the-old-set-only-when-whole
   (with-scratch-folder (folder "set")
-    (flet ((names () (sort (mapcar #'file-namestring (directory (merge-pathnames "*.*" folder))) #'string<))
-           (stale (directory) (directory (merge-pathnames "frame-*.png" directory))))
-      (dolist (name '("frame-0001.png" "frame-0002.png" "frame-0003.png" "notes.txt"))
+    (flet ((names () (sort (mapcar #'file-namestring (directory (merge-pathnames "*.*" folder) :resolve-symlinks nil)) #'string<))
+           (stale (directory) (directory (merge-pathnames "frame-*.png" directory) :resolve-symlinks nil)))
+      (dolist (name '("frame-0001.png" "frame-0002.png" "notes.txt"))
         (player.base:write-file-string (merge-pathnames name folder) "old"))
+      ;; A planted link among the old frames: it goes, what it points to stays.
+      (sb-posix:symlink (namestring (merge-pathnames "notes.txt" folder))
+                        (namestring (merge-pathnames "frame-0003.png" folder)))
       (signals error (player.base:with-output-set (work folder :stale #'stale)
                        (player.base:write-file-string (merge-pathnames "frame-0001.png" work) "new")
                        (error "frame 2 failed")))
@@ -224,4 +227,5 @@ with status 1 and one error line containing FRAGMENT, with no Lisp object in it.
       (player.base:with-output-set (work folder :stale #'stale)
         (player.base:write-file-string (merge-pathnames "frame-0001.png" work) "new"))
       (is (equal '("frame-0001.png" "notes.txt") (names)) "old frames go, other files stay")
+      (is (equal "old" (uiop:read-file-string (merge-pathnames "notes.txt" folder))))
       (is (equal "new" (uiop:read-file-string (merge-pathnames "frame-0001.png" folder)))))))

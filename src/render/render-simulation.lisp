@@ -61,8 +61,9 @@ directory otherwise."
 
 (defun old-render-files (directory)
   "The files an earlier render left in DIRECTORY that a new render replaces or removes."
-  (append (directory (merge-pathnames "frame-*.png" directory))
-          (directory (merge-pathnames *audio-file-name* directory))))
+  ;; The links themselves, not what they point to: a planted link is removed, its target never.
+  (append (directory (merge-pathnames "frame-*.png" directory) :resolve-symlinks nil)
+          (directory (merge-pathnames *audio-file-name* directory) :resolve-symlinks nil)))
 
 ;;;# Progress
 
