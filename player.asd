@@ -25,7 +25,10 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "conditions")
                  (:file "printing")
                  (:file "structure")
-                 (:file "arguments")))
+                 (:file "arguments")
+                 (:file "files")
+                 (:file "cleanup")
+                 (:file "outputs")))
    ;; The spec language: the model of a spec, its parser and checks, the registry, data files.
    (:module "spec" :depends-on ("base")
     :serial t
@@ -169,6 +172,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "cpp-source")
                  (:file "cpp-drivers")
                  (:file "cpp-build")
+                 (:file "cpp-cache")
                  (:file "cpp-batch")))
    ;; Sound files, espeak-ng synthesis with its phonemes as visemes, pocketsphinx recognition, playback.
    (:module "speech" :depends-on ("base" "spec")
@@ -567,5 +571,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Live authoring, scenes' one set, pictures that explain themselves (issue 27, items 3, 5, 6)
                  (:file "test-live-authoring")
                  (:file "test-explaining-pictures")
-                 (:file "test-scene-set"))))
+                 (:file "test-scene-set")
+                 ;; Nothing lost, nothing hung, nobody in (issue 31, items 1, 2, 4)
+                 (:file "test-hostile-files")
+                 (:file "test-hostile-outputs")
+                 (:file "test-swank-secret"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

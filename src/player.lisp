@@ -12,7 +12,8 @@
    #:reachable-space-too-large #:spec-error #:spec-error-form #:spec-error-position
    #:spec-error-spec #:spec-reader-error #:spec-syntax-error #:state-outside-planned-set
    #:state-space-too-large #:state-transfer-error #:type-error-in-spec #:unknown-event
-   #:unknown-event-name #:unknown-name-error #:untrusted-code-error)
+   #:unknown-event-name #:unknown-name-error #:untrusted-code-error
+   #:io-error #:io-error-file #:io-error-reason)
   (:import-from #:player.spec
    #:*default-max-depth* #:*when-busy-policies* #:define-spec #:defspec #:find-spec
    #:list-specs #:load-spec #:op-director #:op-duration #:op-kind #:op-name #:op-script
@@ -169,6 +170,8 @@
   (:import-from #:player.cli
    #:main #:usage-error)
   (:export
+   ;; Files (a failed read or write names the file and the reason)
+   #:io-error #:io-error-file #:io-error-reason
    ;; The language
    #:defspec #:define-spec #:find-spec #:load-spec #:list-specs #:remove-spec
    #:spec #:spec-name #:spec-documentation #:spec-max-depth #:spec-options

@@ -73,13 +73,16 @@ place the error was given (the form around it), or NIL."
 (defun position-line (file position)
   "The 1-based line of character POSITION in FILE, or NIL if FILE can't be read."
   (ignore-errors
-   (with-open-file (in file :external-format '(:utf-8 :replacement #\Replacement_Character))
-     (loop with line = 1
-           repeat position
-           for char = (read-char in nil nil)
-           while char
-           when (char= char #\Newline) do (incf line)
-           finally (return line)))))
+   ;; A regular file only (files.lisp): a FIFO in an error's place must not hang it.
+   (call-with-input-file
+    file (lambda (in)
+           (loop with line = 1
+                 repeat position
+                 for char = (read-char in nil nil)
+                 while char
+                 when (char= char #\Newline) do (incf line)
+                 finally (return line)))
+    :external-format '(:utf-8 :replacement #\Replacement_Character))))
 
 (defun truncate-text (string limit)
   "STRING, cut to LIMIT characters with an ellipsis when longer."

@@ -26,4 +26,14 @@
    #:spec-syntax-error #:split-list #:state-outside-planned-set #:state-space-too-large
    #:state-transfer-error #:string-designator-p #:tail #:to-double #:truncate-text
    #:type-error-in-spec #:unknown-event #:unknown-event-name #:unknown-name-error #:unquote
-   #:untrusted-code-error #:write-list-text))
+   #:untrusted-code-error #:write-list-text
+   ;; files.lisp, cleanup.lisp, outputs.lisp: files written whole, inputs checked, children killed
+   #:io-error #:io-error-file #:io-error-reason #:io-error-action #:io-fail #:condition-reason
+   #:errno-reason #:file-kind #:check-regular-file #:regular-file-or-nil #:open-input-file
+   #:call-with-input-file #:with-input-file #:file-octets
+   #:register-cleanup #:unregister-cleanup #:kill-child #:run-child #:run-child-output
+   #:with-work-folder #:make-private-folder #:remove-folder #:interrupted #:interrupted-exit-code
+   #:install-stop-handlers #:emergency-exit
+   #:call-with-atomic-output-file #:with-atomic-output-file #:write-file-octets #:write-file-string
+   #:stage-output-file #:write-files-together
+   #:create-exclusive-file #:final-file-name #:output-target #:check-writable-directory #:call-with-output-set #:with-output-set))

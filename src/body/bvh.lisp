@@ -237,12 +237,11 @@ Signals a BVH-ERROR naming PATH when it cannot be written, and as WRITE-BVH."
   (handler-case
       (progn
         (ensure-directories-exist path)
-        (with-open-file (out path :direction :output :if-exists :supersede
-                                  :if-does-not-exist :create :external-format :utf-8)
-          (write-bvh out skeleton frames :frame-time frame-time :placements placements)
-          (truename out)))
-    ((or file-error stream-error) (condition)
+        (with-atomic-output-file (out path :make-directories t)
+          (write-bvh out skeleton frames :frame-time frame-time :placements placements))
+        (truename path))
+    ((or io-error file-error stream-error) (condition)
       ;; The path is in the message; a trailing " in FORM" would read oddly here.
       (error 'bvh-error
              :message (format nil "cannot write the BVH file ~A: ~A" (namestring path)
-                              (substitute #\Space #\Newline (princ-to-string condition)))))))
+                              (condition-reason condition))))))

@@ -11,11 +11,17 @@
       "the input is nested too deeply (the control stack is exhausted)"
       "out of memory (the heap is exhausted): the input is too large"))
 
+(defun standard-output-error-p (condition)
+  "Is CONDITION a failed write to standard output?"
+  (and (typep condition 'stream-error)
+       (member (stream-error-stream condition) (list *standard-output* sb-sys:*stdout*))))
+
 (defun closed-pipe-p (condition)
-  "Is CONDITION a write to an output whose reader has gone (`player ... | head`)?"
+  "Is CONDITION a write to an output whose reader has gone (`player ... | head`)?
+A full disk under `player ... > file` is not: that is an error to report."
   (or (typep condition 'sb-int:broken-pipe)
-      (and (typep condition 'stream-error)
-           (member (stream-error-stream condition) (list *standard-output* sb-sys:*stdout*)))))
+      (and (standard-output-error-p condition)
+           (equal (condition-reason condition) (errno-reason sb-posix:epipe)))))
 
 (defun exit-with-error (status message)
   "Print MESSAGE as the one error line and exit with STATUS, flushing what was printed before."
@@ -27,18 +33,22 @@
 (defun main (&optional (arguments (rest sb-ext:*posix-argv*)))
   "Entry point of bin/player: run ARGUMENTS; exit 0 on success, 1 when the work
 fails, 2 for a wrong command line, 141 (as if killed by SIGPIPE) when standard
-output is closed early, 130 on an interrupt."
+output is closed early, 130 on SIGINT and 143 on SIGTERM."
   (handler-case
       (progn (run-command-line arguments)
              (finish-output *standard-output*)
              (sb-ext:exit :code 0))
     (usage-error (e) (exit-with-error 2 (condition-line e)))
     (sb-sys:interactive-interrupt () (sb-ext:exit :code 130 :abort t))
+    ;; SIGINT or SIGTERM (INSTALL-STOP-HANDLERS): children and temporaries are gone by now.
+    (interrupted (e) (ignore-errors (finish-output *standard-output*))
+      (sb-ext:exit :code (interrupted-exit-code e) :abort t))
     (storage-condition (e) (exit-with-error 1 (storage-message e)))
     (error (e)
-      (if (closed-pipe-p e)
-          (sb-ext:exit :code 141 :abort t)
-          (exit-with-error 1 (condition-line e))))))
+      (cond ((closed-pipe-p e) (sb-ext:exit :code 141 :abort t))
+            ((standard-output-error-p e)
+             (exit-with-error 1 (format nil "cannot write standard output: ~A" (condition-reason e))))
+            (t (exit-with-error 1 (condition-line e)))))))
 
 ;;;# The saved core
 
@@ -46,6 +56,9 @@ output is closed early, 130 on an interrupt."
   "The toplevel of the executable core bin/player builds: MAIN on the command line."
   (sb-ext:disable-debugger)
   (setf *default-pathname-defaults* (uiop:getcwd))
+  ;; SIGINT and SIGTERM unwind the command (killing its children, removing its
+  ;; temporaries) instead of SBCL's handlers, which can deadlock in EXIT.
+  (install-stop-handlers)
   (main (rest sb-ext:*posix-argv*)))
 
 (defun save-core (path)

@@ -40,7 +40,7 @@ ever; --dot FILE writes it as Graphviz."
             (format t "fails: ~A; counterexample~:[~; (a lasso)~]:~%" text (counterexample-loop path))
             (print-counterexample behaviour path *standard-output*)
             (when dot
-              (with-open-file (out dot :direction :output :if-exists :supersede)
+              (with-atomic-output-file (out dot :follow-links t)
                 (write-counterexample-dot behaviour path out))
               (format t "; wrote ~A~%" dot))
             (error 'player-error-with-message

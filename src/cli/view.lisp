@@ -75,7 +75,7 @@ without a screen."
                ("--keys" :keys "KEY@SECONDS,..." "press keys at times after the start, e.g. 1@0,space@2.5")
                ("--dot" :string "FILE" "keep the state graph (.dot, .svg or .png, as for `player dot`) in FILE, rewritten with the current state marked whenever it changes")
                ("--watch" :flag "" "read SPEC-FILE, its script library, pose library and skeleton file again whenever they change (one line a save): the character switches to the new definition, keeping its state and time; errors are printed and the window plays on")
-               ("--swank" :port "PORT" "start a Swank server on PORT (Debian's cl-swank) so Emacs/SLIME can connect (M-x slime-connect) and redefine the spec in the running viewer"))
+               ("--swank" :port "PORT" "start a Swank server on 127.0.0.1, port PORT (Debian's cl-swank), so Emacs/SLIME can connect (M-x slime-connect) and redefine the spec in the running viewer; clients must send the secret in ~/.slime-secret (made, mode 0600, when missing)"))
      :output "a window; the key map and the trace on standard output")
   (when-let (scene (command-cast file spec cast (not no-code)))
     (refuse-scene-option "--dot" dot)
@@ -91,8 +91,8 @@ without a screen."
          (problem (scripted-keys-problem keys (view-event-keys spec))))
     (when problem (usage-fail "--keys: ~A" problem))
     (when swank
-      (start-swank swank)
-      (format t "; Swank listens on port ~D: M-x slime-connect RET 127.0.0.1 RET ~D~%" swank swank)
+      (format t "; Swank listens on port ~D of 127.0.0.1, admitting only clients that send the secret in ~A (SLIME does): M-x slime-connect RET 127.0.0.1 RET ~D~%"
+              swank (sb-ext:native-namestring (nth-value 1 (start-swank swank))) swank)
       (finish-output))
     (with-viewer-stop-signals ()
       (unwind-protect

@@ -147,6 +147,6 @@ in PLAYER-USER, lower case, doubles without a marker, pretty, 110 columns."
 
 (defun write-cradle-scripts-file (file)
   "Write specs/newtons-cradle-scripts.lisp (to FILE) from CRADLE-SCRIPTS-TEXT."
-  (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
+  (with-atomic-output-file (out file :follow-links t)
     (write-string (cradle-scripts-text) out))
   file)

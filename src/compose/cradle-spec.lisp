@@ -123,7 +123,7 @@ WRITE-CRADLE-SCRIPTS-FILE) and no character, only the cradle's props.")
 
 (defun write-cradle-spec-file (file)
   "Write specs/newtons-cradle.lisp (to FILE) from CRADLE-SPEC-FORMS."
-  (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
+  (with-atomic-output-file (out file :follow-links t)
     (with-standard-io-syntax
       (let ((*package* (find-package '#:player-user))
             (*print-case* :downcase)

@@ -92,7 +92,7 @@ scene, then a script per op, named as the op."
 
 (defun write-spheres-scripts-file (spec file)
   "Write the script library of SPEC (specs/bouncing-spheres-scripts.lisp) to FILE."
-  (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
+  (with-atomic-output-file (out file :follow-links t)
     (with-library-print-syntax ()
         (format out ";;;; bouncing-spheres-scripts.lisp -- the script library of specs/bouncing-spheres.lisp:~%~
 ;;;; two surfaces and two balls as props, and one script per op moving the balls~%~

@@ -57,8 +57,7 @@ pathname, for RUN-TIMED-C++-BATCH."
          (driver (batch-driver-source (length machines)))
          (directory (merge-pathnames (format nil "~A/" (apply #'content-key driver *c++-flags*
                                                               (reduce #'append sources)))
-                                     (c++-cache-root)))
-         (executable (merge-pathnames "driver" directory)))
+                                     (c++-cache-root))))
     (flet ((write-files (where)
              (loop for (header source) in sources
                    for i from 0
@@ -66,16 +65,11 @@ pathname, for RUN-TIMED-C++-BATCH."
                       (write-text-file (output-file where (format nil "b~D" i) "cpp") source))
              (write-text-file (output-file where "batch_main" "cpp") driver)
              (list "batch_main.cpp")))
-      (unless (probe-file executable)
-        (let ((work (merge-pathnames (format nil "build-~36R/" (random (expt 2 64) (make-random-state t)))
-                                     directory)))
-          (ensure-directories-exist work)
-          (unwind-protect
-               (handler-bind ((player-error (lambda (e) (declare (ignore e)) (write-files directory))))
-                 (compile-c++ work (write-files work) "driver" :shown-directory directory)
-                 (rename-file (merge-pathnames "driver" work) executable))
-            (sb-ext:delete-directory work :recursive t)))))
-    executable))
+      (call-with-cached-build
+       directory
+       (lambda (work)
+         (handler-bind ((player-error (lambda (e) (declare (ignore e)) (write-files directory))))
+           (compile-c++ work (write-files work) "driver" :shown-directory directory)))))))
 
 (defun run-batch-driver (executable index driver arguments)
   "Run DRIVER (\"timed\" or \"whole\") of controller INDEX in the batch program

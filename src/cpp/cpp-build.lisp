@@ -25,14 +25,9 @@
 (defun run-program-capturing (program arguments &key directory)
   "Run PROGRAM (searched on PATH) with ARGUMENTS; (VALUES EXIT-CODE STDOUT STDERR),
 or NIL when the program cannot be started."
-  (let ((out (make-string-output-stream))
-        (err (make-string-output-stream)))
-    (handler-case
-        (let ((process (sb-ext:run-program program arguments :search t :output out :error err
-                                                             :directory directory)))
-          (values (sb-ext:process-exit-code process)
-                  (get-output-stream-string out) (get-output-stream-string err)))
-      (error () nil))))
+  ;; RUN-CHILD: an interrupt kills the compiler or the driver with us.
+  (handler-case (run-child-output program arguments :search t :directory directory)
+    (error () nil)))
 
 (defun write-build-files (directory name header source driver)
   "Write NAME.hpp, NAME.cpp and NAME_main.cpp into DIRECTORY; return the sources to compile."
@@ -55,23 +50,18 @@ cache never run, or write into, another's half-written files."
     (multiple-value-bind (header source) (c++-sources machine name namespace :timed timed)
       (let* ((driver (driver-source name namespace :timed timed))
              (directory (merge-pathnames (format nil "~A/" (content-key header source driver *c++-flags*))
-                                         (c++-cache-root)))
-             (executable (merge-pathnames "driver" directory)))
-        (unless (probe-file executable)
-          (let ((work (merge-pathnames (format nil "build-~36R/" (random (expt 2 64) (make-random-state t)))
-                                       directory)))
-            (ensure-directories-exist work)
-            (unwind-protect
-                 (handler-bind ((player-error
-                                  (lambda (e)
-                                    (declare (ignore e))
-                                    ;; Keep the sources that failed where the message says.
-                                    (write-build-files directory name header source driver))))
-                   (compile-c++ work (write-build-files work name header source driver) "driver"
-                                :shown-directory directory)
-                   (rename-file (merge-pathnames "driver" work) executable))
-              (sb-ext:delete-directory work :recursive t))))
-        executable))))
+                                         (c++-cache-root))))
+        ;; A private cache; the driver is verified against its digest before it runs.
+        (call-with-cached-build
+         directory
+         (lambda (work)
+           (handler-bind ((player-error
+                            (lambda (e)
+                              (declare (ignore e))
+                              ;; Keep the sources that failed where the message says.
+                              (write-build-files directory name header source driver))))
+             (compile-c++ work (write-build-files work name header source driver) "driver"
+                          :shown-directory directory))))))))
 
 (defun compile-c++ (directory sources output &key (shown-directory directory))
   "Compile SOURCES in DIRECTORY into OUTPUT with *C++-FLAGS*; clear errors if

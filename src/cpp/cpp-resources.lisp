@@ -20,7 +20,7 @@ PLAYER-ERROR naming the file when it is missing or unreadable."
                  (error (e)
                    (error 'player-error-with-message
                           :message (format nil "cannot read Player's C++ resource ~A (~A): is Player's src/cpp/resources/ complete?"
-                                           (native-namestring path) e))))))
+                                           (native-namestring path) (condition-reason e)))))))
     ;; Files end with a newline, as editors write them; the text is what comes before it.
     (if (and (plusp (length text)) (char= (char text (1- (length text))) #\Newline))
         (subseq text 0 (1- (length text)))

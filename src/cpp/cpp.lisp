@@ -158,15 +158,12 @@ two pathnames, both inside DIRECTORY."
          (hpp (output-file directory name "hpp"))
          (cpp (output-file directory name "cpp")))
     (multiple-value-bind (header source) (c++-sources machine name namespace :timed timed)
-      (ensure-directories-exist directory)
-      (write-text-file hpp header)
-      (write-text-file cpp source)
-      (list hpp cpp))))
+      ;; Both on the disk before either is replaced: the pair always matches.
+      (write-files-together (list (cons hpp header) (cons cpp source)) :make-directories t))))
 
 (defun write-text-file (path text)
-  "Write TEXT to PATH in UTF-8, replacing it."
-  (with-open-file (out path :direction :output :if-exists :supersede :external-format :utf-8)
-    (write-string text out)))
+  "Write TEXT to PATH in UTF-8, replacing it atomically (never through a link)."
+  (write-file-string path text))
 
 (defun c++-sources (machine name namespace &key timed)
   "(VALUES HEADER-TEXT SOURCE-TEXT) for MACHINE; with TIMED, the Controller

@@ -116,7 +116,7 @@ or does not know USER."
   "Write MEMORY into the memory FILE, keeping the other users' memories there."
   (let ((others (and (probe-file file)
                      (remove (memory-user memory) (read-memory-file file) :key #'memory-user :test #'string=))))
-    (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
+    (with-atomic-output-file (out file :follow-links t)
       (format out ";;;; Peedy's episodic memory, one form per user (written by Player; data).~%")
       (with-standard-io-syntax
         (let ((*package* (find-package '#:player-user))

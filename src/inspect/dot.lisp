@@ -187,27 +187,26 @@ a GRAPHVIZ-ERROR with its message when it fails."
   (find-dot)
   ;; Run by the name found on PATH, not FIND-DOT's truename: Debian's dot is a
   ;; link to a program that picks its layout engine by the name it is run as.
-  (let* ((errors (make-string-output-stream))
-         (process (sb-ext:run-program *dot-program*
-                                      (list (format nil "-T~(~A~)" format) "-o" (uiop:native-namestring path))
-                                      :input (make-string-input-stream text) :output nil
-                                      :error errors :search t)))
+  ;; dot writes a temporary beside PATH that replaces it only when dot succeeds.
+  (with-atomic-output-file (image path :element-type '(unsigned-byte 8) :follow-links t)
+   (let* ((errors (make-string-output-stream))
+          (process (run-child *dot-program* (list (format nil "-T~(~A~)" format))
+                              :input (make-string-input-stream text) :output image
+                              :error errors :search t)))
     (unless (eql 0 (sb-ext:process-exit-code process))
       (error 'graphviz-error
              :message (format nil "~A could not draw ~A: ~A" *dot-program* (uiop:native-namestring path)
                               (let ((message (string-trim '(#\Space #\Newline) (get-output-stream-string errors))))
                                 (if (string= message "")
                                     (format nil "exit status ~A" (sb-ext:process-exit-code process))
-                                    (truncate-text (substitute #\Space #\Newline message) 300))))))
-    path))
+                                    (truncate-text (substitute #\Space #\Newline message) 300))))))))
+  path)
 
 (defun write-graph-text (text path)
   "Write TEXT to the file PATH, replacing it; a STATE-GRAPH-ERROR when it cannot be written."
-  (handler-case (with-open-file (out path :direction :output :if-exists :supersede
-                                          :if-does-not-exist :create :external-format :utf-8)
-                  (write-string text out))
-    ((or file-error stream-error) ()
-      (state-graph-fail "cannot write the file ~A" (uiop:native-namestring path))))
+  (handler-case (write-file-string path text :follow-links t)
+    (io-error (e)
+      (state-graph-fail "cannot write the file ~A: ~A" (uiop:native-namestring path) (io-error-reason e))))
   path)
 
 (defun write-state-graph-file (machine path &key goal current)

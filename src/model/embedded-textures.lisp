@@ -81,7 +81,7 @@ cannot be decoded, when it cannot."
 (defun copy-embedded-textures (textures path)
   "The EMBEDDED-TEXTUREs copied from TEXTURES, the aiTexture pointers of the
 scene imported from PATH, as a vector (empty when the file embeds none)."
-  (let ((file-size (with-open-file (in path :element-type '(unsigned-byte 8)) (file-length in))))
+  (let ((file-size (with-input-file (in path :element-type '(unsigned-byte 8)) (file-length in))))
     (coerce (loop for texture in textures
                   for index from 0
                   collect (copy-embedded-texture texture index file-size (namestring path)))

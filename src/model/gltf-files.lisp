@@ -74,52 +74,13 @@ format's 4 GiB."
 
 ;;;# Writing a file atomically
 
-(defun errno-text (condition)
-  "The system's words for the errno of CONDITION, an SB-POSIX:SYSCALL-ERROR."
-  (sb-int:strerror (sb-posix:syscall-errno condition)))
-
-(defun temporary-sibling (target)
-  "A name for a new file beside TARGET (a native namestring), hidden and unlikely to exist."
-  (let ((slash (position #\/ target :from-end t)))
-    (format nil "~A.~A.~D-~36R.part"
-            (subseq target 0 (if slash (1+ slash) 0))
-            (subseq target (if slash (1+ slash) 0))
-            (sb-posix:getpid) (random (expt 36 6)))))
-
-(defun create-temporary (target)
-  "A new file beside TARGET, opened for writing: its name and its descriptor.
-A MODEL-WRITE-ERROR naming the folder when it cannot be created there."
-  (let ((name (temporary-sibling target)))
-    (handler-case
-        (values name (sb-posix:open name (logior sb-posix:o-wronly sb-posix:o-creat sb-posix:o-excl) #o666))
-      (sb-posix:syscall-error (condition)
-        (write-fail "cannot create a file in the folder ~A: ~A"
-                    (subseq name 0 (1+ (or (position #\/ name :from-end t) -1))) (errno-text condition))))))
-
 (defun write-octets-atomically (path octets)
   "Write OCTETS to the file PATH: first to a new file in PATH's folder, flushed
-to disk, which is then renamed over PATH (rename(2) replaces it in one step).
+to disk, which is then renamed over PATH (WRITE-FILE-OCTETS of src/base/).
 Whatever fails, the new file is removed and PATH is left as it was.  A
-MODEL-WRITE-ERROR when the folder cannot be written or the rename fails."
-  (let ((target (sb-ext:native-namestring (merge-pathnames path))))
-    (multiple-value-bind (name descriptor) (create-temporary target)
-      (let ((done nil))
-        (unwind-protect
-             (handler-case
-                 (let ((stream (sb-sys:make-fd-stream descriptor :output t :element-type '(unsigned-byte 8)
-                                                                 :buffering :full :file name)))
-                   (unwind-protect (progn (write-sequence octets stream)
-                                          (finish-output stream)
-                                          (sb-posix:fsync descriptor))
-                     (close stream))
-                   (handler-case (sb-posix:rename name target)
-                     (sb-posix:syscall-error (condition)
-                       (write-fail "the written file cannot replace it: ~A" (errno-text condition))))
-                   (setf done t))
-               (sb-posix:syscall-error (condition)
-                 (write-fail "writing the file failed: ~A" (errno-text condition)))
-               (stream-error (condition)
-                 (write-fail "writing the file failed: ~A" condition)))
-          (unless done
-            (ignore-errors (sb-posix:unlink name))))))
-    path))
+MODEL-WRITE-ERROR with the reason when the folder cannot be written or the
+rename fails."
+  (handler-case (write-file-octets path octets :follow-links t)
+    (io-error (condition)
+      (write-fail "writing the file failed: ~A" (io-error-reason condition))))
+  path)

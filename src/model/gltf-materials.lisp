@@ -28,8 +28,8 @@
 (defun texture-octets (path)
   "The bytes of the texture file PATH and their MIME type; a MODEL-WRITE-ERROR
 naming PATH when it cannot be read or is neither PNG nor JPEG."
-  (let ((octets (handler-case (alexandria:read-file-into-byte-vector path)
-                  (file-error () (write-fail "its texture ~A cannot be read" path)))))
+  (let ((octets (handler-case (file-octets path)
+                  (io-error (e) (write-fail "its texture ~A cannot be read: ~A" path (io-error-reason e))))))
     (values octets
             (or (image-mime-type octets)
                 (write-fail "its texture ~A is neither PNG nor JPEG, the only images glTF holds" path)))))

@@ -87,10 +87,10 @@ folder, a FIFO or a device never reaches C."
     (let ((name (sb-ext:native-namestring path)))
       (unless (ignore-errors (sb-posix:s-isreg (sb-posix:stat-mode (sb-posix:stat name))))
         (image-fail file "it is not a regular file"))
-      (handler-case (with-open-file (in path :element-type '(unsigned-byte 8))
+      (handler-case (with-input-file (in path :element-type '(unsigned-byte 8))
                       (when (zerop (file-length in))
                         (image-fail file "the file is empty")))
-        (file-error () (image-fail file "the file cannot be read")))
+        (io-error (e) (image-fail file "the file cannot be read: ~A" (io-error-reason e))))
       name)))
 
 (defun copy-stb-pixels (file pointer width height channels)

@@ -47,10 +47,11 @@ naming FILE, which is WHAT (\"the model\", \"the texture\")."
   (let ((path (ignore-errors (probe-file file))))
     (cond ((null path) (model-fail file "~A file does not exist" what))
           ((null (pathname-name path)) (model-fail file "~A is a folder, not a file" what)))
-    (handler-case (with-open-file (in path :element-type '(unsigned-byte 8))
+    ;; Opened without blocking and checked regular: a FIFO or device never hangs us.
+    (handler-case (with-input-file (in path :element-type '(unsigned-byte 8))
                     (when (zerop (file-length in))
                       (model-fail file "~A file is empty" what)))
-      (file-error () (model-fail file "~A file cannot be read" what)))
+      (io-error (e) (model-fail file "~A file cannot be read: ~A" what (io-error-reason e))))
     path))
 
 ;;;# Reading C data, checked

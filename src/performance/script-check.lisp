@@ -58,9 +58,9 @@ Every other kind (:unreachable-goal, :unused-op, :truncated,
       (if found
           text
           (setf (gethash key cache)
-                (ignore-errors
-                 (alexandria:read-file-into-string
-                  file :external-format '(:utf-8 :replacement #\Replacement_Character))))))))
+                (ignore-errors          ; a regular file only: a FIFO would block
+                 (with-input-file (in file :external-format '(:utf-8 :replacement #\Replacement_Character))
+                   (alexandria:read-stream-content-into-string in))))))))
 
 (defun line-at (text position)
   "The 1-based line of character POSITION in TEXT."

@@ -105,12 +105,10 @@ oldest first.  A scene of several characters (src/cast/) adds a method.")
 (defun write-simulation-audio (simulation end path)
   "Write SIMULATION's audio track from 0 to END seconds, every clip that starts
 by then mixed, to the WAV file PATH and return its truename; when nothing
-sounds, delete an old PATH and return NIL."
+sounds, return NIL and leave PATH alone."
   (let ((clips (remove-if (lambda (clip) (>= (clip-start clip) end))
                           (simulation-clips simulation end))))
-    (cond (clips (write-wav path (mix-clips clips :end end)))
-          (t (when (probe-file path) (ignore-errors (delete-file path)))
-             nil))))
+    (and clips (write-wav path (mix-clips clips :end end)))))
 
 (defgeneric simulation-scene-at (simulation time)
   (:documentation "The scene of SIMULATION at TIME seconds, to draw or sample (its
@@ -182,7 +180,8 @@ other object's parent, position and rotation."
 (defun write-simulation (simulation &key bvh frames audio)
   "Sample SIMULATION once and write the character's motion as BVH to the file BVH
 and, to the file FRAMES, one FRAME-FORM per line; with AUDIO, the audio track
-\(speech and sounds) to that WAV file when anything sounds.  Returns the paths
+\(speech and sounds) to that WAV file when anything sounds (an old one is left
+alone otherwise: nothing the caller did not name is deleted).  Returns the paths
 written."
   (check-argument 'write-simulation 'simulation simulation #'simulation-p "a simulation (from simulate)")
   (check-argument 'write-simulation :bvh bvh (lambda (x) (or (null x) (pathname-designator-p x)))
@@ -191,15 +190,8 @@ written."
                   (format nil "NIL or ~A" *path-phrase*))
   (check-argument 'write-simulation :audio audio (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
-  (let ((poses '()) (placements '()) (frame-stream nil))
-    (unwind-protect
-         (progn
-           (when frames
-             (ensure-directories-exist frames)
-             (setf frame-stream (handler-case (open frames :direction :output :if-exists :supersede)
-                                  (file-error (e)
-                                    (error 'player-error-with-message
-                                           :message (format nil "cannot write the frames file ~A: ~A" frames e))))))
+  (let ((poses '()) (placements '()))
+    (flet ((sample (frame-stream)
            (map-simulation-frames
             (lambda (index time scene)
               (let ((body (simulation-body simulation)))
@@ -213,15 +205,24 @@ written."
                           (*print-readably* nil))
                       (prin1 (frame-form index time scene) frame-stream)
                       (terpri frame-stream))))))
-            simulation))
-      (when frame-stream (close frame-stream)))
-    (append (and bvh (list (write-bvh-file bvh (body-skeleton (simulation-body simulation))
-                                           (nreverse poses)
-                                           :frame-time (/ 1d0 (simulation-fps simulation))
-                                           :placements (nreverse placements))))
-            (and frames (list (truename frames)))
-            (and audio (remove nil (list (write-performance-audio (simulation-performance simulation)
-                                                                  (simulation-duration simulation) audio)))))))
+            simulation)))
+      ;; The frames file is replaced only once every frame is on the disk, and
+      ;; the BVH and the audio are written: the outputs change as a set.
+      (let ((commit-frames (if frames
+                               (stage-output-file frames #'sample :make-directories t)
+                               (progn (sample nil) nil)))
+            (committed nil))
+        (unwind-protect
+             (let ((bvh-paths (and bvh (list (write-bvh-file bvh (body-skeleton (simulation-body simulation))
+                                                             (nreverse poses)
+                                                             :frame-time (/ 1d0 (simulation-fps simulation))
+                                                             :placements (nreverse placements)))))
+                   (audio-paths (and audio (remove nil (list (write-performance-audio
+                                                              (simulation-performance simulation)
+                                                              (simulation-duration simulation) audio))))))
+               (when commit-frames (funcall commit-frames) (setf committed t))
+               (append bvh-paths (and frames (list (truename frames))) audio-paths))
+          (when (and commit-frames (not committed)) (funcall commit-frames t)))))))
 
 (defgeneric simulation-reports (simulation)
   (:documentation "What the drivers reported (reaches that fell short), oldest first, as (TIME TEXT).")

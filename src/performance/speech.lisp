@@ -145,8 +145,7 @@ then mixed into one SOUND at *TRACK-RATE*; NIL when nothing sounds."
 
 (defun write-performance-audio (performance end path)
   "Write PERFORMANCE's audio track from 0 to END seconds to the WAV file PATH
-and return its truename; when nothing sounds, delete an old PATH and return NIL."
+and return its truename; when nothing sounds, return NIL and leave PATH alone
+\(it may be a file of the user's: nothing they did not name is deleted)."
   (let ((sound (performance-audio performance end)))
-    (cond (sound (write-wav path sound))
-          (t (when (probe-file path) (ignore-errors (delete-file path)))
-             nil))))
+    (and sound (write-wav path sound))))

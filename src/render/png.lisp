@@ -110,9 +110,7 @@ PATH, an ARGUMENT-ERROR for a PATH that is not a file's path."
   (check-argument 'write-png :filter filter (lambda (x) (member x '(:up :sub :none))) ":up, :sub or :none")
   (let ((octets (png-octets width height pixels :channels channels :filter filter)))
     (handler-case
-        (with-open-file (out path :direction :output :element-type '(unsigned-byte 8)
-                                  :if-exists :supersede :if-does-not-exist :create)
-          (write-sequence octets out))
-      ((or file-error stream-error) (condition)
-        (render-fail "cannot write the PNG file ~A: ~A" path condition)))
+        (write-file-octets path octets)
+      ((or io-error file-error stream-error) (condition)
+        (render-fail "cannot write the PNG file ~A: ~A" (final-file-name path) (condition-reason condition))))
     path))

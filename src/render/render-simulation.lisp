@@ -49,19 +49,21 @@ unless both are integers from 1 to *MAX-IMAGE-SIDE*."
 
 (defun prepare-output-directory (out)
   "OUT (a directory designator) as a directory pathname that exists and takes
-files; its frame-*.png files from an earlier render are removed.  Signals a
-RENDER-ERROR naming the directory otherwise."
-  (let* ((directory (directory-pathname out))
-         (probe (merge-pathnames ".player-render-probe" directory)))
-    (handler-case
-        (progn (ensure-directories-exist directory)
-               (with-open-file (stream probe :direction :output :if-exists :supersede)
-                 (write-line "probe" stream))
-               (delete-file probe))
-      ((or file-error stream-error) ()
-        (render-fail "cannot write into the output directory ~A" (namestring directory))))
-    (mapc #'delete-file (directory (merge-pathnames "frame-*.png" directory)))
-    directory))
+files (a probe file is created exclusively, never through a link, and removed).
+Nothing in it is removed here: a render replaces its files as a set when it
+has made them all (RENDER-SIMULATION).  Signals a RENDER-ERROR naming the
+directory otherwise."
+  (let ((directory (directory-pathname out)))
+    (handler-case (check-writable-directory directory)
+      ((or io-error file-error) (e)
+        (render-fail "cannot write into the output directory ~A: ~A" (namestring directory)
+                     (condition-reason e))))))
+
+(defun old-render-files (directory)
+  "The files an earlier render left in DIRECTORY that a new render replaces or removes."
+  ;; The links themselves, not what they point to: a planted link is removed, its target never.
+  (append (directory (merge-pathnames "frame-*.png" directory) :resolve-symlinks nil)
+          (directory (merge-pathnames *audio-file-name* directory) :resolve-symlinks nil)))
 
 ;;;# Progress
 
@@ -197,7 +199,8 @@ Returns PATH."
   "An ffmpeg process encoding raw RGBA frames of WIDTH x HEIGHT at FPS from its
 input into the video file PATH, with the WAV file AUDIO as its sound track when
 given, its messages going to the file LOG."
-  (sb-ext:run-program (namestring (find-ffmpeg))
+  (register-cleanup                     ; an interrupt kills it
+   (sb-ext:run-program (namestring (find-ffmpeg))
                       (append (list "-y" "-loglevel" "error" "-f" "rawvideo" "-pix_fmt" "rgba"
                                     "-s" (format nil "~Dx~D" width height) "-r" (format nil "~A" fps)
                                     "-i" "-")
@@ -207,12 +210,13 @@ given, its messages going to the file LOG."
                               (list "-vf" "pad=ceil(iw/2)*2:ceil(ih/2)*2"
                                     "-pix_fmt" "yuv420p" (namestring path)))
                       :input :stream :output nil :error (namestring log)
-                      :if-error-exists :supersede :wait nil))
+                      :if-error-exists :supersede :wait nil)))
 
 (defun finish-ffmpeg (process path log)
   "Close PROCESS's input and wait for it; a RENDER-ERROR quoting LOG when it failed."
   (close (sb-ext:process-input process))
   (sb-ext:process-wait process)
+  (unregister-cleanup process)
   (let ((code (sb-ext:process-exit-code process)))
     (unless (eql code 0)
       (render-fail "ffmpeg could not write ~A (exit ~A): ~A" path code
@@ -249,42 +253,72 @@ arguments of the wrong kind."
            ;; The grid, each critical time shown by the frame moved onto it.
            (times (simulation-frame-times simulation fps))
            (count (length times))
-           (output (progn (when video (find-ffmpeg)) (prepare-output-directory out)))
+           (final (progn (when video (find-ffmpeg)) (prepare-output-directory out)))
            (video (and video (merge-pathnames video)))
-           (log (merge-pathnames "ffmpeg.log" output))
            (chosen (sheet-frame-indices count))
            (factor (max 1 (ceiling width *thumbnail-width*)))
-                      ;; The track first (playing the performance to its end), so ffmpeg can take it.
-           (audio (write-simulation-audio simulation (/ count (float fps 1d0))
-                                           (merge-pathnames *audio-file-name* output)))
            (terminal (and progress (terminal-stream-p progress)))
-           (frames '()) (thumbnails '()) (process nil) (drawn nil))
-      (unwind-protect
-           (with-offscreen-context ((context) width height)
-             (let ((renderer (make-renderer width height :antialias antialias)))
-               (when video (setf process (start-ffmpeg video width height fps log audio)))
-               (dotimes (index count)
-                 (let ((time (aref times index)))
-                   (render-scene renderer (simulation-scene-at simulation time))
-                   (let ((pixels (renderer-pixels renderer))
-                         (path (merge-pathnames (format nil "frame-~4,'0D.png" (1+ index)) output)))
-                     (push (write-png path width height pixels) frames)
-                     (when (member index chosen)
-                       (push (list (thumbnail pixels width height factor) time) thumbnails))
-                     (when process
-                       (write-sequence pixels (sb-ext:process-input process)))))
-                 (show-progress progress (1+ index) count terminal))
-               (delete-renderer renderer)
-               (setf drawn t)))
-        ;; A frame failed: do not leave ffmpeg waiting for the rest.
-        (when (and process (not drawn) (sb-ext:process-alive-p process))
-          (sb-ext:process-kill process 15)))
-      (when process (finish-ffmpeg process video log))
-      (append (nreverse frames)
-              (list (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
-                                         (floor width factor) (floor height factor)))
-              (and audio (list audio))
-              (and video (list video))))))
+           (frames '()) (thumbnails '()) (process nil) (drawn nil) (audio nil))
+      ;; Every file is made in a private folder inside FINAL, then they replace
+      ;; the old render's files as a set: a failed render leaves the old one whole.
+      (with-output-set (output final :stale #'old-render-files)
+        (let ((log (merge-pathnames "ffmpeg.log" output))
+              (movie (and video (video-temporary video))))
+          (unwind-protect
+               (progn
+                 ;; The track first (playing the performance to its end), so ffmpeg can take it.
+                 (setf audio (write-simulation-audio simulation (/ count (float fps 1d0))
+                                                     (merge-pathnames *audio-file-name* output)))
+                 (unwind-protect
+                      (with-offscreen-context ((context) width height)
+                        (let ((renderer (make-renderer width height :antialias antialias)))
+                          (when video (setf process (start-ffmpeg movie width height fps log audio)))
+                          (dotimes (index count)
+                            (let ((time (aref times index)))
+                              (render-scene renderer (simulation-scene-at simulation time))
+                              (let ((pixels (renderer-pixels renderer))
+                                    (path (merge-pathnames (format nil "frame-~4,'0D.png" (1+ index)) output)))
+                                (push (write-png path width height pixels) frames)
+                                (when (member index chosen)
+                                  (push (list (thumbnail pixels width height factor) time) thumbnails))
+                                (when process
+                                  (write-sequence pixels (sb-ext:process-input process)))))
+                            (show-progress progress (1+ index) count terminal))
+                          (delete-renderer renderer)
+                          (setf drawn t)))
+                   ;; A frame failed: do not leave ffmpeg waiting for the rest.
+                   (when (and process (not drawn))
+                     (kill-child process)
+                     (unregister-cleanup process)))
+                 (when process (finish-ffmpeg process video log))
+                 (write-contact-sheet (merge-pathnames "sheet.png" output) (reverse thumbnails)
+                                      (floor width factor) (floor height factor))
+                 (when video (commit-video movie video)))
+            (when movie                 ; ffmpeg's half-written file, when it failed
+              (ignore-errors (sb-posix:unlink movie))
+              (unregister-cleanup movie)))))
+      (flet ((placed (path) (merge-pathnames (file-namestring path) final)))
+        (append (mapcar #'placed (nreverse frames))
+                (list (placed "sheet.png"))
+                (and audio (list (placed audio)))
+                (and video (list video)))))))
+
+(defun video-temporary (video)
+  "A new empty file beside VIDEO, with VIDEO's extension (ffmpeg chooses the format
+by it), for ffmpeg to write; renamed over VIDEO when the encoding succeeds."
+  (output-target video nil)             ; a folder, FIFO or device there is refused
+  (multiple-value-bind (fd name)
+      (create-exclusive-file (make-pathname :name nil :type nil :version nil :defaults video)
+                             (file-namestring video) :suffix (format nil "tmp.~A" (or (pathname-type video) "mp4")))
+    (sb-posix:close fd)
+    (register-cleanup name)
+    name))
+
+(defun commit-video (movie video)
+  "Rename ffmpeg's finished MOVIE over VIDEO."
+  (handler-case (sb-posix:rename movie (sb-ext:native-namestring video))
+    (sb-posix:syscall-error (e) (io-fail video e)))
+  (unregister-cleanup movie))
 
 ;;;# Policies side by side
 

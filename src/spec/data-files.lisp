@@ -38,7 +38,7 @@ NIL, a message naming WHAT (\"spec file\", ...) and :MISSING or :NOT-REGULAR."
   "FILE's contents decoded as UTF-8.  FAIL is called with the character position
 of the first byte that is not UTF-8, or of NIL when FILE cannot be read."
   (let ((octets (handler-case
-                    (with-open-file (in file :element-type '(unsigned-byte 8))
+                    (with-input-file (in file :element-type '(unsigned-byte 8))
                       (let ((length (file-length in)))
                         (when (> length *max-data-file-bytes*)
                           (funcall fail nil (format nil "~A is larger than ~:D bytes" (file-namestring file)
@@ -46,8 +46,9 @@ of the first byte that is not UTF-8, or of NIL when FILE cannot be read."
                         (let* ((octets (make-array length :element-type '(unsigned-byte 8)))
                                (end (read-sequence octets in)))
                           (subseq octets 0 end))))
-                  ((or file-error stream-error) ()
-                    (funcall fail nil (format nil "cannot read ~A" (file-namestring file)) :read)))))
+                  ((or io-error file-error stream-error) (e)
+                    (funcall fail nil (format nil "cannot read ~A: ~A" (file-namestring file) (condition-reason e))
+                             :read)))))
     (handler-case (sb-ext:octets-to-string octets :external-format :utf-8)
       (error ()
         (let ((lenient (sb-ext:octets-to-string

@@ -30,12 +30,15 @@
 plays on).  Returns the process, or NIL when there is no player."
   (let ((player (audio-player)))
     (when player
-      (let ((path (temporary-file (format nil "player-~D-~D.wav" (sb-posix:getpid)
-                                          (incf *playback-counter*)))))
+      ;; In a private folder of its own (mode 0700, made exclusively): a
+      ;; link planted in /tmp cannot redirect the write.
+      (let* ((folder (make-private-folder (temporary-file "") "player-sound"))
+             (path (merge-pathnames (format nil "sound-~D.wav" (incf *playback-counter*)) folder)))
+        (unregister-cleanup folder)     ; the player's shell removes it when played
         (write-wav path sound)
         (sb-ext:run-program "/bin/sh"
-                            ;; sh -c 'PLAYER ARGS FILE; rm FILE': the file goes when played.
-                            (append (list "-c" "\"$@\"; rm -f \"$0\"" (namestring path))
+                            ;; sh -c 'PLAYER ARGS FILE; rm -r FOLDER': the folder goes when played.
+                            (append (list "-c" "\"$@\"; rm -rf \"$0\"" (sb-ext:native-namestring folder))
                                     player (list (namestring path)))
                             :wait nil :output nil :error nil :input nil)))))
 

@@ -31,13 +31,8 @@
 
 (defun read-file-octets (path)
   "The bytes of the file PATH; a SPEECH-ERROR when it is missing or unreadable."
-  (handler-case
-      (with-open-file (in path :element-type '(unsigned-byte 8))
-        (let ((octets (make-array (file-length in) :element-type '(unsigned-byte 8))))
-          (read-sequence octets in)
-          octets))
-    (file-error () (wav-fail path "~:[it is unreadable~;there is no such file~]" (not (probe-file path))))
-    (stream-error () (wav-fail path "it is unreadable"))))
+  (handler-case (file-octets path)
+    (io-error (e) (wav-fail path "~A" (if (file-kind path) (io-error-reason e) "there is no such file")))))
 
 (defun u16 (octets at) "The little-endian unsigned 16-bit integer at AT." (logior (aref octets at) (ash (aref octets (1+ at)) 8)))
 (defun u32 (octets at) "The little-endian unsigned 32-bit integer at AT." (logior (u16 octets at) (ash (u16 octets (+ at 2)) 16)))
@@ -104,8 +99,7 @@ Signals a SPEECH-ERROR naming PATH when it cannot be written."
            (put16 (out n) (dotimes (i 2) (write-byte (ldb (byte 8 (* 8 i)) n) out)))
            (tag (out text) (loop for c across text do (write-byte (char-code c) out))))
       (handler-case
-          (with-open-file (out (ensure-directories-exist path) :direction :output :if-exists :supersede
-                                                                :element-type '(unsigned-byte 8))
+          (with-atomic-output-file (out path :element-type '(unsigned-byte 8) :make-directories t)
             (tag out "RIFF") (put32 out (+ 36 bytes)) (tag out "WAVE")
             (tag out "fmt ") (put32 out 16) (put16 out 1) (put16 out 1)
             (put32 out (sound-rate sound)) (put32 out (* 2 (sound-rate sound))) (put16 out 2) (put16 out 16)
@@ -116,8 +110,8 @@ Signals a SPEECH-ERROR naming PATH when it cannot be written."
                     do (setf (aref buffer i) (ldb (byte 8 0) sample)
                              (aref buffer (1+ i)) (ldb (byte 8 8) sample)))
               (write-sequence buffer out)))
-        ((or file-error stream-error) (condition)
-          (speech-fail "cannot write the WAV file ~A: ~A" (namestring path) condition))))
+        ((or io-error file-error stream-error) (condition)
+          (speech-fail "cannot write the WAV file ~A: ~A" (namestring path) (condition-reason condition)))))
     (truename path)))
 
 ;;;# Resampling

@@ -50,9 +50,7 @@ SCRIPTS are written as given; RECORD-SCENARIO makes them relative to FILE.
 Returns FILE's truename.  Signals a PLAYER-ERROR when FILE cannot be written."
   (check-argument 'write-recording 'recording recording #'recording-p "a recording (from record-scenario)")
   (check-argument 'write-recording 'file file #'pathname-designator-p *path-phrase*)
-  (ensure-directories-exist (merge-pathnames file))
-  (handler-case
-      (with-open-file (out file :direction :output :if-exists :supersede :external-format :utf-8)
+  (with-atomic-output-file (out file :follow-links t :make-directories t)
         (format out ";;;; A scenario recorded by `bin/player record`; replay it with~%~
                      ;;;; `bin/player verify SPEC-FILE ~A`.~%" (file-namestring file))
         (write-header recording out)
@@ -61,9 +59,6 @@ Returns FILE's truename.  Signals a PLAYER-ERROR when FILE cannot be written."
           (format out ";;; The body frames, as `bin/player simulate --frames` writes them.~%")
           (dolist (frame (recording-frames recording))
             (write-line (frame-text frame) out))))
-    (file-error (e)
-      (error 'player-error-with-message
-             :message (format nil "cannot write the recording ~A: ~A" file e))))
   (truename file))
 
 ;;;# Reading

@@ -20,9 +20,15 @@ could not be read), and the digest SEEN at the last look when it differed."
   (files '() :type list)
   (checked-at 0d0 :type double-float))
 
+(defparameter *max-watched-bytes* (* 64 1024 1024)
+  "The largest watched file whose contents are summed.")
+
 (defun file-digest (path)
-  "The MD5 digest of PATH's contents, or NIL when it cannot be read (being saved, say)."
-  (ignore-errors (sb-md5:md5sum-file path)))
+  "The MD5 digest of PATH's contents, or NIL when it cannot be read (being saved,
+say) or is not a regular file: a FIFO, a device (a link to /dev/zero) or a
+folder is skipped without being opened for a blocking read, and looked at
+again next time, so the watch recovers when a good file returns."
+  (ignore-errors (sb-md5:md5sum-sequence (file-octets path :limit *max-watched-bytes*))))
 
 (defun make-file-watcher (paths &optional (now 0d0))
   "A watcher of PATHS (NILs ignored) whose contents now are the reference, looked at NOW (seconds)."
