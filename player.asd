@@ -209,6 +209,18 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "gltf-animations")
                  (:file "gltf-materials")
                  (:file "gltf-write")))
+   ;; The Open Dynamics Engine (libode8) through CFFI: raw %d bindings, then worlds, bodies, geoms, joints, contacts.
+   (:module "ode" :depends-on ("base")
+    :serial t
+    :components ((:file "package")
+                 (:file "raw")
+                 (:file "library")
+                 (:file "world")
+                 (:file "shapes")
+                 (:file "bodies")
+                 (:file "geoms")
+                 (:file "contacts")
+                 (:file "joints")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t
@@ -266,12 +278,20 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "root-motion")
                  (:file "retarget")
                  (:file "clip-files")))
-   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig")
+   ;; A scene's physics through ODE: dynamic props that fall and rest, bones and props as collision shapes.
+   (:module "physics" :depends-on ("base" "spec" "body" "ode")
+    :serial t
+    :components ((:file "package")
+                 (:file "prop-shapes")
+                 (:file "scene-physics")
+                 (:file "stepping")))
+   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig" "ode" "physics")
     :serial t
     :components ((:file "package")
                  (:module "scripts"
                   :serial t
                   :components ((:file "scripts")
+                               (:file "dynamic-props")
                                (:file "audio-items")
                                (:file "directors")
                                (:file "script-library")
@@ -377,7 +397,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "ode" "physics" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -403,7 +423,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "verify-graph")
                  (:file "diff-graphs")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "ode" "physics" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -525,5 +545,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; The body agrees with the state (issue 27)
                  (:file "test-settle")
                  ;; Peedy understands paraphrases (issue 28, item 1)
-                 (:file "test-understanding"))))
+                 (:file "test-understanding")
+                 ;; Physics through ODE (issue 29, item 6)
+                 (:file "test-physics"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -113,6 +113,11 @@
    #:reparent-object #:request-channels #:resolve-target #:scene #:scene-object
    #:scene-objects #:skeleton-error #:skeleton-joints #:skeleton-role #:slave-drivers #:vec3
    #:world-transforms #:write-bvh #:write-bvh-file)
+  (:import-from #:player.ode
+   #:ode-error #:ode-unavailable #:ode-available-p)
+  (:import-from #:player.physics
+   #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
+   #:physics-prop-resting-p)
   (:import-from #:player.performance
    #:body-presenter #:controller-simulation #:director-schedule #:find-director
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
@@ -327,7 +332,11 @@
    #:speaker-say-function #:with-speaker #:call-with-speaker
    #:define-dialogue-action #:choose-template #:expand-template
    #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
-   #:memory-user #:memory-mood #:memory-conversations #:memory-log))
+   #:memory-user #:memory-mood #:memory-conversations #:memory-log
+   ;; Physics through ODE (src/ode/, src/physics/)
+   #:ode-error #:ode-unavailable #:ode-available-p
+   #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
+   #:physics-prop-resting-p))
 
 (defpackage #:player-user
   (:use #:cl #:player)

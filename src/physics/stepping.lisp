@@ -1,0 +1,119 @@
+;;;; stepping.lisp -- advancing a scene's physics to a time: read what others
+;;;; did to the props (held, placed by a script, tossed), step the world on its
+;;;; fixed grid, write the free props' places back into the scene.
+
+(in-package #:player.physics)
+
+(defun advance-scene-physics (scene time)
+  "Step SCENE's physics (if it has any) to the last step at or before TIME
+\(seconds) and place its free dynamic props there.  Returns the SCENE-PHYSICS or NIL."
+  (check-seconds 'advance-scene-physics 'time time)
+  (let ((physics (scene-physics scene)))
+    (when physics
+      (let ((target (floor (+ (/ time *physics-step*) 1d-6))))
+        (when (> target (scene-physics-steps physics))
+          (let ((time (float time 1d0)))
+            (read-scene-changes physics time)
+            (ode-world-step (scene-physics-world physics) (- target (scene-physics-steps physics)))
+            (setf (scene-physics-steps physics) target
+                  (scene-physics-time physics) time)
+            (write-free-props physics)))))
+    physics))
+
+;;;# Reading the scene
+
+(defun held-p (object)
+  "Does OBJECT hang from something that places it: a joint, a body or a prop (not a group)?"
+  (let ((parent (object-parent object)))
+    (or (consp parent)
+        (and parent (not (eq (object-kind parent) :group))))))
+
+(defun placed-by-script-p (prop)
+  "Has someone but the physics set PROP's position, rotation or velocity since it wrote them?"
+  (let ((object (physics-prop-object prop)))
+    (or (not (equalp (property-value object 'position) (physics-prop-written-position prop)))
+        (not (equalp (property-value object 'rotation) (physics-prop-written-rotation prop))))))
+
+(defun tossed-p (prop)
+  "Has a script set PROP's VELOCITY since the physics wrote it?"
+  (let ((velocity (declared-property (physics-prop-object prop) 'velocity)))
+    (and velocity (not (equalp velocity (physics-prop-written-velocity prop))))))
+
+(defun read-scene-changes (physics time)
+  "Bring PHYSICS's bodies and static geoms to what the scene says at TIME."
+  (let ((elapsed (- time (scene-physics-time physics))))
+    (dolist (prop (scene-physics-props physics))
+      (read-prop-change prop elapsed))
+    (dolist (static (scene-physics-statics physics))
+      (multiple-value-bind (position rotation) (world-placement (physics-static-object static))
+        (let ((placement (cons position rotation)))
+          (unless (equal placement (physics-static-placed static))
+            (set-ode-geom-placement (physics-static-geom static) position rotation)
+            (setf (physics-static-placed static) placement)))))))
+
+(defun read-prop-change (prop elapsed)
+  "Set PROP's mode and body from its object after ELAPSED seconds: held or
+placed by a script, it is moved there kinematically, with the velocity of
+that move when it was held or placed the advance before too; let go or left
+alone, it is dynamic, flying on with the velocity it had."
+  (let* ((object (physics-prop-object prop))
+         (body (physics-prop-body prop))
+         (before (physics-prop-mode prop))
+         (mode (cond ((or (held-p object) (not (prop-dynamic-p object))) :held)
+                     ;; Let go: the new parent's frame changed its numbers, not its place.
+                     ((eq before :held) :released)
+                     ((placed-by-script-p prop) :moved)
+                     (t :free))))
+    (setf (physics-prop-mode prop) (if (eq mode :released) :free mode))
+    (if (eq mode :free)
+        (when (ode-body-kinematic-p body)
+          (setf (ode-body-kinematic-p body) nil))
+        (multiple-value-bind (position rotation) (world-placement object)
+          (setf (ode-body-kinematic-p body) (not (eq mode :released)))
+          (set-ode-body-placement body position rotation)
+          (setf (ode-body-velocity body)
+                (if (and (member before '(:held :moved)) (plusp elapsed))
+                    (mapcar (lambda (new old) (/ (- new old) elapsed)) position (physics-prop-world-position prop))
+                    (list 0 0 0)))
+          (setf (ode-body-angular-velocity body) (list 0 0 0)
+                (physics-prop-world-position prop) position)
+          (remember-written prop)))
+    (when (tossed-p prop)
+      (let ((velocity (declared-property object 'velocity)))
+        (setf (ode-body-velocity body) (vec3-list velocity)
+              (physics-prop-written-velocity prop) velocity)))))
+
+;;;# Writing the scene
+
+(defun parent-frame-inverse (object)
+  "The transform from the world into OBJECT's parent's frame (OBJECT hangs
+from nothing or from a group)."
+  (let ((parent (object-parent object)))
+    (if parent
+        (transform-invert (object-world-transform parent))
+        (identity-transform))))
+
+(defun write-free-props (physics)
+  "Put each free dynamic prop of PHYSICS where its body is, in its parent's frame."
+  (dolist (prop (scene-physics-props physics))
+    (when (eq (physics-prop-mode prop) :free)
+      (let* ((object (physics-prop-object prop))
+             (body (physics-prop-body prop))
+             (world (multiple-value-bind (x y z) (ode-body-position body)
+                      (multiple-value-bind (qw qx qy qz) (ode-body-rotation body)
+                        (make-transform :translation (make-vec3 x y z) :rotation (make-quat qw qx qy qz)))))
+             (local (transform-compose (parent-frame-inverse object) world)))
+        (setf (property-value object 'position) (transform-translation local)
+              (property-value object 'rotation) (transform-rotation local))
+        (when (declared-property object 'velocity)
+          (setf (property-value object 'velocity)
+                (multiple-value-bind (x y z) (ode-body-velocity body) (make-vec3 x y z))))
+        (setf (physics-prop-world-position prop) (vec3-list (transform-translation world)))
+        (remember-written prop)))))
+
+(defun physics-prop-resting-p (scene name)
+  "Is the dynamic prop NAME of SCENE asleep: at rest, until something moves it?"
+  (let* ((physics (scene-physics scene))
+         (prop (and physics (find name (scene-physics-props physics)
+                                  :key (lambda (p) (object-name (physics-prop-object p))) :test #'string-equal))))
+    (and prop (not (ode-body-enabled-p (physics-prop-body prop))))))
