@@ -220,6 +220,7 @@ until told to settle; one let go while settling starts settling now."
       (when (driver-additive-p driver)
         (driver-drive driver time pose)))
     (%clamp-pose skeleton pose)
+    (limit-joint-speeds body pose time)
     (pose-world-transforms skeleton pose :placement (object-world-transform body)
                                          :result (body-transforms body))
     pose))

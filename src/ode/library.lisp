@@ -32,6 +32,15 @@ compares with infinities on purpose (dInfinity bounds, degenerate contacts)."
 (defvar *ode-lock* (bt:make-lock "ode")
   "Serialises the first load and dInitODE2, which must run once.")
 
+(defvar *ode-messages* 0
+  "How many warnings ODE has given (a degenerate contact the solver got past).")
+
+(cffi:defcallback ode-message :void ((number :int) (format :pointer) (arguments :pointer))
+  ;; ODE's messages are warnings it recovers from ("LCP internal error" on
+  ;; redundant contacts); counted, not printed on the user's stderr.
+  (declare (ignore number format arguments))
+  (incf *ode-messages*))
+
 (defun ensure-ode ()
   "Load libode and initialise it (dInitODE2), once per process.  Signals
 ODE-UNAVAILABLE naming the Debian package libode8 when it is missing."
@@ -46,6 +55,7 @@ ODE-UNAVAILABLE naming the Debian package libode8 when it is missing."
                                         *ode-library-names*)))
               (when (zerop (with-ode-traps-masked (%d-init-ode2 0)))
                 (ode-fail "the Open Dynamics Engine failed to initialise (dInitODE2)"))
+              (%d-set-message-handler (cffi:callback ode-message))
               ;; ODE is closed when the Lisp exits, never before: worlds may live until then.
               (push (lambda () (when *ode-state* (with-ode-traps-masked (%d-close-ode))))
                     sb-ext:*exit-hooks*)

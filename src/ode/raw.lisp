@@ -40,6 +40,7 @@
   (%d-init-ode2 "dInitODE2" :int (flags :unsigned-int))
   (%d-close-ode "dCloseODE" :void)
   (%d-allocate-ode-data-for-thread "dAllocateODEDataForThread" :int (mask :unsigned-int))
+  (%d-set-message-handler "dSetMessageHandler" :void (handler :pointer))
   ;; worlds
   (%d-world-create "dWorldCreate" :pointer)
   (%d-world-destroy "dWorldDestroy" :void (world :pointer))
