@@ -17,11 +17,21 @@ step, or a call on a world already destroyed.  The message names it."))
   "Signal an ODE-ERROR whose message is CONTROL applied to ARGUMENTS."
   (error 'ode-error :message (apply #'format nil control arguments)))
 
+(defvar *ode-traps-masked* nil
+  "True inside WITH-ODE-TRAPS-MASKED, so nested uses do not switch the FPU modes again.")
+
 (defmacro with-ode-traps-masked (&body body)
   "Run BODY with SBCL's floating-point traps masked: ODE divides by zero and
-compares with infinities on purpose (dInfinity bounds, degenerate contacts)."
-  `(sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
-     ,@body))
+compares with infinities on purpose (dInfinity bounds, degenerate contacts).
+Nested inside another, it costs nothing (switching FPU modes is not free, and
+a step makes hundreds of calls)."
+  `(flet ((body () ,@body))
+     (declare (dynamic-extent #'body))
+     (if *ode-traps-masked*
+         (body)
+         (let ((*ode-traps-masked* t))
+           (sb-int:with-float-traps-masked (:invalid :divide-by-zero :overflow :inexact)
+             (body))))))
 
 (defvar *ode-library-names* '("libode.so.8")
   "Sonames tried, in order (the versioned name: the bare one comes with libode-dev).")

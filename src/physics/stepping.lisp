@@ -12,12 +12,13 @@
     (when physics
       (let ((target (floor (+ (/ time *physics-step*) 1d-6))))
         (when (> target (scene-physics-steps physics))
-          (let ((time (float time 1d0)))
+          (with-ode-traps-masked
+           (let ((time (float time 1d0)))
             (read-scene-changes physics time)
             (ode-world-step (scene-physics-world physics) (- target (scene-physics-steps physics)))
             (setf (scene-physics-steps physics) target
                   (scene-physics-time physics) time)
-            (write-free-props physics)))))
+            (write-free-props physics))))))
     physics))
 
 ;;;# Reading the scene
