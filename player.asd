@@ -284,7 +284,9 @@ run the resulting state machine as Lisp closures or embedded C++."
     :serial t
     :components ((:file "package")
                  (:file "prop-shapes")
+                 (:file "bone-shapes")
                  (:file "scene-physics")
+                 (:file "collisions")
                  (:file "stepping")))
    (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig" "ode" "physics")
     :serial t
@@ -549,5 +551,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-understanding")
                  ;; Physics through ODE (issue 29, item 6)
                  (:file "test-physics")
-                 (:file "test-speed-limits"))))
+                 (:file "test-speed-limits")
+                 (:file "test-collisions"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

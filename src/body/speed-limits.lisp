@@ -124,3 +124,12 @@ in place and returns it."
              (replace previous pose)
              (setf (speed-state-time state) time))))
     pose))
+
+(defun note-shown-pose (body pose)
+  "Tell BODY's limiter that POSE is what was shown at its last evaluation (a
+pose corrected after it, as physics stops a hand at contact): the next pose
+moves at most each DOF's maximum speed from there."
+  (let ((state (gethash body *speed-states*)))
+    (when state
+      (replace (speed-state-pose state) pose))
+    pose))

@@ -68,6 +68,17 @@ are not on one body or already joined."
 
 ;;;# Queries
 
+(defun ode-geom-depth (a b)
+  "How deep geoms A and B (of one live world) are inside each other, metres:
+the deepest of their contact points, 0 when they do not touch.  Conses nothing;
+the caller checks A and B."
+  (let ((world (ode-geom-world a))
+        (deepest 0d0))
+    (dotimes (i (collide-geoms world a b) deepest)
+      (let ((depth (cffi:foreign-slot-value (cffi:foreign-slot-pointer (contact-pointer world i) '(:struct d-contact) 'geom)
+                                            '(:struct d-contact-geom) 'depth)))
+        (when (> depth deepest) (setf deepest depth))))))
+
 (defstruct (ode-contact (:constructor make-ode-contact (position normal depth)))
   "Where two geoms touch: a POSITION and a NORMAL (lists x y z) and how DEEP
 one is inside the other (metres)."

@@ -80,3 +80,15 @@ geom on a body moves the body)."
   "The ODE-GEOM of WORLD whose dGeom is at POINTER."
   (aref (ode-world-geoms world)
         (1- (cffi:pointer-address (with-ode-traps-masked (%d-geom-get-data pointer))))))
+
+(defun set-ode-capsule-size (geom radius length)
+  "Make the capsule GEOM RADIUS thick and LENGTH long between its caps' centres (metres)."
+  (live-geom 'set-ode-capsule-size geom)
+  (unless (eq (first (ode-geom-shape geom)) :capsule)
+    (argument-fail 'set-ode-capsule-size 'geom geom "a capsule geom"))
+  (check-real 'set-ode-capsule-size 'radius radius :above 0 :maximum 100)
+  (check-real 'set-ode-capsule-size 'length length :minimum 0 :maximum 100)
+  (with-ode-traps-masked
+    (%d-geom-capsule-set-params (ode-geom-pointer geom) (float radius 1d0) (float length 1d0)))
+  (setf (ode-geom-shape geom) (list :capsule radius length))
+  geom)

@@ -85,6 +85,7 @@
   (%d-create-sphere "dCreateSphere" :pointer (space :pointer) (radius d-real))
   (%d-create-box "dCreateBox" :pointer (space :pointer) (lx d-real) (ly d-real) (lz d-real))
   (%d-create-capsule "dCreateCapsule" :pointer (space :pointer) (radius d-real) (length d-real))
+  (%d-geom-capsule-set-params "dGeomCapsuleSetParams" :void (geom :pointer) (radius d-real) (length d-real))
   (%d-create-plane "dCreatePlane" :pointer (space :pointer) (a d-real) (b d-real) (c d-real) (d d-real))
   (%d-geom-set-body "dGeomSetBody" :void (geom :pointer) (body :pointer))
   (%d-geom-set-data "dGeomSetData" :void (geom :pointer) (data :pointer))

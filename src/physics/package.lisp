@@ -7,4 +7,5 @@ fall, collide and rest; bones and props as collision shapes; contacts reported."
   (:export
    #:*physics-step* #:*prop-density* #:prop-shape #:dynamic-prop-p #:prop-dynamic-p
    #:scene-physics #:scene-physics-p #:advance-scene-physics #:scene-physics-steps
-   #:forget-scene-physics #:physics-prop-resting-p))
+   #:forget-scene-physics #:physics-prop-resting-p #:*collisions* #:*stop-at-contact* #:*contact-tolerance*
+   #:scene-collisions))

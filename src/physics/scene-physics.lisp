@@ -30,24 +30,51 @@ it was at the last advance."
   world-position)
 
 (defstruct (physics-static (:constructor make-physics-static (object geom)))
-  "A prop that does not move by itself, as a static GEOM placed where OBJECT is."
-  object geom (placed nil))
+  "A prop that does not move by itself, as a static GEOM placed where OBJECT
+is; PLACED is what it was placed by, CENTRE and REACH a sphere holding it
+\(REACH NIL: a plane)."
+  object geom (placed nil) (centre (make-vec3 0d0 0d0 0d0)) (reach nil))
 
 (defstruct (scene-physics (:constructor %make-scene-physics (scene world)))
-  "The physics of SCENE: its ODE WORLD, its dynamic PROPS and STATICS, the
-STEPS done and the TIME of the last advance."
-  scene world (props '()) (statics '()) (steps 0 :type fixnum) (time 0d0 :type double-float))
+  "The physics of SCENE: its ODE WORLD, its dynamic PROPS and STATICS, its
+bodies' COLLIDERS, the STEPS done and the TIME of the last advance."
+  scene world (props '()) (statics '()) (colliders '())
+  (steps 0 :type fixnum) (time 0d0 :type double-float))
+
+(defvar *collisions* t
+  "When true, a scene with a visible body and props gets collision shapes, and
+poses that would pass a hand through a prop or a body stop at contact
+\(collisions.lisp).")
+
+(defvar *stop-at-contact* t
+  "When true, a composed pose that would pass a hand through something stops at
+contact; when NIL the shapes are there (SCENE-COLLISIONS reports) but nothing
+is corrected, as `check` plays scripts.")
 
 (defvar *scene-physics* (make-hash-table :test #'eq :weakness :key :synchronized t)
-  "Each scene's SCENE-PHYSICS (or :NONE when it has no dynamic prop).")
+  "Each scene's SCENE-PHYSICS (or :NONE when it needs none).")
+
+(defun visible-bodies (scene)
+  "SCENE's bodies that are drawn."
+  (remove-if-not (lambda (object) (and (typep object 'body) (property-value object 'visible)))
+                 (scene-objects scene)))
+
+(defun needs-physics-p (scene)
+  "Does SCENE need a world: a dynamic prop, or (with *COLLISIONS*) a visible body and a prop?"
+  (or (some #'dynamic-prop-p (scene-objects scene))
+      (and *collisions*
+           (visible-bodies scene)
+           (some (lambda (object) (and (eq (object-kind object) :prop) (prop-shape object)))
+                 (scene-objects scene)))))
 
 (defun scene-physics (scene)
-  "SCENE's physics, made on first use; NIL when SCENE has no dynamic prop."
+  "SCENE's physics, made on first use; NIL when SCENE needs none (no dynamic
+prop, and no body and prop to collide)."
   (check-argument 'scene-physics 'scene scene (lambda (x) (typep x 'scene)) "a scene")
   (let ((physics (gethash scene *scene-physics*)))
     (cond ((eq physics :none) nil)
           (physics physics)
-          ((notany #'dynamic-prop-p (scene-objects scene))
+          ((not (needs-physics-p scene))
            (setf (gethash scene *scene-physics*) :none)
            nil)
           (t (setf (gethash scene *scene-physics*) (make-scene-physics scene))))))
@@ -80,6 +107,7 @@ geom for every other prop with a shape, and the floor."
       (let ((shape (and (eq (object-kind object) :prop) (prop-shape object))))
         (cond ((null shape))
               ((eq (first shape) :plane)
+               ;; The floor: the plane through where the FLOOR prop stands.
                (setf floor-found t)
                (make-ode-geom world (list :plane 0 1 0 (vec3-y (object-world-position object))) :data object))
               ((dynamic-prop-p object)
@@ -92,10 +120,14 @@ geom for every other prop with a shape, and the floor."
                    (remember-written prop)
                    (setf (physics-prop-world-position prop) position)
                    (push prop (scene-physics-props physics)))))
-              (t (push (make-physics-static object (make-ode-geom world shape :data object))
-                       (scene-physics-statics physics))))))
+              (t (let ((static (make-physics-static object (make-ode-geom world shape :data object))))
+                   (setf (physics-static-reach static) (static-reach shape))
+                   (push static (scene-physics-statics physics)))))))
     (unless floor-found
       (make-ode-geom world '(:plane 0 1 0 0)))
+    (when *collisions*
+      (setf (scene-physics-colliders physics)
+            (mapcar (lambda (body) (make-body-collider world body)) (visible-bodies scene))))
     (setf (scene-physics-props physics) (nreverse (scene-physics-props physics))
           (scene-physics-statics physics) (nreverse (scene-physics-statics physics)))
     physics))

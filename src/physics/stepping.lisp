@@ -10,15 +10,19 @@
   (check-seconds 'advance-scene-physics 'time time)
   (let ((physics (scene-physics scene)))
     (when physics
-      (let ((target (floor (+ (/ time *physics-step*) 1d-6))))
-        (when (> target (scene-physics-steps physics))
-          (with-ode-traps-masked
-           (let ((time (float time 1d0)))
-            (read-scene-changes physics time)
-            (ode-world-step (scene-physics-world physics) (- target (scene-physics-steps physics)))
-            (setf (scene-physics-steps physics) target
-                  (scene-physics-time physics) time)
-            (write-free-props physics))))))
+      (with-ode-traps-masked
+        (place-statics physics)
+        ;; The bodies were just posed: stop hands at contact before anything steps.
+        (when (and *stop-at-contact* (scene-physics-colliders physics))
+          (correct-collisions physics (float time 1d0)))
+        (let ((target (floor (+ (/ time *physics-step*) 1d-6))))
+          (when (and (> target (scene-physics-steps physics)) (scene-physics-props physics))
+            (let ((time (float time 1d0)))
+              (read-scene-changes physics time)
+              (ode-world-step (scene-physics-world physics) (- target (scene-physics-steps physics)))
+              (setf (scene-physics-time physics) time)
+              (write-free-props physics)))
+          (setf (scene-physics-steps physics) (max target (scene-physics-steps physics))))))
     physics))
 
 ;;;# Reading the scene
@@ -44,13 +48,20 @@
   "Bring PHYSICS's bodies and static geoms to what the scene says at TIME."
   (let ((elapsed (- time (scene-physics-time physics))))
     (dolist (prop (scene-physics-props physics))
-      (read-prop-change prop elapsed))
-    (dolist (static (scene-physics-statics physics))
-      (multiple-value-bind (position rotation) (world-placement (physics-static-object static))
-        (let ((placement (cons position rotation)))
-          (unless (equal placement (physics-static-placed static))
-            (set-ode-geom-placement (physics-static-geom static) position rotation)
-            (setf (physics-static-placed static) placement)))))))
+      (read-prop-change prop elapsed))))
+
+(defun place-statics (physics)
+  "Put PHYSICS's static geoms where their props are now (a script may move them)."
+  (dolist (static (scene-physics-statics physics))
+    (let* ((object (physics-static-object static))
+           (key (list (object-parent object) (property-value object 'position) (property-value object 'rotation))))
+      ;; Properties are copied when set, so unchanged EQ values under no parent mean no move.
+      (unless (and (null (first key)) (physics-static-placed static)
+                   (every #'eq key (physics-static-placed static)))
+        (multiple-value-bind (position rotation) (world-placement object)
+          (set-ode-geom-placement (physics-static-geom static) position rotation)
+          (setf (physics-static-placed static) key
+                (physics-static-centre static) (apply #'make-vec3 position)))))))
 
 (defun read-prop-change (prop elapsed)
   "Set PROP's mode and body from its object after ELAPSED seconds: held or
