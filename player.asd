@@ -310,6 +310,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "body-presenter")
                  (:file "op-channels")
                  (:file "script-check")
+                 (:file "collision-check")
                  (:file "simulation")
                  (:file "library-reload")))
    ;; Pictures: meshes, OpenGL through OSMesa and GLFW, PNG, the viewer and live authoring.

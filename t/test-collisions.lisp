@@ -82,3 +82,27 @@ many sampled hand points were inside a box.  STOP NIL lets hands pass through."
              found)))
     (is (plusp (length (collisions nil))))
     (is (null (collisions t)))))
+
+;;;# check
+
+(test check-reports-a-script-whose-hand-passes-through-the-table
+  ;; Peedy sinks 6 cm: his wing tips (5 cm up when he stands) go 1 cm into the table.
+  (multiple-value-bind (path form-line)
+      (write-script-check-case 'sink 'sink
+                               "(defscript sink (:duration 1)
+  (:at 0 :animate (:self position) (:keys ((0 :vec3 0 0 0) (1 :vec3 0 -0.06 0)) :interpolation :linear)))")
+    (let* ((spec (load-case-spec path))
+           (diagnostics (player.performance::script-diagnostics spec))
+           (collision (find :collision diagnostics :key #'player::diagnostic-kind)))
+      (is (not (null collision)) "check reports the collision: ~S" diagnostics)
+      (when collision
+        (let ((message (player::diagnostic-message collision))
+              (details (player::diagnostic-details collision)))
+          (is (eq :warning (player.performance::diagnostic-severity collision)))
+          (is (search "script sink" message) "~S" message)
+          (is (search (format nil "lib.lisp:~D:" (1+ form-line)) message) "the item's line in ~S" message)
+          (is (search "table" message) "~S" message)
+          (is (search "primaries" message) "~S" message)
+          ;; The tips sink past 1 cm (the check depth) after about 0.6+ s of the linear sink.
+          (is (< 0.5 (getf details :time) 1.01) "at ~A s" (getf details :time))
+          (is (equal "table" (second (getf details :parts)))))))))
