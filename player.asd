@@ -108,6 +108,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "graph-expressions")
                  (:file "edge-tests")
                  (:file "spheres-scripts")
+                 (:file "cradle-ode-scripts")
                  (:file "graph-option")))
    ;; A logic for behaviours (Clark & Palmer's further work): CTL, its model checker, counterexamples, diffs.
    (:module "logic" :depends-on ("base" "spec" "planner" "compose")
@@ -287,7 +288,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "bone-shapes")
                  (:file "scene-physics")
                  (:file "collisions")
-                 (:file "stepping")))
+                 (:file "stepping")
+                 (:file "pendulums")))
    (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig" "ode" "physics")
     :serial t
     :components ((:file "package")

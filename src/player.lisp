@@ -29,6 +29,7 @@
    #:explained-unreachable #:explained-unreachable-p #:explanation-step #:graphviz-error
    #:print-explanation #:state-graph-error #:write-state-graph #:write-state-graph-file)
   (:import-from #:player.compose
+   #:cradle-ode-script-forms
    #:binding #:complete-graph #:cradle-node #:cradle-spheres #:cradle-stage #:cradle-stages
    #:define-graph #:edge-predicate #:find-graph #:graph #:graph->spec #:graph->spec-forms
    #:graph-edge-count #:graph-edges #:graph-empty-p #:graph-equal #:graph-error
@@ -336,7 +337,7 @@
    ;; Physics through ODE (src/ode/, src/physics/)
    #:ode-error #:ode-unavailable #:ode-available-p
    #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
-   #:physics-prop-resting-p))
+   #:physics-prop-resting-p #:cradle-ode-script-forms))
 
 (defpackage #:player-user
   (:use #:cl #:player)

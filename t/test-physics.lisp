@@ -143,3 +143,36 @@
       (is (< (object-y performance 'note 3.3) held) "let go, it falls")
       (let ((rest (object-y performance 'note 5)))
         (is (< (abs (- rest 0.001)) 0.01) "it rests on the table top, at ~A" rest)))))
+
+;;;# Newton's cradle swung by ODE
+
+(defun ball-x (performance name time)
+  "The world x of cradle object NAME at TIME."
+  (player.body:vec3-x (player:object-world-position
+                       (player:find-object (player:performance-frame performance time)
+                                           (intern (string-upcase name) '#:player-user)))))
+
+(test ode-cradle-swings-with-pendulum-timing
+  (let* ((library (player.performance::parse-script-library-forms (player:cradle-ode-script-forms :n 5 :lifted 1)))
+         (performance (player:make-performance library '((nobody none))))
+         (length 0.35d0) (theta (* 35 (/ pi 180))) (g 9.81d0))
+    (player:perform-script performance (intern "RELEASE" '#:player-user) 0)
+    ;; Lifted 35 degrees over 1 s, then let go: the quarter period of a
+    ;; 35-degree pendulum, T0/4 (1 + θ²/16 + 11θ⁴/3072), worked by hand.
+    (let* ((quarter (* (/ pi 2) (sqrt (/ length g)) (+ 1 (/ (* theta theta) 16) (/ (* 11 (expt theta 4)) 3072))))
+           (lifted-x (ball-x performance "ball-1" 1))
+           (hit (loop for time from 1d0 to 1.6d0 by (/ 1d0 240)
+                      when (>= (ball-x performance "ball-1" time) -0.2006d0) return (- time 1))))
+      (is (< (abs (- lifted-x (- -0.2 (* length (sin theta))))) 0.002) "lifted to ~A" lifted-x)
+      (is (and hit (< (abs (- hit quarter)) 0.015)) "it reaches the row after ~A s, not ~A s" hit quarter)
+      ;; The last ball takes the momentum: out to nearly the lifted angle, the others stay.
+      (let ((out (loop for time from 1.2d0 to 1.8d0 by 0.01d0 maximize (ball-x performance "ball-5" time))))
+        (is (> out (+ 0.2 (* 0.8 length (sin theta)))) "the last ball swings out to ~A" out))
+      (is (< (abs (- (ball-x performance "ball-3" 1.6) 0)) 0.01) "the middle ball stays")
+      ;; The string turns with its ball (the physics turns the pivot).
+      (let ((scene (player:performance-frame performance 1.1)))
+        (is (< (abs (- (player.body:vec3-x (player:object-world-position
+                                            (player:find-object scene (intern "STRING-1" '#:player-user))))
+                       (+ -0.2 (/ (- (ball-x performance "ball-1" 1.1) -0.2) 2))))
+               0.002)
+            "the string's middle is halfway to its ball")))))

@@ -44,6 +44,8 @@ are not on one body or already joined."
   (let ((body-a (ode-geom-body a)) (body-b (ode-geom-body b)))
     (when (and (or (free-body-p a) (free-body-p b))
                (not (eq body-a body-b))
+               (let ((filter (ode-world-contact-filter world)))
+                 (or (null filter) (funcall filter a b)))
                (not (and body-a body-b
                          (/= 0 (with-ode-traps-masked
                                  (%d-are-connected-excluding (ode-body-pointer body-a) (ode-body-pointer body-b)

@@ -8,7 +8,7 @@
    #:ode-error #:ode-unavailable #:ensure-ode #:ode-available-p #:with-ode-traps-masked
    ;; worlds
    #:make-ode-world #:ode-world-p #:destroy-ode-world #:ode-world-step #:ode-world-gravity
-   #:ode-world-step-size #:ode-world-geoms #:ode-world-bodies
+   #:ode-world-step-size #:ode-world-geoms #:ode-world-bodies #:ode-world-contact-filter
    ;; bodies
    #:make-ode-body #:ode-body-p #:ode-body-position #:ode-body-rotation #:ode-body-velocity
    #:ode-body-angular-velocity #:ode-body-kinematic-p #:ode-body-enabled-p #:ode-body-mass

@@ -19,6 +19,9 @@ BODIES are the Lisp sides of what was made in it, in order of making."
   (bodies '() :type list)
   (gravity '(0d0 -9.81d0 0d0) :type list)
   (step-size (/ 1d0 240) :type double-float)
+  ;; NIL, or a function of two geoms: false when they must not touch (a
+  ;; pendulum's sphere and its own string).
+  (contact-filter nil)
   (live t))
 
 (defmethod print-object ((world ode-world) stream)

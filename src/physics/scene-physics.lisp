@@ -27,7 +27,11 @@ it was at the last advance."
   object body geom
   (mode :free)
   written-position written-rotation written-velocity
-  world-position)
+  world-position
+  ;; A hanging prop's pivot (pendulums.lisp), which the physics turns; and its rotation as written.
+  (carrier nil) written-carrier-rotation
+  ;; The velocity (x y z) it was last moved at by others, which it keeps when let go.
+  (release-velocity (list 0 0 0)))
 
 (defstruct (physics-static (:constructor make-physics-static (object geom)))
   "A prop that does not move by itself, as a static GEOM placed where OBJECT
@@ -115,7 +119,9 @@ geom for every other prop with a shape, and the floor."
                  (let* ((body (make-ode-body world shape :mass (prop-mass object shape)
                                                          :position position :rotation rotation :data object))
                         (geom (make-ode-geom world shape :body body :data object
-                                                         :bounce (if (eq (first shape) :sphere) 0.4 0.05)))
+                                                         :friction (surface object 'friction 0.6)
+                                                         :bounce (surface object 'bounce
+                                                                          (if (eq (first shape) :sphere) 0.4 0.05))))
                         (prop (make-physics-prop object body geom)))
                    (remember-written prop)
                    (setf (physics-prop-world-position prop) position)
@@ -123,6 +129,10 @@ geom for every other prop with a shape, and the floor."
               (t (let ((static (make-physics-static object (make-ode-geom world shape :data object))))
                    (setf (physics-static-reach static) (static-reach shape))
                    (push static (scene-physics-statics physics)))))))
+    (dolist (prop (scene-physics-props physics))
+      (when (hanging-prop-p (physics-prop-object prop))
+        (hang-prop world prop)))
+    (setf (ode-world-contact-filter world) (pendulum-filter physics))
     (unless floor-found
       (make-ode-geom world '(:plane 0 1 0 0)))
     (when *collisions*
@@ -133,8 +143,15 @@ geom for every other prop with a shape, and the floor."
     physics))
 
 (defun remember-written (prop)
-  "Note PROP's object's placement properties as the physics' own."
+  "Note PROP's object's placement properties (and its pivot's) as the physics' own."
   (let ((object (physics-prop-object prop)))
     (setf (physics-prop-written-position prop) (property-value object 'position)
           (physics-prop-written-rotation prop) (property-value object 'rotation)
-          (physics-prop-written-velocity prop) (declared-property object 'velocity))))
+          (physics-prop-written-velocity prop) (declared-property object 'velocity)
+          (physics-prop-written-carrier-rotation prop)
+          (and (physics-prop-carrier prop) (property-value (physics-prop-carrier prop) 'rotation)))))
+
+(defun surface (object name default)
+  "OBJECT's surface property NAME (FRICTION 0 to 10, BOUNCE 0 to 1) when it declares it, else DEFAULT."
+  (let ((value (declared-property object name)))
+    (if (realp value) (max 0 (min value (if (eq name 'bounce) 1 10))) default)))

@@ -28,16 +28,20 @@
 ;;;# Reading the scene
 
 (defun held-p (object)
-  "Does OBJECT hang from something that places it: a joint, a body or a prop (not a group)?"
+  "Does OBJECT hang from something that places it: a joint, a body or a prop (not
+a group, which is a frame or a pendulum's pivot)?"
   (let ((parent (object-parent object)))
     (or (consp parent)
         (and parent (not (eq (object-kind parent) :group))))))
 
 (defun placed-by-script-p (prop)
   "Has someone but the physics set PROP's position, rotation or velocity since it wrote them?"
-  (let ((object (physics-prop-object prop)))
+  (let ((object (physics-prop-object prop))
+        (carrier (physics-prop-carrier prop)))
     (or (not (equalp (property-value object 'position) (physics-prop-written-position prop)))
-        (not (equalp (property-value object 'rotation) (physics-prop-written-rotation prop))))))
+        (not (equalp (property-value object 'rotation) (physics-prop-written-rotation prop)))
+        (and carrier
+             (not (equalp (property-value carrier 'rotation) (physics-prop-written-carrier-rotation prop)))))))
 
 (defun tossed-p (prop)
   "Has a script set PROP's VELOCITY since the physics wrote it?"
@@ -79,15 +83,20 @@ alone, it is dynamic, flying on with the velocity it had."
     (setf (physics-prop-mode prop) (if (eq mode :released) :free mode))
     (if (eq mode :free)
         (when (ode-body-kinematic-p body)
-          (setf (ode-body-kinematic-p body) nil))
+          ;; Let go: it flies on with the velocity it was last moved at.
+          (setf (ode-body-kinematic-p body) nil
+                (ode-body-velocity body) (physics-prop-release-velocity prop)))
         (multiple-value-bind (position rotation) (world-placement object)
-          (setf (ode-body-kinematic-p body) (not (eq mode :released)))
-          (set-ode-body-placement body position rotation)
-          (setf (ode-body-velocity body)
+          (setf (physics-prop-release-velocity prop)
                 (if (and (member before '(:held :moved)) (plusp elapsed))
                     (mapcar (lambda (new old) (/ (- new old) elapsed)) position (physics-prop-world-position prop))
                     (list 0 0 0)))
-          (setf (ode-body-angular-velocity body) (list 0 0 0)
+          (setf (ode-body-kinematic-p body) (not (eq mode :released)))
+          (set-ode-body-placement body position rotation)
+          ;; Held still while the world steps (a kinematic body would drift on
+          ;; at its velocity, off a pendulum's circle); released, it flies.
+          (setf (ode-body-velocity body) (if (eq mode :released) (physics-prop-release-velocity prop) (list 0 0 0))
+                (ode-body-angular-velocity body) (list 0 0 0)
                 (physics-prop-world-position prop) position)
           (remember-written prop)))
     (when (tossed-p prop)
@@ -115,8 +124,11 @@ from nothing or from a group)."
                       (multiple-value-bind (qw qx qy qz) (ode-body-rotation body)
                         (make-transform :translation (make-vec3 x y z) :rotation (make-quat qw qx qy qz)))))
              (local (transform-compose (parent-frame-inverse object) world)))
-        (setf (property-value object 'position) (transform-translation local)
-              (property-value object 'rotation) (transform-rotation local))
+        (if (physics-prop-carrier prop)
+            ;; A pendulum: its pivot turns, carrying it (and its string).
+            (write-pivot prop (transform-translation world))
+            (setf (property-value object 'position) (transform-translation local)
+                  (property-value object 'rotation) (transform-rotation local)))
         (when (declared-property object 'velocity)
           (setf (property-value object 'velocity)
                 (multiple-value-bind (x y z) (ode-body-velocity body) (make-vec3 x y z))))
