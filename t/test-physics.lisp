@@ -146,7 +146,7 @@
 
 ;;;# Newton's cradle swung by ODE
 
-(defun ball-x (performance name time)
+(defun cradle-ball-x (performance name time)
   "The world x of cradle object NAME at TIME."
   (player.body:vec3-x (player:object-world-position
                        (player:find-object (player:performance-frame performance time)
@@ -160,19 +160,19 @@
     ;; Lifted 35 degrees over 1 s, then let go: the quarter period of a
     ;; 35-degree pendulum, T0/4 (1 + θ²/16 + 11θ⁴/3072), worked by hand.
     (let* ((quarter (* (/ pi 2) (sqrt (/ length g)) (+ 1 (/ (* theta theta) 16) (/ (* 11 (expt theta 4)) 3072))))
-           (lifted-x (ball-x performance "ball-1" 1))
+           (lifted-x (cradle-ball-x performance "ball-1" 1))
            (hit (loop for time from 1d0 to 1.6d0 by (/ 1d0 240)
-                      when (>= (ball-x performance "ball-1" time) -0.2006d0) return (- time 1))))
+                      when (>= (cradle-ball-x performance "ball-1" time) -0.2006d0) return (- time 1))))
       (is (< (abs (- lifted-x (- -0.2 (* length (sin theta))))) 0.002) "lifted to ~A" lifted-x)
       (is (and hit (< (abs (- hit quarter)) 0.015)) "it reaches the row after ~A s, not ~A s" hit quarter)
       ;; The last ball takes the momentum: out to nearly the lifted angle, the others stay.
-      (let ((out (loop for time from 1.2d0 to 1.8d0 by 0.01d0 maximize (ball-x performance "ball-5" time))))
+      (let ((out (loop for time from 1.2d0 to 1.8d0 by 0.01d0 maximize (cradle-ball-x performance "ball-5" time))))
         (is (> out (+ 0.2 (* 0.8 length (sin theta)))) "the last ball swings out to ~A" out))
-      (is (< (abs (- (ball-x performance "ball-3" 1.6) 0)) 0.01) "the middle ball stays")
+      (is (< (abs (- (cradle-ball-x performance "ball-3" 1.6) 0)) 0.01) "the middle ball stays")
       ;; The string turns with its ball (the physics turns the pivot).
       (let ((scene (player:performance-frame performance 1.1)))
         (is (< (abs (- (player.body:vec3-x (player:object-world-position
                                             (player:find-object scene (intern "STRING-1" '#:player-user))))
-                       (+ -0.2 (/ (- (ball-x performance "ball-1" 1.1) -0.2) 2))))
+                       (+ -0.2 (/ (- (cradle-ball-x performance "ball-1" 1.1) -0.2) 2))))
                0.002)
             "the string's middle is halfway to its ball")))))
