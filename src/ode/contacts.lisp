@@ -73,7 +73,7 @@ are not on one body or already joined."
 (defun ode-geom-depth (a b)
   "How deep geoms A and B (of one live world) are inside each other, metres:
 the deepest of their contact points, 0 when they do not touch.  Conses nothing;
-the caller checks A and B."
+the caller checks A and B, and has called ENSURE-ODE-THREAD in this thread."
   (let ((world (ode-geom-world a))
         (deepest 0d0))
     (dotimes (i (collide-geoms world a b) deepest)
@@ -104,6 +104,7 @@ one is inside the other (metres)."
   (live-geom 'ode-geom-contacts b)
   (unless (eq (ode-geom-world a) (ode-geom-world b))
     (argument-fail 'ode-geom-contacts 'b b "a geom of the same world as A"))
+  (ensure-ode-thread)
   (read-contacts (ode-geom-world a) (collide-geoms (ode-geom-world a) a b)))
 
 (defun ode-world-touching-pairs (world &key (test (constantly t)) (min-depth 0))
@@ -111,6 +112,7 @@ one is inside the other (metres)."
 and pass TEST (a function of the two geoms), as (GEOM-A GEOM-B DEPTH), the
 deepest contact's depth."
   (live-world 'ode-world-touching-pairs world)
+  (ensure-ode-thread)
   (check-argument 'ode-world-touching-pairs :test test #'functionp "a function of two geoms")
   (check-real 'ode-world-touching-pairs :min-depth min-depth :minimum 0)
   (let ((pairs '()))

@@ -5,7 +5,7 @@
   (:documentation "The Open Dynamics Engine (Debian's libode8) through CFFI: raw
 %d bindings, then worlds, bodies, geoms, joints and contacts checked in Lisp.")
   (:export
-   #:ode-error #:ode-unavailable #:ensure-ode #:ode-available-p #:with-ode-traps-masked
+   #:ode-error #:ode-unavailable #:ensure-ode #:ensure-ode-thread #:ode-available-p #:with-ode-traps-masked
    ;; worlds
    #:make-ode-world #:ode-world-p #:destroy-ode-world #:ode-world-step #:ode-world-gravity
    #:ode-world-step-size #:ode-world-geoms #:ode-world-bodies #:ode-world-contact-filter

@@ -95,6 +95,8 @@ every touching pair with something free to move), step the dynamics, forget
 the contacts."
   (live-world 'ode-world-step world)
   (check-argument 'ode-world-step 'steps steps (lambda (x) (typep x '(integer 0 1000000))) "a count of steps")
+  ;; A world made in one thread may be stepped in another (the viewer's).
+  (ensure-ode-thread)
   (let ((step (ode-world-step-size world)))
     (dotimes (i steps)
       (collide-world world #'add-contact-joints)

@@ -74,6 +74,7 @@ as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects th
 or \"BODY's JOINT\" for a trunk.  NIL when SCENE has no collision shapes."
   (let ((physics (scene-physics scene)))
     (when physics
+      (ensure-ode-thread)
       (with-ode-traps-masked
         (place-statics physics)
         (dolist (collider (scene-physics-colliders physics))

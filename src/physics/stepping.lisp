@@ -10,6 +10,7 @@
   (check-seconds 'advance-scene-physics 'time time)
   (let ((physics (scene-physics scene)))
     (when physics
+      (ensure-ode-thread)
       (with-ode-traps-masked
         (place-statics physics)
         ;; The bodies were just posed: stop hands at contact before anything steps.
