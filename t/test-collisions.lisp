@@ -106,3 +106,39 @@ many sampled hand points were inside a box.  STOP NIL lets hands pass through."
           ;; The tips sink past 1 cm (the check depth) after about 0.6+ s of the linear sink.
           (is (< 0.5 (getf details :time) 1.01) "at ~A s" (getf details :time))
           (is (equal "table" (second (getf details :parts)))))))))
+
+;;;# The body itself
+
+(defun segment-distance (point a b)
+  "The distance from POINT to the segment from A to B (vec3s), worked here."
+  (let* ((ab (player.body:v- b a))
+         (u (max 0d0 (min 1d0 (/ (player.body:vdot (player.body:v- point a) ab) (player.body:vdot ab ab))))))
+    (player.body:vdistance point (player.body:v+ a (player.body:v* ab u)))))
+
+(defun closest-hand-to-spine (arm stop)
+  "How near (metres) the ARM's hand of a humanoid comes to its spine (vl5 to
+skullbase) reaching for a point inside its chest; STOP NIL lets it pass through.
+Returns the distance and the trunk's radius."
+  (let* ((player.physics:*stop-at-contact* stop)
+         (performance (player:make-performance (reach-library) '((bob humanoid))))
+         (body (progn (player:performance-frame performance 0) (player:performance-body performance)))
+         (skeleton (player:body-skeleton body))
+         (hand (player:skeleton-role skeleton (if (eq arm :left) :left-hand :right-hand)))
+         (closest 1d0))
+    (player:body-add-driver body (player:make-driver
+                                  (player:parse-motor-frame `(:reach :arm ,arm :target (:point 0 1.25 -0.05) :duration 0.4))
+                                  body 0.1d0))
+    (loop for time from 0.1d0 to 1d0 by (/ 1d0 30)
+          do (player:performance-frame performance time)
+             (flet ((at (joint) (player:joint-world-position (player:body-transforms body) joint)))
+               (setf closest (min closest (segment-distance (at hand) (at (player:find-joint skeleton 'vl5))
+                                                            (at (player:find-joint skeleton 'skullbase)))))))
+    (values closest (player.body:body-joint-radius (player:find-joint skeleton 'vl5)))))
+
+(test a-reach-into-the-chest-stops-at-the-body
+  (dolist (arm '(:left :right))
+    (multiple-value-bind (closest radius) (closest-hand-to-spine arm t)
+      (is (> closest radius) "the ~(~A~) hand came ~,3F m from the spine, inside the trunk (~A)" arm closest radius))
+    ;; Unstopped, the reach does go in: the check above can fail.
+    (multiple-value-bind (closest radius) (closest-hand-to-spine arm nil)
+      (is (< closest radius) "unstopped, the ~(~A~) hand stays out (~,3F m)" arm closest))))
