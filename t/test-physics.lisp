@@ -176,3 +176,13 @@
                        (+ -0.2 (/ (- (cradle-ball-x performance "ball-1" 1.1) -0.2) 2))))
                0.002)
             "the string's middle is halfway to its ball")))))
+
+(test ode-cradle-scripts-file-is-the-generated-one
+  (is (string= (player.compose:cradle-ode-scripts-text)
+               (alexandria:read-file-into-string (checkout-file "specs/newtons-cradle-ode-scripts.lisp")))
+      "regenerate it: (player.compose:write-cradle-ode-scripts-file \"specs/newtons-cradle-ode-scripts.lisp\")")
+  ;; The spec plays it: the last ball swings out after the release.
+  (let* ((spec (first (load-spec (checkout-file "specs/newtons-cradle-ode.lisp"))))
+         (simulation (player::simulate spec :events '(ev-release) :until 2 :silent t :stream nil))
+         (performance (player.performance::simulation-performance simulation)))
+    (is (> (cradle-ball-x performance "ball-5" 1.6) 0.3))))
