@@ -93,8 +93,13 @@ prop, and no body and prop to collide)."
 
 ;;;# Building
 
-(defun vec3-list (v) (list (vec3-x v) (vec3-y v) (vec3-z v)))
-(defun quat-list (q) (list (quat-w q) (quat-x q) (quat-y q) (quat-z q)))
+(defun vec3-list (v)
+  "The vec3 V as a list (x y z), as the ODE layer takes points."
+  (list (vec3-x v) (vec3-y v) (vec3-z v)))
+
+(defun quat-list (q)
+  "The quat Q as a list (w x y z), as the ODE layer takes rotations."
+  (list (quat-w q) (quat-x q) (quat-y q) (quat-z q)))
 
 (defun world-placement (object)
   "OBJECT's world position and rotation, as lists (x y z) and (w x y z)."

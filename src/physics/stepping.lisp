@@ -115,9 +115,18 @@ from nothing or from a group)."
         (transform-invert (object-world-transform parent))
         (identity-transform))))
 
+(defun body-blew-up-p (body)
+  "Is BODY's position no longer finite (an explosion the solver could not recover from)?"
+  (notevery #'finite-real-p (multiple-value-list (ode-body-position body))))
+
 (defun write-free-props (physics)
-  "Put each free dynamic prop of PHYSICS where its body is, in its parent's frame."
+  "Put each free dynamic prop of PHYSICS where its body is, in its parent's frame
+\(one whose numbers stopped being finite goes back to where it last was, at rest)."
   (dolist (prop (scene-physics-props physics))
+    (when (and (eq (physics-prop-mode prop) :free) (body-blew-up-p (physics-prop-body prop)))
+      (set-ode-body-placement (physics-prop-body prop) (physics-prop-world-position prop))
+      (setf (ode-body-velocity (physics-prop-body prop)) (list 0 0 0)
+            (ode-body-angular-velocity (physics-prop-body prop)) (list 0 0 0)))
     (when (eq (physics-prop-mode prop) :free)
       (let* ((object (physics-prop-object prop))
              (body (physics-prop-body prop))
