@@ -15,8 +15,8 @@
   "A part of BODY's trunk: a capsule GEOM from JOINT to CHILD, or a sphere at
 JOINT when CHILD is NIL; RADIUS metres thick."
   body joint child geom (radius 0d0 :type double-float)
-  ;; Where it was last placed: its centre and the radius of a sphere holding it.
-  (centre (make-vec3 0d0 0d0 0d0)) (reach 0d0 :type double-float))
+  ;; Where it was last placed: its axis FROM .. TO (TO NIL for a sphere).
+  (from (make-vec3 0d0 0d0 0d0)) (to nil))
 
 (defstruct (collider (:constructor make-collider (body probes trunk)))
   "BODY's collision shapes: its hands' PROBES and its TRUNK-PARTs.  SHOWN is
@@ -86,15 +86,23 @@ length is its bone's, so a stretched spine stays covered)."
   (dolist (part (collider-trunk collider))
     (let* ((from (joint-point transforms (trunk-part-joint part)))
            (child (trunk-part-child part)))
+      (setf (trunk-part-from part) from)
       (if (null child)
           (progn (set-ode-geom-placement (trunk-part-geom part) (vec3-list from))
-                 (setf (trunk-part-centre part) from
-                       (trunk-part-reach part) (trunk-part-radius part)))
+                 (setf (trunk-part-to part) nil))
           (let* ((to (joint-point transforms child))
                  (length (max 1d-4 (vdistance from to)))
                  (centre (v* (v+ from to) 0.5d0)))
             (set-ode-capsule-size (trunk-part-geom part) (trunk-part-radius part) length)
             (set-ode-geom-placement (trunk-part-geom part) (vec3-list centre)
                                     (capsule-rotation (v* (v- to from) (/ 1 length))))
-            (setf (trunk-part-centre part) centre
-                  (trunk-part-reach part) (+ (trunk-part-radius part) (/ length 2))))))))
+            (setf (trunk-part-to part) to))))))
+
+(defun axis-distance (part point)
+  "How far POINT is from PART's axis (the segment it was last placed along, or its centre)."
+  (let ((a (trunk-part-from part)) (b (trunk-part-to part)))
+    (if (null b)
+        (vdistance point a)
+        (let* ((ab (v- b a))
+               (u (max 0d0 (min 1d0 (/ (vdot (v- point a) ab) (max 1d-12 (vdot ab ab)))))))
+          (vdistance point (v+ a (v* ab u)))))))

@@ -49,17 +49,44 @@ as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects th
             (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
     (dolist (collider (scene-physics-colliders physics))
       (dolist (part (collider-trunk collider))
-        (when (near-p (trunk-part-centre part) (trunk-part-reach part) point radius)
+        (when (trunk-near-p part point radius)
           (let ((depth (ode-geom-depth geom (trunk-part-geom part))))
             (when (> depth *contact-tolerance*) (push (list part depth) hits))))))
     hits))
 
+(defun trunk-near-p (part point radius)
+  "Might a sphere of RADIUS at POINT touch the trunk PART?"
+  (<= (axis-distance part point) (+ (trunk-part-radius part) radius *contact-tolerance*)))
+
+(defparameter *hand-span* 0.25d0
+  "Metres from a hand joint within which its fingers (or a wing's feathers) lie:
+a hand with nothing that near is not tested further.")
+
+(defun hand-near-anything-p (point physics)
+  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at POINT?"
+  (or (some (lambda (static) (near-p (physics-static-centre static) (physics-static-reach static) point *hand-span*))
+            (scene-physics-statics physics))
+      (some (lambda (collider)
+              (some (lambda (part) (trunk-near-p part point *hand-span*)) (collider-trunk collider)))
+            (scene-physics-colliders physics))))
+
 (defun collider-hits (collider transforms physics excluded)
-  "Every (PROBE OBSTACLE DEPTH) of COLLIDER's probes placed by TRANSFORMS."
-  (loop for probe in (collider-probes collider)
-        for point = (joint-point transforms (probe-joint probe))
-        do (set-ode-geom-placement (probe-geom probe) (vec3-list point))
-        nconc (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe point physics excluded))))
+  "Every (PROBE OBSTACLE DEPTH) of COLLIDER's probes placed by TRANSFORMS.  A
+hand's probes come hand joint first; a hand far from everything is skipped."
+  (let ((skipped nil))
+    (loop for probe in (collider-probes collider)
+          for point = (joint-point transforms (probe-joint probe))
+          for hand = (probe-hand probe)
+          when (and (eq (probe-joint probe) (probe-hand-joint collider hand))
+                    (not (hand-near-anything-p point physics)))
+            do (push hand skipped)
+          unless (member hand skipped)
+            nconc (progn (set-ode-geom-placement (probe-geom probe) (vec3-list point))
+                         (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe point physics excluded))))))
+
+(defun probe-hand-joint (collider hand)
+  "The joint of COLLIDER's first probe of HAND (:left or :right): the hand joint itself."
+  (probe-joint (find hand (collider-probes collider) :key #'probe-hand)))
 
 (defun obstacle-name (obstacle)
   "How a report names OBSTACLE: a prop's name, or BODY's JOINT."
