@@ -118,7 +118,8 @@
    #:ode-error #:ode-unavailable #:ode-available-p)
   (:import-from #:player.physics
    #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
-   #:physics-prop-resting-p)
+   #:physics-prop-resting-p #:*collisions* #:*stop-at-contact* #:scene-collisions)
+  (:import-from #:player.body #:*speed-limits-enabled* #:skeleton-speed-limits)
   (:import-from #:player.performance
    #:body-presenter #:controller-simulation #:director-schedule #:find-director
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
@@ -337,7 +338,8 @@
    ;; Physics through ODE (src/ode/, src/physics/)
    #:ode-error #:ode-unavailable #:ode-available-p
    #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
-   #:physics-prop-resting-p #:cradle-ode-script-forms))
+   #:physics-prop-resting-p #:cradle-ode-script-forms #:*collisions* #:*stop-at-contact* #:scene-collisions
+   #:*speed-limits-enabled* #:skeleton-speed-limits))
 
 (defpackage #:player-user
   (:use #:cl #:player)
