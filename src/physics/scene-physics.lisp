@@ -64,12 +64,15 @@ is corrected, as `check` plays scripts.")
                  (scene-objects scene)))
 
 (defun needs-physics-p (scene)
-  "Does SCENE need a world: a dynamic prop, or (with *COLLISIONS*) a visible body and a prop?"
+  "Does SCENE need a world: a dynamic prop, or (with *COLLISIONS*, when ODE is
+installed) a visible body and a prop?"
   (or (some #'dynamic-prop-p (scene-objects scene))
       (and *collisions*
            (visible-bodies scene)
            (some (lambda (object) (and (eq (object-kind object) :prop) (prop-shape object)))
-                 (scene-objects scene)))))
+                 (scene-objects scene))
+           ;; Collisions are a refinement: without libode a body plays on unstopped.
+           (ode-available-p))))
 
 (defun scene-physics (scene)
   "SCENE's physics, made on first use; NIL when SCENE needs none (no dynamic
