@@ -88,3 +88,11 @@ ODE-UNAVAILABLE naming the Debian package libode8 when it is missing."
       (when (zerop (with-ode-traps-masked (%d-allocate-ode-data-for-thread #xFFFFFFFF)))
         (ode-fail "the Open Dynamics Engine could not allocate its data for this thread"))
       (setf (gethash thread *ode-thread-data*) t))))
+
+;;; A saved core starts uninitialised: ODE's state does not survive SAVE-LISP-AND-DIE.
+(pushnew 'forget-ode-state sb-ext:*save-hooks*)
+
+(defun forget-ode-state ()
+  "Forget that ODE was initialised, so the next process (a saved core) initialises it again."
+  (setf *ode-state* nil)
+  (clrhash *ode-thread-data*))
