@@ -112,6 +112,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "graph-expressions")
                  (:file "edge-tests")
                  (:file "spheres-scripts")
+                 (:file "cradle-ode-scripts")
                  (:file "graph-option")))
    ;; A logic for behaviours (Clark & Palmer's further work): CTL, its model checker, counterexamples, diffs.
    (:module "logic" :depends-on ("base" "spec" "planner" "compose")
@@ -216,6 +217,18 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "gltf-animations")
                  (:file "gltf-materials")
                  (:file "gltf-write")))
+   ;; The Open Dynamics Engine (libode8) through CFFI: raw %d bindings, then worlds, bodies, geoms, joints, contacts.
+   (:module "ode" :depends-on ("base")
+    :serial t
+    :components ((:file "package")
+                 (:file "raw")
+                 (:file "library")
+                 (:file "world")
+                 (:file "shapes")
+                 (:file "bodies")
+                 (:file "geoms")
+                 (:file "contacts")
+                 (:file "joints")))
    ;; Animation and bodies: vectors and quaternions, controls, scenes, skeletons, poses, arbitration, drivers, IK.
    (:module "body" :depends-on ("base" "spec")
     :serial t
@@ -240,6 +253,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "driver")
                  (:file "body")
                  (:file "layers")
+                 (:file "speed-limits")
                  (:file "settling")
                  (:file "ik")
                  (:file "ik-search")
@@ -282,13 +296,24 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "root-motion")
                  (:file "retarget")
                  (:file "clip-files")))
-   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig")
+   ;; A scene's physics through ODE: dynamic props that fall and rest, bones and props as collision shapes.
+   (:module "physics" :depends-on ("base" "spec" "body" "ode")
+    :serial t
+    :components ((:file "package")
+                 (:file "prop-shapes")
+                 (:file "bone-shapes")
+                 (:file "scene-physics")
+                 (:file "collisions")
+                 (:file "stepping")
+                 (:file "pendulums")))
+   (:module "performance" :depends-on ("base" "spec" "planner" "control" "speech" "model" "body" "rig" "ode" "physics")
     :serial t
     :components ((:file "package")
                  (:module "scripts"
                   :serial t
                   :components ((:file "scripts")
                                (:file "scene-items")
+                               (:file "dynamic-props")
                                (:file "audio-items")
                                (:file "word-sync")
                                (:file "tempo")
@@ -312,6 +337,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "op-channels")
                  (:file "script-check")
                  (:file "frame-times")
+                 (:file "collision-check")
                  (:file "simulation")
                  (:file "library-reload")
                  (:file "skeleton-reload")))
@@ -406,7 +432,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "differences")
                  (:file "api")))
    ;; The command line: one table of commands that parsing, help and the docs read.
-   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
+   (:module "cli" :depends-on ("base" "spec" "planner" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "ode" "physics" "rig" "performance" "render" "cast" "export" "dialogue" "traces")
     :serial t
     :components ((:file "package")
                  (:file "options")
@@ -432,7 +458,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "verify-graph")
                  (:file "diff-graphs")))
    ;; The facade: the PLAYER package users, spec files and the docs see.
-   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
+   (:file "player" :depends-on ("base" "spec" "planner" "ir" "inspect" "compose" "logic" "control" "cpp" "speech" "model" "body" "ode" "physics" "rig" "performance" "render" "cast" "export" "dialogue" "traces" "cli")))
   :in-order-to ((test-op (test-op "player/tests"))))
 
 (defsystem "player/tests"
@@ -575,5 +601,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Nothing lost, nothing hung, nobody in (issue 31, items 1, 2, 4)
                  (:file "test-hostile-files")
                  (:file "test-hostile-outputs")
-                 (:file "test-swank-secret"))))
+                 (:file "test-swank-secret")
+                 ;; Physics through ODE (issue 29, item 6)
+                 (:file "test-physics")
+                 (:file "test-speed-limits")
+                 (:file "test-collisions"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -21,7 +21,7 @@
                (sb-ext:compiler-note #'muffle-warning))
   (with-compilation-unit ()
     (dolist (file '("synthetic" "naive" "dispatch" "cpp" "body" "render" "cli" "timeline" "cradle" "scenes" "speech" "model" "export" "dialogue"
-                    "strips"))
+                    "strips" "physics"))
       (load (merge-pathnames (make-pathname :name file :type "lisp") *bench-directory*)))))
 
 (defparameter *synthetic-sizes* '(8 12 16 20))
@@ -415,6 +415,9 @@ closures and through run-time planning; add the rows; return the ratio."
         (rule)
         (format t "~&  pose evaluation...~%") (finish-output)
         (bench-pose-evaluation)
+        (rule)
+        (format t "~&  physics...~%") (finish-output)
+        (bench-physics)
         (rule)
         (format t "~&  scenes of several Peedys...~%") (finish-output)
         (bench-scenes spec)

@@ -42,9 +42,9 @@
   :documentation "The table: its top face is the world's y = 0, where Peedy stands.")
 
 (defobject note
-  :kind :prop :position (-0.07 0.001 0.09)
+  :kind :prop :position (-0.07 0.001 0.09) :dynamic t
   :properties ((colour :colour (1 1 0.85)) (size :vector (0.06 0.002 0.08)))
-  :documentation "The note a search finds, lying on the table by his right foot.")
+  :documentation "The note a search finds, lying on the table by his right foot; dropped, it falls (physics).")
 
 (defobject phones
   :kind :prop :position (0.07 0.012 0.09)
@@ -387,13 +387,9 @@
                                                     (neck x 22) (head x 12)))
                                   (0.5 ((:include right-wing-folded) (neck x 0) (head x 0))))
                            :priority 10))
-  ;; Released 5 cm above its place, the note falls flat; the first keys are
-  ;; where the wing holds it at that moment when he stands (as he does after a search).
-  (:at 0.25 :attach note :to nil)
-  (:at 0.25 :animate (note position) (:keys ((0 :vec3 -0.0623 0.0494 0.1101) (0.2 :vec3 -0.07 0.001 0.09))
-                                            :interpolation :linear))
-  (:at 0.25 :animate (note rotation) (:keys ((0 :quat 0.9837 -0.1587 0.0834 -0.0165) (0.2 :quat 1 0 0 0))
-                                            :interpolation :linear)))
+  ;; Released about 5 cm above the table, the note (a dynamic prop) falls and
+  ;; comes to rest on it.
+  (:at 0.25 :attach note :to nil))
 
 (defscript give-note (:duration 1
                       :documentation "Hand the note to the user: the wing holds it out to the camera, lets go, and the user takes it.")

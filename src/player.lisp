@@ -30,6 +30,7 @@
    #:explained-unreachable #:explained-unreachable-p #:explanation-step #:graphviz-error
    #:print-explanation #:state-graph-error #:write-state-graph #:write-state-graph-file)
   (:import-from #:player.compose
+   #:cradle-ode-script-forms
    #:binding #:complete-graph #:cradle-node #:cradle-spheres #:cradle-stage #:cradle-stages
    #:define-graph #:edge-predicate #:find-graph #:graph #:graph->spec #:graph->spec-forms
    #:graph-edge-count #:graph-edges #:graph-empty-p #:graph-equal #:graph-error
@@ -116,6 +117,12 @@
    #:reparent-object #:request-channels #:resolve-target #:scene #:scene-object
    #:scene-objects #:skeleton-error #:skeleton-joints #:skeleton-role #:slave-drivers #:vec3
    #:world-transforms #:write-bvh #:write-bvh-file)
+  (:import-from #:player.ode
+   #:ode-error #:ode-unavailable #:ode-available-p)
+  (:import-from #:player.physics
+   #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
+   #:physics-prop-resting-p #:*collisions* #:*stop-at-contact* #:scene-collisions)
+  (:import-from #:player.body #:*speed-limits-enabled* #:skeleton-speed-limits)
   (:import-from #:player.performance
    #:body-presenter #:controller-simulation #:director-schedule #:find-director
    #:find-script #:load-script-library #:make-body-presenter #:make-performance
@@ -343,7 +350,12 @@
    #:define-dialogue-action #:choose-template #:expand-template #:gesture-marks
    #:*music-function* #:speaker-play-music #:track-sound
    #:episodic-memory #:make-memory #:load-memory #:save-memory #:begin-conversation
-   #:memory-user #:memory-mood #:memory-conversations #:memory-log))
+   #:memory-user #:memory-mood #:memory-conversations #:memory-log
+   ;; Physics through ODE (src/ode/, src/physics/)
+   #:ode-error #:ode-unavailable #:ode-available-p
+   #:*physics-step* #:prop-shape #:prop-dynamic-p #:scene-physics #:advance-scene-physics
+   #:physics-prop-resting-p #:cradle-ode-script-forms #:*collisions* #:*stop-at-contact* #:scene-collisions
+   #:*speed-limits-enabled* #:skeleton-speed-limits))
 
 (defpackage #:player-user
   (:use #:cl #:player)

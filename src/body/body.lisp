@@ -250,6 +250,7 @@ until told to settle; one let go while settling starts settling now."
             (drive-idle-layer body driver time pose)
             (driver-drive driver time pose))))
     (%clamp-pose skeleton pose)
+    (limit-joint-speeds body pose time)
     (%pose-world-transforms skeleton pose (object-world-transform body) (body-transforms body))
     pose))
 

@@ -50,4 +50,6 @@
    #:transform-rotation #:transform-translation #:transform-vector #:transforms #:v* #:v+
    #:v- #:value-kind-of #:vcross #:vdistance #:vdot #:vec3 #:vec3-p #:vec3-x #:vec3-y
    #:vec3-z #:visible #:vl5 #:vlerp #:vnegate #:vnorm #:vnormalize #:wings-spread
-   #:world-transforms #:write-bvh #:write-bvh-file))
+   #:world-transforms #:write-bvh #:write-bvh-file
+   ;; speed-limits.lisp, and what physics reads of a body's drivers
+   #:skeleton-speed-limits #:note-shown-pose #:*speed-limits-enabled* #:body-active))

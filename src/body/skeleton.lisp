@@ -17,7 +17,8 @@
 ;;;             [:dofs ((AXIS MIN MAX [:name DOF-NAME]) ...)] [:radius R])
 ;;;     ...
 ;;;     (:role ROLE JOINT-OR-(JOINT ...))
-;;;     ...)
+;;;     ...
+;;;     [(:speed-limits (JOINT [DOF] DEG/S) ...)])   ; see speed-limits.lisp
 ;;;
 ;;; Coordinates are metres in the H-Anim frame: +y up, +z the figure's front,
 ;;; +x the figure's left.  CENTER is where the joint rotates, in the figure's
@@ -116,7 +117,9 @@ the offending clause."))
   (rig nil)
   ;; The names (strings) of its morph targets: channels after the DOFs, each a
   ;; weight from 0 to 1 (see pose.lisp).  Set by PLAYER.RIG; empty otherwise.
-  (morphs #() :type simple-vector))
+  (morphs #() :type simple-vector)
+  ;; Its (:speed-limits ...) clause, as (JOINT DOF-OR-NIL DEG/S) entries (speed-limits.lisp).
+  (speed-limit-entries '() :type list))
 
 (defmethod print-object ((skeleton skeleton) stream)
   (print-unreadable-object (skeleton stream :type t)
@@ -263,22 +266,25 @@ role."
   (let ((name (second form))
         (documentation nil)
         (joint-clauses '())
-        (role-clauses '()))
+        (role-clauses '())
+        (speed-limits '()))
     (dolist (clause (cddr form))
       (unless (and (consp clause) (alexandria:proper-list-p clause))
         (skeleton-fail clause "a skeleton clause must be a list starting with :joint, :role or :documentation"))
       (case (first clause)
         (:joint (push clause joint-clauses))
         (:role (push clause role-clauses))
+        (:speed-limits (setf speed-limits (append speed-limits (parse-speed-limits-clause clause))))
         (:documentation
          (unless (and (= (length clause) 2) (stringp (second clause)))
            (skeleton-fail clause "(:documentation TEXT) takes one string"))
          (setf documentation (second clause)))
-        (t (skeleton-fail clause "a skeleton clause must start with :joint, :role or :documentation"))))
+        (t (skeleton-fail clause "a skeleton clause must start with :joint, :role, :speed-limits or :documentation"))))
     (let* ((joints (order-joints (mapcar #'parse-joint-clause (nreverse joint-clauses))
                                  name))
            (skeleton (%make-skeleton :name name :documentation documentation
-                                     :joints joints :source source)))
+                                     :joints joints :source source
+                                     :speed-limit-entries speed-limits)))
       (loop with start = 0
             for joint across joints
             do (setf (gethash (string (body-joint-name joint))

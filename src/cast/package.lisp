@@ -1,7 +1,7 @@
 ;;;; package.lisp -- player.cast: Several characters in one scene: DEFSCENE, event addresses, ensembles, scenes simulated and drawn.
 
 (defpackage #:player.cast
-  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.inspect #:player.control #:player.speech #:player.body #:player.performance #:player.render #:player.model #:player.rig)
+  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.inspect #:player.control #:player.speech #:player.body #:player.ode #:player.physics #:player.performance #:player.render #:player.model #:player.rig)
   (:import-from #:alexandria
                 #:when-let #:if-let #:ensure-list #:hash-table-keys
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)

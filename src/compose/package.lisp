@@ -7,7 +7,7 @@
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)
   (:documentation "Clark & Palmer's algebra of transition systems: graphs, products, merges, the cradle, graphs as specs.")
   (:export
-   #:binding #:complete-graph #:cradle-node #:cradle-node-name #:cradle-spheres #:cradle-stage #:cradle-stages
+   #:binding #:complete-graph #:cradle-ode-script-forms #:cradle-ode-scripts-text #:write-cradle-ode-scripts-file #:cradle-node #:cradle-node-name #:cradle-spheres #:cradle-stage #:cradle-stages
    #:define-graph #:edge-predicate #:find-graph #:graph #:graph->spec #:graph->spec-forms
    #:graph-edge-count #:graph-edges #:graph-empty-p #:graph-equal #:graph-error
    #:graph-error-value #:graph-expression #:graph-expression-error #:graph-has-edge-p

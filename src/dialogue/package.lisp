@@ -1,7 +1,7 @@
 ;;;; package.lisp -- player.dialogue: Persona's dialogue manager: sentences to input events, transitions, templates, memory, speaking.
 
 (defpackage #:player.dialogue
-  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.control #:player.speech #:player.body #:player.performance #:player.model #:player.rig)
+  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.control #:player.speech #:player.body #:player.ode #:player.physics #:player.performance #:player.model #:player.rig)
   (:import-from #:alexandria
                 #:when-let #:if-let #:ensure-list #:hash-table-keys
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)

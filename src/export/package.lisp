@@ -4,7 +4,7 @@
 ;;;; animation, and the model layer's WRITE-GLTF writes it as .glb or .gltf.
 
 (defpackage #:player.export
-  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.inspect #:player.control #:player.speech #:player.body #:player.performance #:player.render #:player.model #:player.rig)
+  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.inspect #:player.control #:player.speech #:player.body #:player.ode #:player.physics #:player.performance #:player.render #:player.model #:player.rig)
   (:documentation "A performance exported as glTF: baked frames, bodies as models, the file.")
   (:export
    #:export-performance #:performance-model #:character-model

@@ -330,6 +330,7 @@ that disagree.  NIL when SPEC names no library."
                   (spec-error (condition) (list (library-failure-diagnostic condition))))
                 (check-library-scripts library skeleton needed
                                        :characters (list (spec-name spec)) :poses poses)
+                (script-collision-diagnostics library (library-character-body library spec nil) needed (spec-name spec))
                 (and missing
                      (list (make-diagnostic :missing-scripts
                                             (format nil "the script library lacks the director~P ~{~A~^, ~}"

@@ -1,7 +1,7 @@
 ;;;; package.lisp -- player.performance: Scripts played on a body: script libraries, directors, the performance, the body presenter, simulation.
 
 (defpackage #:player.performance
-  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.control #:player.speech #:player.body #:player.model #:player.rig)
+  (:use #:cl #:player.base #:player.spec #:player.planner #:player.ir #:player.control #:player.speech #:player.body #:player.ode #:player.physics #:player.model #:player.rig)
   (:import-from #:alexandria
                 #:when-let #:if-let #:ensure-list #:hash-table-keys
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)

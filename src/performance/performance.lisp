@@ -388,6 +388,8 @@ nothing else cuts them."
     (dolist (object (scene-objects scene))
       (when (typep object 'body)
         (body-evaluate object time)))
+    ;; Dynamic props fall and collide (src/physics/), after what placed the rest.
+    (advance-scene-physics scene time)
     (setf (performance-time performance) time)))
 
 (defun play-cue (performance cue)

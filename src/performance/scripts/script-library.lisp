@@ -184,18 +184,19 @@ definition of its name as either."
   "The kinds of object a library may declare (bodies come from characters).")
 
 (defparameter *defobject-options*
-  '(:kind :parent :position :rotation :properties :documentation :model :texture :height :scale :up)
-  "The options of a (defobject NAME ...) form; the last five make a prop a model's meshes.")
+  '(:kind :parent :position :rotation :properties :documentation :model :texture :height :scale :up :dynamic)
+  "The options of a (defobject NAME ...) form; :model to :up make a prop a model's
+meshes, :dynamic T a prop the physics moves (src/performance/dynamic-props.lisp).")
 
 (defun parse-defobject (form)
   "The SCENE-OBJECT-SPEC FORM, (defobject NAME &key ...), declares."
   (unless (and (alexandria:proper-list-p form) (usable-name-p (second form)))
-    (script-fail form "an object is written (defobject NAME &key kind parent position rotation properties documentation model texture height scale up)"))
+    (script-fail form "an object is written (defobject NAME &key kind parent position rotation properties documentation model texture height scale up dynamic)"))
   (let ((*script-context* (format nil "object ~A" (lisp-text (second form))))
         (options (cddr form)))
     (check-options form options *defobject-options* "defobject")
     (destructuring-bind (&key (kind :prop) parent (position '(0 0 0)) rotation properties
-                           documentation model texture height scale (up :y))
+                           documentation model texture height scale (up :y) dynamic)
         options
       (unless (member kind *declarable-object-kinds*)
         (script-fail form ":kind must be one of ~{~A~^ ~}, not ~A"
@@ -209,7 +210,8 @@ definition of its name as either."
       (make-scene-object-spec (second form) kind (parse-object-parent form parent)
                               (parse-property-value :vector position form ":position")
                               (if rotation (parse-property-value :rotation rotation form ":rotation") (quat))
-                              (parse-declared-properties properties form)
+                              (dynamic-prop-properties (parse-declared-properties properties form)
+                                                       dynamic kind form)
                               documentation form
                               (and model (parse-prop-model form model texture height scale up))))))
 

@@ -1,0 +1,231 @@
+;;;; collisions.lisp -- hands never pass through things.  After a body's pose
+;;;; is composed, its hands (probes) are tested against the props of the set
+;;;; and against the trunks of the bodies (its own too); a pose that would put
+;;;; a hand inside one deeper than *CONTACT-TOLERANCE* stops at contact: it is
+;;;; moved from the pose shown before toward the composed one only as far as
+;;;; the hands stay out (found by bisection).  What a hand reaches for (a
+;;;; driver's (:object NAME) target) and what it holds are not obstacles, so
+;;;; fetching the note still touches it.
+
+(in-package #:player.physics)
+
+(defparameter *contact-tolerance* 0.002d0
+  "Metres a hand may sink into a surface before it counts as passing through:
+touching is allowed, and ODE's contact depths carry a little slack.")
+
+(defun body-held-objects-and-targets (body scene)
+  "The names of the objects BODY holds (hanging from it or its joints) or
+reaches for (an active driver's (:object NAME) target)."
+  (append (loop for object in (scene-objects scene)
+                for parent = (object-parent object)
+                when (or (eq parent body) (and (consp parent) (eq (car parent) body)))
+                  collect (object-name object))
+          (loop for driver in (body-active body)
+                for target = (driver-arg driver :target)
+                when (and (consp target) (eq (first target) :object) (symbolp (second target)))
+                  collect (second target))))
+
+(defun static-reach (shape)
+  "The radius of a sphere holding SHAPE around its centre (NIL for a plane: unbounded)."
+  (ecase (first shape)
+    (:plane nil)
+    (:sphere (second shape))
+    (:box (* 0.5d0 (sqrt (+ (expt (second shape) 2) (expt (third shape) 2) (expt (fourth shape) 2)))))))
+
+(defun near-p (centre reach point radius)
+  "Might a sphere of RADIUS at POINT touch a shape within REACH of CENTRE (NIL: unbounded)?"
+  (or (null reach)
+      (<= (vdistance centre point) (+ reach radius *contact-tolerance*))))
+
+(defun probe-hits (probe point physics excluded)
+  "The obstacles the PROBE placed at POINT sinks into deeper than *CONTACT-TOLERANCE*,
+as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects that are not obstacles."
+  (let ((geom (probe-geom probe)) (radius (probe-radius probe)) (hits '()))
+    (dolist (static (scene-physics-statics physics))
+      (let ((object (physics-static-object static)))
+        (when (and (near-p (physics-static-centre static) (physics-static-reach static) point radius)
+                   (not (member (object-name object) excluded :test #'string-equal)))
+          (let ((depth (ode-geom-depth geom (physics-static-geom static))))
+            (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
+    (dolist (collider (scene-physics-colliders physics))
+      (dolist (part (collider-trunk collider))
+        (when (trunk-near-p part point radius)
+          (let ((depth (ode-geom-depth geom (trunk-part-geom part))))
+            (when (> depth *contact-tolerance*) (push (list part depth) hits))))))
+    hits))
+
+(defun trunk-near-p (part point radius)
+  "Might a sphere of RADIUS at POINT touch the trunk PART?"
+  (<= (axis-distance part point) (+ (trunk-part-radius part) radius *contact-tolerance*)))
+
+(defparameter *hand-span* 0.25d0
+  "Metres from a hand joint within which its fingers (or a wing's feathers) lie:
+a hand with nothing that near is not tested further.")
+
+(defun hand-near-anything-p (point physics)
+  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at POINT?"
+  (or (some (lambda (static) (near-p (physics-static-centre static) (physics-static-reach static) point *hand-span*))
+            (scene-physics-statics physics))
+      (some (lambda (collider)
+              (some (lambda (part) (trunk-near-p part point *hand-span*)) (collider-trunk collider)))
+            (scene-physics-colliders physics))))
+
+(defun collider-hits (collider transforms physics excluded)
+  "Every (PROBE OBSTACLE DEPTH) of COLLIDER's probes placed by TRANSFORMS.  A
+hand's probes come hand joint first; a hand far from everything is skipped."
+  (let ((skipped nil))
+    (loop for probe in (collider-probes collider)
+          for point = (joint-point transforms (probe-joint probe))
+          for hand = (probe-hand probe)
+          when (and (eq (probe-joint probe) (probe-hand-joint collider hand))
+                    (not (hand-near-anything-p point physics)))
+            do (push hand skipped)
+          unless (member hand skipped)
+            nconc (progn (set-ode-geom-placement (probe-geom probe) (vec3-list point))
+                         (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe point physics excluded))))))
+
+(defun probe-hand-joint (collider hand)
+  "The joint of COLLIDER's first probe of HAND (:left or :right): the hand joint itself."
+  (probe-joint (find hand (collider-probes collider) :key #'probe-hand)))
+
+(defun obstacle-name (obstacle)
+  "How a report names OBSTACLE: a prop's name, or BODY's JOINT."
+  (etypecase obstacle
+    (physics-static (lisp-text (object-name (physics-static-object obstacle))))
+    (trunk-part (format nil "~A's ~A" (lisp-text (object-name (trunk-part-body obstacle)))
+                        (lisp-text (body-joint-name (trunk-part-joint obstacle)))))))
+
+(defun scene-collisions (scene)
+  "What passes through what in SCENE as its bodies are now posed: a list of
+\(BODY-NAME HAND-JOINT-NAME OBSTACLE-NAME DEPTH), OBSTACLE-NAME a prop's name
+or \"BODY's JOINT\" for a trunk.  NIL when SCENE has no collision shapes."
+  (let ((physics (scene-physics scene)))
+    (when physics
+      (ensure-ode-thread)
+      (with-ode-traps-masked
+        (place-statics physics)
+        (dolist (collider (scene-physics-colliders physics))
+          (place-trunk collider (body-transforms (collider-body collider))))
+        (loop for collider in (scene-physics-colliders physics)
+              for body = (collider-body collider)
+              nconc (loop for (probe obstacle depth)
+                            in (collider-hits collider (body-transforms body) physics
+                                              (body-held-objects-and-targets body scene))
+                          collect (list (object-name body) (body-joint-name (probe-joint probe))
+                                        (obstacle-name obstacle) depth)))))))
+
+;;;# Stopping at contact
+
+(defun correct-collisions (physics time)
+  "Keep the hands of each body of PHYSICS, posed for TIME, out of what they would pass through."
+  (let ((scene (scene-physics-scene physics)))
+    (dolist (collider (scene-physics-colliders physics))
+      (place-trunk collider (body-transforms (collider-body collider))))
+    (dolist (collider (scene-physics-colliders physics))
+      (let* ((body (collider-body collider))
+             (excluded (body-held-objects-and-targets body scene)))
+        (when (and (collider-shown collider)
+                   (collider-hits collider (body-transforms body) physics excluded))
+          (or (stop-at-contact collider physics excluded)
+              (push-out collider physics excluded time)))
+        (if (collider-shown collider)
+            (replace (collider-shown collider) (body-pose body))
+            (setf (collider-shown collider) (copy-pose (body-pose body))))
+        (setf (collider-shown-time collider) time)))))
+
+(defun show-pose (collider pose)
+  "Make POSE (a pose of COLLIDER's body) the one shown: its joints' transforms
+follow, and the speed limiter moves on from it."
+  (let ((body (collider-body collider)))
+    (replace (body-pose body) pose)
+    (pose-world-transforms (body-skeleton body) pose :placement (object-world-transform body)
+                                                      :result (body-transforms body))
+    (note-shown-pose body pose)))
+
+(defun stop-at-contact (collider physics excluded)
+  "Move COLLIDER's body from the pose shown before toward its composed pose
+only as far as its hands stay out of every obstacle.  True when done; NIL,
+changing nothing, when the pose shown before is not clear either (the body
+itself was moved into the obstacle, or the obstacle into the hand)."
+  (let* ((body (collider-body collider))
+         (skeleton (body-skeleton body))
+         (placement (object-world-transform body))
+         (from (collider-shown collider))
+         (target (copy-pose (body-pose body)))
+         (trial (copy-pose target))
+         (transforms (pose-world-transforms skeleton from :placement placement)))
+    (flet ((clear-at (u)
+             (dotimes (i (length trial))
+               (setf (aref trial i) (+ (aref from i) (* u (- (aref target i) (aref from i))))))
+             (pose-world-transforms skeleton trial :placement placement :result transforms)
+             (null (collider-hits collider transforms physics excluded))))
+      (when (clear-at 0d0)
+        (let ((low 0d0) (high 1d0))
+          (dotimes (i 10)
+            (let ((middle (* 0.5d0 (+ low high))))
+              (if (clear-at middle) (setf low middle) (setf high middle))))
+          (clear-at low)
+          (show-pose collider trial)
+          t)))))
+
+;;;# Pushing a hand out
+
+(defparameter *push-steps* '(6d0 -6d0 2d0 -2d0 0.5d0 -0.5d0)
+  "The degrees PUSH-OUT tries turning each arm DOF by, largest first.")
+
+(defparameter *push-rounds* 40
+  "The most DOF turns PUSH-OUT makes.")
+
+(defun arm-channels (skeleton hands)
+  "The pose indices of the DOFs of each of HANDS' (:left, :right) arm chain and hand joint."
+  (loop for hand in hands
+        for joints = (let ((arm (skeleton-role skeleton (if (eq hand :left) :left-arm :right-arm)))
+                           (tip (skeleton-role skeleton (if (eq hand :left) :left-hand :right-hand))))
+                       (remove-duplicates (append (if (consp arm) arm (and arm (list arm)))
+                                                  (if (consp tip) tip (and tip (list tip))))))
+        nconc (loop for joint in joints
+                    nconc (loop for dof in (body-joint-dofs joint)
+                                for i from (body-joint-dof-start joint)
+                                collect i))))
+
+(defun push-out (collider physics excluded time)
+  "Turn the arm of each hand that is inside something, DOF by DOF (coordinate
+descent on the depth), until the hands are out: IK away from the obstacle
+when the body itself moved the hand in.  Each DOF stays within its limits and
+within its maximum speed of the pose shown before (TIME is now)."
+  (let* ((body (collider-body collider))
+         (skeleton (body-skeleton body))
+         (placement (object-world-transform body))
+         (trial (copy-pose (body-pose body)))
+         (transforms (pose-world-transforms skeleton trial :placement placement))
+         (hits (collider-hits collider transforms physics excluded))
+         (channels (arm-channels skeleton (remove-duplicates (mapcar (lambda (hit) (probe-hand (first hit))) hits))))
+         (limits (skeleton-speed-limits skeleton))
+         (dt (max 0d0 (- time (or (collider-shown-time collider) time))))
+         (shown (collider-shown collider)))
+    (labels ((depth ()
+               (pose-world-transforms skeleton trial :placement placement :result transforms)
+               (loop for hit in (collider-hits collider transforms physics excluded) sum (third hit)))
+             (allowed (i angle)
+               (multiple-value-bind (low high) (channel-limits skeleton i)
+                 (let ((slack (if *speed-limits-enabled* (* dt (aref limits i)) most-positive-double-float)))
+                   (max low (- (aref shown i) slack) (min high (+ (aref shown i) slack) angle))))))
+      (let ((depth (depth)))
+        (loop repeat *push-rounds*
+              while (plusp depth)
+              do (let ((best nil) (best-depth depth))
+                   (dolist (step *push-steps*)
+                     (dolist (i channels)
+                       (let* ((old (aref trial i))
+                              (new (allowed i (+ old step))))
+                         (unless (= new old)
+                           (setf (aref trial i) new)
+                           (let ((d (depth)))
+                             (when (< d best-depth) (setf best (cons i new) best-depth d)))
+                           (setf (aref trial i) old))))
+                     (when best (return)))
+                   (if best
+                       (setf (aref trial (car best)) (cdr best) depth best-depth)
+                       (loop-finish))))
+        (show-pose collider trial)
+        t))))
