@@ -1,0 +1,66 @@
+;;;; test-bounds.lisp -- small hostile inputs ask for unbounded work or memory
+;;;; (issue 31, item 3): each is refused at load with one error naming what it
+;;;; asked for, in bounded time.  In-process checks here; the same causes run
+;;;; through bin/player under a memory and time limit in test-bounds-cli.lisp.
+
+(in-package #:player-tests)
+
+(def-suite* bounds :in player-tests)
+
+(defun repeated (count text &optional (separator ""))
+  "TEXT COUNT times, joined by SEPARATOR."
+  (with-output-to-string (out)
+    (dotimes (i count)
+      (when (plusp i) (write-string separator out))
+      (write-string text out))))
+
+(defun spec-around (value)
+  "A spec whose one state variable has initial VALUE (text)."
+  (format nil "(defspec huge (state-variable x boolean ~A))" value))
+
+(defmacro check-quick-load-error (seconds class fragment text)
+  "Like CHECK-LOAD-ERROR, and the refusal takes less than SECONDS."
+  (let ((start (gensym "START")))
+    `(let ((,start (get-internal-real-time)))
+       (check-load-error ,class ,fragment ,text)
+       (is (< (/ (- (get-internal-real-time) ,start) internal-time-units-per-second) ,seconds)
+           "refusing ~S took too long" (subseq ,text 0 (min 60 (length ,text)))))))
+
+(test reader-counts-are-bounded-before-allocation
+  (check-quick-load-error 2 spec-reader-error "reader count larger than 1,000,000"
+    (spec-around "#100000000A()"))
+  (check-quick-load-error 2 spec-reader-error "reader count larger than"
+    (spec-around "#4000000000*1"))
+  (check-quick-load-error 2 spec-reader-error "reader count larger than"
+    (spec-around "#99999999999999999999999(1)"))
+  (check-quick-load-error 2 spec-reader-error "an array of rank 9"
+    (spec-around "#9A()"))
+  ;; Within the limits the reader still reads them.
+  (check-load-error spec-error "initial value" (spec-around "#3(1)")))
+
+(test long-tokens-are-refused
+  (dolist (token (list (make-string 200000 :initial-element #\7)
+                       (format nil "~A/3" (make-string 200000 :initial-element #\7))
+                       (format nil "#36r~A" (make-string 200000 :initial-element #\Z))
+                       (format nil "#*~A" (make-string 200000 :initial-element #\1))
+                       (make-string 5000 :initial-element #\a)))
+    (check-quick-load-error 2 spec-reader-error "a token is longer than 4,096 characters"
+      (spec-around token)))
+  ;; Strings and |symbols| may be long.
+  (check-load-error spec-error "initial value" (spec-around (format nil "~S" (make-string 10000 :initial-element #\a)))))
+
+(test reader-chains-are-bounded
+  (check-quick-load-error 2 spec-reader-error "more than 100 #+, #- and #N= in one form"
+    (spec-around (format nil "~Ax" (repeated 50000 "#+sbcl "))))
+  (check-quick-load-error 2 spec-reader-error "more than 100 #+, #- and #N= in one form"
+    (spec-around (format nil "~Ax" (with-output-to-string (s) (dotimes (i 50000) (format s "#~D=" i))))))
+  (dolist (chain '("'#'" "#'" "`#." "#p'" "#c'"))
+    (check-quick-load-error 2 spec-reader-error "nests more than 1000 levels deep"
+      (spec-around (format nil "~Ax" (repeated 20000 chain))))))
+
+(test shared-structure-is-counted-at-every-use
+  ;; #2=(#1# #1#) ... doubles the form at every label: 2^40 conses to walk.
+  (check-quick-load-error 5 spec-reader-error "more than 2,000,000 elements"
+    (format nil "(defspec d (state-variable x boolean false) (op o :add x :precond (#1=(x x) ~A)))"
+            (with-output-to-string (s)
+              (loop for i from 2 to 40 do (format s "#~D=(#~D# #~D#) " i (1- i) (1- i)))))))
