@@ -64,3 +64,15 @@
     (format nil "(defspec d (state-variable x boolean false) (op o :add x :precond (#1=(x x) ~A)))"
             (with-output-to-string (s)
               (loop for i from 2 to 40 do (format s "#~D=(#~D# #~D#) " i (1- i) (1- i)))))))
+
+;;;# Clocks have floors
+
+(test clocks-have-floors
+  (check-load-error type-error-in-spec ":after must be a number of seconds of at least 0.001"
+    "(defspec t1 (state-variable x boolean false) (event ev) (timer fast :after 1d-9 :event ev :repeat t))")
+  (check-load-error type-error-in-spec "not 1.0e-4"
+    "(defspec t1 (state-variable x boolean false) (event ev) (timer fast :after 1/10000 :event ev))")
+  (is (null (load-error "(defspec t1 (state-variable x boolean false) (event ev) (timer ok :after 0.001 :event ev :repeat t))")))
+  (signals player.body::motor-error (player.body::parse-motor-frame '(:blink :mean-interval 1d-9)))
+  (signals player.body::motor-error (player.body::parse-motor-frame '(:blink :duration 1d6)))
+  (finishes (player.body::parse-motor-frame '(:blink :mean-interval 0.05 :duration 10))))

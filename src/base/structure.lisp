@@ -11,6 +11,10 @@
 (defparameter *max-seconds* 1d15
   "The largest duration or time, in seconds, a spec may give (about 31 million years).")
 
+(defparameter *shortest-period* 1d-3
+  "The shortest period a clock a file gives may have (a timer's :after): a
+faster clock sends more events than anything can play or record.")
+
 (defparameter *int64-range* (list (- (expt 2 63)) (1- (expt 2 63)))
   "The smallest and largest integer a spec may give: the C++ backend's long long.")
 

@@ -146,8 +146,8 @@ eased shut by the middle, eased open by the end."
 (define-motor-function :blink blink-driver
   "The blink reflex: the upper lids close and open at seeded, exponentially
 distributed intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
-  (:mean-interval :positive 4.0 "mean seconds between reflex blinks")
-  (:duration :positive 0.15 "seconds a blink takes, shut at its middle")
+  (:mean-interval :reflex-interval 4.0 "mean seconds between reflex blinks")
+  (:duration :brief 0.15 "seconds a blink takes, shut at its middle")
   (:seed :non-negative 1 "an integer choosing the sequence of intervals")
   (:on-gaze-shift :boolean t "also blink when a gaze shift starts")
   (:priority :real 50 "arbitration priority; higher wins"))
