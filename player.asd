@@ -385,6 +385,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "commands")
                  (:file "help")
                  (:file "main")
+                 (:file "budgets")
                  (:file "cast")
                  (:file "run")
                  (:file "plans")

@@ -21,6 +21,7 @@ is not needed).  A progress bar goes to standard error."
         written on standard output")
   (when video (find-ffmpeg))
   (check-scenario-times events at)
+  (check-frame-budget at fps)
   (let ((scene (command-cast file spec cast (not no-code))))
     (when scene
       (refuse-scene-option "--policies" policies)
