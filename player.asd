@@ -384,6 +384,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "options")
                  (:file "commands")
                  (:file "help")
+                 (:file "memory")
                  (:file "main")
                  (:file "budgets")
                  (:file "cast")

@@ -76,3 +76,51 @@
   (signals player.body::motor-error (player.body::parse-motor-frame '(:blink :mean-interval 1d-9)))
   (signals player.body::motor-error (player.body::parse-motor-frame '(:blink :duration 1d6)))
   (finishes (player.body::parse-motor-frame '(:blink :mean-interval 0.05 :duration 10))))
+
+;;;# Through bin/player: one line, in bounded time
+
+(defun scratch-spec (text &optional (name "bounds"))
+  "A scratch spec file holding TEXT (see SCRATCH-FILE), its path."
+  (scratch-file text :name name))
+
+(defmacro check-bounded-cli-error (code fragment &rest arguments)
+  "bin/player ARGUMENTS fails with exit CODE and exactly one stderr line, a
+player: error: line holding FRAGMENT, within 10 seconds."
+  (let ((start (gensym "START")))
+    `(let ((,start (get-internal-real-time)))
+       (multiple-value-bind (out err status) (player-command ,@arguments)
+         (declare (ignore out))
+         (is (eql ,code status) "exit ~A for ~S" status (list ,@arguments))
+         (is (= 1 (length (lines err))) "stderr is not one line: ~S" (subseq err 0 (min 400 (length err))))
+         (is (eql 0 (search "player: error: " err)) "stderr ~S" err)
+         (is (search ,fragment err) "stderr ~S lacks ~S" err ,fragment))
+       (is (< (/ (- (get-internal-real-time) ,start) internal-time-units-per-second) 10)
+           "~S took more than 10 s" (list ,@arguments)))))
+
+(test the-heap-is-a-budget-with-one-line
+  (let ((hog (scratch-spec "(defspec hog (state-variable x boolean false)
+  (op o :add x :duration 1 :code (let ((h (make-hash-table))) (loop for i from 0 do (setf (gethash i h) (list i i i)))))
+  (event ev :op o))")))
+    (check-bounded-cli-error 1 "ran out of memory (limit 256 MB" "run" hog "--events" "ev" "--max-memory" "256M")
+    (check-bounded-cli-error 1 "ran out of memory (limit 300 MB" "run" hog "--events" "ev" "--max-memory=300MB"))
+  (check-bounded-cli-error 2 "--max-memory takes a size of at least 256M" "run" (fixture "mini.lisp") "--max-memory" "10M")
+  (multiple-value-bind (out err status)
+      (player-command "run" (fixture "mini.lisp") "--events" "ev-search" "--max-memory" "512M")
+    (is (= 0 status))
+    (is (string= "" err))
+    (is (search "(:event ev-search :time 0)" out))))
+
+(test frames-and-body-time-are-budgeted-up-front
+  (check-bounded-cli-error 2 "--at 100000 s is longer than a body performs in one command (at most 7,200 s)"
+                           "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--at" "100000" "--fps" "1")
+  (check-bounded-cli-error 2 "is longer than a body performs"
+                           "record" (namestring (checkout-file "specs/peedy.lisp")) "--at" "1e15" "--frames" "--out" "/tmp/player-bounds-never.trace")
+  (check-bounded-cli-error 2 "--at 7000 at 10 fps is 70,001 frames; at most 36,000"
+                           "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--at" "7000" "--fps" "10"))
+
+(test hostile-data-files-give-one-line
+  (dolist (case '(("#100000000A()" "reader count larger than")
+                  ("#4000000000*1" "reader count larger than")
+                  ("#2=(#1=(x x) #1#)" "initial value")))
+    (let ((file (scratch-spec (spec-around (first case)))))
+      (check-bounded-cli-error 1 (second case) "check" file))))
