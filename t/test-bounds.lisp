@@ -124,3 +124,24 @@ player: error: line holding FRAGMENT, within 10 seconds."
                   ("#2=(#1=(x x) #1#)" "initial value")))
     (let ((file (scratch-spec (spec-around (first case)))))
       (check-bounded-cli-error 1 (second case) "check" file))))
+
+;;;# Expansion counted at load
+
+(defun doubling-macro-spec (levels)
+  "A spec whose macro-ops M1..MLEVELS each run the one before twice."
+  (with-output-to-string (s)
+    (format s "(defspec dbl (state-variable x boolean false) (state-variable y boolean false)~%  (op base :add y :duration 1)~%")
+    (loop for i from 1 to levels
+          do (format s "  (macro-op m~D :precond (not x) :add x :seq (:op ~A :op ~:*~A))~%"
+                     i (if (= i 1) "base" (format nil "m~D" (1- i)))))
+    (format s "  (event ev :op m~D))~%" levels)))
+
+(test macro-expansion-is-counted-and-capped
+  (check-quick-load-error 2 spec-syntax-error "macro-op m14: runs 16,384 ops through m14 -> m13 -> m12"
+    (doubling-macro-spec 40))
+  (check-quick-load-error 2 spec-syntax-error "-> m1 -> base; at most 10,000"
+    (doubling-macro-spec 40))
+  ;; 2^13 = 8,192 ops is within the cap, and loads at once.
+  (is (null (load-error (doubling-macro-spec 13))))
+  (check-load-error spec-syntax-error "runs itself through"
+    "(defspec c (state-variable x boolean false) (op b :add x) (macro-op m :precond (not x) :add x :seq (:op b :op n)) (macro-op n :precond (not x) :add x :seq (:op m)))"))

@@ -15,18 +15,41 @@
   (loop for directive in (op-seq op)
         when (eq (first directive) :op) collect (second directive)))
 
+(defparameter *max-macro-expansion* 10000
+  "The most primitive ops one macro-op may run, its sub-macros expanded: a
+chain of macro-ops each running the next twice doubles at every link.")
+
 (defun check-macro-cycles (spec)
-  "Signal SPEC-SYNTAX-ERROR when a macro-op's :SEQ runs itself, directly or not."
-  (labels ((visit (op path)
-             (when (member op path)
-               (spec-fail 'spec-syntax-error (op-form op) "macro-op ~A runs itself through ~{~A~^ -> ~}"
-                          (lisp-text (op-name op))
-                          (mapcar (lambda (o) (lisp-text (op-name o))) (reverse (cons op path)))))
-             (dolist (sub (macro-sub-ops op))
-               (visit sub (cons op path)))))
-    (dolist (op (spec-ops spec))
-      (when (eq (op-kind op) :macro)
-        (visit op '())))))
+  "Signal SPEC-SYNTAX-ERROR when a macro-op's :SEQ runs itself, directly or
+not, or runs more than *MAX-MACRO-EXPANSION* primitive ops (naming the chain
+that multiplies them).  Each op is visited once: its expansion is remembered."
+  (let ((sizes (make-hash-table :test 'eq)))
+    (labels ((chain (op)
+               ;; OP, then the sub-op of largest expansion, down to a primitive op.
+               (loop for o = op then (let ((subs (macro-sub-ops o)))
+                                       (and subs (reduce (lambda (a b) (if (>= (size a '()) (size b '())) a b))
+                                                         subs)))
+                     while o collect (lisp-text (op-name o))))
+             (size (op path)
+               (when (member op path)
+                 (spec-fail 'spec-syntax-error (op-form op) "macro-op ~A runs itself through ~{~A~^ -> ~}"
+                            (lisp-text (op-name op))
+                            (mapcar (lambda (o) (lisp-text (op-name o))) (reverse (cons op path)))))
+               (or (gethash op sizes)
+                   (setf (gethash op sizes)
+                         (if (eq (op-kind op) :macro)
+                             (let ((total (loop for sub in (macro-sub-ops op)
+                                                sum (size sub (cons op path)))))
+                               (when (> total *max-macro-expansion*)
+                                 (setf (gethash op sizes) total)
+                                 (spec-fail 'spec-syntax-error (op-form op)
+                                            "runs ~:D ops through ~{~A~^ -> ~}; at most ~:D"
+                                            total (chain op) *max-macro-expansion*))
+                               (max 1 total))
+                             1)))))
+      (dolist (op (spec-ops spec))
+        (when (eq (op-kind op) :macro)
+          (size op '()))))))
 
 (defun link-time-variables (spec)
   "Tell each event which time variables it sets; unknown events are errors."
