@@ -276,6 +276,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "audio-items")
                                (:file "directors")
                                (:file "script-library")
+                               (:file "play-expansion")
                                (:file "clip-items")
                                (:file "model-form")
                                (:file "pose-when")))

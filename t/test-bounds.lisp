@@ -87,7 +87,7 @@
   "bin/player ARGUMENTS fails with exit CODE and exactly one stderr line, a
 player: error: line holding FRAGMENT, within 10 seconds."
   (let ((start (gensym "START")))
-    `(let ((,start (get-internal-real-time)))
+    `(let ((,start (progn (ensure-player-core) (get-internal-real-time))))
        (multiple-value-bind (out err status) (player-command ,@arguments)
          (declare (ignore out))
          (is (eql ,code status) "exit ~A for ~S" status (list ,@arguments))
@@ -145,3 +145,24 @@ player: error: line holding FRAGMENT, within 10 seconds."
   (is (null (load-error (doubling-macro-spec 13))))
   (check-load-error spec-syntax-error "runs itself through"
     "(defspec c (state-variable x boolean false) (op b :add x) (macro-op m :precond (not x) :add x :seq (:op b :op n)) (macro-op n :precond (not x) :add x :seq (:op m)))"))
+
+(defun doubling-play-library (levels)
+  "A script library whose scripts S1..SLEVELS each play the one before twice."
+  (with-output-to-string (s)
+    (format s "(defscript s0 (:duration 0.5) (:at 0 :motor (:blink)))~%")
+    (loop for i from 1 to levels
+          do (format s "(defscript s~D () (:at 0 :play s~D) (:at 0.1 :play s~:*~D))~%" i (1- i)))))
+
+(test play-expansion-is-counted-and-capped
+  (let ((start (get-internal-real-time)))
+    (multiple-value-bind (library error)
+        (handler-case (values (player.performance::load-script-library
+                               (scratch-file (doubling-play-library 40) :name "plays"))
+                              nil)
+          (player-error (e) (values nil (princ-to-string e))))
+      (is (null library))
+      (is (search "script s9: plays 1,534 items through s9 -> s8 -> s7" (or error "")) "~A" error)
+      (is (search "-> s1 -> s0; at most 1,000" (or error "")) "~A" error))
+    (is (< (- (get-internal-real-time) start) (* 2 internal-time-units-per-second))))
+  (finishes (player.performance::load-script-library
+             (scratch-file (doubling-play-library 8) :name "plays"))))

@@ -283,6 +283,7 @@ declared objects and properties, director schedules."
     (let ((checked (make-hash-table :test #'eq)))
       (dolist (script scripts)
         (check-play-cycles library script '() checked)))
+    (check-play-expansion library scripts)
     (dolist (script scripts)
       (with-script-context (script)
         (check-clip-items library script)))
