@@ -166,3 +166,17 @@ player: error: line holding FRAGMENT, within 10 seconds."
     (is (< (- (get-internal-real-time) start) (* 2 internal-time-units-per-second))))
   (finishes (player.performance::load-script-library
              (scratch-file (doubling-play-library 8) :name "plays"))))
+
+(test pose-include-fan-out-resolves-each-pose-once
+  ;; p<i> includes p<i-1> twice: 2^60 inclusions unless each pose is resolved once.
+  (let ((path (scratch-file
+               (with-output-to-string (s)
+                 (format s "(defpose p0 (l_elbow x -10))~%")
+                 (loop for i from 1 to 60
+                       do (format s "(defpose p~D (:include p~D) (:include p~:*~D) (:mirror p~:*~D))~%" i (1- i))))
+               :name "poses"))
+        (start (get-internal-real-time)))
+    (let ((library (player.body::load-pose-library path :skeleton (player.body::load-skeleton 'humanoid))))
+      (is (< (- (get-internal-real-time) start) (* 2 internal-time-units-per-second)))
+      (is (equal (player.body::resolve-pose (player.body::find-pose library 'p60) (player.body::load-skeleton 'humanoid))
+                 (player.body::resolve-pose (player.body::find-pose library 'p2) (player.body::load-skeleton 'humanoid)))))))
