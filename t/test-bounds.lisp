@@ -180,3 +180,9 @@ player: error: line holding FRAGMENT, within 10 seconds."
       (is (< (- (get-internal-real-time) start) (* 2 internal-time-units-per-second)))
       (is (equal (player.body::resolve-pose (player.body::find-pose library 'p60) (player.body::load-skeleton 'humanoid))
                  (player.body::resolve-pose (player.body::find-pose library 'p2) (player.body::load-skeleton 'humanoid)))))))
+
+(test large-cradles-are-built-only-in-part
+  (check-quick-load-error 2 spec-error "(newton-cradle 6) is built on demand: write (reachable (newton-cradle 6) NODE...)"
+    "(defspec c (:graph (newton-cradle 6)))")
+  (check-quick-load-error 2 spec-error "(cradle-stage N STAGE) takes N from 1 to 4"
+    "(defspec c (:graph (cradle-stage 6 :g^n)))"))
