@@ -186,3 +186,40 @@ player: error: line holding FRAGMENT, within 10 seconds."
     "(defspec c (:graph (newton-cradle 6)))")
   (check-quick-load-error 2 spec-error "(cradle-stage N STAGE) takes N from 1 to 4"
     "(defspec c (:graph (cradle-stage 6 :g^n)))"))
+
+;;;# The dialogue matcher
+
+(defun scratch-peedy-dialogue (extra)
+  "A copy of specs/peedy-dialogue.lisp with the utterance forms EXTRA (text)
+added, in a fresh folder beside copies of the files it names; its path."
+  (let ((folder (format nil "/tmp/player-bounds-~D-~D/" (sb-posix:getpid) (incf *scratch-counter*))))
+    (ensure-directories-exist folder)
+    (dolist (file (directory (checkout-file "specs/peedy*.lisp")))
+      (uiop:copy-file file (merge-pathnames (file-namestring file) folder)))
+    (let ((text (alexandria:read-file-into-string (checkout-file "specs/peedy-dialogue.lisp")))
+          (path (merge-pathnames "peedy-dialogue.lisp" folder)))
+      (with-open-file (out path :direction :output :if-exists :supersede)
+        (let ((at (search "(utterance evHello" text)))
+          (write-string (subseq text 0 at) out)
+          (write-string extra out)
+          (terpri out)
+          (write-string "  " out)
+          (write-string (subseq text at) out)))
+      (namestring path))))
+
+(test many-optional-slots-are-matched-in-bounded-time
+  (let ((dialogue (scratch-peedy-dialogue
+                   (format nil "(utterance evThanks \"many\" ~A)"
+                           (repeated 40 "(:optional timeref)" " "))))
+        (start (progn (ensure-player-core) (get-internal-real-time))))
+    (multiple-value-bind (out err status)
+        (let ((input (make-string-input-stream
+                      (format nil "many next later afterwards next later next later next later next~%"))))
+          (ensure-player-core)
+          (let* ((o (make-string-output-stream)) (e (make-string-output-stream))
+                 (process (sb-ext:run-program (namestring (checkout-file "bin/player")) (list "chat" dialogue)
+                                              :input input :output o :error e :search nil)))
+            (values (get-output-stream-string o) (get-output-stream-string e) (sb-ext:process-exit-code process))))
+      (is (= 0 status) "~A" err)
+      (is (search "input: evThanks" out) "~A" out))
+    (is (< (- (get-internal-real-time) start) (* 10 internal-time-units-per-second)))))
