@@ -223,3 +223,16 @@ added, in a fresh folder beside copies of the files it names; its path."
       (is (= 0 status) "~A" err)
       (is (search "input: evThanks" out) "~A" out))
     (is (< (- (get-internal-real-time) start) (* 10 internal-time-units-per-second)))))
+
+;;;# WAVs are checked before decoding
+
+(test odd-wavs-are-refused-before-decoding
+  (loop for (octets fragment) in
+        (list (list (wav-octets :rate 1 :data '(0 0 1 0)) "it declares 1 channel at 1 Hz; 1 or 2 channels at 8,000 to 96,000 Hz")
+              (list (wav-octets :rate 4000000000 :data '(0 0)) "at 4,000,000,000 Hz")
+              (list (wav-octets :channels 6 :data '(0 0 0 0 0 0 0 0 0 0 0 0)) "it declares 6 channels")
+              (list (wav-octets :channels 0 :data '()) "it declares 0 channels"))
+        for path = (speech-file "odd.wav")
+        do (write-octets path octets)
+           (let ((message (speech-error-text (lambda () (player::read-wav path)))))
+             (is (search fragment (or message "")) "~S lacks ~S" message fragment))))
