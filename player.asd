@@ -388,6 +388,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "memory")
                  (:file "main")
                  (:file "budgets")
+                 (:file "escaping-stream")
                  (:file "cast")
                  (:file "run")
                  (:file "plans")

@@ -236,3 +236,49 @@ added, in a fresh folder beside copies of the files it names; its path."
         do (write-octets path octets)
            (let ((message (speech-error-text (lambda () (player::read-wav path)))))
              (is (search fragment (or message "")) "~S lacks ~S" message fragment))))
+
+;;;# Names cannot forge output
+
+(test names-with-control-characters-are-refused
+  (check-load-error spec-reader-error "holds a control character"
+    (format nil "(defspec f (state-variable x boolean false)~%  (op |go)~%(:op fake :script fake :start 0 :end 1| :add x)~%  (event ev :op x))"))
+  (check-load-error spec-reader-error "go)\\x0A(:op fake"
+    (format nil "(defspec f (state-variable x boolean false) (op |go)~%(:op fake| :add x))"))
+  (check-load-error spec-reader-error "\\x1B"
+    (format nil "(defspec f (state-variable |x~A| boolean false))" (code-char 27)))
+  ;; Through the Lisp API too.
+  (signals spec-error (define-spec (intern (format nil "F~%G") :player-user) '((state-variable x boolean false)))))
+
+(test text-is-escaped-before-it-reaches-a-terminal
+  (is (string= "\"a\\x1B]0;t\\x07b\"" (player.base:lisp-text (format nil "a~A]0;t~Ab" (code-char 27) (code-char 7)))))
+  (is (string= "plain" (player.base:escaped-text "plain")))
+  (is (string= "a\\x0Ab\\u2028" (player.base:escaped-text (format nil "a~%b~A" (code-char #x2028)))))
+  (ensure-player-core)
+  (let* ((input (make-string-input-stream (format nil "hello~A]0;PWNED~A there~%" (code-char 27) (code-char 7))))
+         (out (make-string-output-stream)))
+    (sb-ext:run-program (namestring (checkout-file "bin/player"))
+                        (list "chat" (namestring (checkout-file "specs/peedy-dialogue.lisp")))
+                        :input input :output out :error nil :search nil)
+    (let ((text (get-output-stream-string out)))
+      (is (search "you: hello\\x1B]0;PWNED\\x07 there" text) "~A" text)
+      (is (notany (lambda (c) (and (player.base:control-character-p c) (char/= c #\Newline))) text)))))
+
+(test verify-rejects-control-characters-and-reads-in-linear-time
+  (let ((path (scratch-file (format nil "(:recording :spec mini :file ~S :initial () :events (ev-search) :at nil :when-busy nil :frames nil)~%(:event |ev~%(:op fake| :time 0)~%"
+                                    (namestring (checkout-file "t/fixtures/mini.lisp")))
+                            :name "forged")))
+    (handler-case (progn (player.traces::read-recording path) (is nil "a forged recording was read"))
+      (player-error (e) (is (search "holds a control character" (princ-to-string e)) "~A" e)))))
+
+;;;# Trust
+
+(test chat-no-code-refuses-the-dialogues-code
+  (let* ((dialogue (scratch-peedy-dialogue ""))
+         (spec (merge-pathnames "peedy.lisp" dialogue))
+         (text (alexandria:read-file-into-string spec)))
+    (with-open-file (out spec :direction :output :if-exists :supersede)
+      (let ((at (search "  (event ev-search :op search)" text)))
+        (write-string (subseq text 0 at) out)
+        (format out "  (op evil-code :duration 1 :code (+ 1 2))~%")
+        (write-string (subseq text at) out)))
+    (check-bounded-cli-error 1 "code refused: the spec holds op evil-code: :code" "chat" dialogue "--no-code")))

@@ -9,7 +9,7 @@
   (:export
    #:*current-form-label* #:*current-spec-name* #:*form-places* #:*int64-range*
    #:*library-number-range* #:*max-form-depth* #:*max-seconds* #:*shortest-period* #:*path-phrase*
-   #:*source-position* #:*sub-form-places* #:argument-error #:argument-error-argument
+   #:*source-position* #:*sub-form-places* #:argument-error #:argument-error-argument #:control-character-p #:escaped-text
    #:argument-error-expected #:argument-error-function #:argument-error-value
    #:argument-fail #:argument-value-text #:bounded-form-p #:bounded-lisp-text
    #:check-argument #:check-form-structure #:check-real #:check-seconds #:check-spec-number

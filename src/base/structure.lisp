@@ -26,7 +26,9 @@ every label, and whatever walks it would take that long.")
 (defun check-form-structure (form &key (max-depth *max-form-depth*) (what "form"))
   "FORM, once it is known to be a tree (a cons or vector may be shared, but none
 contains itself) no deeper than MAX-DEPTH and no larger than *MAX-FORM-SIZE*
-(a shared part counted once per use); else a SPEC-SYNTAX-ERROR naming WHAT.
+(a shared part counted once per use), whose symbols (names) hold no control
+character (a line break in a name would forge trace lines); else a
+SPEC-SYNTAX-ERROR naming WHAT.
 Walks each list's spine iteratively, so a long list costs no stack; vectors
 (other than strings) are walked like lists."
   (let ((open (make-hash-table :test 'eq)) (size 0))
@@ -44,6 +46,9 @@ Walks each list's spine iteratively, so a long list costs no stack; vectors
                (loop for element across x do (count-one) (walk element (1+ depth)))
                (remhash x open))
              (walk (x depth)
+               (when (and (symbolp x) (find-if #'control-character-p (symbol-name x)))
+                 (spec-fail 'spec-syntax-error nil "the name ~A in the ~A holds a control character, which could forge output"
+                            (lisp-text x) what))
                (when (and (vectorp x) (not (stringp x)) (not (bit-vector-p x)))
                  (walk-vector x depth))
                (when (consp x)
