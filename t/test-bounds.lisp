@@ -282,3 +282,25 @@ added, in a fresh folder beside copies of the files it names; its path."
         (format out "  (op evil-code :duration 1 :code (+ 1 2))~%")
         (write-string (subseq text at) out)))
     (check-bounded-cli-error 1 "code refused: the spec holds op evil-code: :code" "chat" dialogue "--no-code")))
+
+;;;# C++ names clear of the headers' macros
+
+(test c++-names-are-mangled-clear-of-c-macros
+  (is (player.cpp::c-macro-p "EOF"))
+  (is (player.cpp::c-macro-p "math_errhandling"))
+  (is (not (c++-identifier-text-p "INT64_MAX")))
+  (is (not (c++-identifier-text-p "alloca")))
+  (is (c++-identifier-text-p "peedy"))
+  (check-bounded-cli-error 2 "not \"EOF\"" "emit-c++" (fixture "mini.lisp") "--out" "/tmp" "--name" "EOF")
+  (let ((spec (scratch-spec "(defspec alloca
+  (state-variable math_errhandling boolean false)
+  (state-variable |EOF| string errno (errno stdin INT64_MAX))
+  (op assert :add math_errhandling)
+  (op |INT64_MAX| :precond math_errhandling :add |EOF|.stdin)
+  (event alloca :op assert :op |INT64_MAX|))")))
+    (multiple-value-bind (lisp-out lisp-err) (player-command "run" spec "--events" "alloca")
+      (multiple-value-bind (c++-out c++-err c++-status) (player-command "run" spec "--events" "alloca" "--backend" "c++")
+        (is (string= "" lisp-err))
+        (is (= 0 c++-status) "~A" c++-err)
+        (is (string= lisp-out c++-out))
+        (is (search "(:op int64_max :script int64_max :start 1 :end 2)" c++-out))))))
