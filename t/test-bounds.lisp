@@ -304,3 +304,16 @@ added, in a fresh folder beside copies of the files it names; its path."
         (is (= 0 c++-status) "~A" c++-err)
         (is (string= lisp-out c++-out))
         (is (search "(:op int64_max :script int64_max :start 1 :end 2)" c++-out))))))
+
+;;;# Backends that agree
+
+(test mixed-event-lists-are-checked-as-a-whole
+  (check-bounded-cli-error 2 "--events: ev-sit@0.2 follows ev-hop, which is sent when the events before it have ended"
+                           "run" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop@0,ev-hop,ev-sit@0.2")
+  (check-bounded-cli-error 2 "ev-sit@0.2 follows ev-hop"
+                           "run" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop@0,ev-hop,ev-sit@0.2"
+                           "--backend" "c++")
+  (multiple-value-bind (out err status)
+      (player-command "run" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop@0,ev-sit@0.2,ev-hop")
+    (declare (ignore out))
+    (is (= 0 status) "~A" err)))

@@ -105,12 +105,18 @@ TEXT does not fit."))
 
 (defmethod read-option-value ((type (eql :timed-events)) text option)
   ;; EV or EV@SECONDS, comma-separated: names, and (NAME . SECONDS) for a timed
-  ;; arrival.  Times may not decrease: a timed controller cannot go back.
-  (let ((latest 0d0))
+  ;; arrival.  Times may not decrease: a timed controller cannot go back.  Nor
+  ;; may a timed arrival follow an untimed EV, sent once the events before it
+  ;; have ended: when that is is known only by playing, so the whole list is
+  ;; checked here, before anything plays, rather than failing halfway.
+  (let ((latest 0d0) (untimed nil))
     (mapcar (lambda (part)
               (let ((at (position #\@ part)))
+                (when (and at untimed)
+                  (usage-fail "~A: ~A follows ~A, which is sent when the events before it have ended, a time known only by playing; give ~A a time too, or put the timed events first"
+                              (option-name option) part untimed untimed))
                 (if (null at)
-                    part
+                    (setf untimed part)
                     (let ((name (subseq part 0 at))
                           (time (read-seconds-text (subseq part (1+ at)))))
                       (when (or (string= name "") (null time))
