@@ -317,3 +317,14 @@ added, in a fresh folder beside copies of the files it names; its path."
       (player-command "run" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop@0,ev-sit@0.2,ev-hop")
     (declare (ignore out))
     (is (= 0 status) "~A" err)))
+
+(test at-inside-a-macro-op-agrees-across-backends
+  (let ((arguments (list "run" (namestring (checkout-file "specs/peedy.lisp")) "--initial" "alert=snore"
+                         "--events" "ev-search@0" "--at" "1")))
+    (multiple-value-bind (lisp-out lisp-err) (apply #'player-command arguments)
+      (multiple-value-bind (c++-out c++-err) (apply #'player-command (append arguments (list "--backend" "c++")))
+        (is (string= "" lisp-err))
+        (is (string= "" c++-err))
+        (is (string= lisp-out c++-out) "Lisp:~%~A~%C++:~%~A" lisp-out c++-out)
+        (is (search "(:op snort :script snort :start 0 :end 1)" lisp-out))
+        (is (search "(:op hard-wake :script hard-wake :start 0" lisp-out))))))
