@@ -328,3 +328,17 @@ added, in a fresh folder beside copies of the files it names; its path."
         (is (string= lisp-out c++-out) "Lisp:~%~A~%C++:~%~A" lisp-out c++-out)
         (is (search "(:op snort :script snort :start 0 :end 1)" lisp-out))
         (is (search "(:op hard-wake :script hard-wake :start 0" lisp-out))))))
+
+;;;# Smaller ones
+
+(test body-takes-a-skeleton-files-path
+  (let ((skeleton (scratch-file (alexandria:read-file-into-string (checkout-file "src/body/skeletons/parrot.lisp"))
+                                :name "mine")))
+    (multiple-value-bind (out err status)
+        (player-command "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop"
+                        "--body" skeleton)
+      (is (= 0 status) "~A" err)
+      (is (search "frames at 30 fps" out))))
+  (check-bounded-cli-error 1 "there is no skeleton file /tmp/no-such-player.skel"
+                           "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop"
+                           "--body" "/tmp/no-such-player.skel"))

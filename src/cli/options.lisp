@@ -94,6 +94,13 @@ TEXT does not fit."))
     (bad-option-value option text "a name"))
   (intern (string-upcase text) '#:player-user))
 
+(defmethod read-option-value ((type (eql :skeleton)) text option)
+  ;; A path (it has a / or a file type: ./mine.skel) is given to LOAD-SKELETON
+  ;; as a string, which reads the file; anything else names a shipped skeleton.
+  (if (and (find-if (lambda (c) (find c "/.")) text) (notany #'control-character-p text))
+      text
+      (read-option-value :name text option)))
+
 (defmethod read-option-value ((type (eql :names)) text option)
   (declare (ignore option))
   (split-list text))
@@ -209,7 +216,7 @@ TEXT does not fit."))
   "the seed of the random drivers (blinks, saccades)" :default 0)
 (define-option "--scripts" :string "FILE"
   "the script library to use instead of the spec's (:scripts FILE)")
-(define-option "--body" :name "NAME"
-  "the skeleton to use instead of the spec's (:body NAME), e.g. humanoid")
+(define-option "--body" :skeleton "NAME|FILE"
+  "the skeleton to use instead of the spec's (:body NAME): a shipped one (humanoid, parrot) or a skeleton file's path")
 (define-option "--size" :size "WxH"
   "the image size in pixels" :default '(640 480) :default-text "640x480")
