@@ -342,3 +342,15 @@ added, in a fresh folder beside copies of the files it names; its path."
   (check-bounded-cli-error 1 "there is no skeleton file /tmp/no-such-player.skel"
                            "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--events" "ev-hop"
                            "--body" "/tmp/no-such-player.skel"))
+
+(test check-catches-unknown-scene-events
+  (let* ((text (alexandria:read-file-into-string (checkout-file "specs/two-peedys.lisp")))
+         (dialogue (scratch-peedy-dialogue ""))   ; a folder holding copies of specs/peedy*.lisp
+         (scene (merge-pathnames "bad-scene.lisp" dialogue)))
+    (with-open-file (out scene :direction :output :if-exists :supersede)
+      (write-string (let ((at (search "(right/ev-hop :after 0.5)" text)))
+                      (concatenate 'string (subseq text 0 at) "(right/ev-nope :after 0.5)"
+                                   (subseq text (+ at (length "(right/ev-hop :after 0.5)")))))
+                    out))
+    (check-bounded-cli-error 1 "scene event duet-hop: member right plays spec peedy, which has no event ev-nope"
+                             "check" (namestring scene))))
