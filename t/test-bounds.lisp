@@ -354,3 +354,19 @@ added, in a fresh folder beside copies of the files it names; its path."
                     out))
     (check-bounded-cli-error 1 "scene event duet-hop: member right plays spec peedy, which has no event ev-nope"
                              "check" (namestring scene))))
+
+(test scene-members-resolve-only-beside-the-scene
+  (let* ((folder (format nil "/tmp/player-bounds-scene-~D/" (sb-posix:getpid)))
+         (inner (format nil "~Ainner/" folder)))
+    (ensure-directories-exist inner)
+    ;; Were it read, this file's unreadable text would be the error.
+    (with-open-file (out (format nil "~Asecret.lisp" folder) :direction :output :if-exists :supersede)
+      (write-string "(defspec secret  TOP-SECRET-TOKEN" out))
+    (with-open-file (out (format nil "~Ascene.lisp" inner) :direction :output :if-exists :supersede)
+      (write-string "(defscene s (|../secret| :as a))" out))
+    (multiple-value-bind (out err status) (player-command "check" (format nil "~Ascene.lisp" inner))
+      (declare (ignore out))
+      (is (= 1 status))
+      (is (search "member a plays spec ../secret, which is not defined" err) "~A" err)
+      (is (not (search "secret.lisp:" err)) "~A" err)
+      (is (not (search "TOP-SECRET" err)) "~A" err))))
