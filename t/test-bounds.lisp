@@ -288,9 +288,9 @@ added, in a fresh folder beside copies of the files it names; its path."
 (test c++-names-are-mangled-clear-of-c-macros
   (is (player.cpp::c-macro-p "EOF"))
   (is (player.cpp::c-macro-p "math_errhandling"))
-  (is (not (c++-identifier-text-p "INT64_MAX")))
-  (is (not (c++-identifier-text-p "alloca")))
-  (is (c++-identifier-text-p "peedy"))
+  (is (not (player.cpp:c++-identifier-text-p "INT64_MAX")))
+  (is (not (player.cpp:c++-identifier-text-p "alloca")))
+  (is (player.cpp:c++-identifier-text-p "peedy"))
   (check-bounded-cli-error 2 "not \"EOF\"" "emit-c++" (fixture "mini.lisp") "--out" "/tmp" "--name" "EOF")
   (let ((spec (scratch-spec "(defspec alloca
   (state-variable math_errhandling boolean false)
@@ -370,3 +370,16 @@ added, in a fresh folder beside copies of the files it names; its path."
       (is (search "member a plays spec ../secret, which is not defined" err) "~A" err)
       (is (not (search "secret.lisp:" err)) "~A" err)
       (is (not (search "TOP-SECRET" err)) "~A" err))))
+
+(test errors-quote-nothing-of-files-that-are-not-player-data
+  (dolist (secret '("SECRETTOKEN123 more words" "hunter2:pass (x)" "  ; a comment
+SECRETTOKEN123"))
+    (let* ((file (scratch-file secret :name "secret"))
+           (spec (scratch-spec (format nil "(defspec q (:scripts ~S) (:body parrot) (state-variable x boolean false) (op o :add x) (event ev :op o))" file))))
+      (dolist (arguments (list (list "check" spec) (list "run" file)))
+        (multiple-value-bind (out err) (apply #'player-command arguments)
+          (is (search "is not Player data" (concatenate 'string out err)) "~A ~A" out err)
+          (dolist (word '("SECRET" "secret123" "hunter" "HUNTER" "pass"))
+            (is (not (search word (concatenate 'string out err))) "~S leaks in ~A ~A" word out err))))))
+  (check-load-error spec-reader-error "a symbol names a package that does not exist"
+    "(defspec q (state-variable x boolean nosuch::thing))"))

@@ -71,9 +71,12 @@ of the first byte that is not UTF-8, or of NIL when FILE cannot be read."
   "The standard syntax without #S, which would call a structure's constructor.")
 
 (defun reader-message (condition)
-  "CONDITION, a reader problem, as a sentence without Lisp stream objects."
+  "CONDITION, a reader problem, as a sentence without Lisp stream objects, nor
+the package name a token asked for (the file may be no Player data at all, a
+secret's first word being that name)."
   (typecase condition
     (end-of-file "the form is not finished (a parenthesis or string is not closed)")
+    (sb-int:simple-reader-package-error "a symbol names a package that does not exist (write names without a package: prefix)")
     (t (let ((text (handler-case (princ-to-string condition)
                      (error () "the Lisp reader failed"))))
          ;; SBCL's reader errors end with the stream they were reading.
@@ -116,6 +119,12 @@ most in its case (dialogue files keep the paper's mixed-case names)."
     (multiple-value-bind (position message) (reader-limit-problem text)
       (when position
         (funcall fail position message :structure)))
+    (let ((start (first-form-start text)))
+      (when (and start (char/= (char text start) #\())
+        ;; Quote nothing: the file may be a secret named by mistake.
+        (funcall fail start (format nil "~A is not Player data: Player's files hold lists such as (defspec ...), and it does not begin with one"
+                                    (file-namestring file))
+                 :read)))
     (with-standard-io-syntax
       (let ((*readtable* readtable)
             (*read-eval* nil)
@@ -136,6 +145,17 @@ most in its case (dialogue files keep the paper's mixed-case names)."
                   do (switch-package form start fail)
                 else collect (list form start *package*) into entries
                 finally (return (values entries text))))))))
+
+(defun first-form-start (text)
+  "The position of the first character of TEXT that is neither blank nor in a
+; or #| |# comment, or NIL when there is none."
+  (let ((i 0) (n (length text)))
+    (loop (cond ((>= i n) (return nil))
+                ((member (char text i) '(#\Space #\Tab #\Newline #\Return #\Page)) (incf i))
+                ((char= (char text i) #\;) (setf i (or (position #\Newline text :start i) n)))
+                ((and (char= (char text i) #\#) (< (1+ i) n) (char= (char text (1+ i)) #\|))
+                 (setf i (1+ (block-comment-end text (+ i 2)))))
+                (t (return i))))))
 
 (defun skip-whitespace-and-comments (stream)
   "Advance STREAM past blanks and ; comments; the next character starts a form."
