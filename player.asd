@@ -532,5 +532,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Peedy understands paraphrases (issue 28, item 1)
                  (:file "test-understanding")
                  ;; Bounded resources, names that cannot forge output (issue 31, items 3, 5-7, 11)
-                 (:file "test-bounds"))))
+                 (:file "test-bounds")
+                 (:file "fuzz-bounds"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
