@@ -383,3 +383,18 @@ SECRETTOKEN123"))
             (is (not (search word (concatenate 'string out err))) "~S leaks in ~A ~A" word out err))))))
   (check-load-error spec-reader-error "a symbol names a package that does not exist"
     "(defspec q (state-variable x boolean nosuch::thing))"))
+
+(test many-objects-load-in-linear-time
+  (let ((forms (cons '(defscript s0 (:duration 0.5) (:at 0 :motor (:blink)))
+                     (loop for i below 20000
+                           collect (if (zerop i)
+                                       '(defobject o0 :position (0 0 0))
+                                       `(defobject ,(intern (format nil "O~D" i) :player-user)
+                                          :parent ,(intern (format nil "O~D" (1- i)) :player-user)
+                                          :position (0 0 0))))))
+        (start (get-internal-real-time)))
+    (finishes (player.performance::parse-script-library-forms forms))
+    (is (< (- (get-internal-real-time) start) (* 5 internal-time-units-per-second)))
+    (signals player-error
+      (player.performance::parse-script-library-forms
+       (append forms '((defobject o0 :position (1 0 0))))))))

@@ -105,10 +105,15 @@ inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
 resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
   (build-script-library (mapcar (lambda (form) (cons form nil)) forms) source))
 
+(defvar *library-object-names* nil
+  "While a library is built: its objects by name (an EQUALP table), so that
+checking each new DEFOBJECT for a twin costs no walk of the ones before.")
+
 (defun build-script-library (entries source &optional places)
   "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file
 SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
   (let ((library (%make-script-library source))
+        (*library-object-names* (make-hash-table :test 'equalp))
         (*library-directory* (and source (directory-pathname (make-pathname :name nil :type nil :version nil
                                                                             :defaults source)))))
     (with-spec-context (:spec-name nil :sub-form-places places)
@@ -141,9 +146,13 @@ SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
                            #'director-name #'script-library-directors "director" form))
           ((equal head "defobject")
            (let ((object (parse-defobject form)))
-             (when (find (scene-object-spec-name object) (script-library-objects library)
-                         :key #'scene-object-spec-name :test #'name=)
+             (when (if *library-object-names*
+                       (gethash (string (scene-object-spec-name object)) *library-object-names*)
+                       (find (scene-object-spec-name object) (script-library-objects library)
+                             :key #'scene-object-spec-name :test #'name=))
                (script-fail form "object ~A is declared twice" (lisp-text (second form))))
+             (when *library-object-names*
+               (setf (gethash (string (scene-object-spec-name object)) *library-object-names*) object))
              (push object (script-library-objects library))))
           ((equal head "poses") (set-pose-library library form))
           ((equal head "pose-when") (push (parse-pose-when form) (script-library-pose-whens library)))
@@ -344,20 +353,29 @@ checks critical times and looping against it.  Nested cycles were ruled out."
           (t at))))
 
 (defun check-object-parents (library)
-  "Signal a SCRIPT-ERROR when LIBRARY's declared objects hang from each other in a cycle."
-  (let ((objects (script-library-objects library)))
+  "Signal a SCRIPT-ERROR when LIBRARY's declared objects hang from each other in
+a cycle.  Each object's chain of parents is walked once: an object whose
+chain is known to end is not walked again."
+  (let ((objects (script-library-objects library))
+        (by-name (make-hash-table :test 'equalp))
+        (ends (make-hash-table :test 'eq)))
+    (dolist (object (reverse objects))   ; the first of a name wins, as FIND's would
+      (setf (gethash (string (scene-object-spec-name object)) by-name) object))
     (flet ((parent-of (object)
-             (let ((parent (scene-object-spec-parent object)))
-               (find (if (consp parent) (first parent) parent) objects
-                     :key #'scene-object-spec-name :test #'name=))))
+             (let* ((parent (scene-object-spec-parent object))
+                    (name (if (consp parent) (first parent) parent)))
+               (and name (or (symbolp name) (stringp name)) (gethash (string name) by-name)))))
       (dolist (object objects)
-        (loop for chain = (list object) then (cons parent chain)
-              for parent = (parent-of (first chain))
-              while parent
-              when (member parent chain)
-                do (script-fail (scene-object-spec-form object) "objects hang from each other in a cycle: ~{~A~^ -> ~}"
-                                (mapcar (lambda (o) (lisp-text (scene-object-spec-name o)))
-                                        (reverse (cons parent chain)))))))))
+        (let ((chain '()) (on-chain (make-hash-table :test 'eq)))
+          (loop for o = object then (parent-of o)
+                while (and o (not (gethash o ends)))
+                do (when (gethash o on-chain)
+                     (script-fail (scene-object-spec-form object) "objects hang from each other in a cycle: ~{~A~^ -> ~}"
+                                  (mapcar (lambda (x) (lisp-text (scene-object-spec-name x)))
+                                          (reverse (cons o (ldiff chain (rest (member o chain))))))))
+                   (setf (gethash o on-chain) t)
+                   (push o chain))
+          (dolist (o chain) (setf (gethash o ends) t)))))))
 
 (defun check-declared-properties (library script)
   "Check SCRIPT's :animate and :set items on objects LIBRARY declares against
