@@ -398,3 +398,19 @@ SECRETTOKEN123"))
     (signals player-error
       (player.performance::parse-script-library-forms
        (append forms '((defobject o0 :position (1 0 0))))))))
+
+(test check-counts-unreachable-states-only-when-few
+  ;; 2^23 states: check visited each of them, for minutes.
+  (let ((spec (scratch-spec
+               (with-output-to-string (s)
+                 (format s "(defspec big~%")
+                 (dotimes (i 23) (format s "  (state-variable v~D boolean false)~%" i))
+                 (dotimes (i 23) (format s "  (op o~D :precond (not v~D) :add v~D :sub v~D)~%" i i i (mod (1+ i) 23)))
+                 (dotimes (i 23) (format s "  (event e~D :add v~D :add v~D)~%" i i (mod (+ i 5) 23)))
+                 (format s ")~%")))))
+    (ensure-player-core)
+    (let ((start (get-internal-real-time)))
+      (multiple-value-bind (out err status) (player-command "check" spec)
+        (is (member status '(0 1)) "~A" err)
+        (is (search "were not counted: 8,388,608 states are more than check visits one by one" out) "~A" out))
+      (is (< (- (get-internal-real-time) start) (* 10 internal-time-units-per-second))))))
