@@ -414,3 +414,7 @@ SECRETTOKEN123"))
         (is (member status '(0 1)) "~A" err)
         (is (search "were not counted: 8,388,608 states are more than check visits one by one" out) "~A" out))
       (is (< (- (get-internal-real-time) start) (* 10 internal-time-units-per-second))))))
+
+(test an-mbrola-voice-is-one-line
+  (check-bounded-cli-error 1 "mb-en1 is an MBROLA voice, which Player does not use"
+                           "speak" "hello" "--voice" "mb-en1" "--out" "/tmp/player-bounds-never.wav"))
