@@ -418,3 +418,13 @@ SECRETTOKEN123"))
 (test an-mbrola-voice-is-one-line
   (check-bounded-cli-error 1 "mb-en1 is an MBROLA voice, which Player does not use"
                            "speak" "hello" "--voice" "mb-en1" "--out" "/tmp/player-bounds-never.wav"))
+
+(test a-one-joint-skeleton-renders
+  (let ((skeleton (scratch-file "(skeleton one (:joint root :parent nil :center (0 1 0)))" :name "one"))
+        (spec (scratch-spec "(defspec d (state-variable x boolean false) (op o :add x :duration 1) (event ev :op o))"))
+        (out (format nil "/tmp/player-bounds-one-~D/" (sb-posix:getpid))))
+    (multiple-value-bind (stdout err status)
+        (player-command "render" spec "--events" "ev" "--body" skeleton "--out" out "--fps" "2" "--size" "64x48")
+      (is (= 0 status) "~A" err)
+      (is (search "frame-0001.png" stdout)))
+    (uiop:delete-directory-tree (pathname out) :validate t :if-does-not-exist :ignore)))
