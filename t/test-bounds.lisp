@@ -428,3 +428,17 @@ SECRETTOKEN123"))
       (is (= 0 status) "~A" err)
       (is (search "frame-0001.png" stdout)))
     (uiop:delete-directory-tree (pathname out) :validate t :if-does-not-exist :ignore)))
+
+(test macro-nesting-is-capped-and-many-ops-load-fast
+  ;; 15,000 macro-ops each running the one before: SBCL's control stack ran out.
+  (let ((text (with-output-to-string (s)
+                (format s "(defspec chain (state-variable x boolean false) (state-variable y boolean false)~%  (op base :add y)~%")
+                (loop for i from 1 to 15000
+                      do (format s "  (macro-op m~D :precond (not x) :add x :seq (:op ~A))~%"
+                                 i (if (= i 1) "base" (format nil "m~D" (1- i)))))
+                (format s "  (event ev :op m15000))~%"))))
+    (check-quick-load-error 8 spec-syntax-error "macro-op m101: nests macro-ops more than 100 deep, through m101 -> m100" text))
+  (is (null (load-error (with-output-to-string (s)
+                          (format s "(defspec many (state-variable x boolean false)~%")
+                          (dotimes (i 20000) (format s "  (op o~D :add x)~%" i))
+                          (format s "  (event ev :op o19999))~%"))))))
