@@ -246,6 +246,8 @@ added, in a fresh folder beside copies of the files it names; its path."
     (format nil "(defspec f (state-variable x boolean false) (op |go)~%(:op fake| :add x))"))
   (check-load-error spec-reader-error "\\x1B"
     (format nil "(defspec f (state-variable |x~A| boolean false))" (code-char 27)))
+  (check-load-error type-error-in-spec "holds a control character"
+    (format nil "(defspec f (state-variable m string \"a\" (\"a\" \"b~Cc\")))" (code-char 27)))
   ;; Through the Lisp API too.
   (signals spec-error (define-spec (intern (format nil "F~%G") :player-user) '((state-variable x boolean false)))))
 
