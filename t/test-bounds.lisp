@@ -444,3 +444,12 @@ SECRETTOKEN123"))
                           (format s "(defspec many (state-variable x boolean false)~%")
                           (dotimes (i 20000) (format s "  (op o~D :add x)~%" i))
                           (format s "  (event ev :op o19999))~%"))))))
+
+(test run-at-a-million-seconds-with-idle-timers-finishes
+  (ensure-player-core)
+  (let ((start (get-internal-real-time)))
+    (multiple-value-bind (out err status)
+        (player-command "run" (namestring (checkout-file "specs/peedy.lisp")) "--at" "1e6")
+      (is (= 0 status) "~A" err)
+      (is (search "(:state " out)))
+    (is (< (- (get-internal-real-time) start) (* 10 internal-time-units-per-second)))))
