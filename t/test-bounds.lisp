@@ -68,7 +68,7 @@
 ;;;# Clocks have floors
 
 (test clocks-have-floors
-  (check-load-error type-error-in-spec ":after must be a number of seconds of at least 0.001"
+  (check-load-error type-error-in-spec ":after must be a positive number of seconds, at least 0.001"
     "(defspec t1 (state-variable x boolean false) (event ev) (timer fast :after 1d-9 :event ev :repeat t))")
   (check-load-error type-error-in-spec "not 1.0e-4"
     "(defspec t1 (state-variable x boolean false) (event ev) (timer fast :after 1/10000 :event ev))")

@@ -83,7 +83,7 @@ BYTES and the command line ARGUMENTS; does not return then."
       (sb-posix:setenv "PLAYER_HEAP_RESTARTED" "1" 1)
       (let ((argv (list* (sb-ext:native-namestring sb-ext:*runtime-pathname*)
                          "--dynamic-space-size" (format nil "~DMB" megabytes)
-                         "--disable-ldb" "--lose-on-corruption" "--end-runtime-options"
+                         "--disable-ldb" "--end-runtime-options"
                          "--max-memory" (format nil "~DM" megabytes) arguments)))
         (finish-output *standard-output*)
         (finish-output *error-output*)

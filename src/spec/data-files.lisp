@@ -120,7 +120,8 @@ most in its case (dialogue files keep the paper's mixed-case names)."
       (when position
         (funcall fail position message :structure)))
     (let ((start (first-form-start text)))
-      (when (and start (char/= (char text start) #\())
+      ;; A list, or reader syntax (#.) the reader refuses in its own words.
+      (when (and start (not (member (char text start) '(#\( #\#))))
         ;; Quote nothing: the file may be a secret named by mistake.
         (funcall fail start (format nil "~A is not Player data: Player's files hold lists such as (defspec ...), and it does not begin with one"
                                     (file-namestring file))

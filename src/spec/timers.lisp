@@ -37,7 +37,7 @@
       (spec-fail 'spec-syntax-error form "a timer needs :after SECONDS"))
     (let ((after (getf options :after)))
       (unless (and (finite-real-p after) (>= after *shortest-period*))
-        (spec-fail 'type-error-in-spec form ":after must be a number of seconds of at least ~A (a faster clock sends more events than can be played), not ~A"
+        (spec-fail 'type-error-in-spec form ":after must be a positive number of seconds, at least ~A (a faster clock sends more events than can be played), not ~A"
                    (format-number *shortest-period*)
                    (if (finite-real-p after)
                        (let ((*read-default-float-format* 'double-float)) (prin1-to-string (to-double after)))
