@@ -386,6 +386,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "commands")
                  (:file "help")
                  (:file "memory")
+                 (:file "progress")
                  (:file "main")
                  (:file "budgets")
                  (:file "escaping-stream")

@@ -453,3 +453,10 @@ SECRETTOKEN123"))
       (is (= 0 status) "~A" err)
       (is (search "(:state " out)))
     (is (< (- (get-internal-real-time) start) (* 10 internal-time-units-per-second)))))
+
+(test long-work-prints-one-progress-line-on-a-terminal
+  (let ((out (make-string-output-stream)))
+    (let ((thread (player.cli::start-progress-note '("check" "x.lisp") :delay 0.05 :stream out :interactive t)))
+      (sb-thread:join-thread thread))
+    (is (string= (format nil "player: check is still working (0.05 s)...~%") (get-output-stream-string out))))
+  (is (null (player.cli::start-progress-note '("check") :interactive nil))))

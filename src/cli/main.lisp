@@ -30,6 +30,7 @@ fails, 2 for a wrong command line, 141 (as if killed by SIGPIPE) when standard
 output is closed early, 130 on an interrupt."
   (handler-case
       (progn (restart-with-memory-option arguments)
+             (start-progress-note arguments)
              (run-command-line arguments)
              (finish-output *standard-output*)
              (sb-ext:exit :code 0))
