@@ -183,3 +183,10 @@ SECRETTOKEN123"))
       (sb-thread:join-thread thread))
     (is (string= (format nil "player: check is still working (0.05 s)...~%") (get-output-stream-string out))))
   (is (null (player.cli::start-progress-note '("check") :interactive nil))))
+
+(test simulate-at-inside-a-macro-op-shows-the-ops-started
+  (multiple-value-bind (out err status)
+      (player-command "simulate" (namestring (checkout-file "specs/peedy.lisp")) "--initial" "alert=snore"
+                      "--events" "ev-search@0" "--at" "1")
+    (is (= 0 status) "~A" err)
+    (is (search "(:op snort :script snort :start 0 :end 1)" out) "~A" out)))

@@ -30,7 +30,8 @@ plays sounds, the audio track goes to speech.wav beside the --frames (or
   (let* ((simulation (simulate (choose-spec file spec :allow-code (not no-code))
                                :initial initial :events events :until at :when-busy (policy-keyword when-busy) :fps fps :seed seed
                                :scripts scripts :body body :stream *standard-output* :silent silent))
-         (beside (progn (check-simulation-budget (simulation-frame-count simulation) fps)
+         (beside (progn (finish-trace (controller-presenter (simulation-controller simulation)))
+                        (check-simulation-budget (simulation-frame-count simulation) fps)
                         (or frames bvh)))
          (written (write-simulation simulation :bvh bvh :frames frames
                                                :audio (and beside (merge-pathnames *audio-file-name* beside)))))

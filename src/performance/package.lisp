@@ -17,6 +17,6 @@
    #:performance-say #:performance-scene #:presenter-library #:presenter-performance
    #:reload-script-library #:replay-clips #:script #:script-critical-time
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
-   #:simulation #:simulation-clips #:simulation-end #:simulation-fps
+   #:simulation #:simulation-clips #:simulation-controller #:simulation-end #:simulation-fps
    #:simulation-frame-count #:simulation-p #:simulation-performance #:simulation-reports
    #:simulation-scene-at #:stop-script-run #:write-simulation #:write-simulation-audio))
