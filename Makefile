@@ -122,10 +122,11 @@ bench-profile: deps
 
 # The fuzzer's long run (t/fuzz-main.lisp): 50,000 mutated specs and script libraries
 # through the Lisp API, 400 through bin/player, 300 mutated models (.gltf, .glb, .x)
-# through bin/player model, g++ on the C++ of hostile names.  FUZZ_SEED=N picks
-# other cases; FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_MODEL_CASES, FUZZ_GXX_CASES size the run.
+# through bin/player model, g++ on the C++ of hostile names, 200 hostile short inputs
+# under a time and memory watch.  FUZZ_SEED=N picks other cases; FUZZ_CASES,
+# FUZZ_CLI_CASES, FUZZ_MODEL_CASES, FUZZ_GXX_CASES, FUZZ_BOUNDS_CASES size the run.
 fuzz: deps
-	FUZZ_SEED='$(FUZZ_SEED)' FUZZ_CASES='$(FUZZ_CASES)' FUZZ_CLI_CASES='$(FUZZ_CLI_CASES)' FUZZ_MODEL_CASES='$(FUZZ_MODEL_CASES)' FUZZ_GXX_CASES='$(FUZZ_GXX_CASES)' \
+	FUZZ_SEED='$(FUZZ_SEED)' FUZZ_CASES='$(FUZZ_CASES)' FUZZ_CLI_CASES='$(FUZZ_CLI_CASES)' FUZZ_MODEL_CASES='$(FUZZ_MODEL_CASES)' FUZZ_GXX_CASES='$(FUZZ_GXX_CASES)' FUZZ_BOUNDS_CASES='$(FUZZ_BOUNDS_CASES)' \
 	$(LISP) --load bin/load-system.lisp --eval '(or (player-build:load-checked "player/tests") (uiop:quit 1))' \
 	  --load t/fuzz-main.lisp --eval '(player-tests::fuzz-main)'
 

@@ -55,7 +55,7 @@
    #:deferred-sends-error #:presenter-result-error #:presenter-result-error-function
    #:presenter-result-error-op #:presenter-result-error-presenter
    #:presenter-result-error-value
-   #:*controller* #:advance #:clear-trace #:compile-spec #:compiled-machine #:controller
+   #:*controller* #:advance #:clear-trace #:compile-spec #:finish-trace #:compiled-machine #:controller
    #:controller-busy-p #:controller-clock #:controller-machine #:controller-presenter
    #:controller-state #:controller-time #:event-names #:finish-events #:follow-spec
    #:make-controller #:make-null-presenter #:make-trace-presenter #:null-presenter

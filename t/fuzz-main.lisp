@@ -13,7 +13,11 @@
 ;;;;      fault, SBCL's fatal error, a Lisp object printed or a hang (20 s);
 ;;;;   4. when g++ is installed, the C++ emitted for up to FUZZ_GXX_CASES (40)
 ;;;;      accepted specs with hostile names, compiled with -fsyntax-only and the
-;;;;      project's warnings as errors.
+;;;;      project's warnings as errors;
+;;;;   5. FUZZ_BOUNDS_CASES (200) hostile but short inputs (fuzz-bounds.lisp:
+;;;;      huge reader forms, fast clocks, fan-out, exponential phrases, odd
+;;;;      WAVs, control-character names) through bin/player, each finishing or
+;;;;      giving its one error line within 10 s and 2 GB of resident memory.
 ;;;; It prints the tables and every kind of failure with one reproducer, made
 ;;;; smaller by FZ-MINIMIZE and written to /tmp/player-fuzz-repro-SEED/ (unless
 ;;;; FUZZ_MINIMIZE=0), and exits 1 when anything failed. FUZZ_SEED (1) picks the
@@ -229,6 +233,7 @@ each to /tmp/player-fuzz-repro-SEED/N.lisp (the marker file named
          (cli-cases (fuzz-environment-integer "FUZZ_CLI_CASES" 400))
          (model-cases (fuzz-environment-integer "FUZZ_MODEL_CASES" 300))
          (gxx-cases (if (probe-file "/usr/bin/g++") (fuzz-environment-integer "FUZZ_GXX_CASES" 40) 0))
+         (bounds-cases (fuzz-environment-integer "FUZZ_BOUNDS_CASES" 200))
          (gxx-directory (fz-make-directory "player-fuzz-gxx"))
          (failed 0))
     (format t "~&Fuzzing Player with seed ~D: ~:D cases through the Lisp API, ~:D through bin/player, ~:D models~@[, g++ on up to ~D~].~%(FUZZ_SEED, FUZZ_CASES, FUZZ_CLI_CASES, FUZZ_MODEL_CASES and FUZZ_GXX_CASES change that.)~%"
@@ -254,6 +259,8 @@ each to /tmp/player-fuzz-repro-SEED/N.lisp (the marker file named
                (if results
                    (incf failed (fzm-report results seconds))
                    (format t "~%Models not fuzzed: Assimp's test models are not installed (Debian assimp-testmodels).~%"))))
+           (when (plusp bounds-cases)
+             (incf failed (fuzz-bounds-report (fuzz-bounds :seed seed :cases bounds-cases :progress *standard-output*))))
            (when (plusp gxx-cases)
              (multiple-value-bind (failures count) (fz-gxx-check gxx-directory seed)
                (format t "~%g++ -fsyntax-only on the C++ of ~D accepted spec~:P with hostile names: ~D rejected~%"

@@ -16,8 +16,10 @@
 ;;; Building specs from constructed names
 
 (defun hostile (text)
-  "A fresh symbol named TEXT, for names the reader would need |...| for."
-  (make-symbol text))
+  "A fresh symbol named TEXT, for names the reader would need |...| for; its
+control characters made spaces, since a name may not hold them (issue 31:
+a line break in a name would forge trace lines), while strings still may."
+  (make-symbol (substitute-if #\Space #'player.base:control-character-p text)))
 
 (defmacro with-hostile-spec ((var name forms) &body body)
   "Define spec NAME (a symbol) from FORMS (evaluated), bind VAR to it, run BODY, forget it."
@@ -373,7 +375,7 @@ and without events build with -Werror and behave as in Lisp."
          (mood-text (format nil "mood~C" #\Tab))
          (mood (hostile mood-text))
          (happy (hostile "happy??/")) (sad (hostile "sad\\"))
-         (quoted (format nil "str \"q\"~%line"))
+         (quoted "str \"q\" line")  ; no line break: a value is a name (issue 31)
          (cafe (hostile (coerce (list #\c #\a #\f (code-char #xe9)) 'string)))
          (nihon (hostile (coerce (list (code-char #x65e5) (code-char #x672c)) 'string)))
          (long (hostile *long-name*))

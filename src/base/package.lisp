@@ -8,8 +8,8 @@
   (:documentation "Helpers every layer shares: the condition tree, the printer, argument checks, the limits on data.")
   (:export
    #:*current-form-label* #:*current-spec-name* #:*form-places* #:*int64-range*
-   #:*library-number-range* #:*max-form-depth* #:*max-seconds* #:*path-phrase*
-   #:*source-position* #:*sub-form-places* #:argument-error #:argument-error-argument
+   #:*library-number-range* #:*max-form-depth* #:*max-seconds* #:*shortest-period* #:*path-phrase*
+   #:*source-position* #:*sub-form-places* #:argument-error #:argument-error-argument #:control-character-p #:escaped-text
    #:argument-error-expected #:argument-error-function #:argument-error-value
    #:argument-fail #:argument-value-text #:bounded-form-p #:bounded-lisp-text
    #:check-argument #:check-form-structure #:check-real #:check-seconds #:check-spec-number

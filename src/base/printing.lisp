@@ -14,13 +14,26 @@ with their colon), strings quoted, numbers through FORMAT-NUMBER."
   "Write OBJECT to STREAM as LISP-TEXT does."
   (typecase object
     (null (write-string "nil" stream))
-    (keyword (format stream ":~(~A~)" (symbol-name object)))
-    (symbol (format stream "~(~A~)" (symbol-name object)))
-    (string (prin1 object stream))
+    (keyword (format stream ":~A" (escaped-text (string-downcase (symbol-name object)))))
+    (symbol (write-string (escaped-text (string-downcase (symbol-name object))) stream))
+    (string (write-string (escaped-text (prin1-to-string object)) stream))
     (real (write-string (format-number object) stream))
     (cons (write-list-text object stream))
     (t (let ((*print-case* :downcase) (*print-circle* t) (*print-length* 20) (*print-level* 4))
          (prin1 object stream)))))
+
+(defun escaped-text (text)
+  "TEXT with each control character (CONTROL-CHARACTER-P) written as \\xHH (or
+\\uHHHH), so that text from a file or a user (a template, a typed request, a
+name) cannot clear, retitle or forge lines on a terminal, a trace or a
+recording; TEXT itself when it holds none."
+  (if (notany #'control-character-p text)
+      text
+      (with-output-to-string (out)
+        (loop for char across text
+              do (cond ((not (control-character-p char)) (write-char char out))
+                       ((< (char-code char) 256) (format out "\\x~2,'0X" (char-code char)))
+                       (t (format out "\\u~4,'0X" (char-code char))))))))
 
 (defvar *text-limit* nil
   "While BOUNDED-LISP-TEXT writes: the length past which it stops.")

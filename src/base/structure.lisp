@@ -11,25 +11,44 @@
 (defparameter *max-seconds* 1d15
   "The largest duration or time, in seconds, a spec may give (about 31 million years).")
 
+(defparameter *shortest-period* 1d-3
+  "The shortest period a clock a file gives may have (a timer's :after): a
+faster clock sends more events than anything can play or record.")
+
 (defparameter *int64-range* (list (- (expt 2 63)) (1- (expt 2 63)))
   "The smallest and largest integer a spec may give: the C++ backend's long long.")
 
+(defparameter *max-form-size* 2000000
+  "The most conses and vector elements a form read as data may hold, counting
+a shared part (#1#) once per use: #1=(a a) #2=(#1# #1#) ... doubles the form at
+every label, and whatever walks it would take that long.")
+
 (defun check-form-structure (form &key (max-depth *max-form-depth*) (what "form"))
   "FORM, once it is known to be a tree (a cons or vector may be shared, but none
-contains itself) no deeper than MAX-DEPTH; else a SPEC-SYNTAX-ERROR naming WHAT.
+contains itself) no deeper than MAX-DEPTH and no larger than *MAX-FORM-SIZE*
+(a shared part counted once per use), whose symbols (names) hold no control
+character (a line break in a name would forge trace lines); else a
+SPEC-SYNTAX-ERROR naming WHAT.
 Walks each list's spine iteratively, so a long list costs no stack; vectors
 (other than strings) are walked like lists."
-  (let ((open (make-hash-table :test 'eq)))
-    (labels ((walk-vector (x depth)
+  (let ((open (make-hash-table :test 'eq)) (size 0))
+    (labels ((count-one ()
+               (when (> (incf size) *max-form-size*)
+                 (spec-fail 'spec-syntax-error nil "the ~A has more than ~:D elements (a shared #N# part counts at every use)"
+                            what *max-form-size*)))
+             (walk-vector (x depth)
                (when (> depth max-depth)
                  (spec-fail 'spec-syntax-error nil "the ~A is nested more than ~D levels deep"
                             what max-depth))
                (when (gethash x open)
                  (spec-fail 'spec-syntax-error nil "the ~A contains itself (circular structure)" what))
                (setf (gethash x open) t)
-               (loop for element across x do (walk element (1+ depth)))
+               (loop for element across x do (count-one) (walk element (1+ depth)))
                (remhash x open))
              (walk (x depth)
+               (when (and (symbolp x) (find-if #'control-character-p (symbol-name x)))
+                 (spec-fail 'spec-syntax-error nil "the name ~A in the ~A holds a control character, which could forge output"
+                            (lisp-text x) what))
                (when (and (vectorp x) (not (stringp x)) (not (bit-vector-p x)))
                  (walk-vector x depth))
                (when (consp x)
@@ -43,6 +62,7 @@ Walks each list's spine iteratively, so a long list costs no stack; vectors
                               (spec-fail 'spec-syntax-error nil
                                          "the ~A contains itself (circular structure such as #1=(a . #1#))"
                                          what))
+                            (count-one)
                             (setf (gethash tail open) t)
                             (push tail spine)
                             (walk (car tail) (1+ depth)))

@@ -32,3 +32,9 @@ signal its own error naming the Debian package to install."
           (handler-case (cffi:load-foreign-library soname)
             (cffi:load-foreign-library-error () nil)))
         sonames))
+
+(defun control-character-p (char)
+  "Is CHAR a control character (C0, DEL, C1, or a Unicode line or paragraph
+separator): one a terminal or a line-based file obeys instead of showing?"
+  (let ((code (char-code char)))
+    (or (< code 32) (<= 127 code 159) (= code #x2028) (= code #x2029))))

@@ -21,6 +21,8 @@ parameter, a missing parameter, a value of the wrong type.  FORM is the frame.")
   '((:real finite-number-p "a finite number")
     (:positive positive-real-p "a positive number")
     (:non-negative non-negative-real-p "a number >= 0")
+    (:reflex-interval reflex-interval-p "a number of seconds of at least 0.05 (a reflex fires no faster)")
+    (:brief brief-seconds-p "a positive number of seconds up to 10")
     (:angle finite-number-p "an angle in degrees")
     (:boolean boolean-value-p "T or NIL")
     (:symbol symbolp "a symbol")
@@ -35,6 +37,12 @@ A type may also be (:member VALUE...) or (:or TYPE...).")
 
 (defun positive-real-p (x) "Is X a finite real > 0?" (and (finite-number-p x) (plusp x)))
 (defun non-negative-real-p (x) "Is X a finite real >= 0?" (and (finite-number-p x) (>= x 0)))
+(defun reflex-interval-p (x)
+  "Is X a mean interval a reflex may have: at least 0.05 s, so its firings stay few?"
+  (and (finite-number-p x) (>= x 0.05)))
+(defun brief-seconds-p (x)
+  "Is X the length of a brief movement (a blink): > 0 and at most 10 s?"
+  (and (finite-number-p x) (< 0 x) (<= x 10)))
 
 (defun vector-form-p (x)
   "Is X a list of three finite reals?"

@@ -4,6 +4,11 @@
 
 (in-package #:player.body)
 
+(defvar *resolved-poses* nil
+  "While a pose is resolved: each pose resolved so far mapped to its entries, so
+a pose included many times (fanned out, #1=(p1 p1), twice at every level) is
+resolved once.")
+
 ;;; ---------------------------------------------------------------------------
 ;;; The file format
 ;;;
@@ -176,8 +181,9 @@ unreadable file, a malformed form, or (with SKELETON) a pose that does not fit."
                    (add-pose-form library form (cons path start))))
         (when skeleton
           (with-spec-context (:source-position nil)
-            (dolist (definition (pose-library-order library))
-              (resolve-pose definition skeleton))))
+            (let ((*resolved-poses* (make-hash-table :test 'eq)))  ; each pose resolved once
+              (dolist (definition (pose-library-order library))
+                (resolve-pose definition skeleton)))))
         library))))
 
 ;;;# Resolving against a skeleton
@@ -296,10 +302,15 @@ cycles.  Signals POSE-ERROR for anything that does not fit SKELETON."
 by index.  Signals POSE-ERROR, naming the clause (and the file and line it was
 read from), for an unknown joint, role, DOF or pose, or an angle outside the
 joint's limits."
-  (with-spec-context (:source-position (or (pose-definition-position definition) *source-position*))
-    (resolve-clauses (pose-definition-clauses definition) skeleton
-                     :library (pose-definition-library definition)
-                     :visiting (cons definition visiting))))
+  (if (null *resolved-poses*)
+      (let ((*resolved-poses* (make-hash-table :test 'eq)))
+        (resolve-pose definition skeleton visiting))
+      (or (gethash definition *resolved-poses*)
+          (setf (gethash definition *resolved-poses*)
+                (with-spec-context (:source-position (or (pose-definition-position definition) *source-position*))
+                  (resolve-clauses (pose-definition-clauses definition) skeleton
+                                   :library (pose-definition-library definition)
+                                   :visiting (cons definition visiting)))))))
 
 (defun apply-pose-angles (entries pose)
   "Write the (INDEX . DEGREES) ENTRIES into POSE; return POSE."

@@ -166,8 +166,21 @@ PARSE-EVENT-ADDRESS)."
                      do (when (and (consp address) (not (timed-address-p address)))
                           (scene-fail 'scene-error form "scene event ~A: an address is MEMBER/EVENT or (MEMBER/EVENT :after SECONDS), not ~A"
                                       (lisp-text name) (bounded-lisp-text address 60)))
-                        (parse-event-address (if (consp address) (first address) address) members)
+                        (check-scene-event-address name (if (consp address) (first address) address) members form)
                      collect address))))
+
+(defun check-scene-event-address (name address members form)
+  "Check ADDRESS of the scene event NAME (in FORM) against MEMBERS: its members
+exist (PARSE-EVENT-ADDRESS) and each one's spec defines its event, so `check`
+catches an unknown event rather than the event failing when sent."
+  (multiple-value-bind (addressed event) (parse-event-address address members)
+    (dolist (member addressed)
+      (let ((spec (find-spec (cast-member-spec member) nil)))
+        (when (and spec (notany (lambda (e) (string-equal (symbol-name (event-name e)) (string event)))
+                                (spec-events spec)))
+          (scene-fail 'scene-error form "scene event ~A: member ~A plays spec ~A, which has no event ~A"
+                      (lisp-text name) (lisp-text (cast-member-name member))
+                      (lisp-text (cast-member-spec member)) (string-downcase (string event))))))))
 
 (defun define-cast (name body &key source-file form-positions)
   "Parse BODY, ([DOCSTRING] MEMBER-OR-EVENT...), as the scene NAME, register it

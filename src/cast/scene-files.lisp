@@ -1,7 +1,8 @@
 ;;;; scene-files.lisp -- LOAD-SCENE-FILE: a file of DEFSCENE (and DEFSPEC)
 ;;;; forms, read as data like a spec file (nothing is evaluated).  A member
 ;;;; naming a spec that is not defined yet is looked for in SPEC.lisp beside
-;;;; the scene's file, so specs/two-peedys.lisp can cast specs/peedy.lisp.
+;;;; the scene's file, so specs/two-peedys.lisp can cast specs/peedy.lisp;
+;;;; only there: a member's name never leads out of that folder.
 
 (in-package #:player.cast)
 
@@ -17,11 +18,20 @@ spec file beside FILE named after it (peedy: peedy.lisp), when there is one."
                (not (scene-event-form-p member))
                (not (scene-set-form-p member))
                (not (find-spec (first member) nil)))
-      (let ((sibling (merge-pathnames (make-pathname :name (string-downcase (symbol-name (first member)))
-                                                     :type "lisp")
-                                      file)))
-        (when (and (probe-file sibling) (regular-file-p sibling))
+      (let* ((name (string-downcase (symbol-name (first member))))
+             (sibling (and (sibling-file-name-p name)
+                           (merge-pathnames (make-pathname :name name :type "lisp") file))))
+        (when (and sibling (probe-file sibling) (regular-file-p sibling)
+                   (equal (pathname-directory (probe-file sibling)) (pathname-directory (probe-file file))))
           (load-spec sibling :allow-code allow-code))))))
+
+(defun sibling-file-name-p (name)
+  "May NAME be looked up as NAME.lisp beside a scene file?  Only a plain name:
+no / (|../secret| would lead out of the scene's folder), no leading dot, no
+wildcard or control character."
+  (and (plusp (length name))
+       (char/= (char name 0) #\.)
+       (notany (lambda (c) (or (find c "/\\*?[") (control-character-p c))) name)))
 
 (defun load-scene-file (file &key (allow-code t))
   "Load FILE, which may hold IN-PACKAGE, DEFSPEC and DEFSCENE forms, as data.

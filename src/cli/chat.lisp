@@ -90,7 +90,7 @@ so: the conversation is then drawn or viewed silently."
       (format t "; no speech: ~A~%" (condition-line condition))
       nil)))
 
-(define-command "chat" (file &key initial seed memory user wav explain render video silent view frames fps size)
+(define-command "chat" (file &key no-code initial seed memory user wav explain render video silent view frames fps size)
     (:summary "talk to the character: typed or spoken requests in; input events, transitions, Player's trace and spoken text out"
      :description "Reads one request a line from standard input (a terminal or a pipe) until
 its end or `quit`, or with --wav hears each WAV file with pocketsphinx
@@ -110,7 +110,8 @@ turn starting once he has finished; the requests heard from --wav are on the
 track too.  With --view he says his replies at once, as they come.  Without
 libespeak-ng it is drawn or viewed silently, after a note."
      :arguments ("DIALOGUE-FILE")
-     :options ("--initial"
+     :options (("--no-code" :help "refuse a dialogue whose Player spec holds :code or :c++, so an untrusted dialogue runs no code")
+               "--initial"
                ("--seed" :help "the seed of the random source templates and track choices draw from (and of --render's drivers)")
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
@@ -132,12 +133,20 @@ libespeak-ng it is drawn or viewed silently, after a note."
   (when (and view (or wav render))
     (usage-fail "--view plays typed lines live; it takes neither --wav nor --render"))
   (when video (find-ffmpeg))
+  (with-escaped-output ()
+    (chat-session file :no-code no-code :initial initial :seed seed :memory memory :user user :wav wav
+                       :explain explain :render render :video video :silent silent :view view
+                       :frames frames :fps fps :size size)))
+
+(defun chat-session (file &key no-code initial seed memory user wav explain render video silent view frames fps size)
+  "The work of `player chat` once its options are checked (see COMMAND-CHAT)."
   (let* ((dialogue (choose-dialogue file))
          (spec (or (dialogue-player-spec dialogue)
                    (error 'player-error-with-message
                           :message (format nil "dialogue ~A names no Player spec: give it (:player SPEC)"
                                            (display-name (dialogue-name dialogue))))))
-         (initial (or initial (dialogue-player-initial dialogue)))
+         (initial (progn (when no-code (refuse-code spec))
+                         (or initial (dialogue-player-initial dialogue))))
          ;; Every WAV read and the recogniser found before the first turn: a bad file stops nothing half-done.
          (requests (mapcar (lambda (path) (cons path (read-request-wav path))) wav))
          (grammar (and wav (check-recogniser) (dialogue-jsgf dialogue)))

@@ -106,8 +106,10 @@ COMMAND does not take."
 
 (defun run-command-line (arguments)
   "Run the command ARGUMENTS name: `help [CMD]`, `CMD --help`, or a command
-with its arguments and options."
-  (let ((name (first arguments)))
+with its arguments and options.  --max-memory, which every command takes, is
+read by MAIN before (see memory.lisp) and ignored here."
+  (let* ((arguments (take-memory-option arguments))
+         (name (first arguments)))
     (cond ((null name)
            (usage-fail "no command given (commands: ~{~A~^, ~}; see player help)"
                        (mapcar #'command-name *commands*)))

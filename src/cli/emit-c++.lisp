@@ -6,7 +6,7 @@
   ;; A file and namespace name: a C++ identifier, so it can neither inject
   ;; code nor lead out of --out.
   (unless (c++-identifier-text-p text)
-    (bad-option-value option text "a C++ identifier (a letter, then letters, digits or _; not a keyword)"))
+    (bad-option-value option text "a C++ identifier (a letter, then letters, digits or _; not a keyword or a macro of the C headers)"))
   text)
 
 (define-command "emit-c++" (file &key spec no-code out name namespace timed)

@@ -26,6 +26,7 @@ file, their joints named MEMBER/JOINT.  Nothing sounds."
      :output "the --out file; the trace and the path written on standard output")
   (export-type out)
   (check-scenario-times events at)
+  (check-frame-budget at fps)
   (let* ((scene (command-cast file spec cast (not no-code)))
          (simulation (if scene
                          (simulate-scene scene :initial initial :events events :until at

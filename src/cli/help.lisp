@@ -54,7 +54,9 @@
   (format stream "usage: player COMMAND [ARGUMENTS] [OPTIONS]~%~%commands:~%")
   (dolist (command *commands*)
     (format stream "  ~A~%      ~A~%" (command-synopsis command) (command-summary command)))
-  (format stream "~%`player help COMMAND` or `player COMMAND --help` describes one command.~%"))
+  (format stream "~%`player help COMMAND` or `player COMMAND --help` describes one command.~%")
+  (format stream "Every command also takes --max-memory SIZE (e.g. 512M, 4G): its heap, by default~%~
+half the machine's memory and at most 2 GB.~%"))
 
 (defun print-help (&optional command-name)
   "Print the global help, or with COMMAND-NAME that command's help (a
@@ -113,7 +115,10 @@ help as the Markdown page doc/cli.md."
 Every command, its options with their types and defaults, and where its output~%~
 goes are declared once, in `src/cli/`; this page is that table. Options take~%~
 their value as the next word or after `=` (`--events=ev-search`). `bin/player~%~
-help COMMAND` (or `bin/player COMMAND --help`) prints one command's part.~%~%~
+help COMMAND` (or `bin/player COMMAND --help`) prints one command's part.~%~
+Every command also takes `--max-memory SIZE` (`512M`, `4G`): the heap it may~%~
+use, by default half the machine's memory and at most 2 GB; running out is one~%~
+`ran out of memory (limit ...)` error.~%~%~
 | command | what it does |~%| --- | --- |~%")
   (dolist (command *commands*)
     (format stream "| [`~A`](#~A) | ~A |~%" (command-name command)

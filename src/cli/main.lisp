@@ -9,7 +9,7 @@
   "What ran out, for a STORAGE-CONDITION: the stack (input nested too deeply) or the heap."
   (if (typep condition 'sb-kernel::control-stack-exhausted)
       "the input is nested too deeply (the control stack is exhausted)"
-      "out of memory (the heap is exhausted): the input is too large"))
+      (memory-limit-message)))
 
 (defun standard-output-error-p (condition)
   "Is CONDITION a failed write to standard output?"
@@ -35,7 +35,9 @@ A full disk under `player ... > file` is not: that is an error to report."
 fails, 2 for a wrong command line, 141 (as if killed by SIGPIPE) when standard
 output is closed early, 130 on SIGINT and 143 on SIGTERM."
   (handler-case
-      (progn (run-command-line arguments)
+      (progn (restart-with-memory-option arguments)
+             (start-progress-note arguments)
+             (run-command-line arguments)
              (finish-output *standard-output*)
              (sb-ext:exit :code 0))
     (usage-error (e) (exit-with-error 2 (condition-line e)))
@@ -55,6 +57,7 @@ output is closed early, 130 on SIGINT and 143 on SIGTERM."
 (defun core-toplevel ()
   "The toplevel of the executable core bin/player builds: MAIN on the command line."
   (sb-ext:disable-debugger)
+  (install-memory-guard)
   (setf *default-pathname-defaults* (uiop:getcwd))
   ;; SIGINT and SIGTERM unwind the command (killing its children, removing its
   ;; temporaries) instead of SBCL's handlers, which can deadlock in EXIT.
@@ -64,5 +67,6 @@ output is closed early, 130 on SIGINT and 143 on SIGTERM."
 (defun save-core (path)
   "Save this image, with Player loaded, as the executable PATH that starts in MAIN.
 Does not return."
-  (sb-ext:save-lisp-and-die path :executable t :toplevel #'core-toplevel
-                                 :save-runtime-options t))
+  ;; Runtime options are not saved: bin/player gives the heap's size
+  ;; (--dynamic-space-size) when it starts the core, and --max-memory restarts it.
+  (sb-ext:save-lisp-and-die path :executable t :toplevel #'core-toplevel))

@@ -94,6 +94,13 @@ TEXT does not fit."))
     (bad-option-value option text "a name"))
   (intern (string-upcase text) '#:player-user))
 
+(defmethod read-option-value ((type (eql :skeleton)) text option)
+  ;; A path (it has a / or a file type: ./mine.skel) is given to LOAD-SKELETON
+  ;; as a string, which reads the file; anything else names a shipped skeleton.
+  (if (and (find-if (lambda (c) (find c "/.")) text) (notany #'control-character-p text))
+      text
+      (read-option-value :name text option)))
+
 (defmethod read-option-value ((type (eql :names)) text option)
   (declare (ignore option))
   (split-list text))
@@ -105,12 +112,18 @@ TEXT does not fit."))
 
 (defmethod read-option-value ((type (eql :timed-events)) text option)
   ;; EV or EV@SECONDS, comma-separated: names, and (NAME . SECONDS) for a timed
-  ;; arrival.  Times may not decrease: a timed controller cannot go back.
-  (let ((latest 0d0))
+  ;; arrival.  Times may not decrease: a timed controller cannot go back.  Nor
+  ;; may a timed arrival follow an untimed EV, sent once the events before it
+  ;; have ended: when that is is known only by playing, so the whole list is
+  ;; checked here, before anything plays, rather than failing halfway.
+  (let ((latest 0d0) (untimed nil))
     (mapcar (lambda (part)
               (let ((at (position #\@ part)))
+                (when (and at untimed)
+                  (usage-fail "~A: ~A follows ~A, which is sent when the events before it have ended, a time known only by playing; give ~A a time too, or put the timed events first"
+                              (option-name option) part untimed untimed))
                 (if (null at)
-                    part
+                    (setf untimed part)
                     (let ((name (subseq part 0 at))
                           (time (read-seconds-text (subseq part (1+ at)))))
                       (when (or (string= name "") (null time))
@@ -203,7 +216,7 @@ TEXT does not fit."))
   "the seed of the random drivers (blinks, saccades)" :default 0)
 (define-option "--scripts" :string "FILE"
   "the script library to use instead of the spec's (:scripts FILE)")
-(define-option "--body" :name "NAME"
-  "the skeleton to use instead of the spec's (:body NAME), e.g. humanoid")
+(define-option "--body" :skeleton "NAME|FILE"
+  "the skeleton to use instead of the spec's (:body NAME): a shipped one (humanoid, parrot) or a skeleton file's path")
 (define-option "--size" :size "WxH"
   "the image size in pixels" :default '(640 480) :default-text "640x480")

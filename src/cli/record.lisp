@@ -19,6 +19,7 @@ exactly as `player run` prints them; with --frames, then the body frames as
      :output "the recording in the --out FILE; one ; line on standard output says what it holds")
   (unless out (usage-fail "record needs --out FILE, the recording to write"))
   (check-scenario-times events at)
+  (when frames (check-frame-budget at fps))
   (let ((recording (record-scenario (choose-spec file spec :allow-code (not no-code))
                                     :initial initial :events events :at at
                                     :when-busy (policy-keyword when-busy)

@@ -22,6 +22,7 @@ on a terminal; in a log or a pipe, a line every 10 %."
         written on standard output")
   (when video (find-ffmpeg))
   (check-scenario-times events at)
+  (check-frame-budget at fps)
   (let ((scene (command-cast file spec cast (not no-code))))
     (when scene
       (refuse-scene-option "--policies" policies)

@@ -35,7 +35,8 @@ carries on."
            (format t "~{~A~%~}" (run-c++-trace machine :initial-state initial :events events :until at
                                                        :when-busy (policy-keyword when-busy))))
           ((or events at)
-           (play-events controller events :until at :when-busy (policy-keyword when-busy)))
+           (play-events controller events :until at :when-busy (policy-keyword when-busy))
+           (finish-trace (controller-presenter controller)))
           (t (present-state (controller-presenter controller) controller)))))
 
 (defun check-scenario-times (events at)

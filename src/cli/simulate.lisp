@@ -15,11 +15,13 @@ plays sounds, the audio track goes to speech.wav beside the --frames (or
      :output "the trace on standard output; files only with --bvh and --frames (and
         speech.wav beside them)")
   (check-scenario-times events at)
+  (check-frame-budget at fps)
   (when-let (scene (command-cast file spec cast (not no-code)))
     (let* ((simulation (simulate-scene scene :initial initial :events events :until at
                                              :when-busy (policy-keyword when-busy) :fps fps :seed seed
                                              :scripts scripts :body body))
-           (written (progn (write-ensemble-trace (scene-simulation-ensemble simulation))
+           (written (progn (check-simulation-budget (simulation-frame-count simulation) fps)
+                           (write-ensemble-trace (scene-simulation-ensemble simulation))
                            (write-scene-simulation simulation :bvh bvh :frames frames))))
       (print-scene-summary simulation (simulation-frame-count simulation) fps)
       (dolist (path written)
@@ -28,7 +30,9 @@ plays sounds, the audio track goes to speech.wav beside the --frames (or
   (let* ((simulation (simulate (choose-spec file spec :allow-code (not no-code))
                                :initial initial :events events :until at :when-busy (policy-keyword when-busy) :fps fps :seed seed
                                :scripts scripts :body body :stream *standard-output* :silent silent))
-         (beside (or frames bvh))
+         (beside (progn (finish-trace (controller-presenter (simulation-controller simulation)))
+                        (check-simulation-budget (simulation-frame-count simulation) fps)
+                        (or frames bvh)))
          (written (write-simulation simulation :bvh bvh :frames frames
                                                :audio (and beside (merge-pathnames *audio-file-name* beside)))))
     (print-scenario-summary simulation (simulation-frame-count simulation) fps)

@@ -18,6 +18,27 @@
     "offsetof" "setjmp" "va_arg" "va_copy" "va_end" "va_start" "linux" "unix" "i386")
   "Words a generated identifier must not be (C++ keywords and troublesome names).")
 
+(defun read-c-macros (path)
+  "The macro names listed in PATH, one a line (; lines are comments), as an EQUAL hash table."
+  (let ((table (make-hash-table :test 'equal)))
+    (with-open-file (in path :external-format :utf-8)
+      (loop for line = (read-line in nil) while line
+            for name = (string-trim " " line)
+            unless (or (string= name "") (char= (char name 0) #\;))
+              do (setf (gethash name table) t)))
+    table))
+
+(defparameter *c-macros*
+  (read-c-macros (merge-pathnames "c++-macros.txt" #.(or *compile-file-truename* *load-truename*)))
+  "The macros (EOF, INT64_MAX, math_errhandling, alloca ...) the headers the
+generated code includes define, read from c++-macros.txt (made by g++ -dM -E
+on those headers): an identifier that is one would be replaced by the
+preprocessor.")
+
+(defun c-macro-p (text)
+  "Is TEXT a macro of the headers the generated code includes?"
+  (values (gethash text *c-macros*)))
+
 (defun ascii-identifier-char-p (char)
   "True for the characters of a C++ identifier: ASCII letters, digits and underscore."
   (or (char= char #\_)
@@ -47,14 +68,15 @@ underscore; no leading, trailing or double underscores, never a leading digit."
 reserved, so that it can name generated files and namespaces: an ASCII letter
 or underscore, then letters, digits and underscores; no double underscore and
 no underscore followed by a capital (reserved to the implementation); not in
-*C++-KEYWORDS*."
+*C++-KEYWORDS* nor a macro of the included headers (*C-MACROS*)."
   (and (stringp text)
        (plusp (length text))
        (every #'ascii-identifier-char-p text)
        (not (digit-char-p (char text 0)))
        (not (search "__" text))
        (not (and (char= (char text 0) #\_) (> (length text) 1) (upper-case-p (char text 1))))
-       (not (member text *c++-keywords* :test #'string=))))
+       (not (member text *c++-keywords* :test #'string=))
+       (not (c-macro-p text))))
 
 (defparameter *c++-reserved-members*
   '("state" "clock" "send" "send_at" "failed_goal" "state_line" "presenter_" "state_"
@@ -75,8 +97,9 @@ own member and helper names are taken from the start."
     (cons (make-hash-table :test 'equal) used)))
 
 (defun not-a-keyword (id)
-  "ID, with a trailing underscore when it is one of *C++-KEYWORDS*."
-  (if (member id *c++-keywords* :test #'string=) (concatenate 'string id "_") id))
+  "ID, with a trailing underscore when it is one of *C++-KEYWORDS* or a macro of
+the included headers (*C-MACROS*)."
+  (if (or (member id *c++-keywords* :test #'string=) (c-macro-p id)) (concatenate 'string id "_") id))
 
 (defparameter *c++-default-name-length* 64
   "The longest default file and namespace name made from a spec's name.")

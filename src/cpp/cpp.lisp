@@ -120,7 +120,7 @@ autoscript watches, or an :add/:sub delta."
   "VALUE, when it can be EMIT-C++'s ARGUMENT (:name or :namespace); else a C++-NAME-ERROR."
   (flet ((fail (reason) (error 'c++-name-error :argument argument :value value :reason reason)))
     (unless (c++-identifier-text-p value)
-      (fail "not a C++ identifier (an ASCII letter or _, then letters, digits or _; no __, no _ before a capital, not a keyword)"))
+      (fail "not a C++ identifier (an ASCII letter or _, then letters, digits or _; no __, no _ before a capital, not a keyword or a macro of the C headers)"))
     (when (> (length value) *c++-name-limit*)
       (fail (format nil "longer than ~D characters" *c++-name-limit*)))
     value))

@@ -67,22 +67,35 @@ words' (optional ones counted when said), MISSING and EXTRA the words."
 
 ;;;# Filling slots with mentions
 
+(defparameter *max-filling-steps* 2000
+  "The most partial fillings SLOT-FILLINGS tries for one pattern: a pattern of
+many optional slots has exponentially many fillings, and a sentence is read
+in time linear in its length whatever the pattern.")
+
 (defun slot-fillings (slots mentions)
-  "Every way to fill the pattern SLOTS (PATTERN-SLOTs, in order) with
-MENTIONS, no two sharing a word: a list of lists of (SLOT . MENTION-OR-NIL),
-an optional slot also left empty.  Most plausible mentions come first."
-  (if (null slots)
-      (list '())
-      (let* ((slot (first slots))
-             (key (dialogue-key (pattern-slot-name slot))))
-        (loop for mention in (if (pattern-slot-optional slot)
-                                 (append (remove key mentions :key #'mention-slot :test-not #'string=) (list nil))
-                                 (remove key mentions :key #'mention-slot :test-not #'string=))
-              append (mapcar (lambda (rest) (cons (cons slot mention) rest))
-                             (slot-fillings (rest slots)
-                                            (if mention
-                                                (remove-if (lambda (other) (mentions-overlap-p mention other)) mentions)
-                                                mentions)))))))
+  "Ways to fill the pattern SLOTS (PATTERN-SLOTs, in order) with MENTIONS, no
+two sharing a word: a list of lists of (SLOT . MENTION-OR-NIL), an optional
+slot also left empty.  Most plausible mentions come first, and the search
+stops after *MAX-FILLING-STEPS* partial fillings, so the first ones found
+(the likeliest) are all a pattern of very many optional slots gets."
+  (let ((fillings '()) (steps 0))
+    (labels ((candidates (slot mentions)
+               (let ((fitting (remove (dialogue-key (pattern-slot-name slot)) mentions
+                                      :key #'mention-slot :test-not #'string=)))
+                 (if (pattern-slot-optional slot) (append fitting (list nil)) fitting)))
+             (fill-from (slots mentions chosen)
+               (when (> (incf steps) *max-filling-steps*)
+                 (return-from slot-fillings (nreverse fillings)))
+               (if (null slots)
+                   (push (reverse chosen) fillings)
+                   (dolist (mention (candidates (first slots) mentions))
+                     (fill-from (rest slots)
+                                (if mention
+                                    (remove-if (lambda (other) (mentions-overlap-p mention other)) mentions)
+                                    mentions)
+                                (cons (cons (first slots) mention) chosen))))))
+      (fill-from slots mentions '())
+      (nreverse fillings))))
 
 (defun words-outside (words mentions)
   "WORDS in runs (lists) between the MENTIONS' spans, in order."

@@ -19,7 +19,7 @@
    #:reload-script-library #:replay-clips #:script #:script-critical-time
    #:reload-character-skeleton #:script-library-poses
    #:script-diagnostics #:script-duration #:script-error #:script-library-source #:simulate
-   #:simulation #:simulation-clips #:simulation-end #:simulation-fps
+   #:simulation #:simulation-clips #:simulation-controller #:simulation-end #:simulation-fps
    #:simulation-frame-count #:simulation-p #:simulation-performance #:simulation-reports
    #:simulation-frame-times #:simulation-critical-times #:performance-critical-times
    #:performance-critical-time-between

@@ -217,7 +217,8 @@ DRAW-SKINNED-MESHES."
     (gl-depth-mask +gl-false+)
     (gl-bind-vertex-array (renderer-empty renderer))
     (dolist (mesh scene-meshes)
-      (when (typep (scene-mesh-object mesh) 'body)
+      ;; A one-joint skeleton has no limb to draw, and casts no shadow.
+      (when (and (typep (scene-mesh-object mesh) 'body) (plusp (length (scene-mesh-vertices mesh))))
         (let ((bounds (vertex-bounds (scene-mesh-vertices mesh))))
           (destructuring-bind (x z radius height strength)
               (contact-shadow bounds (shadow-surface bounds props ground))

@@ -1,8 +1,9 @@
 ;;;; data-files.lisp -- reading Player's files (specs, script libraries, pose
 ;;;; libraries, skeletons) as data.  Opening one never runs code: *READ-EVAL*
 ;;;; is off, #S is refused, symbols go to PLAYER-USER (or a package that uses
-;;;; PLAYER, by IN-PACKAGE), and only regular UTF-8 files are read.  Nesting is
-;;;; measured on the text before the reader sees it, and every form is checked
+;;;; PLAYER, by IN-PACKAGE), and only regular UTF-8 files are read.  Nesting,
+;;;; tokens and #N counts are measured on the text before the reader sees it
+;;;; (reader-limits.lisp), and every form is checked
 ;;;; for circular structure, so no file can exhaust the stack or loop.
 
 (in-package #:player.spec)
@@ -56,59 +57,6 @@ of the first byte that is not UTF-8, or of NIL when FILE cannot be read."
           (funcall fail (or (position #\Replacement_Character lenient) 0)
                    "the file is not valid UTF-8 text" :read))))))
 
-;;;# Nesting, measured on the text
-
-(defun deepest-nesting (text limit)
-  "The position of the first ( or prefix (quote, backquote, comma, @) in TEXT
-that nests more than LIMIT levels, or NIL.  Strings, |symbols|, ; and #| |#
-comments and #\( characters are skipped, so the count matches what the reader
-will nest; a run of prefixes nests the reader as deeply as parentheses do."
-  (let ((depth 0) (prefixes 0) (i 0) (n (length text)))
-    (flet ((skip-delimited (close) (setf i (delimited-end text i close))))
-      (loop while (< i n)
-            do (let ((c (char text i)))
-                 (case c
-                   ((#\' #\` #\, #\@)
-                    (when (> (+ depth (incf prefixes)) limit) (return-from deepest-nesting i)))
-                   ((#\Space #\Tab #\Newline #\Return))
-                   (t (setf prefixes 0)))
-                 (case c
-                   (#\( (when (> (incf depth) limit) (return-from deepest-nesting i)))
-                   (#\) (setf depth (max 0 (1- depth))))
-                   (#\" (skip-delimited #\"))
-                   (#\| (skip-delimited #\|))
-                   (#\; (setf i (or (position #\Newline text :start i) n)))
-                   (#\\ (incf i))
-                   (#\# (when (< (1+ i) n)
-                          (case (char text (1+ i))
-                            (#\\ (incf i 2))
-                            (#\| (setf i (block-comment-end text (+ i 2))))))))
-                 (incf i))))
-    nil))
-
-(defun delimited-end (text open close)
-  "The position in TEXT of the CLOSE character ending the string or |symbol|
-whose opening delimiter is at OPEN, honouring backslashes; the end of TEXT
-when it is never closed."
-  (let ((n (length text)) (i open))
-    (loop (incf i)
-          (when (>= i n) (return n))
-          (let ((c (char text i)))
-            (cond ((char= c #\\) (incf i))
-                  ((char= c close) (return i)))))))
-
-(defun block-comment-end (text start)
-  "The position of the # closing the #| block comment whose text begins at
-START in TEXT (block comments nest), or the end of TEXT."
-  (let ((depth 1) (i start) (n (length text)))
-    (loop while (< i (1- n))
-          do (let ((pair (subseq text i (+ i 2))))
-               (cond ((string= pair "#|") (incf depth) (incf i 2))
-                     ((string= pair "|#") (decf depth) (incf i 2)
-                      (when (zerop depth) (return-from block-comment-end (1- i))))
-                     (t (incf i)))))
-    n))
-
 ;;;# Reading
 
 (defvar *data-readtable*
@@ -124,9 +72,12 @@ START in TEXT (block comments nest), or the end of TEXT."
   "The standard syntax without #S, which would call a structure's constructor.")
 
 (defun reader-message (condition)
-  "CONDITION, a reader problem, as a sentence without Lisp stream objects."
+  "CONDITION, a reader problem, as a sentence without Lisp stream objects, nor
+the package name a token asked for (the file may be no Player data at all, a
+secret's first word being that name)."
   (typecase condition
     (end-of-file "the form is not finished (a parenthesis or string is not closed)")
+    (sb-int:simple-reader-package-error "a symbol names a package that does not exist (write names without a package: prefix)")
     (t (let ((text (handler-case (princ-to-string condition)
                      (error () "the Lisp reader failed"))))
          ;; SBCL's reader errors end with the stream they were reading.
@@ -165,10 +116,17 @@ unreadable, or holding a circular form.  WHAT names the file in messages.
 READTABLE (by default *DATA-READTABLE*) must be a copy of it, differing at
 most in its case (dialogue files keep the paper's mixed-case names)."
   (let* ((file (find-data-file file what fail))
-         (text (file-text file fail))
-         (deep (deepest-nesting text *max-form-depth*)))
-    (when deep
-      (funcall fail deep (format nil "the text nests more than ~D levels deep" *max-form-depth*) :structure))
+         (text (file-text file fail)))
+    (multiple-value-bind (position message) (reader-limit-problem text)
+      (when position
+        (funcall fail position message :structure)))
+    (let ((start (first-form-start text)))
+      ;; A list, or reader syntax (#.) the reader refuses in its own words.
+      (when (and start (not (member (char text start) '(#\( #\#))))
+        ;; Quote nothing: the file may be a secret named by mistake.
+        (funcall fail start (format nil "~A is not Player data: Player's files hold lists such as (defspec ...), and it does not begin with one"
+                                    (file-namestring file))
+                 :read)))
     (with-standard-io-syntax
       (let ((*readtable* readtable)
             (*read-eval* nil)
@@ -189,6 +147,17 @@ most in its case (dialogue files keep the paper's mixed-case names)."
                   do (switch-package form start fail)
                 else collect (list form start *package*) into entries
                 finally (return (values entries text))))))))
+
+(defun first-form-start (text)
+  "The position of the first character of TEXT that is neither blank nor in a
+; or #| |# comment, or NIL when there is none."
+  (let ((i 0) (n (length text)))
+    (loop (cond ((>= i n) (return nil))
+                ((member (char text i) '(#\Space #\Tab #\Newline #\Return #\Page)) (incf i))
+                ((char= (char text i) #\;) (setf i (or (position #\Newline text :start i) n)))
+                ((and (char= (char text i) #\#) (< (1+ i) n) (char= (char text (1+ i)) #\|))
+                 (setf i (1+ (block-comment-end text (+ i 2)))))
+                (t (return i))))))
 
 (defun skip-whitespace-and-comments (stream)
   "Advance STREAM past blanks and ; comments; the next character starts a form."

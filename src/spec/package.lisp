@@ -21,7 +21,7 @@
    #:op-effect-bits #:op-effect-mask #:op-effects #:op-form #:op-interrupt #:op-kind
    #:op-must-ask #:op-name #:op-precond #:op-precond-form #:op-script #:op-seq
    #:op-variable-fields #:parse-expression #:plannable-p #:plannable-variables
-   #:proper-list-p #:read-data-file #:regular-file-p #:remove-spec #:spec
+   #:proper-list-p #:read-data-file #:refuse-code #:regular-file-p #:remove-spec #:spec
    #:spec-autoscripts #:spec-bit-count #:spec-designator-p #:spec-documentation
    #:spec-events #:spec-forms #:spec-file-fail #:spec-form-places #:spec-label-count #:spec-max-depth
    #:spec-name #:spec-ops #:spec-options #:spec-p #:spec-package #:spec-source-file

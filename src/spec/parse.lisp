@@ -83,17 +83,39 @@ points at the line of the form it is about, and names that form."
     (setf (gethash (name-key name) (spec-classes *spec*))
           (make-class-def :name name :form form))))
 
+(defvar *op-indexes* (make-hash-table :test 'eq :weakness :key :synchronized t)
+  "Per spec: (COUNT . TABLE), its first COUNT ops by name key (see DEFINITION-INDEX).")
+
+(defvar *event-indexes* (make-hash-table :test 'eq :weakness :key :synchronized t)
+  "Per spec: (COUNT . TABLE), its first COUNT events by name key (see DEFINITION-INDEX).")
+
+(defun definition-index (indexes spec list name-of)
+  "A table from name keys to the definitions of LIST (SPEC's ops or events,
+which only grow at their end), the first of each name; kept in INDEXES and
+extended by the definitions added since, so that looking up each of 20,000
+names while they are declared costs no walk of them all."
+  (let ((entry (gethash spec indexes)) (count (length list)))
+    (when (or (null entry) (> (car entry) count))
+      (setf entry (cons 0 (make-hash-table :test 'equal))
+            (gethash spec indexes) entry))
+    (when (< (car entry) count)
+      (dolist (definition (nthcdr (car entry) list))
+        (let ((key (name-key (funcall name-of definition))))
+          (unless (gethash key (cdr entry))
+            (setf (gethash key (cdr entry)) definition))))
+      (setf (car entry) count))
+    (cdr entry)))
+
 (defun find-op-named (name)
   "The op or macro-op of *SPEC* named NAME, or NIL."
   (and (symbolp name)
-       (find (name-key name) (spec-ops *spec*) :key (lambda (op) (name-key (op-name op)))
-                                               :test #'string=)))
+       (values (gethash (name-key name) (definition-index *op-indexes* *spec* (spec-ops *spec*) #'op-name)))))
 
 (defun find-event-named (name)
   "The event of *SPEC* named NAME, or NIL."
   (and (symbolp name)
-       (find (name-key name) (spec-events *spec*) :key (lambda (e) (name-key (event-name e)))
-                                                  :test #'string=)))
+       (values (gethash (name-key name)
+                        (definition-index *event-indexes* *spec* (spec-events *spec*) #'event-name)))))
 
 (defun declare-op (form)
   "Register an op or macro-op by name."

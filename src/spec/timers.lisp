@@ -36,9 +36,12 @@
     (unless (member :after options)
       (spec-fail 'spec-syntax-error form "a timer needs :after SECONDS"))
     (let ((after (getf options :after)))
-      (unless (and (finite-real-p after) (plusp after))
-        (spec-fail 'type-error-in-spec form ":after must be a positive number of seconds, not ~A"
-                   (bounded-lisp-text after 40)))
+      (unless (and (finite-real-p after) (>= after *shortest-period*))
+        (spec-fail 'type-error-in-spec form ":after must be a positive number of seconds, at least ~A (a faster clock sends more events than can be played), not ~A"
+                   (format-number *shortest-period*)
+                   (if (finite-real-p after)
+                       (let ((*read-default-float-format* 'double-float)) (prin1-to-string (to-double after)))
+                       (bounded-lisp-text after 40))))
       (setf (spec-timers *spec*)
             (append (spec-timers *spec*)
                     (list (make-timer-def

@@ -67,7 +67,11 @@ else a type error naming variable NAME."
                 (int64-p value)
                 (or (stringp value) (and (symbolp value) value (not (keywordp value)))))
       (spec-fail 'type-error-in-spec form "value ~A is not ~:[a name~;an integer from -2^63 to 2^63-1~]"
-                 (bounded-lisp-text value 40) (eq type :integer))))
+                 (bounded-lisp-text value 40) (eq type :integer)))
+    ;; A value is a name too: a line break in it would forge trace lines.
+    (when (and (stringp value) (find-if #'control-character-p value))
+      (spec-fail 'type-error-in-spec form "value ~A holds a control character, which could forge output"
+                 (bounded-lisp-text value 40))))
   (let ((names (mapcar (lambda (v) (string-upcase (value-name v))) values)))
     (when (/= (length names) (length (remove-duplicates names :test #'string=)))
       (spec-fail 'duplicate-definition form "VALUES lists a value twice")))

@@ -108,6 +108,10 @@ or its data (espeak-ng-data) is missing."
 
 (defun espeak-set-voice (voice)
   "Make VOICE (a name such as \"en-us\") espeak-ng's voice; a SPEECH-ERROR when it has none such."
+  ;; An MBROLA voice (mb-en1, mb/mb-en1) runs the mbrola program, whose
+  ;; absence espeak-ng reports in eight lines on stderr: refused before.
+  (when (or (eql 0 (search "mb-" voice :test #'char-equal)) (eql 0 (search "mb/" voice :test #'char-equal)))
+    (speech-fail "~A is an MBROLA voice, which Player does not use (try en, en-us, en-gb; `espeak-ng --voices` lists them)" voice))
   (unless (= +ee-ok+ (with-speech-traps-masked (%espeak-set-voice-by-name voice)))
     (speech-fail "espeak-ng has no voice ~A (try en, en-us, en-gb; `espeak-ng --voices` lists them)" voice)))
 

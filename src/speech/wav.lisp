@@ -29,9 +29,20 @@
   "Signal a SPEECH-ERROR: the WAV file PATH cannot be used, for the reason CONTROL and ARGUMENTS give."
   (speech-fail "cannot read the WAV file ~A: ~?" (namestring path) control arguments))
 
+(defparameter *wav-rates* '(8000 96000)
+  "The lowest and highest sample rate, in Hz, of a WAV file Player reads: a
+rate outside makes resampling allocate without bound (1 Hz to 16 kHz is 16,000 times the samples).")
+
+(defparameter *max-wav-seconds* 600
+  "The longest WAV file Player reads, in seconds.")
+
+(defparameter *max-wav-bytes* (* 128 1024 1024)
+  "The largest WAV file Player reads, in bytes.")
+
 (defun read-file-octets (path)
-  "The bytes of the file PATH; a SPEECH-ERROR when it is missing or unreadable."
-  (handler-case (file-octets path)
+  "The bytes of the file PATH; a SPEECH-ERROR when it is missing, unreadable,
+not a regular file or larger than *MAX-WAV-BYTES*."
+  (handler-case (file-octets path :limit *max-wav-bytes*)
     (io-error (e) (wav-fail path "~A" (if (file-kind path) (io-error-reason e) "there is no such file")))))
 
 (defun u16 (octets at) "The little-endian unsigned 16-bit integer at AT." (logior (aref octets at) (ash (aref octets (1+ at)) 8)))
@@ -69,7 +80,11 @@ or of another encoding."
           (setf tag (u16 octets (+ start 24)))) ; the sub-format GUID's first two bytes
         (unless (= tag 1) (wav-fail path "it is not PCM (format tag ~D); convert it, e.g. sox IN -b 16 OUT.wav" tag))
         (unless (member bits '(8 16)) (wav-fail path "it has ~D-bit samples; 8 and 16 are read" bits))
-        (unless (and (plusp channels) (plusp rate)) (wav-fail path "it declares ~D channels at ~D Hz" channels rate))
+        (unless (and (<= 1 channels 2) (<= (first *wav-rates*) rate (second *wav-rates*)))
+          (wav-fail path "it declares ~D channel~:P at ~:D Hz; 1 or 2 channels at ~:D to ~:D Hz are read"
+                    channels rate (first *wav-rates*) (second *wav-rates*)))
+        (when (> (/ (third data) (* channels (/ bits 8)) rate) *max-wav-seconds*)
+          (wav-fail path "it lasts more than ~D s" *max-wav-seconds*))
         (make-sound (decode-pcm octets (second data) (third data) channels bits) rate)))))
 
 (defun decode-pcm (octets start size channels bits)

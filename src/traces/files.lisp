@@ -82,6 +82,9 @@ before any frame, or a frame when frames were recorded; else a RECORDING-ERROR."
            (push line (recording-frame-line-numbers recording)))
           ((recording-frames recording)
            (recording-fail file line "a trace line after the frames: ~A" (bounded-lisp-text form 80)))
+          ((and (canonical-trace-line form) (find-if #'control-character-p (canonical-trace-line form)))
+           (recording-fail file line "a trace line holds a control character (a line break in a name would forge lines): ~A"
+                           (bounded-lisp-text form 80)))
           ((canonical-trace-line form)
            (push (canonical-trace-line form) (recording-lines recording))
            (push line (recording-line-numbers recording)))
@@ -107,9 +110,13 @@ something other than trace lines followed by frames."
       (recording-fail file nil "the file is empty: a recording begins with its header (:recording ...)"))
     (destructuring-bind ((header header-position &rest more) &rest body) entries
       (declare (ignore more))
-      (let ((recording (header-recording header file (line-of text header-position))))
+      (let ((recording (header-recording header file (line-of text header-position)))
+            (counted 0) (line 1))
+        ;; Lines counted on from the form before, so a long recording reads in linear time.
         (loop for (form position) in body
-              do (add-recorded-form recording form (line-of text position)))
+              do (incf line (count #\Newline text :start counted :end position))
+                 (setf counted position)
+                 (add-recorded-form recording form line))
         (when (and (recording-frames-p recording) (null (recording-frames recording)))
           (recording-fail file nil "the header says :frames t, but no frame follows the trace"))
         (setf (recording-lines recording) (nreverse (recording-lines recording))

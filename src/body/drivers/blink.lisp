@@ -165,10 +165,10 @@ eased shut by the middle, eased open by the end."
   "One forced blink (Pantomime's eyeblink); with :mean-interval, the blink
 reflex: the upper lids close and open at seeded, exponentially distributed
 intervals, and on each gaze shift, until stopped (Pantomime's blinkreflex)."
-  (:mean-interval (:or :positive (:member nil)) nil "mean seconds between reflex blinks; NIL blinks once")
+  (:mean-interval (:or :reflex-interval (:member nil)) nil "mean seconds between reflex blinks; NIL blinks once")
   (:regularity :positive 1 "1: exponential intervals (the reflex); a whole K above 1 spreads them less (a gamma of shape K)")
   (:idle :boolean nil "run as idle life: add onto the lids, yielding to any op that holds them")
-  (:duration :positive 0.15 "seconds a blink takes, shut at its middle")
+  (:duration :brief 0.15 "seconds a blink takes, shut at its middle")
   (:seed :non-negative 1 "an integer choosing the sequence of intervals")
   (:on-gaze-shift :boolean t "also blink when a gaze shift starts")
   (:priority :real 50 "arbitration priority; higher wins"))

@@ -289,6 +289,15 @@ lines are still waiting to be written (an open macro)."
                (incf (trace-flushed presenter)))
       (force-output (trace-stream presenter)))))
 
+(defun finish-trace (presenter)
+  "Write every line PRESENTER (a trace presenter) still holds back, once the
+clock has stopped (`run --at T` inside a macro-op): the ops started so far
+appear, an open macro's line with its end at its start, as the C++ backend
+prints it."
+  (when (and (trace-stream presenter) (trace-open-macros presenter))
+    (setf (trace-open-macros presenter) '())
+    (flush-trace presenter)))
+
 (defun op-line (op start end)
   "The trace line of OP played from START to END."
   (list* :op (op-name op)

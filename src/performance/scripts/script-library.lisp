@@ -106,10 +106,15 @@ inconsistent; an ARGUMENT-ERROR when PATH is not a file's path."
 resolving the pose file, or NIL).  Signals SCRIPT-ERROR as LOAD-SCRIPT-LIBRARY."
   (build-script-library (mapcar (lambda (form) (cons form nil)) forms) source))
 
+(defvar *library-object-names* nil
+  "While a library is built: its objects by name (an EQUALP table), so that
+checking each new DEFOBJECT for a twin costs no walk of the ones before.")
+
 (defun build-script-library (entries source &optional places)
   "The SCRIPT-LIBRARY of ENTRIES, each (FORM . POSITION-OR-NIL) from the file
 SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
   (let ((library (%make-script-library source))
+        (*library-object-names* (make-hash-table :test 'equalp))
         (*library-directory* (and source (directory-pathname (make-pathname :name nil :type nil :version nil
                                                                             :defaults source)))))
     (with-spec-context (:spec-name nil :sub-form-places places)
@@ -142,9 +147,13 @@ SOURCE; PLACES, when given, is the *SUB-FORM-PLACES* of their lists."
                            #'director-name #'script-library-directors "director" form))
           ((equal head "defobject")
            (let ((object (parse-defobject form)))
-             (when (find (scene-object-spec-name object) (script-library-objects library)
-                         :key #'scene-object-spec-name :test #'name=)
+             (when (if *library-object-names*
+                       (gethash (string (scene-object-spec-name object)) *library-object-names*)
+                       (find (scene-object-spec-name object) (script-library-objects library)
+                             :key #'scene-object-spec-name :test #'name=))
                (script-fail form "object ~A is declared twice" (lisp-text (second form))))
+             (when *library-object-names*
+               (setf (gethash (string (scene-object-spec-name object)) *library-object-names*) object))
              (push object (script-library-objects library))))
           ((equal head "poses") (set-pose-library library form))
           ((equal head "pose-when") (push (parse-pose-when form) (script-library-pose-whens library)))
@@ -287,6 +296,7 @@ declared objects and properties, director schedules."
     (let ((checked (make-hash-table :test #'eq)))
       (dolist (script scripts)
         (check-play-cycles library script '() checked)))
+    (check-play-expansion library scripts)
     (dolist (script scripts)
       (with-script-context (script)
         (check-clip-items library script)))
@@ -350,22 +360,6 @@ checks critical times and looping against it.  Nested cycles were ruled out."
            (let ((times (keys-control-times (animate-item-control item))))
              (+ at (max 0d0 (aref times (1- (length times)))))))
           (t at))))
-
-(defun check-object-parents (library)
-  "Signal a SCRIPT-ERROR when LIBRARY's declared objects hang from each other in a cycle."
-  (let ((objects (script-library-objects library)))
-    (flet ((parent-of (object)
-             (let ((parent (scene-object-spec-parent object)))
-               (find (if (consp parent) (first parent) parent) objects
-                     :key #'scene-object-spec-name :test #'name=))))
-      (dolist (object objects)
-        (loop for chain = (list object) then (cons parent chain)
-              for parent = (parent-of (first chain))
-              while parent
-              when (member parent chain)
-                do (script-fail (scene-object-spec-form object) "objects hang from each other in a cycle: ~{~A~^ -> ~}"
-                                (mapcar (lambda (o) (lisp-text (scene-object-spec-name o)))
-                                        (reverse (cons parent chain)))))))))
 
 (defun check-declared-properties (library script)
   "Check SCRIPT's :animate and :set items on objects LIBRARY declares against

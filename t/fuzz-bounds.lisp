@@ -1,0 +1,184 @@
+;;;; fuzz-bounds.lisp -- hostile but short inputs for the bounds of issue 31:
+;;;; huge-but-short reader forms, fast clocks, fan-out (macro-ops, :play,
+;;;; pose :include), exponential phrases, odd WAVs and control-character
+;;;; names.  Each case is a small file run through bin/player under a time and
+;;;; memory watch: it must finish or give its one "player: error: ..." line
+;;;; within *FZB-SECONDS* seconds and *FZB-MEGABYTES* MB of resident memory.
+;;;; `make fuzz` runs FUZZ_BOUNDS_CASES (200) of them (fuzz-main.lisp); the
+;;;; suite `bounds` a few.
+
+(in-package #:player-tests)
+
+(in-suite bounds)
+
+(defparameter *fzb-seconds* 10 "The longest a bounds case may run.")
+(defparameter *fzb-megabytes* 2048 "The most resident memory a bounds case may use.")
+
+(defun fzb-pick (state list) "An element of LIST drawn with STATE." (nth (random (length list) state) list))
+
+(defun fzb-spec (value)
+  "A spec file's text whose state variable X starts at VALUE (text)."
+  (format nil "(defspec fz (state-variable x boolean ~A) (op o :add x) (event ev :op o))~%" value))
+
+(defun fzb-reader-form (state)
+  "A short text asking the reader for much: a count, rank, token or chain."
+  (let ((n (expt 10 (+ 3 (random 8 state)))))
+    (fzb-spec
+     (ecase (random 9 state)
+       (0 (format nil "#~DA()" n))
+       (1 (format nil "#~D*1" n))
+       (2 (format nil "#~D(1)" n))
+       (3 (make-string (+ 1000 (random 300000 state)) :initial-element #\7))
+       (4 (format nil "#36r~A" (make-string (+ 1000 (random 300000 state)) :initial-element #\Z)))
+       (5 (format nil "~A/3" (make-string (+ 1000 (random 300000 state)) :initial-element #\9)))
+       (6 (format nil "~Ax" (repeated (+ 50 (random 50000 state)) "#+sbcl ")))
+       (7 (format nil "~Ax" (repeated (+ 50 (random 50000 state)) (fzb-pick state '("'" "#'" "`" "#." "#p")))))
+       (8 (with-output-to-string (s)
+            (format s "(#1=(x x) ")
+            (loop for i from 2 to (+ 10 (random 50 state)) do (format s "#~D=(#~D# #~D#) " i (1- i) (1- i)))
+            (format s ")")))))))
+
+(defun fzb-fast-clock (state)
+  "A spec whose timer ticks (or a script whose blink fires) absurdly often."
+  (let ((period (fzb-pick state '("1d-9" "1d-12" "1/1000000" "0.0009" "5d-324" "1d-3"))))
+    (if (zerop (random 2 state))
+        (format nil "(defspec fz (state-variable x boolean false) (event ev) (timer tick :after ~A :event ev :repeat t))~%"
+                period)
+        (format nil "(defspec fz (:scripts \"fz-scripts.lisp\") (:body parrot) (state-variable x boolean false)
+  (op blinky :duration 2 :add x) (event ev :op blinky))~%;;; fz-scripts.lisp~%(defscript blinky (:duration 2) (:at 0 :motor (:blink :mean-interval ~A)))~%"
+                period))))
+
+(defun fzb-fan-out (state)
+  "A chain of macro-ops (or scripts) each running the one before twice."
+  (let ((levels (+ 8 (random 40 state))))
+    (if (zerop (random 2 state))
+        (doubling-macro-spec levels)
+        (format nil "(defspec fz (:scripts \"fz-scripts.lisp\") (:body parrot) (state-variable x boolean false)
+  (op s~D :duration 1 :add x) (event ev :op s~:*~D))~%;;; fz-scripts.lisp~%~A"
+                levels (doubling-play-library levels)))))
+
+(defun fzb-control-name (state)
+  "A spec naming an op with a control character in it."
+  (let ((char (code-char (fzb-pick state '(0 7 8 10 13 27 127 155 #x2028)))))
+    (format nil "(defspec fz (state-variable x boolean false) (op |go~A(:op fake)| :add x) (event ev :op |go~A(:op fake)|))~%"
+            char char)))
+
+(defun fzb-odd-wav (state)
+  "The bytes of a WAV file with odd header fields."
+  (wav-octets :rate (fzb-pick state '(0 1 7999 96001 4294967295 8000))
+              :channels (fzb-pick state '(0 1 2 3 65535))
+              :bits (fzb-pick state '(8 16))
+              :data (loop repeat (* 2 (random 20 state)) collect (random 256 state))))
+
+(defun fzb-case (seed index)
+  "Case INDEX of SEED: (VALUES KIND FILES ARGUMENTS INPUT), FILES an alist of a
+file name to its text or octets, ARGUMENTS bin/player's (FILE names relative
+to the case's folder), INPUT standard input's text or NIL."
+  (let* ((state (sb-ext:seed-random-state (+ (* seed 1000003) index)))
+         (kind (fzb-pick state '(:reader :clock :fan-out :phrases :wav :name))))
+    (flet ((spec-case (text arguments)
+             ;; A ;;; fz-scripts.lisp line splits a spec from its script library.
+             (let ((split (search ";;; fz-scripts.lisp" text)))
+               (values kind
+                       (if split
+                           (list (cons "fz.lisp" (subseq text 0 split))
+                                 (cons "fz-scripts.lisp" (subseq text (+ split (length ";;; fz-scripts.lisp")))))
+                           (list (cons "fz.lisp" text)))
+                       arguments nil))))
+      (ecase kind
+        (:reader (spec-case (fzb-reader-form state) (list (fzb-pick state '("check" "run" "plans")) "fz.lisp")))
+        (:clock (spec-case (fzb-fast-clock state)
+                           (list "run" "fz.lisp" "--events" "ev@0" "--at" (fzb-pick state '("1" "10" "100")))))
+        (:fan-out (spec-case (fzb-fan-out state) (list (fzb-pick state '("check" "plans")) "fz.lisp")))
+        (:name (spec-case (fzb-control-name state) (list "run" "fz.lisp" "--events" "ev")))
+        (:wav (values kind (list (cons "fz.wav" (coerce (fzb-odd-wav state) '(vector (unsigned-byte 8)))))
+                      (list "chat" (namestring (checkout-file "specs/peedy-dialogue.lisp")) "--wav" "fz.wav") nil))
+        (:phrases
+         (let ((count (+ 10 (random 40 state))))
+           (values kind '() (list "chat" :peedy-dialogue
+                                  (format nil "(utterance evThanks \"many\" ~A)"
+                                          (repeated count "(:optional timeref)" " ")))
+                   (format nil "many~A~%" (repeated (+ 5 (random 20 state)) " next later")))))))))
+
+(defun fzb-run (arguments directory input)
+  "Run bin/player ARGUMENTS in DIRECTORY under /usr/bin/time and a timeout:
+(VALUES EXIT STDERR SECONDS MEGABYTES), EXIT :TIMEOUT when it ran too long."
+  (ensure-player-core)
+  (let* ((err (make-string-output-stream))
+         (start (get-internal-real-time))
+         (process (sb-ext:run-program "/usr/bin/timeout"
+                                      (list* "-s" "KILL" (princ-to-string (* 2 *fzb-seconds*))
+                                             "/usr/bin/time" "-f" "fzb-rss %M"
+                                             (namestring (checkout-file "bin/player")) arguments)
+                                      :input (and input (make-string-input-stream input))
+                                      :output nil :error err :search nil :directory directory))
+         (seconds (/ (- (get-internal-real-time) start) internal-time-units-per-second))
+         (text (get-output-stream-string err))
+         (rss-at (search "fzb-rss " text :from-end t))
+         (megabytes (and rss-at (/ (or (parse-integer text :start (+ rss-at 8) :junk-allowed t) 0) 1024.0)))
+         (stderr (string-right-trim '(#\Newline) (subseq text 0 (or rss-at (length text)))))
+         ;; /usr/bin/time reports a signal on a line of its own.
+         (stderr (let ((lines (remove-if (lambda (l) (eql 0 (search "Command " l))) (lines stderr))))
+                   (format nil "~{~A~^~%~}" lines)))
+         (exit (sb-ext:process-exit-code process)))
+    (values (if (or (= exit 137) (> seconds (* 2 *fzb-seconds*))) :timeout exit) stderr seconds megabytes)))
+
+(defun fzb-problems (exit stderr seconds megabytes)
+  "What is wrong with a bounds case that ended so."
+  (let ((lines (lines stderr)) (problems '()))
+    (unless (member exit '(0 1 2)) (push (format nil "exit ~A" exit) problems))
+    (when (> seconds *fzb-seconds*) (push (format nil "took ~,1F s" seconds) problems))
+    (when (and megabytes (> megabytes *fzb-megabytes*)) (push (format nil "used ~,0F MB" megabytes) problems))
+    (cond ((rest lines) (push "stderr has more than one line" problems))
+          ((and lines (not (eql 0 (search "player: error: " (first lines)))))
+           (push "stderr line is not \"player: error: ...\"" problems)))
+    (nreverse problems)))
+
+(defun fuzz-bounds (&key (seed 1) (cases 200) progress)
+  "Run CASES bounds cases of SEED; a list of (INDEX KIND ARGUMENTS PROBLEMS SECONDS MEGABYTES), worst last."
+  (let ((results '()))
+    (dotimes (index cases (nreverse results))
+      (multiple-value-bind (kind files arguments input) (fzb-case seed index)
+        (let ((directory (format nil "/tmp/player-fuzz-bounds-~D-~D/" (sb-posix:getpid) index)))
+          (ensure-directories-exist directory)
+          (unwind-protect
+               (let ((arguments
+                       (if (eq (second arguments) :peedy-dialogue)
+                           (list "chat" (scratch-peedy-dialogue (third arguments)))
+                           arguments)))
+                 (loop for (name . content) in files
+                       do (if (stringp content)
+                              (alexandria:write-string-into-file content (concatenate 'string directory name)
+                                                                 :if-exists :supersede :external-format :utf-8)
+                              (alexandria:write-byte-vector-into-file content (concatenate 'string directory name)
+                                                                      :if-exists :supersede)))
+                 (multiple-value-bind (exit stderr seconds megabytes) (fzb-run arguments directory input)
+                   (push (list index kind arguments (fzb-problems exit stderr seconds megabytes) seconds megabytes
+                               (subseq stderr 0 (min 200 (length stderr))))
+                         results)))
+            (uiop:delete-directory-tree (pathname directory) :validate t :if-does-not-exist :ignore))
+          (when progress (write-char #\. progress) (force-output progress)))))))
+
+(defun fuzz-bounds-report (results &optional (stream *standard-output*))
+  "Print RESULTS of FUZZ-BOUNDS by kind, the slowest and largest, and every failure; the number of failures."
+  (format stream "~&~%Bounds: ~D hostile short inputs~%  ~10A ~6@A ~8@A ~10@A ~8@A~%" (length results)
+          "kind" "cases" "failed" "slowest s" "most MB")
+  (dolist (kind '(:reader :clock :fan-out :phrases :wav :name))
+    (let ((mine (remove kind results :key #'second :test-not #'eq)))
+      (when mine
+        (format stream "  ~10A ~6D ~8D ~10,1F ~8,0F~%" (string-downcase kind) (length mine)
+                (count-if #'fourth mine) (reduce #'max mine :key #'fifth)
+                (reduce #'max mine :key (lambda (r) (or (sixth r) 0)))))))
+  (let ((failed (remove-if-not #'fourth results)))
+    (dolist (result failed)
+      (destructuring-bind (index kind arguments problems seconds megabytes stderr) result
+        (format stream "  case ~D (~(~A~)): ~{~A~^; ~} (~,1F s, ~,0F MB)~%    bin/player ~{~A~^ ~}~%    ~A~%"
+                index kind problems seconds (or megabytes 0) (mapcar #'fz-visible arguments) (fz-visible stderr))))
+    (length failed)))
+
+(test bounds-fuzz-sample
+  ;; A few cases of `make fuzz`'s bounds run: each within its time and memory.
+  (let ((results (fuzz-bounds :seed 31 :cases (sweep-count 6 3))))
+    (dolist (result results)
+      (is (null (fourth result)) "case ~D (~A): ~{~A~^; ~} -- ~A" (first result) (second result)
+          (fourth result) (seventh result)))))
