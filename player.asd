@@ -327,6 +327,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "pose-when")
                                (:file "idle-form")))
                  (:file "performance")
+                 (:file "replay")
                  (:file "settle")
                  (:file "captions")
                  (:file "starting-pose")
