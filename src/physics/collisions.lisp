@@ -32,57 +32,75 @@ reaches for (an active driver's (:object NAME) target)."
     (:sphere (second shape))
     (:box (* 0.5d0 (sqrt (+ (expt (second shape) 2) (expt (third shape) 2) (expt (fourth shape) 2)))))))
 
-(defun near-p (centre reach point radius)
-  "Might a sphere of RADIUS at POINT touch a shape within REACH of CENTRE (NIL: unbounded)?"
+(declaim (inline near-p trunk-near-p))
+(defun near-p (centre reach x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch a shape within REACH of CENTRE (NIL: unbounded)?"
+  (declare (type vec3 centre) (type double-float x y z radius))
   (or (null reach)
-      (<= (vdistance centre point) (+ reach radius *contact-tolerance*))))
+      (let ((dx (- x (vec3-x centre))) (dy (- y (vec3-y centre))) (dz (- z (vec3-z centre)))
+            (limit (+ (float reach 1d0) radius (float *contact-tolerance* 1d0))))
+        (declare (type double-float dx dy dz limit))
+        (<= (+ (* dx dx) (* dy dy) (* dz dz)) (* limit limit)))))
 
-(defun probe-hits (probe point physics excluded)
-  "The obstacles the PROBE placed at POINT sinks into deeper than *CONTACT-TOLERANCE*,
-as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects that are not obstacles."
-  (let ((geom (probe-geom probe)) (radius (probe-radius probe)) (hits '()))
-    (dolist (static (scene-physics-statics physics))
-      (let ((object (physics-static-object static)))
-        (when (and (near-p (physics-static-centre static) (physics-static-reach static) point radius)
-                   (not (member (object-name object) excluded :test #'string-equal)))
-          (let ((depth (ode-geom-depth geom (physics-static-geom static))))
-            (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
-    (dolist (collider (scene-physics-colliders physics))
-      (dolist (part (collider-trunk collider))
-        (when (trunk-near-p part point radius)
-          (let ((depth (ode-geom-depth geom (trunk-part-geom part))))
-            (when (> depth *contact-tolerance*) (push (list part depth) hits))))))
+(defun probe-hits (probe x y z physics excluded)
+  "The obstacles the PROBE placed at (X Y Z) sinks into deeper than *CONTACT-TOLERANCE*,
+as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects
+that are not obstacles.  The probe's geom is put there only when an obstacle is near."
+  (declare (type double-float x y z))
+  (let ((geom (probe-geom probe)) (radius (probe-radius probe)) (placed nil) (hits '()))
+    (flet ((depth (other)
+             (unless placed
+               (place-probe probe x y z)
+               (setf placed t))
+             (ode-geom-depth geom other)))
+      (dolist (static (scene-physics-statics physics))
+        (let ((object (physics-static-object static)))
+          (when (and (near-p (physics-static-centre static) (physics-static-reach static) x y z radius)
+                     (not (member (object-name object) excluded :test #'string-equal)))
+            (let ((depth (depth (physics-static-geom static))))
+              (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
+      (dolist (collider (scene-physics-colliders physics))
+        (dolist (part (collider-trunk collider))
+          (when (trunk-near-p part x y z radius)
+            (place-trunk-geom part)
+            (let ((depth (depth (trunk-part-geom part))))
+              (when (> depth *contact-tolerance*) (push (list part depth) hits)))))))
     hits))
 
-(defun trunk-near-p (part point radius)
-  "Might a sphere of RADIUS at POINT touch the trunk PART?"
-  (<= (axis-distance part point) (+ (trunk-part-radius part) radius *contact-tolerance*)))
+(defun trunk-near-p (part x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch the trunk PART?"
+  (declare (type double-float radius))
+  (<= (the double-float (axis-distance part x y z))
+      (+ (trunk-part-radius part) radius (float *contact-tolerance* 1d0))))
 
 (defparameter *hand-span* 0.25d0
   "Metres from a hand joint within which its fingers (or a wing's feathers) lie:
 a hand with nothing that near is not tested further.")
 
-(defun hand-near-anything-p (point physics)
-  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at POINT?"
-  (or (some (lambda (static) (near-p (physics-static-centre static) (physics-static-reach static) point *hand-span*))
-            (scene-physics-statics physics))
-      (some (lambda (collider)
-              (some (lambda (part) (trunk-near-p part point *hand-span*)) (collider-trunk collider)))
-            (scene-physics-colliders physics))))
+(defun hand-near-anything-p (x y z physics)
+  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at (X Y Z)?"
+  (declare (type double-float x y z))
+  (let ((span (float *hand-span* 1d0)))
+    (or (dolist (static (scene-physics-statics physics) nil)
+          (when (near-p (physics-static-centre static) (physics-static-reach static) x y z span)
+            (return t)))
+        (dolist (collider (scene-physics-colliders physics) nil)
+          (dolist (part (collider-trunk collider))
+            (when (trunk-near-p part x y z span)
+              (return-from hand-near-anything-p t)))))))
 
 (defun collider-hits (collider transforms physics excluded)
   "Every (PROBE OBSTACLE DEPTH) of COLLIDER's probes placed by TRANSFORMS.  A
 hand's probes come hand joint first; a hand far from everything is skipped."
-  (let ((skipped nil))
+  (let ((skipped '()))
     (loop for probe in (collider-probes collider)
-          for point = (joint-point transforms (probe-joint probe))
           for hand = (probe-hand probe)
-          when (and (eq (probe-joint probe) (probe-hand-joint collider hand))
-                    (not (hand-near-anything-p point physics)))
-            do (push hand skipped)
           unless (member hand skipped)
-            nconc (progn (set-ode-geom-placement (probe-geom probe) (vec3-list point))
-                         (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe point physics excluded))))))
+            nconc (with-joint-point ((x y z) transforms (probe-joint probe))
+                    (if (and (eq (probe-joint probe) (probe-hand-joint collider hand))
+                             (not (hand-near-anything-p x y z physics)))
+                        (progn (push hand skipped) '())
+                        (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe x y z physics excluded)))))))
 
 (defun probe-hand-joint (collider hand)
   "The joint of COLLIDER's first probe of HAND (:left or :right): the hand joint itself."

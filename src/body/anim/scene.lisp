@@ -109,8 +109,9 @@ VISIBLE (boolean); others are declared with DEFINE-PROPERTY."))
   (check-argument 'property-value 'object object #'scene-object-p "a scene object" 'anim-argument-error)
   (check-argument 'property-value 'name name #'string-designator-p "a property name (a symbol or string)"
                   'anim-argument-error)
-  (property-type object name)
-  (gethash (string name) (object-property-values object)))
+  (multiple-value-bind (value found) (gethash (string name) (object-property-values object))
+    ;; Every declared property has a value: one lookup on the good path.
+    (if found value (progn (property-type object name) nil))))
 
 (defun (setf property-value) (value object name)
   "Set OBJECT's property NAME to VALUE, checked against its type."

@@ -42,13 +42,15 @@ are masked, so a NaN prints as nan."
     (%set-rotation-from-quat m q)
     m))
 
-(defun %set-rotation-from-quat (m q)
-  "Write the rotation of unit quaternion Q into the upper-left 3x3 of matrix M (3x3 or 4x4)."
-  (declare #.*anim-optimize* (type (simple-array double-float (* *)) m) (type quat q))
-  (let* ((w (quat-w q)) (x (quat-x q)) (y (quat-y q)) (z (quat-z q))
-         (xx (* x x)) (yy (* y y)) (zz (* z z))
-         (xy (* x y)) (xz (* x z)) (yz (* y z))
-         (wx (* w x)) (wy (* w y)) (wz (* w z)))
+(declaim (inline %set-rotation-from-components))
+(defun %set-rotation-from-components (m w x y z)
+  "Write the rotation of the unit quaternion (W X Y Z) into the upper-left 3x3
+of matrix M (3x3 or 4x4)."
+  (declare #.*anim-optimize* (type (simple-array double-float (* *)) m)
+           (type double-float w x y z))
+  (let ((xx (* x x)) (yy (* y y)) (zz (* z z))
+        (xy (* x y)) (xz (* x z)) (yz (* y z))
+        (wx (* w x)) (wy (* w y)) (wz (* w z)))
     (setf (aref m 0 0) (- 1d0 (* 2d0 (+ yy zz)))
           (aref m 0 1) (* 2d0 (- xy wz))
           (aref m 0 2) (* 2d0 (+ xz wy))
@@ -59,6 +61,11 @@ are masked, so a NaN prints as nan."
           (aref m 2 1) (* 2d0 (+ yz wx))
           (aref m 2 2) (- 1d0 (* 2d0 (+ xx yy))))
     m))
+
+(defun %set-rotation-from-quat (m q)
+  "Write the rotation of unit quaternion Q into the upper-left 3x3 of matrix M (3x3 or 4x4)."
+  (declare #.*anim-optimize* (type (simple-array double-float (* *)) m) (type quat q))
+  (%set-rotation-from-components m (quat-w q) (quat-x q) (quat-y q) (quat-z q)))
 
 (defun matrix-to-quat (m)
   "The unit quaternion (with w >= 0) of the rotation in the upper-left 3x3 of
