@@ -64,13 +64,21 @@ geom on a body moves the body)."
         (with-quaternion (q rotation) (%d-geom-set-quaternion pointer q)))))
   geom)
 
+(declaim (inline finite-double-p))
+(defun finite-double-p (x)
+  "Is the double-float X finite (not NaN, not an infinity)?  Reads its exponent
+bits, comparing nothing, so it is safe with float traps enabled."
+  (declare (type double-float x))
+  (/= (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) #x7ff))
+
 (defmacro with-finite-coordinates ((function &rest names) &body body)
   "Run BODY with each of NAMES (variables holding reals) rebound to its value as
 a double-float, after checking each is a finite real; else an ARGUMENT-ERROR
 of FUNCTION naming it."
   `(progn
      ,@(loop for name in names
-             collect `(check-argument ,function ',name ,name #'finite-real-p "a finite number"))
+             collect `(unless (and (typep ,name 'double-float) (finite-double-p ,name))
+                        (check-argument ,function ',name ,name #'finite-real-p "a finite number")))
      (let ,(loop for name in names collect `(,name (float ,name 1d0)))
        (declare (type double-float ,@names))
        ,@body)))

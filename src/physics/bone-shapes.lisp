@@ -7,9 +7,10 @@
 
 (in-package #:player.physics)
 
-(defstruct (probe (:constructor make-probe (joint hand geom radius)))
-  "A sphere of GEOM (RADIUS metres) at JOINT of a HAND (:left or :right)."
-  joint hand geom (radius 0d0 :type double-float))
+(defstruct (probe (:constructor make-probe (joint hand geom radius first)))
+  "A sphere of GEOM (RADIUS metres) at JOINT of a HAND (:left or :right);
+FIRST when JOINT is the hand joint itself (its hand's first probe)."
+  joint hand geom (radius 0d0 :type double-float) (first nil))
 
 (defstruct (trunk-part (:constructor make-trunk-part (body joint child geom radius)))
   "A part of BODY's trunk: a capsule GEOM from JOINT to CHILD, or a sphere at
@@ -40,10 +41,11 @@ the pose shown last (a copy), where a correction starts from, at SHOWN-TIME."
   (let* ((skeleton (body-skeleton body))
          (probes (loop for (role hand) in '((:left-hand :left) (:right-hand :right))
                        append (loop for joint in (hand-joints skeleton role)
+                                    for first = t then nil
                                     collect (make-probe joint hand
                                                         (make-ode-geom world (list :sphere (joint-radius joint))
                                                                        :data (cons body joint))
-                                                        (joint-radius joint)))))
+                                                        (joint-radius joint) first))))
          (spine (let ((chain (skeleton-role skeleton :spine))) (if (consp chain) chain (and chain (list chain)))))
          (root (aref (skeleton-joints skeleton) 0))
          (bones (loop for (joint child) on (cons root spine)

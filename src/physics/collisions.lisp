@@ -97,14 +97,10 @@ hand's probes come hand joint first; a hand far from everything is skipped."
           for hand = (probe-hand probe)
           unless (member hand skipped)
             nconc (with-joint-point ((x y z) transforms (probe-joint probe))
-                    (if (and (eq (probe-joint probe) (probe-hand-joint collider hand))
+                    (if (and (probe-first probe)
                              (not (hand-near-anything-p x y z physics)))
                         (progn (push hand skipped) '())
                         (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe x y z physics excluded)))))))
-
-(defun probe-hand-joint (collider hand)
-  "The joint of COLLIDER's first probe of HAND (:left or :right): the hand joint itself."
-  (probe-joint (find hand (collider-probes collider) :key #'probe-hand)))
 
 (defun obstacle-name (obstacle)
   "How a report names OBSTACLE: a prop's name, or BODY's JOINT."

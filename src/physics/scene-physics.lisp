@@ -31,7 +31,9 @@ it was at the last advance."
   ;; A hanging prop's pivot (pendulums.lisp), which the physics turns; and its rotation as written.
   (carrier nil) written-carrier-rotation
   ;; The velocity (x y z) it was last moved at by others, which it keeps when let go.
-  (release-velocity (list 0 0 0)))
+  (release-velocity (list 0 0 0))
+  ;; True when what was last written was the body asleep: nothing moves it until it wakes.
+  (written-asleep nil))
 
 (defstruct (physics-static (:constructor make-physics-static (object geom)))
   "A prop that does not move by itself, as a static GEOM placed where OBJECT
