@@ -226,45 +226,53 @@ DOF-ENDS of its DOFs; per DOF its AXES code (0 1 2 about x y z, 3 4 5 about
   (or (skeleton-posing skeleton)
       (setf (skeleton-posing skeleton) (make-posing-tables skeleton))))
 
+(declaim (inline %set-joint-local-transform))
+(defun %set-joint-local-transform (local tables pose j)
+  "Fill the MAT4 LOCAL with joint J's transform relative to its parent in
+POSE, from SKELETON's POSING-TABLES: its rotation the product of its DOF
+rotations (as JOINT-LOCAL-ROTATION), its translation its offset."
+  (declare (type mat4 local) (type posing-tables tables) (type pose pose) (type fixnum j))
+  (let ((starts (posing-tables-dof-starts tables))
+        (ends (posing-tables-dof-ends tables))
+        (axes (posing-tables-axes tables))
+        (offsets (posing-tables-offsets tables))
+        (half-degree (/ pi 360))
+        (w 1d0) (x 0d0) (y 0d0) (z 0d0))
+    (declare (type double-float half-degree w x y z))
+    ;; Each DOF turns about a principal axis: (cos h, sin h along it), h half
+    ;; the angle, multiplied on the right.
+    (loop for i of-type fixnum from (aref starts j) below (aref ends j)
+          do (let* ((axis (aref axes i))
+                    (h (* (aref pose i) half-degree))
+                    (c (cos h))
+                    (s (if (>= axis 3) (- (sin h)) (sin h))))
+               (declare (type double-float h c s))
+               (case (if (>= axis 3) (- axis 3) axis)
+                 (0 (psetf w (- (* w c) (* x s)) x (+ (* x c) (* w s))
+                           y (+ (* y c) (* z s)) z (- (* z c) (* y s))))
+                 (1 (psetf w (- (* w c) (* y s)) x (- (* x c) (* z s))
+                           y (+ (* y c) (* w s)) z (+ (* z c) (* x s))))
+                 (t (psetf w (- (* w c) (* z s)) x (+ (* x c) (* y s))
+                           y (- (* y c) (* x s)) z (+ (* z c) (* w s)))))))
+    (%set-rotation-from-components local w x y z)
+    (let ((k (* 3 j)))
+      (setf (aref local 0 3) (aref offsets k)
+            (aref local 1 3) (aref offsets (+ k 1))
+            (aref local 2 3) (aref offsets (+ k 2))
+            (aref local 3 0) 0d0 (aref local 3 1) 0d0 (aref local 3 2) 0d0 (aref local 3 3) 1d0))
+    local))
+
 (defun %pose-world-transforms (skeleton pose placement result)
   "POSE-WORLD-TRANSFORMS of arguments known to be right (a body's own, each
-frame).  Conses nothing: the local transform of each joint is built in place
-from the typed POSING-TABLES, its rotation the product of its DOF rotations
-as in JOINT-LOCAL-ROTATION."
+frame).  Conses nothing: each joint's local transform is built in place from
+SKELETON's typed POSING-TABLES."
   (declare #.*anim-optimize* (type pose pose) (type mat4 placement) (type simple-vector result))
   (let* ((tables (skeleton-posing-tables skeleton))
-         (offsets (posing-tables-offsets tables))
          (parents (posing-tables-parents tables))
-         (starts (posing-tables-dof-starts tables))
-         (ends (posing-tables-dof-ends tables))
-         (axes (posing-tables-axes tables))
-         (local (make-array '(4 4) :element-type 'double-float :initial-element 0d0))
-         (half-degree (/ pi 360)))
-    (declare (dynamic-extent local) (type double-float half-degree))
-    (setf (aref local 3 3) 1d0)
+         (local (make-array '(4 4) :element-type 'double-float :initial-element 0d0)))
+    (declare (dynamic-extent local))
     (dotimes (j (length parents) result)
-      (let ((w 1d0) (x 0d0) (y 0d0) (z 0d0))
-        (declare (type double-float w x y z))
-        ;; Each DOF turns about a principal axis: (cos h, sin h along it), h half
-        ;; the angle, multiplied on the right.
-        (loop for i of-type fixnum from (aref starts j) below (aref ends j)
-              do (let* ((axis (aref axes i))
-                        (h (* (aref pose i) half-degree))
-                        (c (cos h))
-                        (s (if (>= axis 3) (- (sin h)) (sin h))))
-                   (declare (type double-float h c s))
-                   (case (if (>= axis 3) (- axis 3) axis)
-                     (0 (psetf w (- (* w c) (* x s)) x (+ (* x c) (* w s))
-                               y (+ (* y c) (* z s)) z (- (* z c) (* y s))))
-                     (1 (psetf w (- (* w c) (* y s)) x (- (* x c) (* z s))
-                               y (+ (* y c) (* w s)) z (+ (* z c) (* x s))))
-                     (t (psetf w (- (* w c) (* z s)) x (+ (* x c) (* y s))
-                               y (- (* y c) (* x s)) z (+ (* z c) (* w s)))))))
-        (%set-rotation-from-components local w x y z))
-      (let ((k (* 3 j)))
-        (setf (aref local 0 3) (aref offsets k)
-              (aref local 1 3) (aref offsets (+ k 1))
-              (aref local 2 3) (aref offsets (+ k 2))))
+      (%set-joint-local-transform local tables pose j)
       (let ((parent (aref parents j)))
         (transform-compose (if (< parent 0) placement (svref result parent)) local (svref result j))))))
 
@@ -279,11 +287,25 @@ as in JOINT-LOCAL-ROTATION."
 
 (defun joint-world-transform (skeleton pose joint &optional (placement (identity-transform)))
   "The world transform of JOINT alone in POSE, walking its parent chain from
-PLACEMENT; cheaper than POSE-WORLD-TRANSFORMS when one joint is wanted."
-  (declare (ignore skeleton))
-  (let ((chain (loop for j = joint then (body-joint-parent j) while j collect j))
-        (world (transform-compose placement (identity-transform))))
-    (dolist (j (nreverse chain) world)
-      (transform-compose world (make-transform :rotation (joint-local-rotation j pose)
-                                               :translation (joint-offset j))
-                         world))))
+PLACEMENT; cheaper than POSE-WORLD-TRANSFORMS when one joint is wanted.
+SKELETON is JOINT's (its typed tables make the walk cons only the result),
+or NIL."
+  (if (null skeleton)
+      (let ((chain (loop for j = joint then (body-joint-parent j) while j collect j))
+            (world (transform-compose placement (identity-transform))))
+        (dolist (j (nreverse chain) world)
+          (transform-compose world (make-transform :rotation (joint-local-rotation j pose)
+                                                   :translation (joint-offset j))
+                             world)))
+      (let* ((tables (skeleton-posing-tables skeleton))
+             (parents (posing-tables-parents tables))
+             (world (transform-compose placement (identity-transform)))
+             (local (make-array '(4 4) :element-type 'double-float :initial-element 0d0)))
+        (declare (dynamic-extent local) (type pose pose))
+        (labels ((walk (j)
+                   (declare (type fixnum j))
+                   (let ((parent (aref parents j)))
+                     (when (>= parent 0) (walk parent)))
+                   (transform-compose world (%set-joint-local-transform local tables pose j) world)))
+          (walk (body-joint-index joint)))
+        world)))
