@@ -81,9 +81,11 @@ the deepest of their contact points, 0 when they do not touch.  Conses nothing;
 the caller checks A and B, and has called ENSURE-ODE-THREAD in this thread."
   (let ((world (ode-geom-world a))
         (deepest 0d0))
+    (declare (type double-float deepest))
     (dotimes (i (collide-geoms world a b) deepest)
       (let ((depth (cffi:foreign-slot-value (cffi:foreign-slot-pointer (contact-pointer world i) '(:struct d-contact) 'geom)
                                             '(:struct d-contact-geom) 'depth)))
+        (declare (type double-float depth))
         (when (> depth deepest) (setf deepest depth))))))
 
 (defstruct (ode-contact (:constructor make-ode-contact (position normal depth)))

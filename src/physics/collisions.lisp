@@ -42,17 +42,19 @@ reaches for (an active driver's (:object NAME) target)."
         (declare (type double-float dx dy dz limit))
         (<= (+ (* dx dx) (* dy dy) (* dz dz)) (* limit limit)))))
 
-(defun probe-hits (probe x y z physics excluded)
-  "The obstacles the PROBE placed at (X Y Z) sinks into deeper than *CONTACT-TOLERANCE*,
-as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects
-that are not obstacles.  The probe's geom is put there only when an obstacle is near."
-  (declare (type double-float x y z))
-  (let ((geom (probe-geom probe)) (radius (probe-radius probe)) (placed nil) (hits '()))
-    (flet ((depth (other)
-             (unless placed
-               (place-probe probe x y z)
-               (setf placed t))
-             (ode-geom-depth geom other)))
+(defun probe-hits (probe point physics excluded)
+  "The obstacles the PROBE placed at POINT (a vec3) sinks into deeper than
+*CONTACT-TOLERANCE*, as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART;
+EXCLUDED names objects that are not obstacles.  The probe's geom is put there
+only when an obstacle is near."
+  (declare (type vec3 point))
+  (let ((x (vec3-x point)) (y (vec3-y point)) (z (vec3-z point))
+        (geom (probe-geom probe)) (radius (probe-radius probe)) (placed nil) (hits '()))
+    (macrolet ((depth (other)
+                 `(progn (unless placed
+                           (place-probe probe x y z)
+                           (setf placed t))
+                         (ode-geom-depth geom ,other))))
       (dolist (static (scene-physics-statics physics))
         (let ((object (physics-static-object static)))
           (when (and (near-p (physics-static-centre static) (physics-static-reach static) x y z radius)
@@ -77,10 +79,11 @@ that are not obstacles.  The probe's geom is put there only when an obstacle is 
   "Metres from a hand joint within which its fingers (or a wing's feathers) lie:
 a hand with nothing that near is not tested further.")
 
-(defun hand-near-anything-p (x y z physics)
-  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at (X Y Z)?"
-  (declare (type double-float x y z))
-  (let ((span (float *hand-span* 1d0)))
+(defun hand-near-anything-p (point physics)
+  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at POINT (a vec3)?"
+  (declare (type vec3 point))
+  (let ((x (vec3-x point)) (y (vec3-y point)) (z (vec3-z point))
+        (span (float *hand-span* 1d0)))
     (or (dolist (static (scene-physics-statics physics) nil)
           (when (near-p (physics-static-centre static) (physics-static-reach static) x y z span)
             (return t)))
@@ -92,15 +95,18 @@ a hand with nothing that near is not tested further.")
 (defun collider-hits (collider transforms physics excluded)
   "Every (PROBE OBSTACLE DEPTH) of COLLIDER's probes placed by TRANSFORMS.  A
 hand's probes come hand joint first; a hand far from everything is skipped."
-  (let ((skipped '()))
+  (let ((skipped '())
+        (point (make-vec3 0d0 0d0 0d0)))
     (loop for probe in (collider-probes collider)
           for hand = (probe-hand probe)
           unless (member hand skipped)
             nconc (with-joint-point ((x y z) transforms (probe-joint probe))
-                    (if (and (probe-first probe)
-                             (not (hand-near-anything-p x y z physics)))
-                        (progn (push hand skipped) '())
-                        (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe x y z physics excluded)))))))
+                    (set-vec3 point x y z)
+                    (cond ((and (probe-first probe) (not (hand-near-anything-p point physics)))
+                           (push hand skipped)
+                           '())
+                          (t (loop for hit in (probe-hits probe point physics excluded)
+                                   collect (cons probe hit))))))))
 
 (defun obstacle-name (obstacle)
   "How a report names OBSTACLE: a prop's name, or BODY's JOINT."

@@ -66,10 +66,10 @@ a group, which is a frame or a pendulum's pivot)?"
       ;; Properties are copied when set, so unchanged EQ values under no parent mean no move.
       (unless (and (null parent) placed
                    (eq (second placed) position) (eq (third placed) rotation))
-        (multiple-value-bind (position rotation) (world-placement object)
-          (set-ode-geom-placement (physics-static-geom static) position rotation)
+        (multiple-value-bind (world-position world-rotation) (world-placement object)
+          (set-ode-geom-placement (physics-static-geom static) world-position world-rotation)
           (setf (physics-static-placed static) (list parent position rotation)
-                (physics-static-centre static) (apply #'make-vec3 position)))))))
+                (physics-static-centre static) (apply #'make-vec3 world-position)))))))
 
 (defun read-prop-change (prop elapsed)
   "Set PROP's mode and body from its object after ELAPSED seconds: held or
