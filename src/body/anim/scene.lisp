@@ -148,7 +148,15 @@ hanging from a joint; only bodies have joints.")
   "OBJECT's transform in the world: its parent's world transform times its local one."
   (check-argument 'object-world-transform 'object object #'scene-object-p "a scene object"
                   'anim-argument-error)
-  (transform-compose (parent-world-transform object) (object-local-transform object)))
+  (let ((local (object-local-transform object)))
+    (declare (type mat4 local))
+    (if (null (object-parent object))
+        ;; The identity times LOCAL, without making either: the same numbers
+        ;; (the product's sums turn a -0d0 entry into 0d0, so this does too).
+        (dotimes (i 3 local)
+          (dotimes (j 4)
+            (setf (aref local i j) (+ (aref local i j) 0d0))))
+        (transform-compose (parent-world-transform object) local local))))
 
 (defun object-world-position (object)
   "Where OBJECT is in the world, as a new vec3."
