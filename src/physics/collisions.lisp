@@ -42,6 +42,12 @@ reaches for (an active driver's (:object NAME) target)."
         (declare (type double-float dx dy dz limit))
         (<= (+ (* dx dx) (* dy dy) (* dz dz)) (* limit limit)))))
 
+(defun trunk-near-p (part x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch the trunk PART?"
+  (declare (type double-float radius))
+  (<= (the double-float (axis-distance part x y z))
+      (+ (trunk-part-radius part) radius (float *contact-tolerance* 1d0))))
+
 (defun probe-hits (probe point physics excluded)
   "The obstacles the PROBE placed at POINT (a vec3) sinks into deeper than
 *CONTACT-TOLERANCE*, as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART;
@@ -68,12 +74,6 @@ only when an obstacle is near."
             (let ((depth (depth (trunk-part-geom part))))
               (when (> depth *contact-tolerance*) (push (list part depth) hits)))))))
     hits))
-
-(defun trunk-near-p (part x y z radius)
-  "Might a sphere of RADIUS at (X Y Z) touch the trunk PART?"
-  (declare (type double-float radius))
-  (<= (the double-float (axis-distance part x y z))
-      (+ (trunk-part-radius part) radius (float *contact-tolerance* 1d0))))
 
 (defparameter *hand-span* 0.25d0
   "Metres from a hand joint within which its fingers (or a wing's feathers) lie:
