@@ -42,6 +42,62 @@ reaches for (an active driver's (:object NAME) target)."
         (declare (type double-float dx dy dz limit))
         (<= (+ (* dx dx) (* dy dy) (* dz dz)) (* limit limit)))))
 
+(defun static-box (shape)
+  "For a :box SHAPE, a vector for SET-BOX-ROTATION and BOX-NEAR-P: no rotation
+yet, and the box's half sizes; NIL for another shape."
+  (when (eq (first shape) :box)
+    (let ((box (make-array 12 :element-type 'double-float :initial-element 0d0)))
+      (setf (aref box 0) 1d0 (aref box 4) 1d0 (aref box 8) 1d0)
+      (loop for size in (rest shape)
+            for i from 9
+            do (setf (aref box i) (* 0.5d0 (float size 1d0))))
+      box)))
+
+(defun set-box-rotation (box w x y z)
+  "Store in BOX the rotation matrix of the quaternion (W X Y Z), normalised as ODE does."
+  (declare (type (simple-array double-float (12)) box))
+  (let* ((w (float w 1d0)) (x (float x 1d0)) (y (float y 1d0)) (z (float z 1d0))
+         (norm (sqrt (+ (* w w) (* x x) (* y y) (* z z)))))
+    (declare (type double-float w x y z norm))
+    (when (plusp norm)
+      (setf w (/ w norm) x (/ x norm) y (/ y norm) z (/ z norm))
+      (setf (aref box 0) (- 1d0 (* 2d0 (+ (* y y) (* z z))))
+            (aref box 1) (* 2d0 (- (* x y) (* w z)))
+            (aref box 2) (* 2d0 (+ (* x z) (* w y)))
+            (aref box 3) (* 2d0 (+ (* x y) (* w z)))
+            (aref box 4) (- 1d0 (* 2d0 (+ (* x x) (* z z))))
+            (aref box 5) (* 2d0 (- (* y z) (* w x)))
+            (aref box 6) (* 2d0 (- (* x z) (* w y)))
+            (aref box 7) (* 2d0 (+ (* y z) (* w x)))
+            (aref box 8) (- 1d0 (* 2d0 (+ (* x x) (* y y))))))
+    box))
+
+(declaim (inline box-near-p))
+(defun box-near-p (box centre x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch the box BOX (see STATIC-BOX) at
+CENTRE?  Its distance to the box, in the box's frame, against RADIUS; a hair
+generous, so only a query (ODE's) finds a touch."
+  (declare (type (simple-array double-float (12)) box) (type vec3 centre)
+           (type double-float x y z radius))
+  (let ((dx (- x (vec3-x centre))) (dy (- y (vec3-y centre))) (dz (- z (vec3-z centre)))
+        (outside 0d0)
+        (limit (+ radius (float *contact-tolerance* 1d0) 1d-6)))
+    (declare (type double-float dx dy dz outside limit))
+    ;; The point in the box's frame is R^T d; past each face by |that| - half size.
+    (dotimes (i 3)
+      (let ((excess (- (abs (+ (* (aref box i) dx) (* (aref box (+ 3 i)) dy) (* (aref box (+ 6 i)) dz)))
+                       (aref box (+ 9 i)))))
+        (declare (type double-float excess))
+        (when (plusp excess) (incf outside (* excess excess)))))
+    (<= outside (* limit limit))))
+
+(declaim (inline static-near-p))
+(defun static-near-p (static x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch STATIC's shape?"
+  (and (near-p (physics-static-centre static) (physics-static-reach static) x y z radius)
+       (let ((box (physics-static-box static)))
+         (or (null box) (box-near-p box (physics-static-centre static) x y z radius)))))
+
 (defun trunk-near-p (part x y z radius)
   "Might a sphere of RADIUS at (X Y Z) touch the trunk PART?"
   (declare (type double-float radius))
@@ -63,7 +119,7 @@ only when an obstacle is near."
                          (ode-geom-depth geom ,other))))
       (dolist (static (scene-physics-statics physics))
         (let ((object (physics-static-object static)))
-          (when (and (near-p (physics-static-centre static) (physics-static-reach static) x y z radius)
+          (when (and (static-near-p static x y z radius)
                      (not (member (object-name object) excluded :test #'string-equal)))
             (let ((depth (depth (physics-static-geom static))))
               (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
@@ -85,7 +141,7 @@ a hand with nothing that near is not tested further.")
   (let ((x (vec3-x point)) (y (vec3-y point)) (z (vec3-z point))
         (span (float *hand-span* 1d0)))
     (or (dolist (static (scene-physics-statics physics) nil)
-          (when (near-p (physics-static-centre static) (physics-static-reach static) x y z span)
+          (when (static-near-p static x y z span)
             (return t)))
         (dolist (collider (scene-physics-colliders physics) nil)
           (dolist (part (collider-trunk collider))

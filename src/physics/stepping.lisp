@@ -69,7 +69,9 @@ a group, which is a frame or a pendulum's pivot)?"
         (multiple-value-bind (world-position world-rotation) (world-placement object)
           (set-ode-geom-placement (physics-static-geom static) world-position world-rotation)
           (setf (physics-static-placed static) (list parent position rotation)
-                (physics-static-centre static) (apply #'make-vec3 world-position)))))))
+                (physics-static-centre static) (apply #'make-vec3 world-position))
+          (when (physics-static-box static)
+            (apply #'set-box-rotation (physics-static-box static) world-rotation)))))))
 
 (defun read-prop-change (prop elapsed)
   "Set PROP's mode and body from its object after ELAPSED seconds: held or
