@@ -23,8 +23,11 @@ JOINT when CHILD is NIL; RADIUS metres thick."
 
 (defstruct (collider (:constructor make-collider (body probes trunk)))
   "BODY's collision shapes: its hands' PROBES and its TRUNK-PARTs.  SHOWN is
-the pose shown last (a copy), where a correction starts from, at SHOWN-TIME."
-  body probes trunk (shown nil) (shown-time nil))
+the pose shown last (a copy), where a correction starts from, at SHOWN-TIME.
+CENTRE and REACH are a sphere holding the trunk as last placed (REACH NIL:
+not placed yet), so a hand far from a body skips its parts."
+  body probes trunk (shown nil) (shown-time nil)
+  (centre (make-vec3 0d0 0d0 0d0) :type vec3) (reach nil))
 
 (defun hand-joints (skeleton role)
   "The joint filling ROLE (:left-hand, :right-hand) of SKELETON and the joints it carries."
@@ -109,7 +112,28 @@ geom follows when a query needs it (PLACE-TRUNK-GEOM)."
     (when (trunk-part-child part)
       (with-joint-point ((x y z) transforms (trunk-part-child part))
         (set-vec3 (trunk-part-to part) x y z)))
-    (setf (trunk-part-placed part) nil)))
+    (setf (trunk-part-placed part) nil))
+  (enclose-trunk collider))
+
+(defun enclose-trunk (collider)
+  "Set COLLIDER's CENTRE and REACH to a sphere holding its trunk parts as placed:
+about the mean of their axes' ends, out to the farthest end plus its part's radius."
+  (let ((parts (collider-trunk collider))
+        (centre (collider-centre collider))
+        (count 0) (x 0d0) (y 0d0) (z 0d0) (reach 0d0))
+    (declare (type fixnum count) (type double-float x y z reach))
+    (macrolet ((do-ends ((end part) &body body)
+                 `(dolist (,part parts)
+                    (let ((,end (trunk-part-from ,part))) ,@body)
+                    (when (trunk-part-child ,part)
+                      (let ((,end (trunk-part-to ,part))) ,@body)))))
+      (do-ends (end part)
+        (incf count) (incf x (vec3-x end)) (incf y (vec3-y end)) (incf z (vec3-z end)))
+      (when (plusp count)
+        (set-vec3 centre (/ x count) (/ y count) (/ z count))
+        (do-ends (end part)
+          (setf reach (max reach (+ (vdistance centre end) (trunk-part-radius part)))))))
+    (setf (collider-reach collider) (and (plusp count) reach))))
 
 (defun place-trunk-geom (part)
   "Put PART's geom where PLACE-TRUNK last put its axis (a capsule's length is

@@ -98,6 +98,13 @@ generous, so only a query (ODE's) finds a touch."
        (let ((box (physics-static-box static)))
          (or (null box) (box-near-p box (physics-static-centre static) x y z radius)))))
 
+(declaim (inline collider-near-p))
+(defun collider-near-p (collider x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch any trunk part of COLLIDER?"
+  (let ((reach (collider-reach collider)))
+    (or (null reach)
+        (near-p (collider-centre collider) reach x y z radius))))
+
 (defun trunk-near-p (part x y z radius)
   "Might a sphere of RADIUS at (X Y Z) touch the trunk PART?"
   (declare (type double-float radius))
@@ -124,7 +131,7 @@ only when an obstacle is near."
             (let ((depth (depth (physics-static-geom static))))
               (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
       (dolist (collider (scene-physics-colliders physics))
-        (dolist (part (collider-trunk collider))
+        (dolist (part (and (collider-near-p collider x y z radius) (collider-trunk collider)))
           (when (trunk-near-p part x y z radius)
             (place-trunk-geom part)
             (let ((depth (depth (trunk-part-geom part))))
@@ -144,7 +151,7 @@ a hand with nothing that near is not tested further.")
           (when (static-near-p static x y z span)
             (return t)))
         (dolist (collider (scene-physics-colliders physics) nil)
-          (dolist (part (collider-trunk collider))
+          (dolist (part (and (collider-near-p collider x y z span) (collider-trunk collider)))
             (when (trunk-near-p part x y z span)
               (return-from hand-near-anything-p t)))))))
 
