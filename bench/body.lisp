@@ -85,9 +85,11 @@ performance's characters have by default."
 character as one scene grows from 1 to 100 characters."
   (let* ((seconds (seconds-per-call (idle-life-evaluator)))
          (fps (/ 1 seconds)))
-    (row "pose evaluation with idle life, one humanoid"
+    ;; Issue 29's row, with physics and collision on, is bench/physics.lisp's;
+    ;; this one shows what the physics adds to it.
+    (row "pose evaluation with idle life, one humanoid, no props (no physics)"
          (format nil "~A frames/s (~,1F us/frame)" (format-count fps) (* 1d6 seconds))
-         ">= 20,000 frames/s" (if (>= fps 20000) "ok" "MISS")))
+         "-" ""))
   (dolist (skeleton '(humanoid parrot))
     (let* ((seconds (seconds-per-call (frame-evaluator skeleton 1)))
            (fps (/ 1 seconds)))

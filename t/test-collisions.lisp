@@ -142,3 +142,40 @@ Returns the distance and the trunk's radius."
     ;; Unstopped, the reach does go in: the check above can fail.
     (multiple-value-bind (closest radius) (closest-hand-to-spine arm nil)
       (is (< closest radius) "unstopped, the ~(~A~) hand stays out (~,3F m)" arm closest))))
+
+(test box-prefilter-never-hides-a-touch
+  ;; A hand is queried against a box prop only when BOX-NEAR-P says it might
+  ;; touch it (a speed-up): over random rotated boxes and spheres, every sphere
+  ;; ODE finds touching the box is one BOX-NEAR-P lets through, and the test
+  ;; does reject most of the far ones (so it is not simply always true).
+  (player.ode:ensure-ode-thread)
+  (let* ((random (sb-ext:seed-random-state 29))
+         (world (player.ode:make-ode-world))
+         (missed 0) (touching 0) (rejected 0)
+         (count (sweep-count 2000 300)))
+    (unwind-protect
+         (player.ode:with-ode-traps-masked
+           (dotimes (k count)
+             (flet ((r (low high) (+ low (random (- high low) random))))
+               (let* ((size (list (r 0.05d0 1d0) (r 0.02d0 0.5d0) (r 0.05d0 1d0)))
+                      (rotation (list (r -1d0 1d0) (r -1d0 1d0) (r -1d0 1d0) (r -1d0 1d0)))
+                      (centre (list (r -1d0 1d0) (r 0d0 1.5d0) (r -1d0 1d0)))
+                      (point (mapcar (lambda (c) (+ c (r -0.8d0 0.8d0))) centre))
+                      (radius (r 0.005d0 0.05d0))
+                      (box (player.ode:make-ode-geom world (cons :box size) :position centre :rotation rotation))
+                      (sphere (player.ode:make-ode-geom world (list :sphere radius) :position point))
+                      (prefilter (player.physics::set-box-rotation
+                                  (player.physics::static-box (cons :box size)) (first rotation)
+                                  (second rotation) (third rotation) (fourth rotation)))
+                      (near (player.physics::box-near-p prefilter (apply #'player.body::make-vec3 centre)
+                                                        (first point) (second point) (third point) radius)))
+                 (when (plusp (player.ode:ode-geom-depth sphere box))
+                   (incf touching)
+                   (unless near (incf missed)))
+                 (unless near (incf rejected))
+                 (setf (player.ode:ode-geom-enabled-p box) nil
+                       (player.ode:ode-geom-enabled-p sphere) nil)))))
+      (player.ode:destroy-ode-world world))
+    (is (plusp touching) "no random sphere touched its box: the test tests nothing")
+    (is (= 0 missed) "~D of ~D touching spheres were rejected by the box prefilter" missed touching)
+    (is (> rejected (/ count 4)) "the prefilter rejected only ~D of ~D spheres" rejected count)))

@@ -256,6 +256,7 @@ for clauses that do not fit."
           (push (cons key value) (driver-reals driver))
           value))))
 
+(declaim (inline minimum-jerk))
 (defun minimum-jerk (u)
   "The minimum-jerk profile 10u^3 - 15u^4 + 6u^5 of U clamped to [0, 1]: a
 bell-shaped velocity, zero with zero acceleration at both ends."

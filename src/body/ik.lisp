@@ -93,11 +93,12 @@ the forearm at rest: the one that bends it rather than twists it."
   "CHAIN's solved angles as they are in POSE, as a new angle vector."
   (map 'angle-vector (lambda (i) (aref pose i)) (arm-chain-indices chain)))
 
-(defun arm-chain-parent-transform (chain pose &optional (placement (identity-transform)))
+(defun arm-chain-parent-transform (chain pose &optional (placement (identity-transform)) skeleton)
   "The world transform of the frame CHAIN is solved in (its shoulder's
-parent's) in POSE, the body placed by PLACEMENT."
+parent's) in POSE, the body placed by PLACEMENT; SKELETON, CHAIN's when
+given, makes it cheaper (see JOINT-WORLD-TRANSFORM)."
   (let ((parent (body-joint-parent (arm-chain-shoulder chain))))
-    (if parent (joint-world-transform nil pose parent placement) placement)))
+    (if parent (joint-world-transform skeleton pose parent placement) placement)))
 
 (defun arm-chain-held (chain pose)
   "What POSE holds fixed in CHAIN's elbow, two values: BEFORE, the product of

@@ -184,22 +184,97 @@ translation is where the joint is."
                         (skeleton-joints skeleton))))
   (%pose-world-transforms skeleton pose placement result))
 
-(defun %pose-world-transforms (skeleton pose placement result)
-  "POSE-WORLD-TRANSFORMS of arguments known to be right (a body's own, each frame)."
-  ;; One local transform, filled in place joint by joint.
-  (let ((local (identity-transform)))
-    (declare (type mat4 local))
-    (loop for joint across (skeleton-joints skeleton)
-          for index from 0
+(defstruct (posing-tables (:constructor %make-posing-tables (offsets parents dof-starts dof-ends axes)))
+  "A skeleton's joints as typed arrays, so posing each frame walks no lists
+and boxes no floats: per joint its OFFSETS from its parent (x y z, 3 per
+joint), its PARENTS' indices (-1 for the root), and the range DOF-STARTS to
+DOF-ENDS of its DOFs; per DOF its AXES code (0 1 2 about x y z, 3 4 5 about
+-x -y -z)."
+  (offsets nil :type (simple-array double-float (*)) :read-only t)
+  (parents nil :type (simple-array fixnum (*)) :read-only t)
+  (dof-starts nil :type (simple-array fixnum (*)) :read-only t)
+  (dof-ends nil :type (simple-array fixnum (*)) :read-only t)
+  (axes nil :type (simple-array (integer 0 5) (*)) :read-only t))
+
+(defun make-posing-tables (skeleton)
+  "SKELETON's POSING-TABLES."
+  (let* ((joints (skeleton-joints skeleton))
+         (count (length joints))
+         (offsets (make-array (* 3 count) :element-type 'double-float))
+         (parents (make-array count :element-type 'fixnum))
+         (starts (make-array count :element-type 'fixnum))
+         (ends (make-array count :element-type 'fixnum))
+         (axes (make-array (skeleton-dof-count skeleton) :element-type '(integer 0 5))))
+    (loop for joint across joints
+          for j from 0
+          for offset = (joint-offset joint)
           for parent = (body-joint-parent joint)
-          for center = (body-joint-center joint)
-          do (%set-rotation-from-quat local (joint-local-rotation joint pose))
-             (dotimes (i 3)
-               (setf (aref local i 3)
-                     (- (svref center i) (if parent (svref (body-joint-center parent) i) 0d0))))
-             (transform-compose (if parent (svref result (body-joint-index parent)) placement)
-                                local (svref result index))))
-  result)
+          do (setf (aref offsets (* 3 j)) (vec3-x offset)
+                   (aref offsets (+ (* 3 j) 1)) (vec3-y offset)
+                   (aref offsets (+ (* 3 j) 2)) (vec3-z offset)
+                   (aref parents j) (if parent (body-joint-index parent) -1)
+                   (aref starts j) (body-joint-dof-start joint)
+                   (aref ends j) (+ (body-joint-dof-start joint) (length (body-joint-dofs joint))))
+             (loop for dof in (body-joint-dofs joint)
+                   for i from (body-joint-dof-start joint)
+                   do (setf (aref axes i) (position (body-dof-axis dof) '(:x :y :z :-x :-y :-z)))))
+    (%make-posing-tables offsets parents starts ends axes)))
+
+(declaim (inline skeleton-posing-tables))
+(defun skeleton-posing-tables (skeleton)
+  "SKELETON's POSING-TABLES, made on first use (a loaded skeleton's joints do not change)."
+  (or (skeleton-posing skeleton)
+      (setf (skeleton-posing skeleton) (make-posing-tables skeleton))))
+
+(declaim (inline %set-joint-local-transform))
+(defun %set-joint-local-transform (local tables pose j)
+  "Fill the MAT4 LOCAL with joint J's transform relative to its parent in
+POSE, from SKELETON's POSING-TABLES: its rotation the product of its DOF
+rotations (as JOINT-LOCAL-ROTATION), its translation its offset."
+  (declare (type mat4 local) (type posing-tables tables) (type pose pose) (type fixnum j))
+  (let ((starts (posing-tables-dof-starts tables))
+        (ends (posing-tables-dof-ends tables))
+        (axes (posing-tables-axes tables))
+        (offsets (posing-tables-offsets tables))
+        (half-degree (/ pi 360))
+        (w 1d0) (x 0d0) (y 0d0) (z 0d0))
+    (declare (type double-float half-degree w x y z))
+    ;; Each DOF turns about a principal axis: (cos h, sin h along it), h half
+    ;; the angle, multiplied on the right.
+    (loop for i of-type fixnum from (aref starts j) below (aref ends j)
+          do (let* ((axis (aref axes i))
+                    (h (* (aref pose i) half-degree))
+                    (c (cos h))
+                    (s (if (>= axis 3) (- (sin h)) (sin h))))
+               (declare (type double-float h c s))
+               (case (if (>= axis 3) (- axis 3) axis)
+                 (0 (psetf w (- (* w c) (* x s)) x (+ (* x c) (* w s))
+                           y (+ (* y c) (* z s)) z (- (* z c) (* y s))))
+                 (1 (psetf w (- (* w c) (* y s)) x (- (* x c) (* z s))
+                           y (+ (* y c) (* w s)) z (+ (* z c) (* x s))))
+                 (t (psetf w (- (* w c) (* z s)) x (+ (* x c) (* y s))
+                           y (- (* y c) (* x s)) z (+ (* z c) (* w s)))))))
+    (%set-rotation-from-components local w x y z)
+    (let ((k (* 3 j)))
+      (setf (aref local 0 3) (aref offsets k)
+            (aref local 1 3) (aref offsets (+ k 1))
+            (aref local 2 3) (aref offsets (+ k 2))
+            (aref local 3 0) 0d0 (aref local 3 1) 0d0 (aref local 3 2) 0d0 (aref local 3 3) 1d0))
+    local))
+
+(defun %pose-world-transforms (skeleton pose placement result)
+  "POSE-WORLD-TRANSFORMS of arguments known to be right (a body's own, each
+frame).  Conses nothing: each joint's local transform is built in place from
+SKELETON's typed POSING-TABLES."
+  (declare #.*anim-optimize* (type pose pose) (type mat4 placement) (type simple-vector result))
+  (let* ((tables (skeleton-posing-tables skeleton))
+         (parents (posing-tables-parents tables))
+         (local (make-array '(4 4) :element-type 'double-float :initial-element 0d0)))
+    (declare (dynamic-extent local))
+    (dotimes (j (length parents) result)
+      (%set-joint-local-transform local tables pose j)
+      (let ((parent (aref parents j)))
+        (transform-compose (if (< parent 0) placement (svref result parent)) local (svref result j))))))
 
 (defun joint-world-position (transforms joint)
   "Where JOINT is in the world, from TRANSFORMS (see POSE-WORLD-TRANSFORMS), as a new vec3."
@@ -212,11 +287,25 @@ translation is where the joint is."
 
 (defun joint-world-transform (skeleton pose joint &optional (placement (identity-transform)))
   "The world transform of JOINT alone in POSE, walking its parent chain from
-PLACEMENT; cheaper than POSE-WORLD-TRANSFORMS when one joint is wanted."
-  (declare (ignore skeleton))
-  (let ((chain (loop for j = joint then (body-joint-parent j) while j collect j))
-        (world (transform-compose placement (identity-transform))))
-    (dolist (j (nreverse chain) world)
-      (transform-compose world (make-transform :rotation (joint-local-rotation j pose)
-                                               :translation (joint-offset j))
-                         world))))
+PLACEMENT; cheaper than POSE-WORLD-TRANSFORMS when one joint is wanted.
+SKELETON is JOINT's (its typed tables make the walk cons only the result),
+or NIL."
+  (if (null skeleton)
+      (let ((chain (loop for j = joint then (body-joint-parent j) while j collect j))
+            (world (transform-compose placement (identity-transform))))
+        (dolist (j (nreverse chain) world)
+          (transform-compose world (make-transform :rotation (joint-local-rotation j pose)
+                                                   :translation (joint-offset j))
+                             world)))
+      (let* ((tables (skeleton-posing-tables skeleton))
+             (parents (posing-tables-parents tables))
+             (world (transform-compose placement (identity-transform)))
+             (local (make-array '(4 4) :element-type 'double-float :initial-element 0d0)))
+        (declare (dynamic-extent local) (type pose pose))
+        (labels ((walk (j)
+                   (declare (type fixnum j))
+                   (let ((parent (aref parents j)))
+                     (when (>= parent 0) (walk parent)))
+                   (transform-compose world (%set-joint-local-transform local tables pose j) world)))
+          (walk (body-joint-index joint)))
+        world)))

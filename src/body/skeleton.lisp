@@ -119,7 +119,9 @@ the offending clause."))
   ;; weight from 0 to 1 (see pose.lisp).  Set by PLAYER.RIG; empty otherwise.
   (morphs #() :type simple-vector)
   ;; Its (:speed-limits ...) clause, as (JOINT DOF-OR-NIL DEG/S) entries (speed-limits.lisp).
-  (speed-limit-entries '() :type list))
+  (speed-limit-entries '() :type list)
+  ;; Its joints as typed arrays for posing every frame, made on first use (pose.lisp).
+  (posing nil))
 
 (defmethod print-object ((skeleton skeleton) stream)
   (print-unreadable-object (skeleton stream :type t)

@@ -22,16 +22,21 @@
     (with-ode-traps-masked
       (%d-space-collide (ode-world-space world) (cffi:null-pointer) (cffi:callback near-callback)))))
 
+(defmacro contact-size ()
+  "The bytes of one dContact, found once at load time (CFFI parses a type spec
+at run time otherwise, and collisions are queried many times a frame)."
+  '(load-time-value (cffi:foreign-type-size '(:struct d-contact)) t))
+
 (defun contact-pointer (world index)
   "The INDEXth dContact of WORLD's contact buffer."
-  (cffi:mem-aptr (ode-world-contacts world) '(:struct d-contact) index))
+  (cffi:inc-pointer (ode-world-contacts world) (* index (contact-size))))
 
 (defun collide-geoms (world a b)
   "How many points (at most *MAX-CONTACTS*) geoms A and B touch at, written to WORLD's contact buffer."
   (with-ode-traps-masked
     (%d-collide (ode-geom-pointer a) (ode-geom-pointer b) *max-contacts*
                 (cffi:foreign-slot-pointer (contact-pointer world 0) '(:struct d-contact) 'geom)
-                (cffi:foreign-type-size '(:struct d-contact)))))
+                (contact-size))))
 
 (defun free-body-p (geom)
   "Does GEOM ride on a dynamic body (one forces move)?"
@@ -76,9 +81,11 @@ the deepest of their contact points, 0 when they do not touch.  Conses nothing;
 the caller checks A and B, and has called ENSURE-ODE-THREAD in this thread."
   (let ((world (ode-geom-world a))
         (deepest 0d0))
+    (declare (type double-float deepest))
     (dotimes (i (collide-geoms world a b) deepest)
       (let ((depth (cffi:foreign-slot-value (cffi:foreign-slot-pointer (contact-pointer world i) '(:struct d-contact) 'geom)
                                             '(:struct d-contact-geom) 'depth)))
+        (declare (type double-float depth))
         (when (> depth deepest) (setf deepest depth))))))
 
 (defstruct (ode-contact (:constructor make-ode-contact (position normal depth)))

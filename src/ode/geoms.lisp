@@ -64,6 +64,52 @@ geom on a body moves the body)."
         (with-quaternion (q rotation) (%d-geom-set-quaternion pointer q)))))
   geom)
 
+(declaim (inline finite-double-p))
+(defun finite-double-p (x)
+  "Is the double-float X finite (not NaN, not an infinity)?  Reads its exponent
+bits, comparing nothing, so it is safe with float traps enabled."
+  (declare (type double-float x))
+  (/= (ldb (byte 11 20) (sb-kernel:double-float-high-bits x)) #x7ff))
+
+(defmacro with-finite-coordinates ((function &rest names) &body body)
+  "Run BODY with each of NAMES (variables holding reals) rebound to its value as
+a double-float, after checking each is a finite real; else an ARGUMENT-ERROR
+of FUNCTION naming it."
+  `(progn
+     ,@(loop for name in names
+             collect `(unless (and (typep ,name 'double-float) (finite-double-p ,name))
+                        (check-argument ,function ',name ,name #'finite-real-p "a finite number")))
+     (let ,(loop for name in names collect `(,name (float ,name 1d0)))
+       (declare (type double-float ,@names))
+       ,@body)))
+
+(defun set-ode-geom-position (geom x y z)
+  "Put GEOM at (X Y Z), finite reals (metres): SET-ODE-GEOM-PLACEMENT without a
+rotation, and without consing (collision queries move bones every frame)."
+  (live-geom 'set-ode-geom-position geom)
+  (when (eq (first (ode-geom-shape geom)) :plane)
+    (argument-fail 'set-ode-geom-position 'geom geom "a geom that is not a plane (a plane cannot move)"))
+  (with-finite-coordinates ('set-ode-geom-position x y z)
+    (with-ode-traps-masked
+      (%d-geom-set-position (ode-geom-pointer geom) x y z)))
+  geom)
+
+(defun set-ode-geom-rotation (geom w x y z)
+  "Turn GEOM by the rotation (W X Y Z), finite reals not all zero (normalised
+here), without consing."
+  (live-geom 'set-ode-geom-rotation geom)
+  (when (eq (first (ode-geom-shape geom)) :plane)
+    (argument-fail 'set-ode-geom-rotation 'geom geom "a geom that is not a plane (a plane cannot move)"))
+  (with-finite-coordinates ('set-ode-geom-rotation w x y z)
+    (let ((norm (sqrt (+ (* w w) (* x x) (* y y) (* z z)))))
+      (when (zerop norm)
+        (argument-fail 'set-ode-geom-rotation 'w w "a rotation (W X Y Z) not all zero"))
+      (cffi:with-foreign-object (q 'd-real 4)
+        (setf (cffi:mem-aref q 'd-real 0) (/ w norm) (cffi:mem-aref q 'd-real 1) (/ x norm)
+              (cffi:mem-aref q 'd-real 2) (/ y norm) (cffi:mem-aref q 'd-real 3) (/ z norm))
+        (with-ode-traps-masked (%d-geom-set-quaternion (ode-geom-pointer geom) q)))))
+  geom)
+
 (defun ode-geom-enabled-p (geom)
   "Does GEOM collide?"
   (check-argument 'ode-geom-enabled-p 'geom geom #'ode-geom-p "an ODE geom (from make-ode-geom)")

@@ -15,7 +15,7 @@
    #:ode-body-data #:set-ode-body-placement
    ;; geoms
    #:make-ode-geom #:ode-geom-p #:ode-geom-shape #:ode-geom-body #:ode-geom-data
-   #:set-ode-geom-placement #:set-ode-capsule-size #:ode-geom-friction
+   #:set-ode-geom-placement #:set-ode-geom-position #:set-ode-geom-rotation #:set-ode-capsule-size #:ode-geom-friction
    #:ode-geom-bounce #:ode-geom-enabled-p #:ode-shape-p
    ;; joints and contacts
    #:make-ode-ball-joint #:ode-joint-p #:ode-geom-contacts #:ode-contact #:ode-contact-position

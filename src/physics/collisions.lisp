@@ -32,61 +32,144 @@ reaches for (an active driver's (:object NAME) target)."
     (:sphere (second shape))
     (:box (* 0.5d0 (sqrt (+ (expt (second shape) 2) (expt (third shape) 2) (expt (fourth shape) 2)))))))
 
-(defun near-p (centre reach point radius)
-  "Might a sphere of RADIUS at POINT touch a shape within REACH of CENTRE (NIL: unbounded)?"
+(declaim (inline near-p trunk-near-p))
+(defun near-p (centre reach x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch a shape within REACH of CENTRE (NIL: unbounded)?"
+  (declare (type vec3 centre) (type double-float x y z radius))
   (or (null reach)
-      (<= (vdistance centre point) (+ reach radius *contact-tolerance*))))
+      (let ((dx (- x (vec3-x centre))) (dy (- y (vec3-y centre))) (dz (- z (vec3-z centre)))
+            (limit (+ (float reach 1d0) radius (float *contact-tolerance* 1d0))))
+        (declare (type double-float dx dy dz limit))
+        (<= (+ (* dx dx) (* dy dy) (* dz dz)) (* limit limit)))))
+
+(defun static-box (shape)
+  "For a :box SHAPE, a vector for SET-BOX-ROTATION and BOX-NEAR-P: no rotation
+yet, and the box's half sizes; NIL for another shape."
+  (when (eq (first shape) :box)
+    (let ((box (make-array 12 :element-type 'double-float :initial-element 0d0)))
+      (setf (aref box 0) 1d0 (aref box 4) 1d0 (aref box 8) 1d0)
+      (loop for size in (rest shape)
+            for i from 9
+            do (setf (aref box i) (* 0.5d0 (float size 1d0))))
+      box)))
+
+(defun set-box-rotation (box w x y z)
+  "Store in BOX the rotation matrix of the quaternion (W X Y Z), normalised as ODE does."
+  (declare (type (simple-array double-float (12)) box))
+  (let* ((w (float w 1d0)) (x (float x 1d0)) (y (float y 1d0)) (z (float z 1d0))
+         (norm (sqrt (+ (* w w) (* x x) (* y y) (* z z)))))
+    (declare (type double-float w x y z norm))
+    (when (plusp norm)
+      (setf w (/ w norm) x (/ x norm) y (/ y norm) z (/ z norm))
+      (setf (aref box 0) (- 1d0 (* 2d0 (+ (* y y) (* z z))))
+            (aref box 1) (* 2d0 (- (* x y) (* w z)))
+            (aref box 2) (* 2d0 (+ (* x z) (* w y)))
+            (aref box 3) (* 2d0 (+ (* x y) (* w z)))
+            (aref box 4) (- 1d0 (* 2d0 (+ (* x x) (* z z))))
+            (aref box 5) (* 2d0 (- (* y z) (* w x)))
+            (aref box 6) (* 2d0 (- (* x z) (* w y)))
+            (aref box 7) (* 2d0 (+ (* y z) (* w x)))
+            (aref box 8) (- 1d0 (* 2d0 (+ (* x x) (* y y))))))
+    box))
+
+(declaim (inline box-near-p))
+(defun box-near-p (box centre x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch the box BOX (see STATIC-BOX) at
+CENTRE?  Its distance to the box, in the box's frame, against RADIUS; a hair
+generous, so only a query (ODE's) finds a touch."
+  (declare (type (simple-array double-float (12)) box) (type vec3 centre)
+           (type double-float x y z radius))
+  (let ((dx (- x (vec3-x centre))) (dy (- y (vec3-y centre))) (dz (- z (vec3-z centre)))
+        (outside 0d0)
+        (limit (+ radius (float *contact-tolerance* 1d0) 1d-6)))
+    (declare (type double-float dx dy dz outside limit))
+    ;; The point in the box's frame is R^T d; past each face by |that| - half size.
+    (dotimes (i 3)
+      (let ((excess (- (abs (+ (* (aref box i) dx) (* (aref box (+ 3 i)) dy) (* (aref box (+ 6 i)) dz)))
+                       (aref box (+ 9 i)))))
+        (declare (type double-float excess))
+        (when (plusp excess) (incf outside (* excess excess)))))
+    (<= outside (* limit limit))))
+
+(declaim (inline static-near-p))
+(defun static-near-p (static x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch STATIC's shape?"
+  (and (near-p (physics-static-centre static) (physics-static-reach static) x y z radius)
+       (let ((box (physics-static-box static)))
+         (or (null box) (box-near-p box (physics-static-centre static) x y z radius)))))
+
+(declaim (inline collider-near-p))
+(defun collider-near-p (collider x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch any trunk part of COLLIDER?"
+  (let ((reach (collider-reach collider)))
+    (or (null reach)
+        (near-p (collider-centre collider) reach x y z radius))))
+
+(defun trunk-near-p (part x y z radius)
+  "Might a sphere of RADIUS at (X Y Z) touch the trunk PART?"
+  (declare (type double-float radius))
+  (<= (the double-float (axis-distance part x y z))
+      (+ (trunk-part-radius part) radius (float *contact-tolerance* 1d0))))
 
 (defun probe-hits (probe point physics excluded)
-  "The obstacles the PROBE placed at POINT sinks into deeper than *CONTACT-TOLERANCE*,
-as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART; EXCLUDED names objects that are not obstacles."
-  (let ((geom (probe-geom probe)) (radius (probe-radius probe)) (hits '()))
-    (dolist (static (scene-physics-statics physics))
-      (let ((object (physics-static-object static)))
-        (when (and (near-p (physics-static-centre static) (physics-static-reach static) point radius)
-                   (not (member (object-name object) excluded :test #'string-equal)))
-          (let ((depth (ode-geom-depth geom (physics-static-geom static))))
-            (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
-    (dolist (collider (scene-physics-colliders physics))
-      (dolist (part (collider-trunk collider))
-        (when (trunk-near-p part point radius)
-          (let ((depth (ode-geom-depth geom (trunk-part-geom part))))
-            (when (> depth *contact-tolerance*) (push (list part depth) hits))))))
+  "The obstacles the PROBE placed at POINT (a vec3) sinks into deeper than
+*CONTACT-TOLERANCE*, as (OBSTACLE DEPTH): a PHYSICS-STATIC or a TRUNK-PART;
+EXCLUDED names objects that are not obstacles.  The probe's geom is put there
+only when an obstacle is near."
+  (declare (type vec3 point))
+  (let ((x (vec3-x point)) (y (vec3-y point)) (z (vec3-z point))
+        (geom (probe-geom probe)) (radius (probe-radius probe)) (placed nil) (hits '()))
+    (macrolet ((depth (other)
+                 `(progn (unless placed
+                           (place-probe probe x y z)
+                           (setf placed t))
+                         (ode-geom-depth geom ,other))))
+      (dolist (static (scene-physics-statics physics))
+        (let ((object (physics-static-object static)))
+          (when (and (static-near-p static x y z radius)
+                     (not (member (object-name object) excluded :test #'string-equal)))
+            (let ((depth (depth (physics-static-geom static))))
+              (when (> depth *contact-tolerance*) (push (list static depth) hits))))))
+      (dolist (collider (scene-physics-colliders physics))
+        (dolist (part (and (collider-near-p collider x y z radius) (collider-trunk collider)))
+          (when (trunk-near-p part x y z radius)
+            (place-trunk-geom part)
+            (let ((depth (depth (trunk-part-geom part))))
+              (when (> depth *contact-tolerance*) (push (list part depth) hits)))))))
     hits))
-
-(defun trunk-near-p (part point radius)
-  "Might a sphere of RADIUS at POINT touch the trunk PART?"
-  (<= (axis-distance part point) (+ (trunk-part-radius part) radius *contact-tolerance*)))
 
 (defparameter *hand-span* 0.25d0
   "Metres from a hand joint within which its fingers (or a wing's feathers) lie:
 a hand with nothing that near is not tested further.")
 
 (defun hand-near-anything-p (point physics)
-  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at POINT?"
-  (or (some (lambda (static) (near-p (physics-static-centre static) (physics-static-reach static) point *hand-span*))
-            (scene-physics-statics physics))
-      (some (lambda (collider)
-              (some (lambda (part) (trunk-near-p part point *hand-span*)) (collider-trunk collider)))
-            (scene-physics-colliders physics))))
+  "Is anything of PHYSICS within *HAND-SPAN* of the hand joint at POINT (a vec3)?"
+  (declare (type vec3 point))
+  (let ((x (vec3-x point)) (y (vec3-y point)) (z (vec3-z point))
+        (span (float *hand-span* 1d0)))
+    (or (dolist (static (scene-physics-statics physics) nil)
+          (when (static-near-p static x y z span)
+            (return t)))
+        (dolist (collider (scene-physics-colliders physics) nil)
+          (dolist (part (and (collider-near-p collider x y z span) (collider-trunk collider)))
+            (when (trunk-near-p part x y z span)
+              (return-from hand-near-anything-p t)))))))
 
 (defun collider-hits (collider transforms physics excluded)
   "Every (PROBE OBSTACLE DEPTH) of COLLIDER's probes placed by TRANSFORMS.  A
 hand's probes come hand joint first; a hand far from everything is skipped."
-  (let ((skipped nil))
+  (let ((skipped '())
+        (point (make-vec3 0d0 0d0 0d0)))
     (loop for probe in (collider-probes collider)
-          for point = (joint-point transforms (probe-joint probe))
           for hand = (probe-hand probe)
-          when (and (eq (probe-joint probe) (probe-hand-joint collider hand))
-                    (not (hand-near-anything-p point physics)))
-            do (push hand skipped)
           unless (member hand skipped)
-            nconc (progn (set-ode-geom-placement (probe-geom probe) (vec3-list point))
-                         (mapcar (lambda (hit) (cons probe hit)) (probe-hits probe point physics excluded))))))
-
-(defun probe-hand-joint (collider hand)
-  "The joint of COLLIDER's first probe of HAND (:left or :right): the hand joint itself."
-  (probe-joint (find hand (collider-probes collider) :key #'probe-hand)))
+            nconc (with-joint-point ((x y z) transforms (probe-joint probe))
+                    (set-vec3 point x y z)
+                    (cond ((and (probe-first probe) (not (hand-near-anything-p point physics)))
+                           (push hand skipped)
+                           '())
+                          (t (loop for hit in (probe-hits probe point physics excluded)
+                                   collect (cons probe hit))))))))
 
 (defun obstacle-name (obstacle)
   "How a report names OBSTACLE: a prop's name, or BODY's JOINT."

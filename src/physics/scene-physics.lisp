@@ -31,13 +31,17 @@ it was at the last advance."
   ;; A hanging prop's pivot (pendulums.lisp), which the physics turns; and its rotation as written.
   (carrier nil) written-carrier-rotation
   ;; The velocity (x y z) it was last moved at by others, which it keeps when let go.
-  (release-velocity (list 0 0 0)))
+  (release-velocity (list 0 0 0))
+  ;; True when what was last written was the body asleep: nothing moves it until it wakes.
+  (written-asleep nil))
 
 (defstruct (physics-static (:constructor make-physics-static (object geom)))
   "A prop that does not move by itself, as a static GEOM placed where OBJECT
 is; PLACED is what it was placed by, CENTRE and REACH a sphere holding it
-\(REACH NIL: a plane)."
-  object geom (placed nil) (centre (make-vec3 0d0 0d0 0d0)) (reach nil))
+\(REACH NIL: a plane).  BOX, for a box, holds its world rotation (9 numbers,
+row by row) and half sizes (3), for an exact distance test (collisions.lisp)."
+  object geom (placed nil) (centre (make-vec3 0d0 0d0 0d0)) (reach nil)
+  (box nil :type (or null (simple-array double-float (12)))))
 
 (defstruct (scene-physics (:constructor %make-scene-physics (scene world)))
   "The physics of SCENE: its ODE WORLD, its dynamic PROPS and STATICS, its
@@ -135,7 +139,8 @@ geom for every other prop with a shape, and the floor."
                    (setf (physics-prop-world-position prop) position)
                    (push prop (scene-physics-props physics)))))
               (t (let ((static (make-physics-static object (make-ode-geom world shape :data object))))
-                   (setf (physics-static-reach static) (static-reach shape))
+                   (setf (physics-static-reach static) (static-reach shape)
+                         (physics-static-box static) (static-box shape))
                    (push static (scene-physics-statics physics)))))))
     (dolist (prop (scene-physics-props physics))
       (when (hanging-prop-p (physics-prop-object prop))

@@ -59,14 +59,19 @@ a group, which is a frame or a pendulum's pivot)?"
   "Put PHYSICS's static geoms where their props are now (a script may move them)."
   (dolist (static (scene-physics-statics physics))
     (let* ((object (physics-static-object static))
-           (key (list (object-parent object) (property-value object 'position) (property-value object 'rotation))))
+           (parent (object-parent object))
+           (position (property-value object 'position))
+           (rotation (property-value object 'rotation))
+           (placed (physics-static-placed static)))
       ;; Properties are copied when set, so unchanged EQ values under no parent mean no move.
-      (unless (and (null (first key)) (physics-static-placed static)
-                   (every #'eq key (physics-static-placed static)))
-        (multiple-value-bind (position rotation) (world-placement object)
-          (set-ode-geom-placement (physics-static-geom static) position rotation)
-          (setf (physics-static-placed static) key
-                (physics-static-centre static) (apply #'make-vec3 position)))))))
+      (unless (and (null parent) placed
+                   (eq (second placed) position) (eq (third placed) rotation))
+        (multiple-value-bind (world-position world-rotation) (world-placement object)
+          (set-ode-geom-placement (physics-static-geom static) world-position world-rotation)
+          (setf (physics-static-placed static) (list parent position rotation)
+                (physics-static-centre static) (apply #'make-vec3 world-position))
+          (when (physics-static-box static)
+            (apply #'set-box-rotation (physics-static-box static) world-rotation)))))))
 
 (defun read-prop-change (prop elapsed)
   "Set PROP's mode and body from its object after ELAPSED seconds: held or
@@ -127,7 +132,7 @@ from nothing or from a group)."
       (set-ode-body-placement (physics-prop-body prop) (physics-prop-world-position prop))
       (setf (ode-body-velocity (physics-prop-body prop)) (list 0 0 0)
             (ode-body-angular-velocity (physics-prop-body prop)) (list 0 0 0)))
-    (when (eq (physics-prop-mode prop) :free)
+    (when (and (eq (physics-prop-mode prop) :free) (not (asleep-as-written-p prop)))
       (let* ((object (physics-prop-object prop))
              (body (physics-prop-body prop))
              (world (multiple-value-bind (x y z) (ode-body-position body)
@@ -142,8 +147,18 @@ from nothing or from a group)."
         (when (declared-property object 'velocity)
           (setf (property-value object 'velocity)
                 (multiple-value-bind (x y z) (ode-body-velocity body) (make-vec3 x y z))))
-        (setf (physics-prop-world-position prop) (vec3-list (transform-translation world)))
+        (setf (physics-prop-world-position prop) (vec3-list (transform-translation world))
+              (physics-prop-written-asleep prop) (not (ode-body-enabled-p body)))
         (remember-written prop)))))
+
+(defun asleep-as-written-p (prop)
+  "Is PROP's body asleep, and was it asleep when its place was last written?
+Then the scene already shows where it lies (a prop hanging from nothing: a
+group's move would change its numbers)."
+  (and (physics-prop-written-asleep prop)
+       (null (object-parent (physics-prop-object prop)))
+       (null (physics-prop-carrier prop))
+       (not (ode-body-enabled-p (physics-prop-body prop)))))
 
 (defun physics-prop-resting-p (scene name)
   "Is the dynamic prop NAME of SCENE asleep: at rest, until something moves it?"

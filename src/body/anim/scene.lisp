@@ -109,8 +109,9 @@ VISIBLE (boolean); others are declared with DEFINE-PROPERTY."))
   (check-argument 'property-value 'object object #'scene-object-p "a scene object" 'anim-argument-error)
   (check-argument 'property-value 'name name #'string-designator-p "a property name (a symbol or string)"
                   'anim-argument-error)
-  (property-type object name)
-  (gethash (string name) (object-property-values object)))
+  (multiple-value-bind (value found) (gethash (string name) (object-property-values object))
+    ;; Every declared property has a value: one lookup on the good path.
+    (if found value (progn (property-type object name) nil))))
 
 (defun (setf property-value) (value object name)
   "Set OBJECT's property NAME to VALUE, checked against its type."
@@ -147,7 +148,15 @@ hanging from a joint; only bodies have joints.")
   "OBJECT's transform in the world: its parent's world transform times its local one."
   (check-argument 'object-world-transform 'object object #'scene-object-p "a scene object"
                   'anim-argument-error)
-  (transform-compose (parent-world-transform object) (object-local-transform object)))
+  (let ((local (object-local-transform object)))
+    (declare (type mat4 local))
+    (if (null (object-parent object))
+        ;; The identity times LOCAL, without making either: the same numbers
+        ;; (the product's sums turn a -0d0 entry into 0d0, so this does too).
+        (dotimes (i 3 local)
+          (dotimes (j 4)
+            (setf (aref local i j) (+ (aref local i j) 0d0))))
+        (transform-compose (parent-world-transform object) local local))))
 
 (defun object-world-position (object)
   "Where OBJECT is in the world, as a new vec3."

@@ -42,13 +42,15 @@ are masked, so a NaN prints as nan."
     (%set-rotation-from-quat m q)
     m))
 
-(defun %set-rotation-from-quat (m q)
-  "Write the rotation of unit quaternion Q into the upper-left 3x3 of matrix M (3x3 or 4x4)."
-  (declare #.*anim-optimize* (type (simple-array double-float (* *)) m) (type quat q))
-  (let* ((w (quat-w q)) (x (quat-x q)) (y (quat-y q)) (z (quat-z q))
-         (xx (* x x)) (yy (* y y)) (zz (* z z))
-         (xy (* x y)) (xz (* x z)) (yz (* y z))
-         (wx (* w x)) (wy (* w y)) (wz (* w z)))
+(declaim (inline %set-rotation-from-components))
+(defun %set-rotation-from-components (m w x y z)
+  "Write the rotation of the unit quaternion (W X Y Z) into the upper-left 3x3
+of matrix M (3x3 or 4x4)."
+  (declare #.*anim-optimize* (type (simple-array double-float (* *)) m)
+           (type double-float w x y z))
+  (let ((xx (* x x)) (yy (* y y)) (zz (* z z))
+        (xy (* x y)) (xz (* x z)) (yz (* y z))
+        (wx (* w x)) (wy (* w y)) (wz (* w z)))
     (setf (aref m 0 0) (- 1d0 (* 2d0 (+ yy zz)))
           (aref m 0 1) (* 2d0 (- xy wz))
           (aref m 0 2) (* 2d0 (+ xz wy))
@@ -59,6 +61,11 @@ are masked, so a NaN prints as nan."
           (aref m 2 1) (* 2d0 (+ yz wx))
           (aref m 2 2) (- 1d0 (* 2d0 (+ xx yy))))
     m))
+
+(defun %set-rotation-from-quat (m q)
+  "Write the rotation of unit quaternion Q into the upper-left 3x3 of matrix M (3x3 or 4x4)."
+  (declare #.*anim-optimize* (type (simple-array double-float (* *)) m) (type quat q))
+  (%set-rotation-from-components m (quat-w q) (quat-x q) (quat-y q) (quat-z q)))
 
 (defun matrix-to-quat (m)
   "The unit quaternion (with w >= 0) of the rotation in the upper-left 3x3 of
@@ -135,22 +142,26 @@ the vector TRANSLATION: p -> R p + t."
   "The rigid transform A B (apply B, then A) of MAT4s A and B, stored into the
 MAT4 RESULT (new by default; it may be A or B) and returned. Conses nothing
 when RESULT is given."
-  (declare #.*anim-optimize*)
-  (let ((tmp (make-array 12 :element-type 'double-float)))
-    (declare (dynamic-extent tmp))
-    (dotimes (i 3)
-      (dotimes (j 4)
-        (setf (aref tmp (+ (* 4 i) j))
-              (+ (* (aref a i 0) (aref b 0 j))
-                 (* (aref a i 1) (aref b 1 j))
-                 (* (aref a i 2) (aref b 2 j))
-                 (if (= j 3) (aref a i 3) 0d0)))))
-    (dotimes (i 3)
-      (dotimes (j 4)
-        (setf (aref result i j) (aref tmp (+ (* 4 i) j)))))
-    (setf (aref result 3 0) 0d0 (aref result 3 1) 0d0
-          (aref result 3 2) 0d0 (aref result 3 3) 1d0)
-    result))
+  (declare #.*anim-optimize* (type mat4 a b result))
+  ;; Unrolled, every entry read before any is written (RESULT may be A or B).
+  (macrolet ((compose ()
+               (let ((as (loop for i below 3 collect (loop for j below 4 collect (gensym (format nil "A~D~D" i j)))))
+                     (bs (loop for i below 3 collect (loop for j below 4 collect (gensym (format nil "B~D~D" i j))))))
+                 `(let (,@(loop for i below 3 nconc (loop for j below 4 collect `(,(nth j (nth i as)) (aref a ,i ,j))))
+                        ,@(loop for i below 3 nconc (loop for j below 4 collect `(,(nth j (nth i bs)) (aref b ,i ,j)))))
+                    (declare (type double-float ,@(reduce #'append as) ,@(reduce #'append bs)))
+                    (setf ,@(loop for i below 3
+                                  nconc (loop for j below 4
+                                              collect `(aref result ,i ,j)
+                                              collect `(+ (* ,(nth 0 (nth i as)) ,(nth j (nth 0 bs)))
+                                                          (* ,(nth 1 (nth i as)) ,(nth j (nth 1 bs)))
+                                                          (* ,(nth 2 (nth i as)) ,(nth j (nth 2 bs)))
+                                                          ;; 0d0 as before unrolling: a -0d0 sum prints as 0.
+                                                          ,(if (= j 3) (nth 3 (nth i as)) 0d0)))))))))
+    (compose))
+  (setf (aref result 3 0) 0d0 (aref result 3 1) 0d0
+        (aref result 3 2) 0d0 (aref result 3 3) 1d0)
+  result)
 
 (defun transform-invert (m &optional (result (identity-transform)))
   "The inverse of the rigid MAT4 M (rotation R^T, translation -R^T t), stored

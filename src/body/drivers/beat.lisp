@@ -123,7 +123,7 @@ retraction eases back over RETRACT."
          (times (beat-times driver))
          ;; Only beats whose stroke or retraction covers LOCAL can move the arm.
          (pulse (loop for i from (first-time-after times (- local retract)) below (length times)
-                      for at = (svref times i)
+                      for at = (aref times i)
                       while (<= (- at stroke) local)
                       maximize (beat-pulse local at stroke retract))))
     (if (driver-additive-p driver)
@@ -141,14 +141,14 @@ retraction eases back over RETRACT."
 
 (defmethod driver-end-time ((driver beat-driver))
   (let ((times (beat-times driver)))
-    (+ (driver-start driver) (svref times (1- (length times))) (gesture-seconds driver :retract))))
+    (+ (driver-start driver) (aref times (1- (length times))) (gesture-seconds driver :retract))))
 
 (defmethod driver-default-blend ((driver beat-driver))
   ;; It eases from the angles it captured at its start: a crossfade would only slow it.
   0d0)
 
 (defun beat-times (driver)
-  "DRIVER's :times as a simple-vector of double-floats, made once."
+  "DRIVER's :times as a TIMES-VECTOR, made once."
   (or (beat-time-vector driver)
       (setf (beat-time-vector driver)
-            (map 'simple-vector (lambda (at) (float at 1d0)) (driver-arg driver :times)))))
+            (map 'times-vector (lambda (at) (float at 1d0)) (driver-arg driver :times)))))

@@ -5,12 +5,18 @@
 
 ;;;# The direct driver
 
+(deftype times-vector ()
+  "Increasing seconds, as a driver keeps them for bisection."
+  '(simple-array double-float (*)))
+
 (defun first-time-after (times time)
-  "The index of the first of the increasing TIMES (a simple-vector) after TIME, by bisection."
-  (let ((low 0) (high (length times)))
+  "The index of the first of the increasing TIMES (a TIMES-VECTOR) after TIME, by bisection."
+  (declare (type times-vector times))
+  (let ((time (float time 1d0)) (low 0) (high (length times)))
+    (declare (type double-float time) (type fixnum low high))
     (loop while (< low high)
           do (let ((middle (floor (+ low high) 2)))
-               (if (<= (svref times middle) time)
+               (if (<= (aref times middle) time)
                    (setf low (1+ middle))
                    (setf high middle))))
     low))

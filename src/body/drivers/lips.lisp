@@ -115,7 +115,7 @@ targets (VISEME-MORPH-TABLE); a MOTOR-ERROR when it has neither."
       (driver-frame-fail driver ":visemes must be a nonempty list of (SECONDS VISEME) pairs"))
     (check-increasing-times driver (mapcar #'first visemes) "viseme times")
     (multiple-value-bind (channels shapes) (lips-shapes driver (mapcar #'second visemes))
-      (setf (lips-times driver) (map 'simple-vector (lambda (entry) (float (first entry) 1d0)) visemes)
+      (setf (lips-times driver) (map 'times-vector (lambda (entry) (float (first entry) 1d0)) visemes)
             (lips-angles driver) shapes)
       channels)))
 
@@ -147,7 +147,7 @@ targets (VISEME-MORPH-TABLE); a MOTOR-ERROR when it has neither."
           do (let* ((previous (if (plusp next) (aref (svref shapes (1- next)) c) (aref (lips-from driver) c)))
                     (angle previous))
                (loop for i from next below (length times)
-                     for at = (svref times i)
+                     for at = (aref times i)
                      for value = (aref (svref shapes i) c)
                      while (< (viseme-ramp-start at ramp) local)
                      do (incf angle (* (eased-fraction local (viseme-ramp-start at ramp) ramp)
@@ -158,7 +158,7 @@ targets (VISEME-MORPH-TABLE); a MOTOR-ERROR when it has neither."
 (defmethod driver-end-time ((driver lips-driver))
   (let ((ramp (float (driver-arg driver :ramp) 1d0)))
     (+ (driver-start driver)
-       (+ (viseme-ramp-start (svref (lips-times driver) (1- (length (lips-times driver)))) ramp) ramp))))
+       (+ (viseme-ramp-start (aref (lips-times driver) (1- (length (lips-times driver)))) ramp) ramp))))
 
 (defmethod driver-default-blend ((driver lips-driver))
   ;; Visemes are short: a long crossfade would swallow the first ones.

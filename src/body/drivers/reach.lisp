@@ -92,7 +92,8 @@ solution while nothing it depends on has moved."
          (body (driver-body driver))
          (target (reach-target-point driver pose))
          (local (transform-point
-                 (transform-invert (arm-chain-parent-transform chain pose (object-world-transform body)))
+                 (transform-invert (arm-chain-parent-transform chain pose (object-world-transform body)
+                                                               (driver-skeleton driver)))
                  target))
          (key (reach-key driver local pose)))
     (unless (equal key (reach-solved-for driver))
