@@ -245,6 +245,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "control-forms")
                                (:file "scene")))
                  (:file "skeleton")
+                 (:file "skeleton-files")
                  (:file "arbitration")
                  (:file "pose")
                  (:file "pose-library")

@@ -1,7 +1,7 @@
 ;;;; humanoid.lisp -- a human figure: H-Anim level of articulation 1, plus the
 ;;;; face (eyes, upper lids, brows, jaw) and one curl DOF per finger.
 ;;;; Data for PLAYER::LOAD-SKELETON; read with *READ-EVAL* NIL, never loaded.
-;;;; Format: see src/body/skeleton.lisp.  Metres; +y up, +z front, +x
+;;;; Format: see src/body/skeleton-files.lisp.  Metres; +y up, +z front, +x
 ;;;; the figure's left.  Rest pose: standing, arms at the sides, palms in.
 ;;;;
 ;;;; Joint centres of the LOA-1 joints are the H-Anim 1.1 reference figure's,

@@ -1,6 +1,6 @@
 ;;;; parrot.lisp -- Peedy, the parrot of Microsoft Research's Persona project.
 ;;;; Data for PLAYER::LOAD-SKELETON; read with *READ-EVAL* NIL, never loaded.
-;;;; Format: see src/body/skeleton.lisp.  Metres; +y up, +z the bird's
+;;;; Format: see src/body/skeleton-files.lisp.  Metres; +y up, +z the bird's
 ;;;; front (its beak), +x its left.  Rest pose: perched upright, wings folded
 ;;;; along the body, about 0.35 m from the feet to the top of the crest.
 ;;;;
