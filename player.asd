@@ -182,6 +182,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "pocketsphinx")
                  (:file "pronunciation")
                  (:file "recognition")
+                 (:file "capture")
+                 (:file "listening")
                  (:file "playback")))
    ;; Models artists make, imported through Assimp: meshes, skins, skeletons, animations, morph targets and textures.
    (:module "model" :depends-on ("base")
@@ -364,6 +366,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "jsgf")
                  (:file "parse")
                  (:file "files")
+                 (:file "offers")
                  (:file "turns")
                  (:file "speaking")))
    ;; Recorded traces as regression tests: record a scenario, verify a replay.
@@ -525,5 +528,8 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; The body agrees with the state (issue 27)
                  (:file "test-settle")
                  ;; Peedy understands paraphrases (issue 28, item 1)
-                 (:file "test-understanding"))))
+                 (:file "test-understanding")
+                 ;; Persona listens: rejection, the microphone, fragments (issue 28, items 2-4)
+                 (:file "test-speech-rejection")
+                 (:file "test-fragments"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -51,34 +51,54 @@ the readings of each line are printed before its turn."
 
 ;;;; Turns from spoken requests
 
-(defun read-request-wav (path)
-  "The sound of the WAV file PATH, a spoken request; a SPEECH-ERROR naming it
-when it is unreadable or empty."
-  (let ((sound (read-wav path)))
-    (when (zerop (length (sound-samples sound)))
-      (wav-fail path "it holds no samples"))
-    sound))
-
 (defun check-recogniser ()
   "Signal SPEECH-UNAVAILABLE, naming the Debian package, unless pocketsphinx and its English model are installed."
   (load-pocketsphinx-library)
   (pocketsphinx-model-files)
   t)
 
+(defun print-heard (text score sentence)
+  "Print what the recogniser heard: `heard: \"SENTENCE\" (score S)`, with
+`, rejected` when the score is too low (TEXT NIL), or `heard: nothing`."
+  (if sentence
+      (format t "heard: ~S (score ~,1F~:[, rejected~;~])~%" sentence score text)
+      (format t "heard: nothing~%")))
+
 (defun chat-wavs (conversation requests grammar &key speaker explain)
   "Play a turn of CONVERSATION for each of REQUESTS, a list of (PATH . SOUND):
-pocketsphinx hears the SOUND against GRAMMAR (JSGF text), `heard: \"...\"` (or
-`heard: nothing`) is printed and the sentence heard is the turn's text.  With
-SPEAKER, the request goes on the audio track before Peedy answers; with
-EXPLAIN, the readings of what was heard are printed before its turn."
+pocketsphinx hears the SOUND against GRAMMAR (JSGF text), `heard: \"...\"
+\(score S)` (or `heard: nothing`) is printed and the sentence heard is the
+turn's text; a rejected one is not understood.  With SPEAKER, the request
+goes on the audio track before Peedy answers; with EXPLAIN, the readings of
+what was heard are printed before its turn."
   (loop for (path . sound) in requests
-        for heard = (recognize-sound sound :grammar grammar)
-        do (if heard (format t "heard: ~S~%" heard) (format t "heard: nothing~%"))
-           (when speaker
-             (speaker-wait speaker (conversation-controller conversation))
-             (speaker-listen speaker sound (file-namestring path) (conversation-controller conversation)))
-           (hear-turn conversation heard explain)
-           (finish-output)))
+        do (multiple-value-bind (heard score sentence) (recognize-sound sound :grammar grammar)
+             (print-heard heard score sentence)
+             (when speaker
+               (speaker-wait speaker (conversation-controller conversation))
+               (speaker-listen speaker sound (file-namestring path) (conversation-controller conversation)))
+             (hear-turn conversation heard explain)
+             (finish-output))))
+
+;;;; Turns from a microphone
+
+(defun chat-listen (conversation grammar &key device seconds explain)
+  "Play a turn of CONVERSATION for each request heard from the ALSA DEVICE
+(arecord), found by pocketsphinx's voice-activity detection and heard
+against GRAMMAR, printed as chat-wavs prints them, until the recording ends
+or SECONDS of sound have been heard.  EXPLAIN as for chat-wavs."
+  (let ((capture (open-capture :device (or device *capture-device*))))
+    (format t "; listening to ~A~@[ for ~D s~]~%" (or device *capture-device*) seconds)
+    (finish-output)
+    (unwind-protect
+         (listen-for-requests capture grammar
+                              (lambda (text score sentence heard-at)
+                                (declare (ignore heard-at))
+                                (print-heard text score sentence)
+                                (hear-turn conversation text explain)
+                                (finish-output))
+                              :seconds seconds)
+      (close-capture capture))))
 
 ;;;; Speech when rendering
 
@@ -90,12 +110,18 @@ so: the conversation is then drawn or viewed silently."
       (format t "; no speech: ~A~%" (condition-line condition))
       nil)))
 
-(define-command "chat" (file &key initial seed memory user wav explain render video silent view frames fps size)
+(define-command "chat" (file &key initial seed memory user wav listen device seconds explain render video silent view frames fps size)
     (:summary "talk to the character: typed or spoken requests in; input events, transitions, Player's trace and spoken text out"
      :description "Reads one request a line from standard input (a terminal or a pipe) until
 its end or `quit`, or with --wav hears each WAV file with pocketsphinx
 against the JSGF grammar made from the dialogue's utterances, printing
-`heard: \"SENTENCE\"` (or `heard: nothing`, which is not understood).  For
+`heard: \"SENTENCE\" (score S)` (or `heard: nothing`, which is not
+understood), or with --listen hears the requests said into a microphone,
+one a turn, as they come (arecord, Debian alsa-utils; pocketsphinx's
+voice-activity detection finds where each ends).  The score is how much
+worse the sentence fits the sound than English phones do, per 10 ms frame;
+a sentence scoring below the rejection margin is `, rejected` and not
+understood: speech outside the grammar is never a command.  For
 each request, prints `input: EVENT slot=\"value\"...` (with `(not
 understood)` when no utterance pattern matched), `transition: FROM --EVENT-->
 TO` (`(no rule)` when none applied), the trace lines of the Player events the
@@ -115,6 +141,9 @@ libespeak-ng it is drawn or viewed silently, after a note."
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
                ("--wav" :names "FILE.wav,..." "instead of standard input, hear these WAV files, a turn each, in order (pocketsphinx, Debian pocketsphinx and pocketsphinx-en-us)")
+               ("--listen" :flag "" "instead of standard input, hear requests from a microphone (ALSA, through arecord of Debian alsa-utils) as they are said")
+               ("--device" :string "NAME" "with --listen, the ALSA device to record from" :default-text "default")
+               ("--seconds" :positive-integer "N" "with --listen, stop after N seconds of sound")
                ("--explain" :flag "" "before each turn, print the best readings of the request, their scores and why")
                ("--render" :string "DIR" "draw the conversation offscreen into DIR at the end, as render does, Peedy's replies in DIR/speech.wav")
                ("--video" :string "FILE.mp4" "with --render, also encode the frames as a video with the sound (ffmpeg)")
@@ -129,8 +158,11 @@ libespeak-ng it is drawn or viewed silently, after a note."
   (when (and video (not render)) (usage-fail "--video needs --render DIR, where its frames go"))
   (when (and silent (not (or render view)))
     (usage-fail "--silent silences --render or --view; without them nothing is spoken aloud"))
-  (when (and view (or wav render))
-    (usage-fail "--view plays typed lines live; it takes neither --wav nor --render"))
+  (when (and view (or wav render listen))
+    (usage-fail "--view plays typed lines live; it takes neither --wav nor --render (nor --listen)"))
+  (when (and wav listen) (usage-fail "--wav and --listen are two sources of requests: give one"))
+  (when (and (or seconds device) (not listen))
+    (usage-fail "--device and --seconds say how to --listen"))
   (when video (find-ffmpeg))
   (let* ((dialogue (choose-dialogue file))
          (spec (or (dialogue-player-spec dialogue)
@@ -140,7 +172,7 @@ libespeak-ng it is drawn or viewed silently, after a note."
          (initial (or initial (dialogue-player-initial dialogue)))
          ;; Every WAV read and the recogniser found before the first turn: a bad file stops nothing half-done.
          (requests (mapcar (lambda (path) (cons path (read-request-wav path))) wav))
-         (grammar (and wav (check-recogniser) (dialogue-jsgf dialogue)))
+         (grammar (and (or wav listen) (check-recogniser) (dialogue-jsgf dialogue)))
          (silent (and (or render view) (or silent (not (speech-available-or-note)))))
          ;; Rendering plays the conversation on a body as it goes, so speech is timed by its clock.
          (presenter (if render
@@ -158,6 +190,7 @@ libespeak-ng it is drawn or viewed silently, after a note."
       (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames
                                                                 :silent silent :explain explain))
             (wav (chat-wavs conversation requests grammar :speaker speaker :explain explain))
+            (listen (chat-listen conversation grammar :device device :seconds seconds :explain explain))
             (t (chat-lines conversation :speaker speaker :explain explain))))
     (format t "; ~D turn~:P; state ~A, mood ~(~A~)~%" (conversation-turns conversation)
             (display-name (conversation-state conversation)) (memory-mood remembered))
