@@ -31,6 +31,7 @@
 (cffi:defcfun ("ps_seg_iter" %ps-seg-iter) :pointer (decoder :pointer))
 (cffi:defcfun ("ps_seg_next" %ps-seg-next) :pointer (segment :pointer))
 (cffi:defcfun ("ps_seg_free" %ps-seg-free) :void (segment :pointer))
+(cffi:defcfun ("ps_seg_word" %ps-seg-word) :string (segment :pointer))
 (cffi:defcfun ("ps_seg_frames" %ps-seg-frames) :void (segment :pointer) (start :pointer) (end :pointer))
 (cffi:defcfun ("ps_seg_prob" %ps-seg-prob) :int32
   (segment :pointer) (acoustic :pointer) (language :pointer) (backoff :pointer))
@@ -133,19 +134,37 @@ best is measured against.  A SPEECH-ERROR when pocketsphinx cannot load it."
     (unless (zerop (%ps-set-search (sphinx-decoder-handle decoder) "phone-loop"))
       (speech-fail "pocketsphinx could not switch to its phone loop"))))
 
+(defun filler-word-p (word)
+  "Is WORD a silence or noise of the decoder's (<sil>, [NOISE], SIL, +BREATH+), not speech?"
+  (or (zerop (length word)) (find (char word 0) "<[+") (string= word "SIL")))
+
+(defun word-phone-count (handle word)
+  "How many phones HANDLE's dictionary gives WORD (1 for a word it lacks: a phone loop's phone)."
+  (let ((phones (%ps-lookup-word handle word)))
+    (if (cffi:null-pointer-p phones)
+        1
+        (prog1 (1+ (count #\Space (string-trim " " (cffi:foreign-string-to-lisp phones))))
+          (%ckd-free phones)))))
+
 (defun sphinx-acoustic-score (handle)
   "The acoustic score (log base 1.0001) of the words HANDLE's best path
-holds, summed, and the frames they span: (VALUES SCORE FRAMES)."
-  (let ((score 0) (first-frame nil) (last-frame 0))
+holds, summed, the frames they span, the frames of speech among them (not
+silence or noise) and the phones of its words: (VALUES SCORE FRAMES
+SPEECH-FRAMES PHONES)."
+  (let ((score 0) (first-frame nil) (last-frame 0) (speech 0) (phones 0))
     (cffi:with-foreign-objects ((acoustic :int32) (language :int32) (backoff :int32) (start :int) (end :int))
       (do ((segment (%ps-seg-iter handle) (%ps-seg-next segment)))
           ((cffi:null-pointer-p segment))
         (%ps-seg-prob segment acoustic language backoff)
         (%ps-seg-frames segment start end)
         (incf score (cffi:mem-ref acoustic :int32))
+        (let ((word (%ps-seg-word segment)))
+          (unless (filler-word-p word)
+            (incf speech (1+ (- (cffi:mem-ref end :int) (cffi:mem-ref start :int))))
+            (incf phones (word-phone-count handle word))))
         (setf first-frame (or first-frame (cffi:mem-ref start :int))
               last-frame (cffi:mem-ref end :int))))
-    (values score (if first-frame (max 1 (1+ (- last-frame first-frame))) 0))))
+    (values score (if first-frame (max 1 (1+ (- last-frame first-frame))) 0) speech phones)))
 
 (defun sphinx-start (decoder)
   "Begin an utterance in DECODER."
@@ -164,17 +183,17 @@ voice-activity detection tells apart).  Returns whether it hears speech now."
       (plusp (%ps-get-in-speech handle)))))
 
 (defun sphinx-finish (decoder)
-  "End DECODER's utterance: (VALUES TEXT ACOUSTIC-SCORE FRAMES), TEXT the
-sentence heard (NIL for none), the acoustic score of its best path and the
-frames (10 ms) it spans."
+  "End DECODER's utterance: (VALUES TEXT ACOUSTIC-SCORE FRAMES SPEECH-FRAMES
+PHONES), TEXT the sentence heard (NIL for none), the acoustic score of its
+best path, the frames (10 ms) it spans, those of speech, and its phones."
   (let ((handle (sphinx-decoder-handle decoder)))
     (with-speech-traps-masked
       (%ps-end-utt handle)
       (cffi:with-foreign-object (score :int32)
         (let* ((hypothesis (%ps-get-hyp handle score))
                (text (and (not (cffi:null-pointer-p hypothesis)) (cffi:foreign-string-to-lisp hypothesis))))
-          (multiple-value-bind (acoustic frames) (sphinx-acoustic-score handle)
-            (values (and text (plusp (length text)) text) acoustic frames)))))))
+          (multiple-value-bind (acoustic frames speech phones) (sphinx-acoustic-score handle)
+            (values (and text (plusp (length text)) text) acoustic frames speech phones)))))))
 
 (defun sphinx-decode (decoder samples)
   "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when

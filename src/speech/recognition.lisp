@@ -6,8 +6,9 @@
 ;;;; the best any speech can score, and the SCORE is how much worse the
 ;;;; grammar's sentence fits, per 10 ms frame (0 is as good as any speech;
 ;;;; the more negative, the less the sound is like the sentence).  Below
-;;;; *REJECTION-MARGIN* the sentence is rejected: speech outside the grammar
-;;;; is nothing heard, never a command.  (A garbage loop inside the JSGF
+;;;; *REJECTION-MARGIN*, or when its phones would each have to last longer
+;;;; than *LONGEST-PHONE* frames, the sentence is rejected: speech outside
+;;;; the grammar is nothing heard, never a command.  (A garbage loop inside the JSGF
 ;;;; grammar was tried and given up: sphinxbase's JSGF compiler joins the
 ;;;; loop to the grammar's sentences, and ignores its weight.)
 
@@ -24,9 +25,17 @@ apart from the grammars' so the two can hear a microphone side by side.")
 (defparameter *rejection-margin* -32.0
   "The least SCORE (the grammar's acoustic score less the phone loop's, per
 frame) a recognised sentence needs to be accepted.  Calibrated on espeak-ng's
-voices: sentences of the jukebox grammar score about -30 to 0, other English
--55 to -25 (t/fixtures/spoken-sentences.lisp; the first half of each set
-chose it, the second half checks it).")
+voices: sentences of the jukebox grammar score about -32 to 0, other English
+-55 to -20 (t/fixtures/spoken-sentences.lisp), so the margin alone cannot
+part them; *LONGEST-PHONE* catches more.")
+
+(defparameter *longest-phone* 12.0
+  "The most frames (10 ms) of speech, as the phone loop hears it, a
+recognised sentence may give each of its phones, on average, to be
+accepted: the sentences of the grammar take 3 to 11, while speech a grammar
+can only match with \"alright\" or \"not really\" stretches them over 12 to
+40.  Chosen, with *REJECTION-MARGIN*, on the first half of each set of
+t/fixtures/spoken-sentences.lisp.")
 
 (defparameter *longest-request* 30
   "The longest sound, in seconds, heard as one request: decoding takes about a
@@ -74,13 +83,20 @@ words it could learn no pronunciation for."
 PHONE-ACOUSTIC, per frame of FRAMES (see *REJECTION-MARGIN*)."
   (if (plusp frames) (/ (float (- acoustic phone-acoustic) 1.0) frames) 0.0))
 
-(defun judge-recognition (text score)
-  "What is heard as (VALUES TEXT SCORE SENTENCE): TEXT (lower case) when
-SCORE is at least *REJECTION-MARGIN*, else NIL; SENTENCE is TEXT either way."
+(defun recognition-stretch (speech-frames phones)
+  "The frames of speech (as the phone loop hears it) per phone of the
+sentence a grammar heard: about 10 when the sentence is what was said."
+  (if (plusp phones) (/ (float speech-frames 1.0) phones) most-positive-single-float))
+
+(defun judge-recognition (text score stretch)
+  "What is heard as (VALUES TEXT SCORE SENTENCE STRETCH): TEXT (lower case)
+when SCORE is at least *REJECTION-MARGIN* and STRETCH at most
+*LONGEST-PHONE*, else NIL; SENTENCE is TEXT either way."
   (let ((sentence (and text (string-downcase text))))
-    (values (and sentence (>= score *rejection-margin*) sentence)
+    (values (and sentence (>= score *rejection-margin*) (<= stretch *longest-phone*) sentence)
             (and sentence score)
-            sentence)))
+            sentence
+            (and sentence stretch))))
 
 (defun request-samples (sound)
   "SOUND as the recogniser hears it: 16 kHz, with 0.3 s of silence either
@@ -105,12 +121,14 @@ SPEECH-ERROR when SOUND is longer than *LONGEST-REQUEST* seconds."
                   "a JSGF grammar's text (starting #JSGF V1.0;)")
   (let ((decoder (grammar-decoder grammar))
         (samples (request-samples sound)))
-    (multiple-value-bind (text acoustic frames) (sphinx-decode decoder samples)
+    (multiple-value-bind (text acoustic frames speech phones) (sphinx-decode decoder samples)
+      (declare (ignore speech))
       (if (null text)
-          (values nil nil nil)
-          (judge-recognition text (recognition-score acoustic
-                                                     (nth-value 1 (sphinx-decode (phone-loop-decoder) samples))
-                                                     frames))))))
+          (values nil nil nil nil)
+          (multiple-value-bind (loop-text loop-acoustic loop-frames loop-speech) (sphinx-decode (phone-loop-decoder) samples)
+            (declare (ignore loop-text loop-frames))
+            (judge-recognition text (recognition-score acoustic loop-acoustic frames)
+                               (recognition-stretch loop-speech phones)))))))
 
 (defun pad-samples (samples count)
   "SAMPLES with COUNT zero samples before and after."
