@@ -120,8 +120,9 @@ understood), or with --listen hears the requests said into a microphone,
 one a turn, as they come (arecord, Debian alsa-utils; pocketsphinx's
 voice-activity detection finds where each ends).  The score is how much
 worse the sentence fits the sound than English phones do, per 10 ms frame;
-a sentence scoring below the rejection margin is `, rejected` and not
-understood: speech outside the grammar is never a command.  For
+a sentence scoring below the rejection margin, or whose phones would each
+have to last too long, is `, rejected` and not understood: speech outside
+the grammar is never a command.  For
 each request, prints `input: EVENT slot=\"value\"...` (with `(not
 understood)` when no utterance pattern matched), `transition: FROM --EVENT-->
 TO` (`(no rule)` when none applied), the trace lines of the Player events the
