@@ -112,6 +112,37 @@ evBadSpeech (out-of-domain)."
     (check-cli-error 1 "it lasts 600.0 s" "chat" "specs/peedy-dialogue.lisp" "--wav" long)))
 
 ;;; ---------------------------------------------------------------------------
+;;; Push-to-talk: the viewer's key handler, pressed and released by hand
+
+(test holding-enter-records-a-request
+  (cond ((not (probe-file "/usr/bin/arecord"))
+         (skip "arecord is not installed (Debian alsa-utils): push-to-talk not tested"))
+        (t
+         (with-speech-libraries ("push-to-talk")
+           (let* ((home (file-microphone-home '("what do you have by debussy")))
+                  (old (sb-posix:getenv "HOME"))
+                  (conversation (jukebox-conversation :controller nil))
+                  (turns '())
+                  (handler (player.cli::make-push-to-talk
+                            conversation (dialogue-jsgf (jukebox)) :device "wavin"
+                            :turn (lambda (conversation text explain)
+                                    (declare (ignore explain))
+                                    (push (conversation-hear conversation text) turns))))
+                  (out (make-string-output-stream)))
+             (unwind-protect
+                  (let ((*standard-output* out))
+                    (sb-posix:setenv "HOME" (string-right-trim "/" home) 1)
+                    (is-true (funcall handler nil player.render:+glfw-key-enter+ player.render:+glfw-press+))
+                    (sleep 1)
+                    (is-true (funcall handler nil player.render:+glfw-key-enter+ player.render:+glfw-release+))
+                    ;; Other keys are the viewer's.
+                    (is-false (funcall handler nil 65 player.render:+glfw-press+)))
+               (sb-posix:setenv "HOME" old 1))
+             (is (= 1 (length turns)))
+             (is (equal '(("ARTIST" . "Claude Debussy")) (turn-slots (first turns))))
+             (is (search "heard: \"what do you have by debussy\"" (get-output-stream-string out))))))))
+
+;;; ---------------------------------------------------------------------------
 ;;; A microphone without hardware: an ALSA `file` PCM whose infile holds the
 ;;; requests (raw 16 kHz samples), named in a temporary HOME's .asoundrc.
 

@@ -100,6 +100,52 @@ or SECONDS of sound have been heard.  EXPLAIN as for chat-wavs."
                               :seconds seconds)
       (close-capture capture))))
 
+;;;; Push-to-talk in the viewer
+
+(defparameter *longest-push* 10
+  "The most seconds a held key records: what is said after is not kept.")
+
+(defun record-while (capture recording)
+  "Read CAPTURE into a list of sample pieces, newest first, while
+\(CAR RECORDING) is true and less than *LONGEST-PUSH* seconds are kept;
+return the pieces."
+  (let ((pieces '()) (kept 0) (limit (* *longest-push* 16000)))
+    (loop while (and (car recording) (< kept limit))
+          do (let* ((piece (make-array 1024 :element-type '(signed-byte 16)))
+                    (count (read-capture capture piece)))
+               (when (zerop count) (return))
+               (push (subseq piece 0 count) pieces)
+               (incf kept count)))
+    pieces))
+
+(defun make-push-to-talk (conversation grammar &key device explain (turn #'hear-turn))
+  "A key handler for the viewer: holding Enter records from the ALSA DEVICE
+\(a thread reads it), letting go hears what was said against GRAMMAR and
+plays it as a turn of CONVERSATION (TURN, a function of the conversation,
+the text and EXPLAIN), printing `heard:` as chat-wavs does."
+  (let ((recording nil) (capture nil) (thread nil))
+    (lambda (viewer code action)
+      (when (= code +glfw-key-enter+)
+        (cond ((and (= action +glfw-press+) (null capture))
+               (setf capture (open-capture :device (or device *capture-device*))
+                     recording (list t))
+               (let ((capture capture) (recording recording))
+                 (setf thread (bt:make-thread (lambda () (record-while capture recording)) :name "push-to-talk")))
+               (format t "; listening (let go of Enter to stop)~%"))
+              ((and (= action +glfw-release+) capture)
+               (setf (car recording) nil)
+               (let ((pieces (bt:join-thread thread)))
+                 (close-capture (shiftf capture nil))
+                 (multiple-value-bind (text score sentence)
+                     (recognize-sound (make-sound (apply #'concatenate '(simple-array (signed-byte 16) (*)) (reverse pieces))
+                                                  16000)
+                                      :grammar grammar)
+                   (print-heard text score sentence)
+                   (when viewer (setf (conversation-controller conversation) (viewer-controller viewer)))
+                   (funcall turn conversation text explain)))
+               (finish-output)))
+        t))))
+
 ;;;; Speech when rendering
 
 (defun speech-available-or-note ()
@@ -142,7 +188,7 @@ libespeak-ng it is drawn or viewed silently, after a note."
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
                ("--wav" :names "FILE.wav,..." "instead of standard input, hear these WAV files, a turn each, in order (pocketsphinx, Debian pocketsphinx and pocketsphinx-en-us)")
-               ("--listen" :flag "" "instead of standard input, hear requests from a microphone (ALSA, through arecord of Debian alsa-utils) as they are said")
+               ("--listen" :flag "" "instead of standard input, hear requests from a microphone (ALSA, through arecord of Debian alsa-utils) as they are said; with --view, what is said while Enter is held in the window (push-to-talk)")
                ("--device" :string "NAME" "with --listen, the ALSA device to record from" :default-text "default")
                ("--seconds" :positive-integer "N" "with --listen, stop after N seconds of sound")
                ("--explain" :flag "" "before each turn, print the best readings of the request, their scores and why")
@@ -159,8 +205,8 @@ libespeak-ng it is drawn or viewed silently, after a note."
   (when (and video (not render)) (usage-fail "--video needs --render DIR, where its frames go"))
   (when (and silent (not (or render view)))
     (usage-fail "--silent silences --render or --view; without them nothing is spoken aloud"))
-  (when (and view (or wav render listen))
-    (usage-fail "--view plays typed lines live; it takes neither --wav nor --render (nor --listen)"))
+  (when (and view (or wav render))
+    (usage-fail "--view plays typed lines live; it takes neither --wav nor --render"))
   (when (and wav listen) (usage-fail "--wav and --listen are two sources of requests: give one"))
   (when (and (or seconds device) (not listen))
     (usage-fail "--device and --seconds say how to --listen"))
@@ -189,7 +235,8 @@ libespeak-ng it is drawn or viewed silently, after a note."
             (display-name (conversation-state conversation)))
     (with-speaker (speaker)
       (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames
-                                                                :silent silent :explain explain))
+                                                                :silent silent :explain explain
+                                                                :push-to-talk (and listen (make-push-to-talk conversation grammar :device device :explain explain))))
             (wav (chat-wavs conversation requests grammar :speaker speaker :explain explain))
             (listen (chat-listen conversation grammar :device device :seconds seconds :explain explain))
             (t (chat-lines conversation :speaker speaker :explain explain))))
@@ -201,14 +248,16 @@ libespeak-ng it is drawn or viewed silently, after a note."
     (when render
       (render-conversation controller speaker :fps fps :size size :out render :video video))))
 
-(defun view-conversation (conversation spec initial &key seed size frames silent explain)
+(defun view-conversation (conversation spec initial &key seed size frames silent explain push-to-talk)
   "Play CONVERSATION live in a window on SPEC's body from INITIAL: each line
 typed at the terminal is a turn, its Player events sent to the viewer's
 (timed) controller at the current playback time.  Unless SILENT, Peedy says
 his replies at once, the beak moving, through the viewer's sound.  EXPLAIN
-prints each line's readings first."
+prints each line's readings first.  PUSH-TO-TALK, a key handler from
+MAKE-PUSH-TO-TALK, hears what is said while Enter is held."
   (let ((speaker nil))
     (view-spec spec :initial initial :seed seed :size size :frames frames :silent silent
+                    :key-handler push-to-talk
                     :line-handler (lambda (viewer text)
                                     (setf (conversation-controller conversation) (viewer-controller viewer))
                                     (unless (or silent speaker)
