@@ -22,7 +22,5 @@
     :tracks ("Black Ocean" "Alive Again" "Long Road North"))
 (cd little-help :title "With A Little Help" :artist "Joe Cocker" :year 1969
     :tracks (("A Little Help From My Friends" :composer "John Lennon") "Feeling Alright Tonight"))
-(cd control-room :title "Control Room" :artist "Janet Jackson" :year 1986
-    :tracks ("Nasty Weather" "When I Think Of Rain"))
 (cd journeyman-blues :title "Journeyman Blues" :artist "Eric Clapton" :year 1989
     :tracks (("Before You Accuse Me" :composer "Bo Diddley") "Running On Faith Again"))

@@ -19,7 +19,6 @@
   (:catalogue "peedy-catalogue.lisp")
   (:initial stIdle)
   (:not-understood evBadSpeech)
-  (:ambiguous evWhichArtist)     ; "jackson": Joe or Janet?  The answer completes the request
   (:ignore-words "please" "peedy")
 
   ;;; The five conversational states
@@ -43,7 +42,6 @@
   (input evThanks "thanks")
   (input evStop "stop the music")
   (input evBadSpeech "nothing the grammar allows was recognised")
-  (input evWhichArtist "a surname two artists share: which one? (`choices` names them)")
 
   ;;; How people say it: Persona's synonym rules ("platter" is obCD, "spin"
   ;;; is vbPlay; one abstract word for whatever can be played, as the paper's
@@ -129,7 +127,6 @@
   (on stPlaying evThanks :do ((do peThanks) (say welcome)))
   (on * evThanks :to stIdle :do ((do peThanks) (say welcome)))
   ;; Episodic memory: the second failure in a row is not another "Huh?".
-  (on * evWhichArtist :do ((do ev-think) (say whichArtist)))
   (on * evBadSpeech :if (>= (streak evBadSpeech) 2) :do ((do peHuh) (mood sad) (say sorry)))
   (on * evBadSpeech :do ((do peHuh) (say huh)))
 
@@ -137,7 +134,6 @@
   ;;; reaches it (Figure 9: four equally likely ways to say haveCD)
 
   (template greeting 1 "Hi! What would you like to hear?")
-  (template whichArtist 1 "Do you mean <=choices>?")
   (template haveCD 0.25 "I have <=Title> from <=Year>.")
   (template haveCD 0.333 "I've got <=Title>.")
   (template haveCD 0.5 "I've got <=Title>, would you like to hear something from that?")
