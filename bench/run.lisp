@@ -436,6 +436,7 @@ closures and through run-time planning; add the rows; return the ratio."
         (bench-clip-pose)
         (format t "~&  dialogue...~%") (finish-output)
         (bench-dialogue)
+        (bench-speaking-dialogue)
         (rule)
         (format t "~&  command line...~%") (finish-output)
         (bench-command-line)

@@ -71,7 +71,11 @@ order, each pattern's choice numbered apart so artists and titles vary."
     (let* ((dialogue (jukebox))
            (grammar (dialogue-jsgf dialogue))
            (sentences (sweep-sample (jukebox-sentences) 12))
-           (wrong '()))
+           (wrong '())
+           ;; The recogniser's round trip, its rejection of speech outside the
+           ;; grammar off: test-speech-rejection.lisp measures that trade-off.
+           (player::*rejection-margin* most-negative-single-float)
+           (player::*longest-phone* most-positive-single-float))
       (loop for text in sentences
             for k from 1
             for wav = (speech-file (format nil "request-~2,'0D.wav" k))
@@ -100,7 +104,8 @@ order, each pattern's choice numbered apart so artists and titles vary."
         (is (< 1 (sound-duration (read-wav wav)) 4)))
       (multiple-value-bind (out err code) (player-command "chat" "specs/peedy-dialogue.lisp" "--wav" wav)
         (is (= 0 code) "~A" err)
-        (is (equal '("heard: \"have you got anything by joe jackson\"") (chat-lines-starting "heard: " out)))
+        (is (equal '("heard: \"have you got anything by joe jackson\"")
+                   (mapcar (lambda (line) (subseq line 0 (search " (score " line))) (chat-lines-starting "heard: " out))))
         (is (equal '("input: evHaveYouGot artist=\"Joe Jackson\"") (chat-lines-starting "input: " out)))
         (is (equal '("transition: stIdle --evHaveYouGot--> stGotCD") (chat-lines-starting "transition: " out)))
         (is (member "(:event ev-search :time 0)" (lines out) :test #'string=))

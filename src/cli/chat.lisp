@@ -51,34 +51,100 @@ the readings of each line are printed before its turn."
 
 ;;;; Turns from spoken requests
 
-(defun read-request-wav (path)
-  "The sound of the WAV file PATH, a spoken request; a SPEECH-ERROR naming it
-when it is unreadable or empty."
-  (let ((sound (read-wav path)))
-    (when (zerop (length (sound-samples sound)))
-      (wav-fail path "it holds no samples"))
-    sound))
-
 (defun check-recogniser ()
   "Signal SPEECH-UNAVAILABLE, naming the Debian package, unless pocketsphinx and its English model are installed."
   (load-pocketsphinx-library)
   (pocketsphinx-model-files)
   t)
 
+(defun print-heard (text score sentence)
+  "Print what the recogniser heard: `heard: \"SENTENCE\" (score S)`, with
+`, rejected` when the score is too low (TEXT NIL), or `heard: nothing`."
+  (if sentence
+      (format t "heard: ~S (score ~,1F~:[, rejected~;~])~%" sentence score text)
+      (format t "heard: nothing~%")))
+
 (defun chat-wavs (conversation requests grammar &key speaker explain)
   "Play a turn of CONVERSATION for each of REQUESTS, a list of (PATH . SOUND):
-pocketsphinx hears the SOUND against GRAMMAR (JSGF text), `heard: \"...\"` (or
-`heard: nothing`) is printed and the sentence heard is the turn's text.  With
-SPEAKER, the request goes on the audio track before Peedy answers; with
-EXPLAIN, the readings of what was heard are printed before its turn."
+pocketsphinx hears the SOUND against GRAMMAR (JSGF text), `heard: \"...\"
+\(score S)` (or `heard: nothing`) is printed and the sentence heard is the
+turn's text; a rejected one is not understood.  With SPEAKER, the request
+goes on the audio track before Peedy answers; with EXPLAIN, the readings of
+what was heard are printed before its turn."
   (loop for (path . sound) in requests
-        for heard = (recognize-sound sound :grammar grammar)
-        do (if heard (format t "heard: ~S~%" heard) (format t "heard: nothing~%"))
-           (when speaker
-             (speaker-wait speaker (conversation-controller conversation))
-             (speaker-listen speaker sound (file-namestring path) (conversation-controller conversation)))
-           (hear-turn conversation heard explain)
-           (finish-output)))
+        do (multiple-value-bind (heard score sentence) (recognize-sound sound :grammar grammar)
+             (print-heard heard score sentence)
+             (when speaker
+               (speaker-wait speaker (conversation-controller conversation))
+               (speaker-listen speaker sound (file-namestring path) (conversation-controller conversation)))
+             (hear-turn conversation heard explain)
+             (finish-output))))
+
+;;;; Turns from a microphone
+
+(defun chat-listen (conversation grammar &key device seconds explain)
+  "Play a turn of CONVERSATION for each request heard from the ALSA DEVICE
+(arecord), found by pocketsphinx's voice-activity detection and heard
+against GRAMMAR, printed as chat-wavs prints them, until the recording ends
+or SECONDS of sound have been heard.  EXPLAIN as for chat-wavs."
+  (let ((capture (open-capture :device (or device *capture-device*))))
+    (format t "; listening to ~A~@[ for ~D s~]~%" (or device *capture-device*) seconds)
+    (finish-output)
+    (unwind-protect
+         (listen-for-requests capture grammar
+                              (lambda (text score sentence heard-at)
+                                (declare (ignore heard-at))
+                                (print-heard text score sentence)
+                                (hear-turn conversation text explain)
+                                (finish-output))
+                              :seconds seconds)
+      (close-capture capture))))
+
+;;;; Push-to-talk in the viewer
+
+(defparameter *longest-push* 10
+  "The most seconds a held key records: what is said after is not kept.")
+
+(defun record-while (capture recording)
+  "Read CAPTURE into a list of sample pieces, newest first, while
+\(CAR RECORDING) is true and less than *LONGEST-PUSH* seconds are kept;
+return the pieces."
+  (let ((pieces '()) (kept 0) (limit (* *longest-push* 16000)))
+    (loop while (and (car recording) (< kept limit))
+          do (let* ((piece (make-array 1024 :element-type '(signed-byte 16)))
+                    (count (read-capture capture piece)))
+               (when (zerop count) (return))
+               (push (subseq piece 0 count) pieces)
+               (incf kept count)))
+    pieces))
+
+(defun make-push-to-talk (conversation grammar &key device explain (turn #'hear-turn))
+  "A key handler for the viewer: holding Enter records from the ALSA DEVICE
+\(a thread reads it), letting go hears what was said against GRAMMAR and
+plays it as a turn of CONVERSATION (TURN, a function of the conversation,
+the text and EXPLAIN), printing `heard:` as chat-wavs does."
+  (let ((recording nil) (capture nil) (thread nil))
+    (lambda (viewer code action)
+      (when (= code +glfw-key-enter+)
+        (cond ((and (= action +glfw-press+) (null capture))
+               (setf capture (open-capture :device (or device *capture-device*))
+                     recording (list t))
+               (let ((capture capture) (recording recording))
+                 (setf thread (bt:make-thread (lambda () (record-while capture recording)) :name "push-to-talk")))
+               (format t "; listening (let go of Enter to stop)~%"))
+              ((and (= action +glfw-release+) capture)
+               (setf (car recording) nil)
+               (let ((pieces (bt:join-thread thread)))
+                 (close-capture (shiftf capture nil))
+                 (multiple-value-bind (text score sentence)
+                     (recognize-sound (make-sound (apply #'concatenate '(simple-array (signed-byte 16) (*)) (reverse pieces))
+                                                  16000)
+                                      :grammar grammar)
+                   (print-heard text score sentence)
+                   (when viewer (setf (conversation-controller conversation) (viewer-controller viewer)))
+                   (funcall turn conversation text explain)))
+               (finish-output)))
+        t))))
 
 ;;;; Speech when rendering
 
@@ -90,12 +156,19 @@ so: the conversation is then drawn or viewed silently."
       (format t "; no speech: ~A~%" (condition-line condition))
       nil)))
 
-(define-command "chat" (file &key no-code initial seed memory user wav explain render video silent view frames fps size)
+(define-command "chat" (file &key no-code initial seed memory user wav listen device seconds explain render video silent view frames fps size)
     (:summary "talk to the character: typed or spoken requests in; input events, transitions, Player's trace and spoken text out"
      :description "Reads one request a line from standard input (a terminal or a pipe) until
 its end or `quit`, or with --wav hears each WAV file with pocketsphinx
 against the JSGF grammar made from the dialogue's utterances, printing
-`heard: \"SENTENCE\"` (or `heard: nothing`, which is not understood).  For
+`heard: \"SENTENCE\" (score S)` (or `heard: nothing`, which is not
+understood), or with --listen hears the requests said into a microphone,
+one a turn, as they come (arecord, Debian alsa-utils; pocketsphinx's
+voice-activity detection finds where each ends).  The score is how much
+worse the sentence fits the sound than English phones do, per 10 ms frame;
+a sentence scoring below the rejection margin, or whose phones would each
+have to last too long, is `, rejected` and not understood: speech outside
+the grammar is never a command.  For
 each request, prints `input: EVENT slot=\"value\"...` (with `(not
 understood)` when no utterance pattern matched), `transition: FROM --EVENT-->
 TO` (`(no rule)` when none applied), the trace lines of the Player events the
@@ -116,6 +189,9 @@ libespeak-ng it is drawn or viewed silently, after a note."
                ("--memory" :string "FILE" "load the user's episodic memory from FILE (when it exists) and save it there at the end")
                ("--user" :string "NAME" "whose memory this conversation adds to" :default "user")
                ("--wav" :names "FILE.wav,..." "instead of standard input, hear these WAV files, a turn each, in order (pocketsphinx, Debian pocketsphinx and pocketsphinx-en-us)")
+               ("--listen" :flag "" "instead of standard input, hear requests from a microphone (ALSA, through arecord of Debian alsa-utils) as they are said; with --view, what is said while Enter is held in the window (push-to-talk)")
+               ("--device" :string "NAME" "with --listen, the ALSA device to record from" :default-text "default")
+               ("--seconds" :positive-integer "N" "with --listen, stop after N seconds of sound")
                ("--explain" :flag "" "before each turn, print the best readings of the request, their scores and why")
                ("--render" :string "DIR" "draw the conversation offscreen into DIR at the end, as render does, Peedy's replies in DIR/speech.wav")
                ("--video" :string "FILE.mp4" "with --render, also encode the frames as a video with the sound (ffmpeg)")
@@ -132,13 +208,16 @@ libespeak-ng it is drawn or viewed silently, after a note."
     (usage-fail "--silent silences --render or --view; without them nothing is spoken aloud"))
   (when (and view (or wav render))
     (usage-fail "--view plays typed lines live; it takes neither --wav nor --render"))
+  (when (and wav listen) (usage-fail "--wav and --listen are two sources of requests: give one"))
+  (when (and (or seconds device) (not listen))
+    (usage-fail "--device and --seconds say how to --listen"))
   (when video (find-ffmpeg))
   (with-escaped-output ()
     (chat-session file :no-code no-code :initial initial :seed seed :memory memory :user user :wav wav
-                       :explain explain :render render :video video :silent silent :view view
+                       :listen listen :device device :seconds seconds :explain explain :render render :video video :silent silent :view view
                        :frames frames :fps fps :size size)))
 
-(defun chat-session (file &key no-code initial seed memory user wav explain render video silent view frames fps size)
+(defun chat-session (file &key no-code initial seed memory user wav listen device seconds explain render video silent view frames fps size)
   "The work of `player chat` once its options are checked (see COMMAND-CHAT)."
   (let* ((dialogue (choose-dialogue file))
          (spec (or (dialogue-player-spec dialogue)
@@ -149,7 +228,7 @@ libespeak-ng it is drawn or viewed silently, after a note."
                          (or initial (dialogue-player-initial dialogue))))
          ;; Every WAV read and the recogniser found before the first turn: a bad file stops nothing half-done.
          (requests (mapcar (lambda (path) (cons path (read-request-wav path))) wav))
-         (grammar (and wav (check-recogniser) (dialogue-jsgf dialogue)))
+         (grammar (and (or wav listen) (check-recogniser) (dialogue-jsgf dialogue)))
          (silent (and (or render view) (or silent (not (speech-available-or-note)))))
          ;; Rendering plays the conversation on a body as it goes, so speech is timed by its clock.
          (presenter (if render
@@ -165,8 +244,10 @@ libespeak-ng it is drawn or viewed silently, after a note."
             (display-name (conversation-state conversation)))
     (with-speaker (speaker)
       (cond (view (view-conversation conversation spec initial :seed seed :size size :frames frames
-                                                                :silent silent :explain explain))
+                                                                :silent silent :explain explain
+                                                                :push-to-talk (and listen (make-push-to-talk conversation grammar :device device :explain explain))))
             (wav (chat-wavs conversation requests grammar :speaker speaker :explain explain))
+            (listen (chat-listen conversation grammar :device device :seconds seconds :explain explain))
             (t (chat-lines conversation :speaker speaker :explain explain))))
     (format t "; ~D turn~:P; state ~A, mood ~(~A~)~%" (conversation-turns conversation)
             (display-name (conversation-state conversation)) (memory-mood remembered))
@@ -176,14 +257,16 @@ libespeak-ng it is drawn or viewed silently, after a note."
     (when render
       (render-conversation controller speaker :fps fps :size size :out render :video video))))
 
-(defun view-conversation (conversation spec initial &key seed size frames silent explain)
+(defun view-conversation (conversation spec initial &key seed size frames silent explain push-to-talk)
   "Play CONVERSATION live in a window on SPEC's body from INITIAL: each line
 typed at the terminal is a turn, its Player events sent to the viewer's
 (timed) controller at the current playback time.  Unless SILENT, Peedy says
 his replies at once, the beak moving, through the viewer's sound.  EXPLAIN
-prints each line's readings first."
+prints each line's readings first.  PUSH-TO-TALK, a key handler from
+MAKE-PUSH-TO-TALK, hears what is said while Enter is held."
   (let ((speaker nil))
     (view-spec spec :initial initial :seed seed :size size :frames frames :silent silent
+                    :key-handler push-to-talk
                     :line-handler (lambda (viewer text)
                                     (setf (conversation-controller conversation) (viewer-controller viewer))
                                     (unless (or silent speaker)

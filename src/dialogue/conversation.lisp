@@ -37,10 +37,11 @@ into (the conversation's controller gives the Player clock to sync the beak to).
   "A conversation: its DIALOGUE, current STATE, CONTEXT variables (a hash
 table by DIALOGUE-KEY), the user's episodic MEMORY, the RANDOM-STATE
 templates and selections draw from, the Player CONTROLLER (or NIL), the
-PRESENTER, the PLAYER-EVENTS sent so far (newest first) and the TURN
-being played (a TURN, or NIL)."
+PRESENTER, the PLAYER-EVENTS sent so far (newest first), the TURN
+being played (a TURN, or NIL) and the OFFER the last turn asked the user
+to choose from (an OFFER, or NIL; offers.lisp)."
   dialogue state (context (make-hash-table :test 'equal)) memory random-state
-  controller (presenter (make-instance 'dialogue-presenter)) (player-events '()) turn (turns 0))
+  controller (presenter (make-instance 'dialogue-presenter)) (player-events '()) turn (turns 0) offer)
 
 (defstruct turn
   "One turn: the user's TEXT (or NIL when an event was given directly),

@@ -20,6 +20,7 @@ it, with PLAYER-INITIAL its initial state (an alist); CATALOGUE the music."
   (state-order '())
   (inputs (make-hash-table :test 'equal))
   (not-understood nil)
+  (ambiguous nil)
   (ignore-words '())
   (rewrites '())
   (utterances '())

@@ -17,7 +17,7 @@
 (in-package #:player.dialogue)
 
 (defparameter *dialogue-options*
-  '(:player :player-initial :catalogue :initial :not-understood :ignore-words)
+  '(:player :player-initial :catalogue :initial :not-understood :ambiguous :ignore-words)
   "The (:KEY VALUE) options a DEFDIALOGUE may start with.")
 
 (defmacro defdialogue (name &body body)
@@ -96,6 +96,8 @@ Signals a DIALOGUE-ERROR naming the offending form, with file and line."
                  (:initial (setf (dialogue-initial-state dialogue) (require-dialogue-name value option "the initial state")))
                  (:not-understood (setf (dialogue-not-understood dialogue)
                                         (require-dialogue-name value option "the not-understood event")))
+                 (:ambiguous (setf (dialogue-ambiguous dialogue)
+                                   (require-dialogue-name value option "the input asking which one")))
                  (:ignore-words
                   (unless (every #'stringp (rest option))
                     (dialogue-fail option ":ignore-words takes strings"))

@@ -62,15 +62,31 @@ EVENT is a DIALOGUE-ERROR."
     turn))
 
 (defun conversation-hear (conversation text)
-  "Play one turn of CONVERSATION on the sentence TEXT: match it to an input
-event and slots (MATCH-UTTERANCE), then CONVERSATION-INPUT.  TEXT NIL (a
-recogniser that heard nothing it knows) is the dialogue's not-understood
-event.  Return the TURN."
+  "Play one turn of CONVERSATION on the sentence TEXT: an answer to the
+question the last turn asked (\"the second one\", \"the one by clapton\";
+offers.lisp) completes the input that asked it; otherwise TEXT is matched to
+an input event and slots (MATCH-UTTERANCE), and a name two values of a slot
+share (a surname) becomes the dialogue's :ambiguous input, with `choices`
+set, when it declares one; then CONVERSATION-INPUT.  TEXT NIL (a recogniser
+that heard nothing it knows) is the dialogue's not-understood event.  Return
+the TURN."
   (check-argument 'conversation-hear :text text (lambda (x) (or (null x) (stringp x))) "a string or NIL")
-  (multiple-value-bind (event slots understood) (match-utterance (conversation-dialogue conversation) (or text ""))
-    (unless event
-      (dialogue-fail nil "~S matches no utterance, and the dialogue names no :not-understood event" text))
-    (conversation-input conversation event :slots slots :text text :understood understood)))
+  (let ((dialogue (conversation-dialogue conversation))
+        (offer (shiftf (conversation-offer conversation) nil)))
+    (multiple-value-bind (answer answer-slots) (and offer text (resolve-fragment offer text))
+      (when answer
+        (return-from conversation-hear (conversation-input conversation answer :slots answer-slots :text text))))
+    (multiple-value-bind (event slots understood) (match-utterance dialogue (or text ""))
+      (unless event
+        (dialogue-fail nil "~S matches no utterance, and the dialogue names no :not-understood event" text))
+      (multiple-value-bind (key values) (and understood (dialogue-ambiguous dialogue) (ambiguous-slot dialogue text slots))
+        (if key
+            (progn
+              (setf (context-value conversation "choices")
+                    (format nil "~{~A~#[~; or ~:;, ~]~}" (mapcar #'template-value-text values)))
+              (prog1 (conversation-input conversation (dialogue-ambiguous dialogue) :text text)
+                (setf (conversation-offer conversation) (make-offer :event event :slots slots :slot key :values values))))
+            (conversation-input conversation event :slots slots :text text :understood understood))))))
 
 ;;;# Printing a conversation
 

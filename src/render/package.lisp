@@ -14,6 +14,7 @@
    #:read-frame-pixels #:read-size #:reload-view-scripts #:render-error
    #:render-policy-sheet #:render-simulation #:resolve-msaa-target #:scripted-keys-problem
    #:show-viewer #:start-swank #:stop-swank #:stop-view #:trace-line-time #:view
+   #:+glfw-key-enter+ #:+glfw-press+ #:+glfw-release+
    #:view-event-keys #:view-running-p #:view-send-event #:view-spec #:view-title #:viewer
    #:viewer-clips #:viewer-controller #:viewer-name #:viewer-now #:viewer-paused-at
    #:viewer-performance #:viewer-scene #:viewer-session #:with-gl-traps-masked

@@ -43,7 +43,10 @@ trace lines PRINTED so far, the TITLE shown and whether the terminal is still re
   ;; NIL, or a function of the viewer and each line typed at the terminal
   ;; (trimmed, not empty), which then is not read as an event's name: how
   ;; `chat --view` hears sentences.
-  (line-handler nil))
+  (line-handler nil)
+  ;; NIL, or a function of the viewer, a GLFW key code and its action (press,
+  ;; repeat, release) that takes the key when it returns true: push-to-talk.
+  (key-handler nil))
 
 (defun viewer-wall-time (viewer)
   "Seconds since VIEWER's first frame."
@@ -188,7 +191,9 @@ event's key from the map works too.  Never blocks."
     (ecase kind
       (:key (destructuring-bind (code action mods) data
               (declare (ignore mods))
-              (let ((name (car (rassoc code *view-control-keys*))))
+              (let ((name (and (not (and (viewer-key-handler viewer)
+                                         (funcall (viewer-key-handler viewer) viewer code action)))
+                               (car (rassoc code *view-control-keys*)))))
                 (when (and name (or (= action +glfw-press+)
                                     (and (= action +glfw-repeat+) (member name '(:left :right :up :down)))))
                   (press-key viewer name)))))
@@ -326,7 +331,7 @@ with EVENT-KEYS, as a message; NIL when they all can."
                          key (remove nil (mapcar #'car event-keys)) (mapcar #'car *view-control-keys*))))
 
 (defun view-spec (spec &key initial body scripts frames screenshot (size '(640 480)) (seed 0) keys dot silent
-                             (terminal t) inbox watch (allow-code t) line-handler)
+                             (terminal t) inbox watch (allow-code t) line-handler key-handler)
   "Open a window and play a controller of SPEC live on its body: INITIAL, BODY,
 SCRIPTS and SEED as for SIMULATE; SIZE is (WIDTH HEIGHT) or \"WxH\".  Prints the
 key map, then each trace line when the animation time reaches it (the rest at
@@ -342,7 +347,8 @@ script library) switches it at its next safe point; errors are printed as
 INBOX, an INBOX, takes functions of the viewer from other threads (see VIEW);
 unless TERMINAL, standard input is not read.  LINE-HANDLER, a
 function of the viewer and a line, takes the lines typed at the terminal
-instead of reading them as event names.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
+instead of reading them as event names; KEY-HANDLER, a function of the
+viewer, a GLFW key code and its action, takes the keys it returns true for.  KEYS scripts key presses for tests: ((SECONDS . KEY) ...), KEY a
 character of the key map, #\+ or #\-, or one of :space :escape :left :right :up :down :home,
 pressed SECONDS of wall-clock time after the first frame.  Signals a
 RENDER-ERROR when there is no display or GL fails, and the errors of
@@ -357,6 +363,8 @@ opens, for an argument of the wrong kind."
   (check-argument 'view-spec :inbox inbox (lambda (x) (or (null x) (inbox-p x))) "NIL or an inbox")
   (check-argument 'view-spec :dot dot (lambda (x) (or (null x) (pathname-designator-p x)))
                   (format nil "NIL or ~A" *path-phrase*))
+  (check-argument 'view-spec :key-handler key-handler (lambda (x) (or (null x) (functionp x)))
+                  "NIL or a function of the viewer, a key code and an action")
   (check-argument 'view-spec :line-handler line-handler (lambda (x) (or (null x) (functionp x)))
                   "NIL or a function of the viewer and a line")
   (check-argument 'view-spec :keys keys
@@ -374,7 +382,7 @@ opens, for an argument of the wrong kind."
       (when problem (error 'player-error-with-message :message problem)))
     (show-viewer (lambda (window)
                    (%make-viewer :window window :controller controller :name (lisp-text (spec-name spec))
-                                 :dot dot :terminal terminal :spec spec :line-handler line-handler
+                                 :dot dot :terminal terminal :spec spec :line-handler line-handler :key-handler key-handler
                                  :performance (presenter-performance presenter) :keys event-keys
                                  :script (sort (copy-list keys) #'< :key #'car)))
                  (lisp-text (spec-name spec)) event-keys :size size :frames frames :screenshot screenshot

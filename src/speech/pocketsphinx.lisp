@@ -26,6 +26,15 @@
 (cffi:defcfun ("ps_set_jsgf_string" %ps-set-jsgf-string) :int (decoder :pointer) (name :string) (jsgf :string))
 (cffi:defcfun ("ps_set_search" %ps-set-search) :int (decoder :pointer) (name :string))
 (cffi:defcfun ("ckd_free" %ckd-free) :void (pointer :pointer))
+(cffi:defcfun ("ps_set_allphone_file" %ps-set-allphone-file) :int (decoder :pointer) (name :string) (path :string))
+(cffi:defcfun ("ps_get_in_speech" %ps-get-in-speech) :uint8 (decoder :pointer))
+(cffi:defcfun ("ps_seg_iter" %ps-seg-iter) :pointer (decoder :pointer))
+(cffi:defcfun ("ps_seg_next" %ps-seg-next) :pointer (segment :pointer))
+(cffi:defcfun ("ps_seg_free" %ps-seg-free) :void (segment :pointer))
+(cffi:defcfun ("ps_seg_word" %ps-seg-word) :string (segment :pointer))
+(cffi:defcfun ("ps_seg_frames" %ps-seg-frames) :void (segment :pointer) (start :pointer) (end :pointer))
+(cffi:defcfun ("ps_seg_prob" %ps-seg-prob) :int32
+  (segment :pointer) (acoustic :pointer) (language :pointer) (backoff :pointer))
 
 ;;;# Decoders
 
@@ -77,7 +86,7 @@ Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
     ;; Dither: synthesised speech and the padding around it hold runs of exact
     ;; zeros, whose log energy breaks the features ("hello" was heard as "no",
     ;; "stop" as "hello"); a fixed seed keeps recognition deterministic.
-    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict "-dither" "yes" "-seed" "1")))
+    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict "-dither" "yes" "-seed" "1" "-allphone_ci" "yes")))
            (handle (with-speech-traps-masked (%ps-init config))))
       (when (cffi:null-pointer-p handle)
         (%cmd-ln-free-r config)
@@ -110,18 +119,86 @@ SPEECH-ERROR when pocketsphinx cannot use it."
     (unless (zerop (%ps-set-search (sphinx-decoder-handle decoder) name))
       (speech-fail "pocketsphinx could not switch to the grammar ~A" name))))
 
-(defun sphinx-decode (decoder samples)
-  "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when
-it matches nothing in the grammar."
+(defun sphinx-use-phone-loop (decoder)
+  "Make DECODER's search the en-us phone loop (any sequence of phones, weighed
+by en-us-phone.lm.bin): the best any speech can score, which a grammar's
+best is measured against.  A SPEECH-ERROR when pocketsphinx cannot load it."
+  (let ((searches (sphinx-decoder-searches decoder)))
+    (unless (gethash :phone-loop searches)
+      (let ((path (namestring (merge-pathnames "en-us-phone.lm.bin" *pocketsphinx-model*))))
+        (unless (and (probe-file path)
+                     (zerop (with-speech-traps-masked
+                              (%ps-set-allphone-file (sphinx-decoder-handle decoder) "phone-loop" path))))
+          (speech-fail "pocketsphinx could not load its phone model ~A (Debian pocketsphinx-en-us)" path)))
+      (setf (gethash :phone-loop searches) "phone-loop"))
+    (unless (zerop (%ps-set-search (sphinx-decoder-handle decoder) "phone-loop"))
+      (speech-fail "pocketsphinx could not switch to its phone loop"))))
+
+(defun filler-word-p (word)
+  "Is WORD a silence or noise of the decoder's (<sil>, [NOISE], SIL, +BREATH+), not speech?"
+  (or (zerop (length word)) (find (char word 0) "<[+") (string= word "SIL")))
+
+(defun word-phone-count (handle word)
+  "How many phones HANDLE's dictionary gives WORD (1 for a word it lacks: a phone loop's phone)."
+  (let ((phones (%ps-lookup-word handle word)))
+    (if (cffi:null-pointer-p phones)
+        1
+        (prog1 (1+ (count #\Space (string-trim " " (cffi:foreign-string-to-lisp phones))))
+          (%ckd-free phones)))))
+
+(defun sphinx-acoustic-score (handle)
+  "The acoustic score (log base 1.0001) of the words HANDLE's best path
+holds, summed, the frames they span, the frames of speech among them (not
+silence or noise) and the phones of its words: (VALUES SCORE FRAMES
+SPEECH-FRAMES PHONES)."
+  (let ((score 0) (first-frame nil) (last-frame 0) (speech 0) (phones 0))
+    (cffi:with-foreign-objects ((acoustic :int32) (language :int32) (backoff :int32) (start :int) (end :int))
+      (do ((segment (%ps-seg-iter handle) (%ps-seg-next segment)))
+          ((cffi:null-pointer-p segment))
+        (%ps-seg-prob segment acoustic language backoff)
+        (%ps-seg-frames segment start end)
+        (incf score (cffi:mem-ref acoustic :int32))
+        (let ((word (%ps-seg-word segment)))
+          (unless (filler-word-p word)
+            (incf speech (1+ (- (cffi:mem-ref end :int) (cffi:mem-ref start :int))))
+            (incf phones (word-phone-count handle word))))
+        (setf first-frame (or first-frame (cffi:mem-ref start :int))
+              last-frame (cffi:mem-ref end :int))))
+    (values score (if first-frame (max 1 (1+ (- last-frame first-frame))) 0) speech phones)))
+
+(defun sphinx-start (decoder)
+  "Begin an utterance in DECODER."
+  (unless (>= (with-speech-traps-masked (%ps-start-utt (sphinx-decoder-handle decoder))) 0)
+    (speech-fail "pocketsphinx could not start an utterance")))
+
+(defun sphinx-feed (decoder samples &key (end (length samples)) whole)
+  "Give DECODER the SAMPLES (16 kHz) below END: WHOLE when they are the whole
+utterance, else a piece of a stream (whose speech and silence its
+voice-activity detection tells apart).  Returns whether it hears speech now."
   (let ((handle (sphinx-decoder-handle decoder)))
     (with-speech-traps-masked
-      (unless (>= (%ps-start-utt handle) 0) (speech-fail "pocketsphinx could not start an utterance"))
       (cffi:with-pointer-to-vector-data (data samples)
-        (when (minusp (%ps-process-raw handle data (length samples) 0 1))
+        (when (minusp (%ps-process-raw handle data end 0 (if whole 1 0)))
           (speech-fail "pocketsphinx could not process the audio")))
+      (plusp (%ps-get-in-speech handle)))))
+
+(defun sphinx-finish (decoder)
+  "End DECODER's utterance: (VALUES TEXT ACOUSTIC-SCORE FRAMES SPEECH-FRAMES
+PHONES), TEXT the sentence heard (NIL for none), the acoustic score of its
+best path, the frames (10 ms) it spans, those of speech, and its phones."
+  (let ((handle (sphinx-decoder-handle decoder)))
+    (with-speech-traps-masked
       (%ps-end-utt handle)
       (cffi:with-foreign-object (score :int32)
-        (let ((hypothesis (%ps-get-hyp handle score)))
-          (and (not (cffi:null-pointer-p hypothesis))
-               (let ((text (cffi:foreign-string-to-lisp hypothesis)))
-                 (and (plusp (length text)) text))))))))
+        (let* ((hypothesis (%ps-get-hyp handle score))
+               (text (and (not (cffi:null-pointer-p hypothesis)) (cffi:foreign-string-to-lisp hypothesis))))
+          (multiple-value-bind (acoustic frames speech phones) (sphinx-acoustic-score handle)
+            (values (and text (plusp (length text)) text) acoustic frames speech phones)))))))
+
+(defun sphinx-decode (decoder samples)
+  "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when
+it matches nothing in its search, as SPHINX-FINISH's (VALUES TEXT
+ACOUSTIC-SCORE FRAMES)."
+  (sphinx-start decoder)
+  (sphinx-feed decoder samples :whole t)
+  (sphinx-finish decoder))

@@ -1,12 +1,45 @@
 ;;;; recognition.lisp -- what is said in a WAV file, as a sentence of a JSGF
 ;;;; grammar: the sound read, made 16 kHz mono, and decoded by pocketsphinx
 ;;;; (Persona's Whisper, with a grammar of every legal sentence).
+;;;; A grammar always finds its closest sentence, so every recognition is
+;;;; scored: the same sound is decoded again by a loop of English phones,
+;;;; the best any speech can score, and the SCORE is how much worse the
+;;;; grammar's sentence fits, per 10 ms frame (0 is as good as any speech;
+;;;; the more negative, the less the sound is like the sentence).  Below
+;;;; *REJECTION-MARGIN*, or when its phones would each have to last longer
+;;;; than *LONGEST-PHONE* frames, the sentence is rejected: speech outside
+;;;; the grammar is nothing heard, never a command.  (A garbage loop inside the JSGF
+;;;; grammar was tried and given up: sphinxbase's JSGF compiler joins the
+;;;; loop to the grammar's sentences, and ignores its weight.)
 
 (in-package #:player.speech)
 
 (defvar *sphinx-decoder* nil
   "The decoder, made on first use: making one loads the model (a few tenths of
 a second); grammars and learnt words are kept in it.")
+
+(defvar *phone-loop-decoder* nil
+  "A second decoder, searching the phone loop only, made on first use: kept
+apart from the grammars' so the two can hear a microphone side by side.")
+
+(defparameter *rejection-margin* -32.0
+  "The least SCORE (the grammar's acoustic score less the phone loop's, per
+frame) a recognised sentence needs to be accepted.  Calibrated on espeak-ng's
+voices: sentences of the jukebox grammar score about -32 to 0, other English
+-55 to -20 (t/fixtures/spoken-sentences.lisp), so the margin alone cannot
+part them; *LONGEST-PHONE* catches more.")
+
+(defparameter *longest-phone* 12.0
+  "The most frames (10 ms) of speech, as the phone loop hears it, a
+recognised sentence may give each of its phones, on average, to be
+accepted: the sentences of the grammar take 3 to 11, while speech a grammar
+can only match with \"alright\" or \"not really\" stretches them over 12 to
+40.  Chosen, with *REJECTION-MARGIN*, on the first half of each set of
+t/fixtures/spoken-sentences.lisp.")
+
+(defparameter *longest-request* 30
+  "The longest sound, in seconds, heard as one request: decoding takes about a
+fifth of the sound's length, so a longer one is refused rather than decoded.")
 
 (defun temporary-file (name)
   "The pathname NAME in the temporary directory ($TMPDIR, else /tmp)."
@@ -38,19 +71,64 @@ words it could learn no pronunciation for."
   (and (stringp x) (let ((text (string-left-trim '(#\Space #\Tab #\Newline #\Return) x)))
                      (and (>= (length text) 5) (string= "#JSGF" text :end2 5)))))
 
+(defun phone-loop-decoder ()
+  "The decoder searching the phone loop, made on first use."
+  (or *phone-loop-decoder*
+      (let ((decoder (make-sphinx-decoder)))
+        (sphinx-use-phone-loop decoder)
+        (setf *phone-loop-decoder* decoder))))
+
+(defun recognition-score (acoustic phone-acoustic frames)
+  "The margin of a grammar's ACOUSTIC score over the phone loop's
+PHONE-ACOUSTIC, per frame of FRAMES (see *REJECTION-MARGIN*)."
+  (if (plusp frames) (/ (float (- acoustic phone-acoustic) 1.0) frames) 0.0))
+
+(defun recognition-stretch (speech-frames phones)
+  "The frames of speech (as the phone loop hears it) per phone of the
+sentence a grammar heard: about 10 when the sentence is what was said."
+  (if (plusp phones) (/ (float speech-frames 1.0) phones) most-positive-single-float))
+
+(defun judge-recognition (text score stretch)
+  "What is heard as (VALUES TEXT SCORE SENTENCE STRETCH): TEXT (lower case)
+when SCORE is at least *REJECTION-MARGIN* and STRETCH at most
+*LONGEST-PHONE*, else NIL; SENTENCE is TEXT either way."
+  (let ((sentence (and text (string-downcase text))))
+    (values (and sentence (>= score *rejection-margin*) (<= stretch *longest-phone*) sentence)
+            (and sentence score)
+            sentence
+            (and sentence stretch))))
+
+(defun request-samples (sound)
+  "SOUND as the recogniser hears it: 16 kHz, with 0.3 s of silence either
+side (it needs to hear where speech starts and stops).  A SPEECH-ERROR when
+it lasts longer than *LONGEST-REQUEST*."
+  (when (> (sound-duration sound) *longest-request*)
+    (speech-fail "a spoken request lasts at most ~D s, and this sound lasts ~,1F s: cut it into requests (e.g. sox IN OUT trim START LENGTH), or hear it with chat --listen"
+                 *longest-request* (sound-duration sound)))
+  (pad-samples (sound-samples (resample-sound sound *recognition-rate*))
+               (round (* 0.3 *recognition-rate*))))
+
 (defun recognize-sound (sound &key grammar)
-  "The sentence of GRAMMAR (JSGF text) that pocketsphinx hears in SOUND, in
-lower case, or NIL when nothing in the grammar matches.  Signals
-SPEECH-UNAVAILABLE when pocketsphinx or its English model is missing."
+  "The sentence of GRAMMAR (JSGF text) that pocketsphinx hears in SOUND, as
+(VALUES TEXT SCORE SENTENCE): SENTENCE the grammar's closest sentence in
+lower case (NIL when none matches), SCORE how well the sound fits it (see
+*REJECTION-MARGIN*; NIL with no sentence), TEXT the SENTENCE when its score
+is high enough, else NIL (speech outside the grammar).  Signals
+SPEECH-UNAVAILABLE when pocketsphinx or its English model is missing, a
+SPEECH-ERROR when SOUND is longer than *LONGEST-REQUEST* seconds."
   (check-argument 'recognize-sound 'sound sound #'sound-p "a sound (from read-wav or synthesize-speech)")
   (check-argument 'recognize-sound :grammar grammar #'jsgf-text-p
                   "a JSGF grammar's text (starting #JSGF V1.0;)")
   (let ((decoder (grammar-decoder grammar))
-        ;; A little silence either side: the recogniser needs to hear where speech starts and stops.
-        (samples (pad-samples (sound-samples (resample-sound sound *recognition-rate*))
-                              (round (* 0.3 *recognition-rate*)))))
-    (let ((text (sphinx-decode decoder samples)))
-      (and text (string-downcase text)))))
+        (samples (request-samples sound)))
+    (multiple-value-bind (text acoustic frames speech phones) (sphinx-decode decoder samples)
+      (declare (ignore speech))
+      (if (null text)
+          (values nil nil nil nil)
+          (multiple-value-bind (loop-text loop-acoustic loop-frames loop-speech) (sphinx-decode (phone-loop-decoder) samples)
+            (declare (ignore loop-text loop-frames))
+            (judge-recognition text (recognition-score acoustic loop-acoustic frames)
+                               (recognition-stretch loop-speech phones)))))))
 
 (defun pad-samples (samples count)
   "SAMPLES with COUNT zero samples before and after."
@@ -59,14 +137,46 @@ SPEECH-UNAVAILABLE when pocketsphinx or its English model is missing."
 
 (defun recognize-wav (path &key grammar)
   "The sentence of GRAMMAR (JSGF text) that pocketsphinx hears in the WAV file
-PATH (any rate, mono or not; 8 or 16-bit PCM), in lower case, or NIL when
-nothing in the grammar matches.  Signals a SPEECH-ERROR naming PATH when the
+PATH (any rate, mono or not; 8 or 16-bit PCM), as RECOGNIZE-SOUND's (VALUES
+TEXT SCORE SENTENCE): TEXT in lower case, or NIL when nothing in the grammar
+matches well enough.  Signals a SPEECH-ERROR naming PATH when the
 file is missing, unreadable or not such a WAV; SPEECH-UNAVAILABLE, naming the
 Debian package, when pocketsphinx or pocketsphinx-en-us is missing."
   (check-argument 'recognize-wav 'path path #'pathname-designator-p *path-phrase*)
   (check-argument 'recognize-wav :grammar grammar #'jsgf-text-p
                   "a JSGF grammar's text (starting #JSGF V1.0;)")
+  (let ((sound (read-request-wav path)))
+    (recognize-sound sound :grammar grammar)))
+
+(defun wav-header-duration (path)
+  "How long the WAV file PATH says it lasts, in seconds, from its first 4 KB
+only (a long recording is not read to learn it is too long), or NIL when the
+header does not say.  A SPEECH-ERROR when PATH is missing or not a WAV file."
+  (let* ((prefix (handler-case
+                     (with-open-file (in path :element-type '(unsigned-byte 8))
+                       (let ((octets (make-array (min 4096 (file-length in)) :element-type '(unsigned-byte 8))))
+                         (read-sequence octets in)
+                         octets))
+                   (file-error () (wav-fail path "~:[it is unreadable~;there is no such file~]" (not (probe-file path))))))
+         (chunks (riff-chunks prefix path))
+         (fmt (assoc "fmt " chunks :test #'string=))
+         (data (assoc "data" chunks :test #'string=)))
+    (when (and fmt data (>= (third fmt) 16))
+      (let* ((start (second fmt))
+             (bytes-per-second (u32 prefix (+ start 8))))
+        (and (plusp bytes-per-second)
+             (/ (u32 prefix (- (second data) 4)) (float bytes-per-second 1d0)))))))
+
+(defun read-request-wav (path)
+  "The sound of the WAV file PATH, a spoken request: a SPEECH-ERROR naming it
+when it is unreadable, empty, or (by its header, before it is read) longer
+than *LONGEST-REQUEST* seconds, so a long recording costs neither the time
+nor the memory of reading it."
+  (let ((duration (wav-header-duration path)))
+    (when (and duration (> duration *longest-request*))
+      (wav-fail path "it lasts ~,1F s, and a spoken request at most ~D s: cut it into requests (e.g. sox IN OUT trim START LENGTH), or hear it with chat --listen"
+                duration *longest-request*)))
   (let ((sound (read-wav path)))
     (when (zerop (length (sound-samples sound)))
       (wav-fail path "it holds no samples"))
-    (recognize-sound sound :grammar grammar)))
+    sound))
