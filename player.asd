@@ -624,5 +624,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "fuzz-bounds")
                  ;; Persona listens: rejection, the microphone, fragments (issue 28, items 2-4)
                  (:file "test-speech-rejection")
-                 (:file "test-fragments"))))
+                 (:file "test-fragments")
+                 ;; A dialogue's mood reaches the body (issue 29, item 5)
+                 (:file "test-dialogue-mood"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

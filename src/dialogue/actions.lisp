@@ -121,9 +121,18 @@ called with arguments it takes."
     (dialogue-fail form "(set VAR EXPRESSION) needs a variable name, not ~A" (lisp-text (first arguments))))
   (check-expression (second arguments) form))
 
+(defvar *mood-function* nil
+  "NIL, or a function of (MOOD CONVERSATION) called when a transition sets the
+mood (MOOD a keyword): a SPEAKER binds it (speaking.lisp), so the body's
+gestures take the mood on (bigger and quicker when happy, smaller and slower
+when sad; src/body/mood.lisp).")
+
 (define-dialogue-action mood (conversation mood)
-  "Set Peedy's emotional state towards this user to MOOD (happy, sad, neutral...)."
-  (setf (memory-mood (conversation-memory conversation)) (intern (dialogue-key mood) :keyword)))
+  "Set Peedy's emotional state towards this user to MOOD (happy, sad, neutral...);
+with a speaker, his body performs in that mood from now on."
+  (let ((mood (intern (dialogue-key mood) :keyword)))
+    (setf (memory-mood (conversation-memory conversation)) mood)
+    (when *mood-function* (funcall *mood-function* mood conversation))))
 
 (defmethod check-action-arguments ((action (eql :mood)) dialogue arguments form)
   (declare (ignore dialogue))

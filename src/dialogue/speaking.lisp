@@ -98,18 +98,28 @@ What played before stops there.  Signals what TRACK-SOUND signals."
               (performance-play-music performance sound :at time :tempo tempo
                                                         :label (track-title track)))))))
 
+(defun speaker-set-mood (speaker mood controller)
+  "Set the mood of SPEAKER's character to MOOD (an emotion's name: EMOTION-MOOD
+gives its number; an unknown one is neutral) from CONTROLLER's time on."
+  (performance-set-mood (speaker-performance speaker) mood
+                        :at (float (controller-time controller) 1d0)))
+
 (defmacro with-speaker ((speaker) &body body)
   "Run BODY with Peedy's replies said, and the music played, by SPEAKER (NIL: neither)."
   `(call-with-speaker ,speaker (lambda () ,@body)))
 
 (defun call-with-speaker (speaker function)
-  "Call FUNCTION with *SAY-FUNCTION* and *MUSIC-FUNCTION* going through
-SPEAKER, when SPEAKER is not NIL."
+  "Call FUNCTION with *SAY-FUNCTION*, *MUSIC-FUNCTION* and *MOOD-FUNCTION*
+going through SPEAKER, when SPEAKER is not NIL."
   (if speaker
       (let ((*say-function* (speaker-say-function speaker))
             (*music-function* (lambda (command track conversation)
                                 (let ((controller (conversation-controller conversation)))
                                   (when controller
-                                    (speaker-play-music speaker command track controller))))))
+                                    (speaker-play-music speaker command track controller)))))
+            (*mood-function* (lambda (mood conversation)
+                               (let ((controller (conversation-controller conversation)))
+                                 (when controller
+                                   (speaker-set-mood speaker mood controller))))))
         (funcall function))
       (funcall function)))

@@ -153,11 +153,12 @@ Debian package, when pocketsphinx or pocketsphinx-en-us is missing."
 only (a long recording is not read to learn it is too long), or NIL when the
 header does not say.  A SPEECH-ERROR when PATH is missing or not a WAV file."
   (let* ((prefix (handler-case
-                     (with-open-file (in path :element-type '(unsigned-byte 8))
+                     ;; WITH-INPUT-FILE refuses a FIFO, device or folder before it could block.
+                     (with-input-file (in path :element-type '(unsigned-byte 8))
                        (let ((octets (make-array (min 4096 (file-length in)) :element-type '(unsigned-byte 8))))
                          (read-sequence octets in)
                          octets))
-                   (file-error () (wav-fail path "~:[it is unreadable~;there is no such file~]" (not (probe-file path))))))
+                   (io-error (e) (wav-fail path "~A" (if (file-kind path) (io-error-reason e) "there is no such file")))))
          (chunks (riff-chunks prefix path))
          (fmt (assoc "fmt " chunks :test #'string=))
          (data (assoc "data" chunks :test #'string=)))
