@@ -1,0 +1,82 @@
+;;;; test-rest31.lisp -- issue 31, what was left: a stop signal ends every
+;;;; command with 143 (SIGTERM) or 130 (SIGINT) at any moment, start-up
+;;;; included, and prints nothing; every error is one line on stderr.
+;;;; Helpers are test-hostile-files.lisp's and test-bounds.lisp's.
+
+(in-package #:player-tests)
+
+(def-suite* rest31 :in player-tests)
+
+;;;# Stop signals at any moment
+
+(defun start-player-core (arguments)
+  "Start the core bin/player runs (without its shell script, so a signal lands
+in Player itself) on ARGUMENTS.  Returns the process and its two output files."
+  (ensure-player-core)
+  (let ((tag (format nil "/tmp/player-rest31-~D-~36R" (sb-posix:getpid) (random (expt 36 6)))))
+    (values (sb-ext:run-program (namestring (checkout-file "build/player"))
+                                (list* "--dynamic-space-size" "512MB" "--disable-ldb"
+                                       "--end-runtime-options" arguments)
+                                :output (format nil "~A.out" tag) :error (format nil "~A.err" tag)
+                                :if-output-exists :supersede :if-error-exists :supersede
+                                :input nil :wait nil :search nil :directory (namestring *root*))
+            (format nil "~A.out" tag) (format nil "~A.err" tag))))
+
+(defun stopped-by-p (process signal)
+  "Did PROCESS end as a command stopped by SIGNAL does: exit 128 + SIGNAL, or
+killed by it before any handler was in place?"
+  (case (sb-ext:process-status process)
+    (:exited (eql (+ 128 signal) (sb-ext:process-exit-code process)))
+    (:signaled (eql signal (sb-ext:process-exit-code process)))))
+
+(defun nested-macro-spec (depth)
+  "A spec whose macro-ops M1..MDEPTH each run the one before, the deepest nesting allowed."
+  (with-output-to-string (s)
+    (format s "(defspec deep (state-variable x boolean false) (state-variable y boolean false)~%")
+    (dotimes (j 12) (format s "  (state-variable v~D boolean false) (op on~D :add v~:*~D :duration 1)~%" j j))
+    (format s "  (op base :add y :duration 1)~%")
+    (loop for i from 1 to depth
+          do (format s "  (macro-op m~D :precond (and (not x) v~D) :add x :seq (:op ~A))~%"
+                     i (mod i 12) (if (= i 1) "base" (format nil "m~D" (1- i)))))
+    (format s "  (event ev :op m~D))~%" depth)))
+
+(defun check-stopped-at (arguments signal delay complete)
+  "Start ARGUMENTS, send SIGNAL after DELAY seconds: the command must end within
+5 s, stopped by SIGNAL with nothing on stderr -- or, when it had finished
+first, with status 0 and COMPLETE on stdout."
+  (multiple-value-bind (process out err) (start-player-core arguments)
+    (sleep delay)
+    (let ((alive (sb-ext:process-alive-p process)))
+      (when alive (sb-ext:process-kill process signal))
+      (let ((in-time (wait-for-process process 5))
+            (stdout (take-file out))
+            (stderr (take-file err)))
+        (is-true in-time "signal ~D after ~,3F s: ~S did not end within 5 s" signal delay arguments)
+        (when in-time
+          (is (or (stopped-by-p process signal)
+                  (and (eql 0 (sb-ext:process-exit-code process)) (string= stdout complete)))
+              "signal ~D after ~,3F s: ~S ended ~A ~A" signal delay arguments
+              (sb-ext:process-status process) (sb-ext:process-exit-code process))
+          (is (string= "" stderr) "signal ~D after ~,3F s: stderr ~S" signal delay stderr))))))
+
+(test stop-signals-end-a-command-at-any-moment-with-128-plus-the-signal
+  ;; SBCL's own SIGTERM handler, in place while the core starts, exited 0.
+  (let* ((arguments (list "check" (namestring (checkout-file "specs/peedy.lisp"))))
+         (complete (multiple-value-bind (process out err) (start-player-core arguments)
+                     (wait-for-process process 60)
+                     (take-file err)
+                     (take-file out))))
+    (loop for try below (sweep-count 16 6)
+          for delay = (* 0.3 (expt (/ try (sweep-count 16 6)) 2)) ; denser in the start-up
+          do (check-stopped-at arguments (if (evenp try) sb-unix:sigterm sb-unix:sigint) delay complete))))
+
+(test sigterm-during-plans-of-nested-macro-ops-never-deadlocks
+  (let* ((file (scratch-spec (nested-macro-spec 99)))
+         (arguments (list "plans" (namestring file)))
+         (complete (multiple-value-bind (process out err) (start-player-core arguments)
+                     (wait-for-process process 60)
+                     (take-file err)
+                     (take-file out))))
+    (is (search "goal" complete))
+    (loop for try below (sweep-count 9 3)
+          do (check-stopped-at arguments sb-unix:sigterm (* try 0.01) complete))))
