@@ -80,3 +80,33 @@ first, with status 0 and COMPLETE on stdout."
     (is (search "goal" complete))
     (loop for try below (sweep-count 9 3)
           do (check-stopped-at arguments sb-unix:sigterm (* try 0.01) complete))))
+
+;;;# One error line, nothing else
+
+(defun write-text-file (path text)
+  "Write TEXT to PATH, replacing it; PATH."
+  (with-open-file (out path :direction :output :if-exists :supersede :external-format :utf-8)
+    (write-string text out))
+  path)
+
+(test library-chatter-never-reaches-stderr
+  ;; espeak-ng without its data printed "Error processing file '.../phontab': No
+  ;; such file or directory." on stderr before Player's own error line.
+  (with-scratch-folder (folder "chatter")
+    (let ((spec (write-text-file (merge-pathnames "talk.lisp" folder)
+                                 "(defspec talk (:scripts \"talk-scripts.lisp\") (:body parrot)
+  (state-variable x boolean false) (op say :add x :duration 1) (event ev :op say))"))
+          (empty (merge-pathnames "no-voices/" folder)))
+      (write-text-file (merge-pathnames "talk-scripts.lisp" folder)
+                       "(defscript say (:duration 1) (:at 0 :say \"hi there\" :voice \"en\")
+  (:at (:word \"there\") :motor (:blink)))")
+      (ensure-directories-exist empty)
+      (multiple-value-bind (out err code in-time)
+          (bounded-player 30 (list "check" (namestring spec))
+                          :environment (list (format nil "ESPEAK_DATA_PATH=~A" (namestring empty))))
+        (is-true in-time)
+        (is (eql 1 code) "exit ~A: ~A" code err)
+        (is (search "espeak-ng could not start" out) "stdout ~S" out)
+        (is (equal (list "player: error: check found 1 error in spec talk (see standard output)")
+                   (lines err))
+            "stderr ~S" err)))))

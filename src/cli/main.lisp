@@ -30,6 +30,36 @@ A full disk under `player ... > file` is not: that is an error to report."
                  (finish-output *error-output*))
   (sb-ext:exit :code status :abort t))
 
+;;;# Library chatter
+
+(defconstant +fd-cloexec+ 1 "FD_CLOEXEC: a file descriptor closed on exec (SB-POSIX lacks it).")
+
+(defun private-copy (fd stream name)
+  "An output stream like STREAM, named NAME, on a copy of FD that child processes do not inherit."
+  (let ((copy (sb-posix:dup fd)))
+    (sb-posix:fcntl copy sb-posix:f-setfd +fd-cloexec+)
+    (sb-sys:make-fd-stream copy :output t :buffering :line :element-type :default
+                                :external-format (stream-external-format stream)
+                                :name name)))
+
+(defun keep-library-chatter-out ()
+  "C libraries print their own messages on file descriptors 1 and 2 (espeak-ng's
+'Error processing file ...' when its data is missing, Mesa's warnings), and so
+does SBCL's runtime.  Player's standard output and error move to private copies
+of those, and 1 and 2 then lead to /dev/null: stdout holds only Player's output,
+stderr at most its one error line.  Children Player runs capture their own."
+  (finish-output sb-sys:*stdout*)
+  (finish-output sb-sys:*stderr*)
+  (let ((out (private-copy 1 sb-sys:*stdout* "standard output"))
+        (err (private-copy 2 sb-sys:*stderr* "standard error"))
+        (null (sb-posix:open "/dev/null" sb-posix:o-wronly)))
+    (sb-posix:dup2 null 1)
+    (sb-posix:dup2 null 2)
+    (sb-posix:close null)
+    ;; *STANDARD-OUTPUT* and *ERROR-OUTPUT* are synonyms of these two.
+    (setf sb-sys:*stdout* out
+          sb-sys:*stderr* err)))
+
 (defun silence-error-output (condition)
   "An interrupted command says nothing on stderr, its exit status tells: what it
 unwinds through (SBCL's compiler among them) may not print on the way out."
@@ -43,7 +73,8 @@ output is closed early, 130 on SIGINT and 143 on SIGTERM."
   (handler-case
       (handler-bind ((interrupted #'silence-error-output))
         (restart-with-memory-option arguments)
-        (start-progress-note arguments)
+        (start-progress-note arguments)  ; it asks whether descriptor 2 is a terminal
+        (keep-library-chatter-out)
         (run-command-line arguments)
         (finish-output *standard-output*)
         (finish-output *error-output*)
