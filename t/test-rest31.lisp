@@ -110,3 +110,26 @@ first, with status 0 and COMPLETE on stdout."
         (is (equal (list "player: error: check found 1 error in spec talk (see standard output)")
                    (lines err))
             "stderr ~S" err)))))
+
+;;;# Control characters in trace lines, in both backends
+
+(test both-backends-escape-control-characters-alike
+  ;; Loading refuses such text; a string changed afterwards (through the Lisp
+  ;; API) still prints escaped, by the generated C++ as by Lisp.
+  (with-spec (spec escapes
+               (state-variable mood string "calm" ("calm" "odd"))
+               (state-variable flag boolean false)
+               (op stir :add (mood.odd flag) :duration 1)
+               (event ev :op stir))
+    (let* ((var (find "MOOD" (player.spec:spec-variables spec) :key (lambda (v) (symbol-name (player.spec:var-name v)))
+                                                                :test #'string=))
+           (odd (format nil "o~Cd~Cd~C" (code-char 27) (code-char 7) (code-char #x85))))
+      (setf (aref (player.spec:var-domain var) 1) odd)
+      (let* ((machine (compile-spec spec))
+             (lisp (lisp-trace machine '() '(ev))))
+        (is (find-if (lambda (line) (search "\"o\\x1Bd\\x07d\\x85\"" line)) lisp) "Lisp trace ~S" lisp)
+        (is (notany (lambda (line) (find-if #'player.base:control-character-p line)) lisp))
+        (let ((problem (compare-backends machine '() '(ev))))
+          (is (null problem) "~A" problem))
+        (let ((problem (compare-timed-backends machine '() '((ev . 0) ev))))
+          (is (null problem) "timed: ~A" problem))))))
