@@ -133,3 +133,23 @@ first, with status 0 and COMPLETE on stdout."
           (is (null problem) "~A" problem))
         (let ((problem (compare-timed-backends machine '() '((ev . 0) ev))))
           (is (null problem) "timed: ~A" problem))))))
+
+;;;# Compose builders capped at load
+
+(defun nodes-text (prefix count)
+  "(PREFIX0 PREFIX1 ...), COUNT node names, as text."
+  (format nil "(~{~A~^ ~})" (loop for i below count collect (format nil "~A~D" prefix i))))
+
+(test compose-builders-are-capped-by-states-and-work
+  ;; A 15 KB file asked for a product of 10^9 states with no edge at all, which
+  ;; the edge limit let through: the heap ran out.
+  (let ((nodes (nodes-text "n" 1000)))
+    (check-quick-load-error 2 graph-expression-error "the product would have 1000000000 states, more than 500000"
+      (format nil "(defspec p (:graph (product (graph ~A ()) (graph ~:*~A ()) (graph ~:*~A ()))))" nodes)))
+  ;; A large graph used many times: each use counts its size, refused before the sum.
+  (check-quick-load-error 5 graph-expression-error "the expression has handled"
+    (format nil "(defspec s (:graph (let* ((a (product (graph ~A ()) (graph ~A ())))) (sum~{ ~A~}))))"
+            (nodes-text "n" 500) (nodes-text "m" 900) (make-list 200 :initial-element "a")))
+  ;; Within the limits it builds.
+  (is (null (load-error (format nil "(defspec q (:graph (let* ((a (complete ~A))) (sum a a a))))"
+                                (nodes-text "n" 30))))))
