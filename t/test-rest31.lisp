@@ -111,6 +111,18 @@ first, with status 0 and COMPLETE on stdout."
                    (lines err))
             "stderr ~S" err)))))
 
+(test code-compiler-notes-never-reach-stderr
+  ;; SBCL's compiler printed its notes on :code (an unused variable, an
+  ;; undefined function) on stderr before the error line.
+  (let ((spec (scratch-spec "(defspec coder (state-variable x boolean false)
+  (op poke :code (let ((unused 1)) (no-such-function-here)) :add x) (event ev :op poke))" "code")))
+    (multiple-value-bind (out err code in-time) (bounded-player 30 (list "run" spec "--events" "ev"))
+      (is-true in-time)
+      (is (eql 1 code) "exit ~A: ~A" code err)
+      (is (search "(:event ev :time 0)" out))
+      (is (= 1 (length (lines err))) "stderr ~S" err)
+      (is (search "no-such-function-here" (string-downcase err)) "stderr ~S" err))))
+
 ;;;# Control characters in trace lines, in both backends
 
 (test both-backends-escape-control-characters-alike
