@@ -626,5 +626,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-speech-rejection")
                  (:file "test-fragments")
                  ;; A dialogue's mood reaches the body (issue 29, item 5)
-                 (:file "test-dialogue-mood"))))
+                 (:file "test-dialogue-mood")
+                 ;; Issue 31, what was left: stop signals, one error line, exact times
+                 (:file "test-rest31"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -114,6 +114,22 @@ process at once."
                                    (error 'interrupted :signal-name name
                                                              :exit-code (signal-exit-code signal)))))))
 
+(defun stop-at-once (signal info context)
+  "A stop signal before INSTALL-STOP-HANDLERS: nothing is running yet to unwind,
+so exit 128 + SIGNAL now."
+  (declare (ignore info context))
+  (emergency-exit (signal-exit-code signal)))
+
+(defun stop-at-once-from-start-up ()
+  "Make a saved core's start-up install STOP-AT-ONCE for SIGINT and SIGTERM.
+SBCL installs its own handlers while it starts, before any hook of ours can
+run, and delivers a signal that arrived earlier right then: its SIGTERM
+handler exits with status 0 and its SIGINT one prints a backtrace.  It installs
+them by name, so naming ours instead covers every moment of the start."
+  (sb-ext:without-package-locks
+    (setf (fdefinition 'sb-unix::sigterm-handler) #'stop-at-once
+          (fdefinition 'sb-unix::sigint-handler) #'stop-at-once)))
+
 (defun install-stop-handlers ()
   "Make SIGINT and SIGTERM unwind the calling (main) thread as an INTERRUPTED
 error, killing children and removing temporaries on the way out."

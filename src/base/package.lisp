@@ -33,7 +33,7 @@
    #:call-with-input-file #:with-input-file #:file-octets
    #:register-cleanup #:unregister-cleanup #:kill-child #:run-child #:run-child-output
    #:with-work-folder #:make-private-folder #:remove-folder #:interrupted #:interrupted-exit-code
-   #:install-stop-handlers #:emergency-exit
+   #:install-stop-handlers #:stop-at-once-from-start-up #:emergency-exit
    #:call-with-atomic-output-file #:with-atomic-output-file #:write-file-octets #:write-file-string
    #:stage-output-file #:write-files-together
    #:create-exclusive-file #:final-file-name #:output-target #:check-writable-directory #:call-with-output-set #:with-output-set))

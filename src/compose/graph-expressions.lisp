@@ -43,6 +43,17 @@ much for a one-line file to ask of `check'; above it only a reachable part.")
 (defparameter *graph-expression-edge-limit* 500000
   "The most edges a graph built by a graph expression may have, at any step.")
 
+(defparameter *graph-expression-node-limit* 500000
+  "The most nodes (states) a graph built by a graph expression may have, at any step.")
+
+(defparameter *graph-expression-work-limit* 5000000
+  "The most nodes and edges the builders of one graph expression may be handed
+in all: each use of a graph counts its size, so reusing a large graph many
+times (a LET* name in a long sum) is refused before the work is done.")
+
+(defvar *graph-expression-work* nil
+  "While a graph expression is interpreted: the nodes and edges handed out so far.")
+
 (defparameter *pattern-functions* '((+ . +) (- . -) (* . *))
   "The functions a pattern's (:eval F X...) may name in a graph expression.")
 
@@ -101,7 +112,26 @@ the expression bound to LAMBDA-LIST; USAGE shows how it is written."
 (defun graph-expression (form)
   "The graph the graph expression FORM denotes (see the file header). Signals
 a GRAPH-EXPRESSION-ERROR naming the offending part of FORM."
-  (interpret-graph form))
+  (let ((*graph-expression-work* 0))
+    (interpret-graph form)))
+
+(defun check-graph-size (form graph)
+  "Refuse GRAPH, built or named by FORM, when it has more nodes or edges than a
+graph expression may build, or when handing it out would take the expression's
+work past *GRAPH-EXPRESSION-WORK-LIMIT*; GRAPH otherwise."
+  (when (graph-p graph)
+    (let ((nodes (graph-node-count graph)) (edges (graph-edge-count graph)))
+      (when (> edges *graph-expression-edge-limit*)
+        (graph-expression-fail form "~A has ~D edges, more than ~D" (bounded-lisp-text form 80)
+                               edges *graph-expression-edge-limit*))
+      (when (> nodes *graph-expression-node-limit*)
+        (graph-expression-fail form "~A has ~D states, more than ~D" (bounded-lisp-text form 80)
+                               nodes *graph-expression-node-limit*))
+      (when *graph-expression-work*
+        (when (> (incf *graph-expression-work* (+ nodes edges)) *graph-expression-work-limit*)
+          (graph-expression-fail form "at ~A, the expression has handled ~D nodes and edges, more than ~D (each use of a graph counts its size)"
+                                 (bounded-lisp-text form 80) *graph-expression-work* *graph-expression-work-limit*)))))
+  graph)
 
 (defun interpret-graph (form &optional allow-lazy)
   "The graph of the graph expression FORM; a LAZY-GRAPH (a large cradle) only
@@ -129,10 +159,7 @@ with ALLOW-LAZY (REACHABLE's argument), else a GRAPH-EXPRESSION-ERROR."
     (when (and (lazy-graph-p graph) (not allow-lazy))
       (graph-expression-fail form "~A is built on demand: write (reachable ~A NODE...) to take the part reachable from NODE"
                              (bounded-lisp-text form 80) (bounded-lisp-text form 60)))
-    (when (and (graph-p graph) (> (graph-edge-count graph) *graph-expression-edge-limit*))
-      (graph-expression-fail form "~A has ~D edges, more than ~D" (bounded-lisp-text form 80)
-                             (graph-edge-count graph) *graph-expression-edge-limit*))
-    graph))
+    (check-graph-size form graph)))
 
 (defun node-literal (form)
   "The node FORM writes: (cradle-node (P . V)...) builds one, anything else is itself."
@@ -193,9 +220,12 @@ be taken.")
 
 (define-graph-builder ("product" "×" "*") "(product G G...)" (graph1 graph2 &rest graphs)
   (let ((graphs (mapcar #'interpret-graph (list* graph1 graph2 graphs))))
-    (let ((edges (reduce #'* graphs :key #'graph-edge-count)))
+    (let ((edges (reduce #'* graphs :key #'graph-edge-count))
+          (nodes (reduce #'* graphs :key #'graph-node-count)))
       (when (> edges *graph-expression-edge-limit*)
-        (graph-expression-fail form "the product would have ~D edges, more than ~D" edges *graph-expression-edge-limit*)))
+        (graph-expression-fail form "the product would have ~D edges, more than ~D" edges *graph-expression-edge-limit*))
+      (when (> nodes *graph-expression-node-limit*)
+        (graph-expression-fail form "the product would have ~D states, more than ~D" nodes *graph-expression-node-limit*)))
     (apply #'graph-product graphs)))
 
 (defun merged-edge-count (graph1 graph2 leafp)

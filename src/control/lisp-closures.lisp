@@ -273,8 +273,13 @@ made along the way are internal to the macro)."
 
 (defun compile-code (form)
   "A function of no arguments evaluating FORM. FORM is compiled the first time
-it runs, so machines with :code compile as fast as those without."
+it runs, so machines with :code compile as fast as those without.  The
+compiler's notes and warnings are not printed: stderr is for the one error
+line (an undefined function still fails when the code runs)."
   (let ((function nil))
     (lambda ()
       (funcall (or function
-                   (setf function (compile nil `(lambda () ,form))))))))
+                   (setf function
+                         (let ((*error-output* (make-broadcast-stream)))
+                           (handler-bind ((warning #'muffle-warning))
+                             (compile nil `(lambda () ,form))))))))))
