@@ -69,7 +69,7 @@
   (:import-from #:player.speech
    #:*default-speech-rate* #:*default-voice* #:make-clip #:make-sound #:mix-clips
    #:phoneme-viseme #:read-wav #:recognize-sound #:recognize-wav #:sound #:sound-duration
-   #:*rejection-margin* #:*longest-phone* #:*longest-request* #:read-request-wav
+   #:*rejection-margin* #:*longest-phone* #:*most-unexplained-speech* #:*longest-request* #:read-request-wav
    #:*capture-device* #:open-capture #:close-capture #:listen-for-requests
    #:sound-rate #:sound-samples #:speech-error #:speech-unavailable #:synthesize-speech
    #:utterance #:utterance-duration #:utterance-phonemes #:utterance-sound #:utterance-text
@@ -234,7 +234,7 @@
    #:sound #:make-sound #:sound-samples #:sound-rate #:sound-duration #:read-wav #:write-wav
    #:performance-say #:performance-set-mood #:performance-play-sound #:performance-clips #:performance-audio #:mix-clips #:make-clip
    #:recognize-wav #:recognize-sound #:speech-error #:speech-unavailable
-   #:*rejection-margin* #:*longest-phone* #:*longest-request* #:read-request-wav
+   #:*rejection-margin* #:*longest-phone* #:*most-unexplained-speech* #:*longest-request* #:read-request-wav
    #:*capture-device* #:open-capture #:close-capture #:listen-for-requests
    ;; Models imported through Assimp (doc/models.md)
    #:guess-roles #:roles-enabling-drivers #:role-error #:role-error-role #:role-error-joint

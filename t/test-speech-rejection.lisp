@@ -26,19 +26,32 @@ jukebox grammar hears it, rejection included, and the recognition's score:
     (let ((turn (conversation-hear (make-conversation dialogue) heard)))
       (values (turn-event turn) (turn-slots turn) score sentence))))
 
+(defparameter *tuning-sentences* 13
+  "How many sentences at the start of each set of the fixture the rejection
+was tuned on (two thirds); the rest are held out, and reported apart.")
+
 (defun spoken-set-results (set voice)
-  "For each sentence of SET said by VOICE: (TEXT RIGHT-P HEARD SCORE), RIGHT-P
-when the turn reaches the input typing it gives (in-grammar) or is
-evBadSpeech (out-of-domain)."
-  (let ((dialogue (jukebox)))
-    (loop for text in (sweep-sample (spoken-sentence-set set) 7)
+  "For each sentence of SET said by VOICE: (TEXT RIGHT-P HEARD SCORE
+HELD-OUT-P), RIGHT-P when the turn reaches the input typing it gives
+(in-grammar) or is evBadSpeech (out-of-domain), HELD-OUT-P when it is not
+among the *TUNING-SENTENCES*."
+  (let* ((dialogue (jukebox))
+         (sentences (spoken-sentence-set set))
+         (held-out (nthcdr *tuning-sentences* sentences)))
+    (loop for text in (sweep-sample sentences 7)
           collect (multiple-value-bind (event slots score heard) (spoken-turn-event dialogue text voice)
                     (let ((typed (conversation-hear (make-conversation dialogue) text)))
                       (list text
                             (if (string-equal set "out-of-domain")
                                 (player.dialogue::same-name-p event "evBadSpeech")
                                 (and (player.dialogue::same-name-p event (turn-event typed)) (equal slots (turn-slots typed))))
-                            heard score))))))
+                            heard score (and (member text held-out :test #'string=) t)))))))
+
+(defun split-counts (results)
+  "\"R of N (tuning R of N, held out R of N)\" for RESULTS."
+  (flet ((counts (list) (list (count-if #'second list) (length list))))
+    (format nil "~{~D of ~D~} (tuning ~{~D of ~D~}, held out ~{~D of ~D~})"
+            (counts results) (counts (remove-if #'fifth results)) (counts (remove-if-not #'fifth results)))))
 
 (defun share-right (results)
   "The share of RESULTS that are right."
@@ -47,22 +60,23 @@ evBadSpeech (out-of-domain)."
 (test out-of-domain-speech-is-bad-speech
   (with-speech-libraries ("rejecting out-of-domain speech")
     (let ((results (append (spoken-set-results "out-of-domain" "en") (spoken-set-results "out-of-domain" "en-us"))))
-      (format t "~&; out-of-domain speech rejected: ~D of ~D~%" (count-if #'second results) (length results))
-      ;; The issue asks 9 in 10; the phone loop's margin and stretch reach 8
-      ;; (32 of 40), 11 to 13 of the fast tier's 14 as the decoder has adapted.
-      (is (>= (share-right results) 7/10) "accepted as commands: ~S" (remove-if #'second results)))))
+      (format t "~&; out-of-domain speech rejected: ~A~%" (split-counts results))
+      ;; The issue's 9 in 10.  The phone loop's margin, stretch and the speech
+      ;; a sentence leaves unexplained reject 40 of 40 (the tuning two thirds
+      ;; 26 of 26, the held-out third 14 of 14).
+      (is (>= (share-right results) 9/10) "accepted as commands: ~S" (remove-if #'second results)))))
 
 (test in-grammar-speech-reaches-its-input
   (with-speech-libraries ("in-grammar speech with rejection")
     (let ((us (spoken-set-results "in-grammar" "en-us"))
           (british (spoken-set-results "in-grammar" "en")))
-      (format t "~&; in-grammar speech right: en-us ~D of ~D, en ~D of ~D~%"
-              (count-if #'second us) (length us) (count-if #'second british) (length british))
+      (format t "~&; in-grammar speech right: en-us ~A, en ~A~%" (split-counts us) (split-counts british))
       ;; 20 of 20 in the full tier; the decoder adapts to what it heard before,
       ;; so one of the fast tier's 7 can be misheard ("eric clapton" as "raitt").
       (is (>= (share-right us) 5/6) "en-us wrong: ~S" (remove-if #'second us))
       ;; espeak-ng's British voice is heard worse by the en-us model, rejection or not
-      ;; (thank you -> stop, hello -> play lennon): the issue's 9 in 10 is not reached.
+      ;; (thank you -> stop, hello -> play lennon): 9 of 20 (tuning 4 of 13, held
+      ;; out 5 of 7), 12 of 20 with rejection off; the issue's 9 in 10 is not reached.
       (is (>= (share-right british) 1/4) "en wrong: ~S" (remove-if #'second british)))))
 
 (test every-recognition-carries-a-score

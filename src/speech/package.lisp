@@ -11,7 +11,7 @@
    #:clip-sound #:clip-start #:ensure-espeak #:load-pocketsphinx-library #:make-clip
    #:make-sound #:mix-clips #:phoneme-viseme #:play-sound-now #:pocketsphinx-model-files
    #:*capture-device* #:open-capture #:close-capture #:read-capture #:listen-for-requests
-   #:*rejection-margin* #:*longest-phone* #:*longest-request* #:read-request-wav #:wav-header-duration
+   #:*rejection-margin* #:*longest-phone* #:*most-unexplained-speech* #:*longest-request* #:read-request-wav #:wav-header-duration
    #:read-wav #:recognize-sound #:recognize-wav #:samples #:sound #:sound-duration
    #:sound-p #:sound-rate #:sound-samples #:speech-error #:speech-unavailable
    #:synthesize-speech #:utterance #:utterance-duration #:utterance-phonemes

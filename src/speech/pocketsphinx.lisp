@@ -149,9 +149,10 @@ best is measured against.  A SPEECH-ERROR when pocketsphinx cannot load it."
 (defun sphinx-acoustic-score (handle)
   "The acoustic score (log base 1.0001) of the words HANDLE's best path
 holds, summed, the frames they span, the frames of speech among them (not
-silence or noise) and the phones of its words: (VALUES SCORE FRAMES
-SPEECH-FRAMES PHONES)."
-  (let ((score 0) (first-frame nil) (last-frame 0) (speech 0) (phones 0))
+silence or noise), the phones of its words, and its segments as (START END
+SPEECH-P), frames from the utterance's start: (VALUES SCORE FRAMES
+SPEECH-FRAMES PHONES SEGMENTS)."
+  (let ((score 0) (first-frame nil) (last-frame 0) (speech 0) (phones 0) (segments '()))
     (cffi:with-foreign-objects ((acoustic :int32) (language :int32) (backoff :int32) (start :int) (end :int))
       (do ((segment (%ps-seg-iter handle) (%ps-seg-next segment)))
           ((cffi:null-pointer-p segment))
@@ -159,12 +160,13 @@ SPEECH-FRAMES PHONES)."
         (%ps-seg-frames segment start end)
         (incf score (cffi:mem-ref acoustic :int32))
         (let ((word (%ps-seg-word segment)))
+          (push (list (cffi:mem-ref start :int) (cffi:mem-ref end :int) (not (filler-word-p word))) segments)
           (unless (filler-word-p word)
             (incf speech (1+ (- (cffi:mem-ref end :int) (cffi:mem-ref start :int))))
             (incf phones (word-phone-count handle word))))
         (setf first-frame (or first-frame (cffi:mem-ref start :int))
               last-frame (cffi:mem-ref end :int))))
-    (values score (if first-frame (max 1 (1+ (- last-frame first-frame))) 0) speech phones)))
+    (values score (if first-frame (max 1 (1+ (- last-frame first-frame))) 0) speech phones (nreverse segments))))
 
 (defun sphinx-start (decoder)
   "Begin an utterance in DECODER."
@@ -184,21 +186,22 @@ voice-activity detection tells apart).  Returns whether it hears speech now."
 
 (defun sphinx-finish (decoder)
   "End DECODER's utterance: (VALUES TEXT ACOUSTIC-SCORE FRAMES SPEECH-FRAMES
-PHONES), TEXT the sentence heard (NIL for none), the acoustic score of its
-best path, the frames (10 ms) it spans, those of speech, and its phones."
+PHONES SEGMENTS), TEXT the sentence heard (NIL for none), the acoustic score
+of its best path, the frames (10 ms) it spans, those of speech, its phones,
+and its segments (see SPHINX-ACOUSTIC-SCORE)."
   (let ((handle (sphinx-decoder-handle decoder)))
     (with-speech-traps-masked
       (%ps-end-utt handle)
       (cffi:with-foreign-object (score :int32)
         (let* ((hypothesis (%ps-get-hyp handle score))
                (text (and (not (cffi:null-pointer-p hypothesis)) (cffi:foreign-string-to-lisp hypothesis))))
-          (multiple-value-bind (acoustic frames speech phones) (sphinx-acoustic-score handle)
-            (values (and text (plusp (length text)) text) acoustic frames speech phones)))))))
+          (multiple-value-bind (acoustic frames speech phones segments) (sphinx-acoustic-score handle)
+            (values (and text (plusp (length text)) text) acoustic frames speech phones segments)))))))
 
 (defun sphinx-decode (decoder samples)
   "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when
 it matches nothing in its search, as SPHINX-FINISH's (VALUES TEXT
-ACOUSTIC-SCORE FRAMES)."
+ACOUSTIC-SCORE FRAMES SPEECH-FRAMES PHONES SEGMENTS)."
   (sphinx-start decoder)
   (sphinx-feed decoder samples :whole t)
   (sphinx-finish decoder))
