@@ -207,7 +207,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "joints")
                  (:file "animations")
                  (:file "morphs")
+                 (:file "naming-schemes")
                  (:file "roles")
+                 (:file "driver-needs")
                  ;; Writing glTF 2.0: JSON, the binary buffer, the model's parts, the files.
                  (:file "json")
                  (:file "gltf-buffer")
