@@ -620,5 +620,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Bounded resources, names that cannot forge output (issue 31, items 3, 5-7, 11)
                  (:file "test-bounds")
                  (:file "test-bounds-agree")
-                 (:file "fuzz-bounds"))))
+                 (:file "fuzz-bounds")
+                 ;; Leftovers tidied: model --texture errors, root motion's resting place
+                 (:file "test-tidy"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
