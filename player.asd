@@ -218,6 +218,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "gltf-shape")
                  (:file "gltf-numbers")
                  (:file "gltf-skins")
+                 (:file "gltf-morphs")
                  (:file "gltf-animations")
                  (:file "gltf-materials")
                  (:file "gltf-write")))

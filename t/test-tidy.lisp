@@ -76,3 +76,51 @@ so Wuson could not show it.)"
         (is (> end 1.8) "the simulation ends at ~A, before the halt" end)
         (is (< (player.body:vdistance last stopped) 0.01)
             "the last frame (~,2F s) stands at ~A, the walk ended at ~A" end last stopped)))))
+
+;;; ---------------------------------------------------------------------------
+;;; Morph targets and their weights through glTF and back
+
+(defun morph-summary (model)
+  "MODEL's morph targets and weight keys, for comparing: per mesh, its
+targets as (NAME DELTAS); per animation, its morph channels as (MESHES TIMES
+WEIGHTS TARGET-COUNT)."
+  (list (mapcar (lambda (mesh)
+                  (mapcar (lambda (target) (list (player.model::morph-target-name target)
+                                                 (player.model::morph-target-deltas target)))
+                          (player.model::model-mesh-morphs mesh)))
+                (player:model-meshes model))
+        (mapcar (lambda (animation)
+                  (mapcar (lambda (channel)
+                            (list (player.model::morph-channel-meshes channel)
+                                  (player.model::morph-channel-times channel)
+                                  (player.model::morph-channel-weights channel)
+                                  (player.model::morph-channel-target-count channel)))
+                          (player.model::model-animation-morph-channels animation)))
+                (player:model-animations model))))
+
+(defun nearly-equal-tree-p (a b tolerance)
+  "Are A and B the same tree of lists, vectors, strings and numbers, numbers
+within TOLERANCE?"
+  (cond ((and (numberp a) (numberp b)) (<= (abs (- a b)) tolerance))
+        ((and (stringp a) (stringp b)) (string= a b))
+        ((and (vectorp a) (vectorp b))
+         (and (= (length a) (length b)) (every (lambda (x y) (nearly-equal-tree-p x y tolerance)) a b)))
+        ((and (listp a) (listp b))
+         (and (= (length a) (length b)) (every (lambda (x y) (nearly-equal-tree-p x y tolerance)) a b)))
+        (t (equal a b))))
+
+(test gltf-writes-morph-targets-and-their-weights
+  "AnimatedMorphCube (two morph targets, their weights keyed 127 times)
+written as .glb and as .gltf and imported back through Assimp: the same
+targets, deltas and weight keys (within float rounding)."
+  (with-assimp-models
+    (let* ((model (player:import-model
+                   (assimp-model "glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf")))
+           (before (morph-summary model)))
+      (is (= 2 (length (first (first before)))) "no morph targets to test: ~S" before)
+      (is (some (lambda (channels) (plusp (length channels))) (second before)) "no weight keys to test")
+      (dolist (type '("glb" "gltf"))
+        (uiop:with-temporary-file (:pathname path :type type :keep nil)
+          (player.model:write-gltf model path)
+          (let ((after (morph-summary (player:import-model path))))
+            (is (nearly-equal-tree-p before after 1d-6) "~A: before ~S~%after ~S" type before after)))))))
