@@ -124,3 +124,48 @@ targets, deltas and weight keys (within float rounding)."
           (player.model:write-gltf model path)
           (let ((after (morph-summary (player:import-model path))))
             (is (nearly-equal-tree-p before after 1d-6) "~A: before ~S~%after ~S" type before after)))))))
+
+(defun largest-delta-share (mesh)
+  "For each morph target of MESH, its largest delta component over the
+largest extent of MESH's positions along an axis: what a uniform scale and
+a turn by right angles (Player's space from the file's) leave unchanged."
+  (let* ((positions (player:model-mesh-positions mesh))
+         (extent (loop for axis below 3
+                       maximize (loop for i from axis below (length positions) by 3
+                                      maximize (aref positions i) into high
+                                      minimize (aref positions i) into low
+                                      finally (return (- high low))))))
+    (mapcar (lambda (target) (/ (reduce #'max (player:morph-target-deltas target) :key #'abs) extent))
+            (player:model-mesh-morphs mesh))))
+
+(test export-writes-the-bodys-morph-targets-and-weights
+  "AnimatedMorphCube as a character playing its clip, exported as .glb and
+imported back through Assimp: its two morph targets, their deltas the file's
+to scale, and their weights keyed at every frame as the body's pose held them."
+  (with-assimp-models
+    (with-rig-directory (dir)
+      (let* ((model (player:import-model (assimp-model *morph-cube*)))
+             (clip (player.rig:clip-name-from-animation
+                    (player:model-animation-name (first (player:model-animations model)))))
+             (spec (write-walker-files dir (format nil "(model ~S)
+(defscript walk (:duration 3) (:at 0 :clip ~(~A~) :fade 0 :for 3))" (assimp-model *morph-cube*) clip)))
+             (simulation (player:simulate spec :events '(ev-walk) :silent t))
+             (baked (first (player:bake-simulation simulation)))
+             (path (player:export-performance simulation (merge-pathnames "out.glb" dir)))
+             (back (player:import-model path))
+             (mesh (first (player:model-meshes back)))
+             (channel (first (player:model-animation-morph-channels (first (player:model-animations back))))))
+        (is (equal (player:model-morph-targets model) (player:model-morph-targets back)))
+        (is (every (lambda (a b) (< (abs (- a b)) 1d-4))
+                   (largest-delta-share (first (player:model-meshes model))) (largest-delta-share mesh))
+            "the deltas' shares ~S, the file's ~S"
+            (largest-delta-share mesh) (largest-delta-share (first (player:model-meshes model))))
+        (is (not (null channel)) "no weight keys came back")
+        (when channel
+          (let ((expected (player.export:baked-body-morph-weights baked))
+                (weights (player:morph-channel-weights channel)))
+            (is (= (player.export:baked-frame-count baked) (length (player:morph-channel-times channel))))
+            (is (> (reduce #'max expected) 0.5) "the weights hardly move: no test")
+            (is (= (length expected) (length weights)))
+            (is (every (lambda (a b) (< (abs (- a b)) 1d-6)) expected weights)
+                "the weights keyed differ from the body's")))))))
