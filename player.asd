@@ -60,6 +60,7 @@ run the resulting state machine as Lisp closures or embedded C++."
     :components ((:file "package")
                  (:file "bitmaps")
                  (:file "encoding")
+                 (:file "records")
                  (:file "solved-states")
                  (:file "reachable")
                  (:file "regression")
@@ -209,7 +210,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "joints")
                  (:file "animations")
                  (:file "morphs")
+                 (:file "naming-schemes")
                  (:file "roles")
+                 (:file "driver-needs")
                  ;; Writing glTF 2.0: JSON, the binary buffer, the model's parts, the files.
                  (:file "json")
                  (:file "gltf-buffer")
@@ -217,6 +220,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "gltf-shape")
                  (:file "gltf-numbers")
                  (:file "gltf-skins")
+                 (:file "gltf-morphs")
                  (:file "gltf-animations")
                  (:file "gltf-materials")
                  (:file "gltf-write")))
@@ -330,10 +334,11 @@ run the resulting state machine as Lisp closures or embedded C++."
                                (:file "pose-when")
                                (:file "idle-form")))
                  (:file "performance")
+                 ;; Before the replay and settling, which read its records.
+                 (:file "starting-pose")
                  (:file "replay")
                  (:file "settle")
                  (:file "captions")
-                 (:file "starting-pose")
                  (:file "idle-life")
                  (:file "mood")
                  (:file "placeholders")
@@ -628,5 +633,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; A dialogue's mood reaches the body (issue 29, item 5)
                  (:file "test-dialogue-mood")
                  ;; Issue 31, what was left: stop signals, one error line, exact times
-                 (:file "test-rest31"))))
+                 (:file "test-rest31")
+                 ;; Leftovers tidied: model --texture errors, root motion's resting place
+                 (:file "test-tidy"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

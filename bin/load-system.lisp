@@ -13,10 +13,20 @@
 (in-package #:player-build)
 
 (defun component-being-compiled ()
-  "The namestring of the file being compiled now; warnings SBCL defers to the
-end of the build (undefined functions, conflicting derived types) have none."
+  "The namestring of the file being compiled now, else of the fasl being loaded
+(as its file name); warnings SBCL defers to the end of the build (undefined
+functions, conflicting derived types) have none."
   (let ((file *compile-file-truename*))
-    (if file (enough-namestring file (truename "./")) "at the end of the build")))
+    (cond (file (enough-namestring file (truename "./")))
+          (*load-truename* (format nil "loading ~A" (file-namestring *load-truename*)))
+          (t "at the end of the build"))))
+
+(defun uninteresting-p (condition)
+  "Is CONDITION one SBCL itself never shows (SB-EXT:*MUFFLED-WARNINGS*)?  Loading
+a fasl redefines each macro its compilation defined, from the same source, and
+SBCL signals that as an uninteresting redefinition: counting those would count
+every DEFMACRO of the build."
+  (typep condition sb-ext:*muffled-warnings*))
 
 (defun warning-text (condition)
   "CONDITION's report on one line."
@@ -29,8 +39,9 @@ full WARNING was signalled, NIL otherwise (the caller fails the build)."
   (let ((style-warnings '()) (warnings '()))
     (handler-bind ((style-warning
                      (lambda (condition)
-                       (push (format nil "~A: ~A" (component-being-compiled) (warning-text condition))
-                             style-warnings)
+                       (unless (uninteresting-p condition)
+                         (push (format nil "~A: ~A" (component-being-compiled) (warning-text condition))
+                               style-warnings))
                        (muffle-warning condition)))
                    (warning
                      (lambda (condition)

@@ -96,7 +96,7 @@
    #:write-gltf #:model-write-error
    #:make-morph-target #:morph-target #:morph-target-name #:morph-target-deltas #:model-mesh-morphs
    #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
-   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count)
+   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count #:make-morph-channel)
   (:import-from #:player.rig
    #:model-skeleton #:make-prop-model #:prop-model #:model-prop #:model-prop-model #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees
@@ -258,7 +258,7 @@
    #:write-gltf #:model-write-error
    #:make-morph-target #:morph-target #:morph-target-name #:morph-target-deltas #:model-mesh-morphs
    #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
-   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count
+   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count #:make-morph-channel
    ;; Characters from models (doc/models.md)
    #:model-skeleton #:make-prop-model #:prop-model #:model-prop #:model-prop-model #:retarget-clip #:rig #:rig-error #:rig-model #:rig-clips #:rig-bounds #:rig-skins #:rig-placement #:find-clip #:rig-clip-names
    #:motion-clip #:clip-name #:clip-duration #:clip-angles #:quat-to-xyz-degrees

@@ -78,8 +78,10 @@ whose cases come in runs (seeds with one set of options, then another)."
     (zerop failed)))
 
 (defmacro with-spec ((var name &rest body-forms) &body body)
-  "Define a throwaway spec NAME from BODY-FORMS, bind VAR to it, run BODY, forget it."
+  "Define a throwaway spec NAME from BODY-FORMS, bind VAR to it, run BODY, forget it.
+VAR is ignorable: a test may want the spec defined without reading it."
   `(let ((,var (define-spec ',name ',body-forms :package (find-package '#:player-tests))))
+     (declare (ignorable ,var))
      (unwind-protect (progn ,@body)
        (remove-spec ',name))))
 

@@ -79,6 +79,7 @@ seen through VIEW, in front of the eye?"
                                             :key (lambda (p) (player.render::caption-text-width
                                                               (string-downcase p))))))))
       (destructuring-bind (width height &rest header-and-pixels) png
+        (declare (ignore height))
         (let ((pixels (car (last header-and-pixels))))
           ;; Two thumbnails a row, after the margin of labels.
           (is (= width (+ margin gap (* 2 (+ 64 gap)))) "width ~D" width)

@@ -284,10 +284,14 @@ reachable state, and a controller runs one."
                                                 :test #'string=))))
            (is (every (lambda (dense)
                         (let* ((state (player.planner::dense-to-state dense layout))
-                               (token (loop for i below 130
-                                            when (logbitp (1+ (offset (format nil "T~D" i))) state) return i))
-                               (mode (loop for k below 3
-                                           when (logbitp (+ k (offset "MODE")) state) return k))
+                               ;; Each state has one token and one mode; ERROR otherwise.
+                               (token (or (loop for i below 130
+                                                when (logbitp (1+ (offset (format nil "T~D" i))) state)
+                                                  return i)
+                                          (error "no token in state ~D" dense)))
+                               (mode (or (loop for k below 3
+                                               when (logbitp (+ k (offset "MODE")) state) return k)
+                                         (error "no mode in state ~D" dense)))
                                (plan (first-plan-for goal state)))
                           (= (length (player.planner::plan-ops plan))
                              (+ (- 129 token) (nth mode '(2 1 0))))))

@@ -238,7 +238,7 @@ joint grown by its projected radius."
 
 (defun anim-simulation (&key (fps 4))
   "The anim fixture's scenario (pick up the ball, wave) played at FPS."
-  (player::simulate (player.cli::choose-spec (fixture "anim.lisp")) :events '("ev-pick" "ev-wave")
+  (player::simulate (player.cli::choose-spec (fixture "anim.lisp") nil) :events '("ev-pick" "ev-wave")
                                                                     :fps fps))
 
 (test render-writes-frames-and-a-sheet

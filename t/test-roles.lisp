@@ -1,5 +1,6 @@
-;;;; test-roles.lisp -- guessed roles (src/model/roles.lisp): one realistic
-;;;; skeleton per naming scheme with the roles it should get, explicit roles,
+;;;; test-roles.lisp -- guessed roles (src/model/roles.lisp, naming-schemes.lisp,
+;;;; driver-needs.lisp): one realistic skeleton per naming scheme with the
+;;;; roles it should get, explicit roles,
 ;;;; sides never swapped, the drivers the roles enable, and Player's own
 ;;;; skeletons guessed to the roles their files declare.
 

@@ -257,7 +257,7 @@ every STEP seconds up to END, as a vector."
 (test simulate-writes-speech-wav-beside-the-frames
   (with-espeak
     (let* ((out (scratch-directory "simulate-speech"))
-           (simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp"))
+           (simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp") nil)
                                          :events '("ev-bad-speech") :fps 10))
            (paths (player::write-simulation simulation :frames (format nil "~Aframes.txt" out)
                                                        :audio (format nil "~Aspeech.wav" out))))
@@ -268,7 +268,7 @@ every STEP seconds up to END, as a vector."
       ;; Silent: no file written, and an old one is left alone (issue 31: nothing
       ;; the user did not name is deleted).
       (is (null (player::write-simulation
-                 (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp"))
+                 (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp") nil)
                                    :events '("ev-bad-speech") :fps 10 :silent t)
                  :audio (format nil "~Aspeech.wav" out))))
       (is (probe-file (format nil "~Aspeech.wav" out))))))
@@ -283,7 +283,7 @@ every STEP seconds up to END, as a vector."
       (let ((line (and condition (player.base::condition-line condition))))
         (is (search "install the Debian package libespeak-ng1" (or line "")) "~S" line)))
     ;; Peedy's huh? says something; silently it plays without espeak.
-    (let ((simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp"))
+    (let ((simulation (player::simulate (player.cli::choose-spec (checkout-file "specs/peedy.lisp") nil)
                                         :events '("ev-bad-speech") :fps 10 :silent t)))
       (is (< 1 (player.performance::simulation-end simulation)))
       (is (null (player::write-simulation simulation :audio (speech-file "none.wav")))))))

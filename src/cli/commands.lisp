@@ -123,10 +123,10 @@ read by MAIN before (see memory.lisp) and ignored here."
 
 ;;;# What commands share
 
-(defun choose-spec (file &optional name &key (allow-code t))
+(defun choose-spec (file name &key (allow-code t))
   "Load the spec FILE (refusing :code and :c++ unless ALLOW-CODE) and return
-the spec to use: the one called NAME (a string), or the file's only spec.  A
-USAGE-ERROR when NAME is not there or the choice is ambiguous."
+the spec to use: the one called NAME (a string), or the file's only spec when
+NAME is NIL.  A USAGE-ERROR when NAME is not there or the choice is ambiguous."
   (let ((specs (load-spec file :allow-code allow-code)))
     (flet ((names () (mapcar (lambda (s) (lisp-text (spec-name s))) specs)))
       (cond (name (or (find (string-upcase name) specs :key (lambda (s) (name-key (spec-name s)))

@@ -14,23 +14,37 @@ with their durations in seconds, its textures (each with its size in
 pixels, or marked missing or undecodable) and its morph targets, then the roles guessed from the joints' names (see
 doc/models.md) and which drivers they enable. A file that is missing, that Assimp cannot
 read, or that holds numbers that are not finite or more than Player's limits
-is one error."
+is one error, and so is a --texture FILE that cannot be decoded."
      :arguments ("MODEL-FILE")
      :options (("--texture" :string "FILE" "use FILE as every mesh's diffuse texture instead of the model's own"))
      :output "the summary on standard output")
-  (print-model-summary (import-model file :texture texture)))
+  (let* ((model (import-model file :texture texture))
+         (decoded (model-texture-images model)))
+    (when texture
+      (check-chosen-texture decoded))
+    (print-model-summary model decoded)))
 
-(defun print-model-summary (model)
-  "Print MODEL's summary: meshes, joints, animations, textures, morph targets."
+(defun check-chosen-texture (decoded)
+  "Signal the IMAGE-ERROR (naming the file and why) of a texture in DECODED (see
+MODEL-TEXTURE-IMAGES) that could not be decoded.  Called with --texture, where
+every mesh's texture is the file the command line gave: a file the user chose
+that is not a picture fails the command, where the model's own broken texture
+is only marked in the summary."
+  (loop for (nil . result) in decoded
+        when (typep result 'image-error)
+          do (error result)))
+
+(defun print-model-summary (model decoded)
+  "Print MODEL's summary: meshes, joints, animations, textures (with DECODED, from
+MODEL-TEXTURE-IMAGES), morph targets."
   (format t "model ~A~%" (model-file model))
   (print-model-meshes model)
   (print-model-joints model)
   (print-model-animations model)
   (format t "textures: ~:[none~;~:*~{~A~^, ~}~]~%"
-          (let ((decoded (model-texture-images model)))
-            (mapcar (lambda (path)
-                      (texture-description path (cdr (assoc path decoded :test #'string=))))
-                    (model-textures model))))
+          (mapcar (lambda (path)
+                    (texture-description path (cdr (assoc path decoded :test #'string=))))
+                  (model-textures model)))
   (format t "morph targets: ~:[none~;~:*~{~A~^, ~}~]~%" (model-morph-targets model))
   (print-model-roles model))
 

@@ -25,6 +25,20 @@
   (print-unreadable-object (graph stream :type t)
     (format stream "~D node~:P, ~D edge~:P" (graph-node-count graph) (graph-edge-count graph))))
 
+;;; A graph known by its successors instead (lazy.lisp), declared here so that
+;;; the functions below that accept either test for it inline.
+(defstruct (lazy-graph (:constructor %make-lazy-graph (successor-function description)) (:copier nil))
+  "A graph known by its SUCCESSOR-FUNCTION (a node -> a list of its targets,
+computed on demand and remembered in MEMO)."
+  (successor-function nil :type function :read-only t)
+  (description "" :type string :read-only t)
+  (memo (make-node-table) :type hash-table :read-only t))
+
+(defmethod print-object ((graph lazy-graph) stream)
+  (print-unreadable-object (graph stream :type t)
+    (format stream "~A, ~D node~:P expanded" (lazy-graph-description graph)
+            (hash-table-count (lazy-graph-memo graph)))))
+
 (defun check-graph (function graph)
   "GRAPH, or an ARGUMENT-ERROR of FUNCTION when it is not a graph."
   (check-argument function 'graph graph #'graph-p "a graph (from make-graph, complete-graph...)"))

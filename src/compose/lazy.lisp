@@ -8,21 +8,10 @@
 ;;;; function and a memo: products, merges and restrictions of it enumerate
 ;;;; only the edges leaving the nodes visited, so a reachability query costs
 ;;;; what the reachable part costs. LAZY-REACHABLE turns the part a query
-;;;; visited into an ordinary (eager) graph.
+;;;; visited into an ordinary (eager) graph.  The LAZY-GRAPH record is
+;;;; declared in graphs.lisp, beside GRAPH, which tests for it.
 
 (in-package #:player.compose)
-
-(defstruct (lazy-graph (:constructor %make-lazy-graph (successor-function description)) (:copier nil))
-  "A graph known by its SUCCESSOR-FUNCTION (a node -> a list of its targets,
-computed on demand and remembered in MEMO)."
-  (successor-function nil :type function :read-only t)
-  (description "" :type string :read-only t)
-  (memo (make-node-table) :type hash-table :read-only t))
-
-(defmethod print-object ((graph lazy-graph) stream)
-  (print-unreadable-object (graph stream :type t)
-    (format stream "~A, ~D node~:P expanded" (lazy-graph-description graph)
-            (hash-table-count (lazy-graph-memo graph)))))
 
 (defun make-lazy-graph (successors &key (description "lazy graph"))
   "A LAZY-GRAPH whose node X has the targets (FUNCALL SUCCESSORS X), a list;

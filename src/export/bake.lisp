@@ -14,16 +14,20 @@
                            (name skeleton frames
                             &aux (rotations (make-joint-keys skeleton frames 4))
                                  (root-translations (make-array (* 3 frames) :element-type 'double-float))
-                                 (root-rotations (make-array (* 4 frames) :element-type 'double-float)))))
+                                 (root-rotations (make-array (* 4 frames) :element-type 'double-float))
+                                 (morph-weights (make-array (* (length (skeleton-morphs skeleton)) frames)
+                                                            :element-type 'double-float)))))
   "One body of a performance sampled at FRAMES frames: its NAME and SKELETON;
 ROTATIONS, per joint a vector of 4 doubles per frame (w x y z, the joint's
 local rotation, JOINT-LOCAL-ROTATION); ROOT-TRANSLATIONS and ROOT-ROTATIONS,
 the root joint's world place per frame (3 and 4 doubles a frame): the
-body's placement carrying the root's centre and rotation."
+body's placement carrying the root's centre and rotation; MORPH-WEIGHTS, the
+weights of the skeleton's morph targets (SKELETON-MORPHS) per frame."
   name skeleton (frames 0 :type fixnum)
   (rotations #() :type simple-vector)
   (root-translations nil :type (simple-array double-float (*)))
-  (root-rotations nil :type (simple-array double-float (*))))
+  (root-rotations nil :type (simple-array double-float (*)))
+  (morph-weights nil :type (simple-array double-float (*))))
 
 (defun store-quat (q keys frame)
   "Store the quaternion Q as frame FRAME's four values (w x y z) of KEYS."
@@ -40,6 +44,10 @@ body's placement carrying the root's centre and rotation."
     (loop for joint across (skeleton-joints skeleton)
           for keys across (baked-body-rotations baked)
           do (store-quat (joint-local-rotation joint pose) keys frame))
+    ;; The morph weights are the pose's channels after its DOFs.
+    (let ((count (length (skeleton-morphs skeleton))))
+      (replace (baked-body-morph-weights baked) pose
+               :start1 (* count frame) :start2 (skeleton-dof-count skeleton)))
     ;; The root as a glTF node: the placement times the root's local
     ;; transform (its centre, its rotation), so the file needs no extra node.
     (let* ((root-local (make-transform :rotation (joint-local-rotation root pose)

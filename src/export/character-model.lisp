@@ -90,9 +90,26 @@ weighted 1 to that joint (model index FIRST + its skeleton index)."
 
 ;;;# Imported models: their own meshes at rest in Player's space
 
-(defun skin-model-mesh (skin transforms first)
-  "SKIN's mesh at rest in Player's space (posed by the rest TRANSFORMS), its
-vertices weighted to the skeleton's joints (model index FIRST + theirs)."
+(defun skin-model-morphs (skin skeleton palette rest)
+  "SKIN's morph targets at rest in Player's space, as MORPH-TARGETs named as
+SKELETON names them: each target's deltas are where the rest pose with that
+target alone at weight 1 puts the vertices (skinned by PALETTE, the rest
+pose's) less REST, where the rest pose puts them.  Skinning is affine per
+vertex, so a reader adding the deltas at any weight meets Player's vertices."
+  (let ((dofs (skeleton-dof-count skeleton)))
+    (loop for (index . nil) in (skin-morphs skin)
+          collect (let ((pose (make-pose skeleton))
+                        (moved (make-array (length rest) :element-type 'single-float)))
+                    (setf (aref pose index) 1d0)
+                    (skin-vertices skin palette moved nil pose)
+                    (dotimes (k (length moved))
+                      (decf (aref moved k) (aref rest k)))
+                    (make-morph-target (svref (skeleton-morphs skeleton) (- index dofs)) moved)))))
+
+(defun skin-model-mesh (skin skeleton transforms first)
+  "SKIN's mesh at rest in Player's space (posed by the rest TRANSFORMS of
+SKELETON), with its morph targets, its vertices weighted to the skeleton's
+joints (model index FIRST + theirs)."
   (let* ((mesh (skin-mesh skin))
          (count (model-mesh-vertex-count mesh))
          (palette (skin-palette-matrices skin transforms))
@@ -106,14 +123,16 @@ vertices weighted to the skeleton's joints (model index FIRST + theirs)."
         (when (plusp weight)
           (setf (aref joints i) (+ first (aref (skin-palette-joints skin) (aref (skin-slots skin) i)))
                 (aref weights i) (float weight 1d0)))))
-    (make-model-mesh :name (model-mesh-name mesh) :positions positions :normals normals
-                     :uvs (model-mesh-uvs mesh) :colours (model-mesh-colours mesh)
-                     :triangles (model-mesh-triangles mesh) :joints joints :weights weights
-                     :bones (map '(simple-array (unsigned-byte 32) (*)) (lambda (j) (+ first j))
-                                 (remove-duplicates (skin-palette-joints skin)))
-                     :holder (+ first (aref (skin-palette-joints skin) 0))
-                     :texture (model-mesh-texture mesh)
-                     :embedded-texture (model-mesh-embedded-texture mesh))))
+    (let ((morphs (skin-model-morphs skin skeleton palette positions)))
+      (make-model-mesh :name (model-mesh-name mesh) :positions positions :normals normals
+                       :uvs (model-mesh-uvs mesh) :colours (model-mesh-colours mesh)
+                       :triangles (model-mesh-triangles mesh) :joints joints :weights weights
+                       :bones (map '(simple-array (unsigned-byte 32) (*)) (lambda (j) (+ first j))
+                                   (remove-duplicates (skin-palette-joints skin)))
+                       :holder (+ first (aref (skin-palette-joints skin) 0))
+                       :texture (model-mesh-texture mesh)
+                       :embedded-texture (model-mesh-embedded-texture mesh)
+                       :morph-targets (mapcar #'morph-target-name morphs) :morphs morphs))))
 
 (defun skeleton-model-meshes (skeleton name first)
   "The MODEL-MESHes that draw SKELETON (NAME names a mesh of Player's own
@@ -122,7 +141,7 @@ meshes when it has any, else the renderer's rigid parts."
   (let ((rig (skeleton-rig skeleton)))
     (if (and rig (rig-skins rig))
         (let ((rest (pose-world-transforms skeleton (make-pose skeleton))))
-          (mapcar (lambda (skin) (skin-model-mesh skin rest first)) (rig-skins rig)))
+          (mapcar (lambda (skin) (skin-model-mesh skin skeleton rest first)) (rig-skins rig)))
         (list (body-parts-mesh skeleton name first)))))
 
 (defun character-model (skeleton &key (file ""))

@@ -3,8 +3,9 @@
 ;;;; (CHARACTER-MODEL's joints and meshes), every prop a node with its mesh
 ;;;; (props.lisp), and the performance one animation named "performance": per
 ;;;; joint its local rotation at every frame, the root's and each prop's world
-;;;; place too, LINEAR keys at the simulation's frame times (I/FPS seconds,
-;;;; the nearest frame moved onto each critical time).
+;;;; place too, the weights of each mesh's morph targets, LINEAR keys at the
+;;;; simulation's frame times (I/FPS seconds, the nearest frame moved onto each
+;;;; critical time).
 
 (in-package #:player.export)
 
@@ -25,6 +26,27 @@ in the model: every joint's rotation keys, the root's translation keys too."
                                 (if root (baked-body-root-rotations baked) keys)
                                 none none))))
 
+(defun body-morph-channels (baked meshes first-mesh times)
+  "The MORPH-CHANNELs of BAKED (a BAKED-BODY) for its MESHES, which stand from
+FIRST-MESH in the model: one per mesh with morph targets, its weights at
+every frame (TIMES) in the order of the mesh's targets."
+  (let* ((skeleton (baked-body-skeleton baked))
+         (count (length (skeleton-morphs skeleton)))
+         (dofs (skeleton-dof-count skeleton))
+         (frames (baked-body-frames baked)))
+    (loop for mesh in meshes
+          for index from first-mesh
+          for channels = (mapcar (lambda (target) (- (morph-index skeleton (morph-target-name target) t) dofs))
+                                 (model-mesh-morphs mesh))
+          when channels
+            collect (let ((weights (make-array (* frames (length channels)) :element-type 'double-float)))
+                      (dotimes (frame frames)
+                        (loop for channel in channels
+                              for k from 0
+                              do (setf (aref weights (+ (* frame (length channels)) k))
+                                       (aref (baked-body-morph-weights baked) (+ (* frame count) channel)))))
+                      (make-morph-channel (model-mesh-name mesh) (list index) times weights (length channels))))))
+
 (defun body-prefix (baked several)
   "What BAKED's joint names start with: nothing for a lone body, its name
 and a slash when SEVERAL bodies share the file (so names stay distinct)."
@@ -40,13 +62,14 @@ frame (BAKE-SIMULATION)."
            (frames (simulation-frame-count simulation))
            ;; The frames' own times: a critical time moves the nearest frame onto it.
            (times (copy-seq (simulation-frame-times simulation)))
-           (joints '()) (meshes '()) (channels '()) (first 0))
+           (joints '()) (meshes '()) (channels '()) (morph-channels '()) (first 0))
       (dolist (baked bodies)
-        (let ((skeleton (baked-body-skeleton baked))
-              (prefix (body-prefix baked several)))
+        (let* ((skeleton (baked-body-skeleton baked))
+               (prefix (body-prefix baked several))
+               (own (skeleton-model-meshes skeleton (string-downcase (string (baked-body-name baked))) first)))
           (setf joints (append joints (skeleton-model-joints skeleton :first first :prefix prefix))
-                meshes (append meshes (skeleton-model-meshes
-                                       skeleton (string-downcase (string (baked-body-name baked))) first))
+                morph-channels (append morph-channels (body-morph-channels baked own (length meshes) times))
+                meshes (append meshes own)
                 channels (append channels (body-channels baked first times)))
           (incf first (length (skeleton-joints skeleton)))))
       (dolist (baked props)
@@ -55,7 +78,8 @@ frame (BAKE-SIMULATION)."
               channels (append channels (list (prop-channel baked first times))))
         (incf first))
       (make-model file meshes (coerce joints 'simple-vector)
-                  (list (make-model-animation *animation-name* (aref times (1- frames)) channels))))))
+                  (list (make-model-animation *animation-name* (aref times (1- frames)) channels
+                                              morph-channels))))))
 
 (defun export-performance (simulation path)
   "Write SIMULATION (from SIMULATE or SIMULATE-SCENE) as a glTF 2.0 file at

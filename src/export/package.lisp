@@ -9,7 +9,7 @@
   (:export
    #:export-performance #:performance-model #:character-model
    #:bake-simulation #:baked-body #:baked-body-p #:baked-body-name #:baked-body-skeleton
-   #:baked-body-rotations #:baked-body-root-translations #:baked-body-root-rotations
+   #:baked-body-rotations #:baked-body-root-translations #:baked-body-root-rotations #:baked-body-morph-weights
    #:baked-frame-count
    #:baked-prop #:baked-prop-p #:baked-prop-object #:baked-prop-translations #:baked-prop-rotations
    #:baked-prop-scales))

@@ -1,6 +1,7 @@
 ;;;; gltf-animations.lisp -- a model's animation clips as glTF animations:
 ;;;; one per clip, one LINEAR sampler and channel per animated joint and path
-;;;; (translation, rotation, scale) that has keys.
+;;;; (translation, rotation, scale) that has keys, and per mesh node whose
+;;;; morph weights it keys (gltf-morphs.lisp).
 ;;;;
 ;;;; Key times are stored as 32-bit floats and must stay at or after 0 and
 ;;;; strictly increasing once stored, as the specification asks; times that do
@@ -43,11 +44,12 @@ max as the specification asks of animation inputs."
       (rotation-singles values what)
       (singles values what)))
 
-(defun animation-object (buffer animation joints shared)
+(defun animation-object (buffer animation joints meshes shared)
   "ANIMATION as a glTF animation whose keys are stored in BUFFER (JOINTS, the
-model's, name its channels in messages; SHARED holds the input accessors so
-far), or NIL when it has no key.  A MODEL-WRITE-ERROR when two channels
-animate one joint's path."
+model's, name its channels in messages; MESHES, the model's, have the nodes
+its morph weights drive; SHARED holds the input accessors so far), or NIL
+when it has no key.  A MODEL-WRITE-ERROR when two channels animate one
+joint's path."
   (let ((samplers '()) (channels '()) (targets (make-hash-table :test 'equal))
         (clip (model-animation-name animation)))
     (dolist (channel (model-animation-channels animation))
@@ -67,6 +69,10 @@ animate one joint's path."
                    (push (json-object "sampler" (length channels)
                                       "target" (json-object "node" joint "path" path))
                          channels))))
+    (loop for (node input output) in (morph-channel-samplers buffer animation meshes (length joints) shared)
+          do (push (json-object "input" input "output" output "interpolation" "LINEAR") samplers)
+             (push (json-object "sampler" (length channels) "target" (json-object "node" node "path" "weights"))
+                   channels))
     (when channels
       (json-object "name" (and (string/= clip "") clip)
                    "channels" (nreverse channels)
@@ -76,5 +82,5 @@ animate one joint's path."
   "MODEL's animations as glTF animations, their keys stored in BUFFER; clips without a key left out."
   (let ((shared (make-hash-table :test 'equalp)))
     (loop for animation in (model-animations model)
-          for object = (animation-object buffer animation (model-joints model) shared)
+          for object = (animation-object buffer animation (model-joints model) (model-meshes model) shared)
           when object collect object)))

@@ -14,6 +14,7 @@
 ;;;;             POSITION with its min and max, NORMAL, TEXCOORD_0 (V flipped:
 ;;;;             glTF's origin is the top left, Assimp's the bottom left),
 ;;;;             COLOR_0, JOINTS_0 and WEIGHTS_0 when skinned, indices;
+;;;;             morph targets (gltf-morphs.lisp);
 ;;;;   skins     gltf-skins.lisp; materials gltf-materials.lisp;
 ;;;;   animations gltf-animations.lisp;
 ;;;;   accessors, bufferViews, one buffer (gltf-buffer.lisp).
@@ -106,11 +107,14 @@ SKIN-JOINTS are its skin's joints (NIL when it is not skinned)."
   "MESH as a glTF mesh of one primitive with MATERIAL (an index), its data
 stored in BUFFER; triangles, or points when it has no triangle."
   (let ((triangles (plusp (length (model-mesh-triangles mesh)))))
-    (json-object "name" (and (string/= (model-mesh-name mesh) "") (model-mesh-name mesh))
-                 "primitives" (list (json-object "attributes" (mesh-attributes buffer mesh skin-joints joint-count)
-                                                 "indices" (and triangles (add-indices buffer (model-mesh-triangles mesh)))
-                                                 "material" material
-                                                 "mode" (if triangles 4 0))))))
+    (apply #'json-object
+           "name" (and (string/= (model-mesh-name mesh) "") (model-mesh-name mesh))
+           "primitives" (list (json-object "attributes" (mesh-attributes buffer mesh skin-joints joint-count)
+                                           "indices" (and triangles (add-indices buffer (model-mesh-triangles mesh)))
+                                           "targets" (morph-target-objects buffer mesh)
+                                           "material" material
+                                           "mode" (if triangles 4 0)))
+           (morph-mesh-members mesh))))
 
 ;;;# The document
 
@@ -176,7 +180,8 @@ for a .gltf it is a data: URI."
 JSON text with its buffer embedded as base64 (.gltf), by PATH's type; either
 way one file.  Joints become nodes with their rest transforms; meshes their
 vertices, normals, UVs, colours, triangles and skins (one per skinned mesh);
-clips animations with LINEAR keys.  With TEXTURES (the default) each mesh's
+morph targets their displacements and names; clips animations with LINEAR
+keys, morph weights included.  With TEXTURES (the default) each mesh's
 texture file, PNG or JPEG, is embedded; with NIL every mesh gets a plain
 material.  The file is written whole to a new file beside PATH, then renamed
 over it, so a failure leaves PATH as it was.  Signals a MODEL-WRITE-ERROR (a

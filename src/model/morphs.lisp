@@ -68,4 +68,5 @@ node holding meshes.  MESHES-OF maps a node's (or mesh's) name to (MESH-INDEX
                 (unless (finite-double-p weight)
                   (fail "a morph key's weight is not finite"))
                 (setf (aref weights (+ (* i targets) target)) weight)))))
-        (make-morph-channel name (mapcar #'car entries) times weights targets)))))
+        ;; A node and its mesh may both name the mesh: drive it once.
+        (make-morph-channel name (remove-duplicates (mapcar #'car entries)) times weights targets)))))

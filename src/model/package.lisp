@@ -19,7 +19,7 @@
    #:model-mesh-triangles #:model-mesh-joints #:model-mesh-weights #:model-mesh-bones #:model-mesh-texture
    #:model-mesh-morph-targets #:model-mesh-morphs #:morph-target #:make-morph-target #:morph-target-name #:morph-target-deltas
    #:model-animation-morph-channels #:morph-channel #:morph-channel-node #:morph-channel-meshes
-   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
+   #:morph-channel-times #:morph-channel-weights #:morph-channel-target-count #:make-morph-channel #:model-mesh-holder #:model-mesh-transform #:model-mesh-vertex-count #:model-mesh-triangle-count
    #:model-joint #:joint-name #:joint-parent #:joint-translation #:joint-rotation #:joint-scale
    #:joint-inverse-bind
    #:model-animation #:model-animation-name #:model-animation-duration #:model-animation-channels

@@ -156,7 +156,8 @@ ARGUMENT-ERROR for an argument of the wrong kind."
   "The settled pose of the state BITS (one-hot) for PRESENTER's character, as
 \(values ANGLES POSITION ROTATION): the first (:pose-when ...) entry whose
 expression holds, on the skeleton's rest pose, else the rest pose; at the
-entry's :position, else where the character was placed; turned as it was placed."
+entry's :position, else NIL (its resting place: where root motion left it,
+else where it was placed, settle.lisp); turned as it was placed."
   (let* ((performance (presenter-performance presenter))
          (character (first (performance-characters performance)))
          (start (choose-starting-pose (presenter-starting-poses presenter) bits))
@@ -165,8 +166,7 @@ entry's :position, else where the character was placed; turned as it was placed.
       (apply-pose-angles (starting-pose-angles start) angles)
       (%clamp-pose (character-spec-skeleton character) angles))
     (values angles
-            (or (and start (pose-when-position (starting-pose-entry start)))
-                (character-spec-position character))
+            (and start (pose-when-position (starting-pose-entry start)))
             (character-spec-rotation character))))
 
 (defmethod present-state-change ((presenter body-presenter) controller time)

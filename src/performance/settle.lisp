@@ -3,14 +3,19 @@
 ;;;; to the settled pose; when the settled pose changes (the controller's
 ;;;; state did), every channel at rest turns toward the new one.  The body's
 ;;;; place goes too: its rotation always settles (facing belongs to the pose),
-;;;; its position when the pose gives one.  Both are replayed, like the
-;;;; scripts, so scrubbing back gives the same frames.
+;;;; its position to the pose's :position when the state's :pose-when gives
+;;;; one, else to its resting place: where the last root motion (a :clip item
+;;;; played with :root :move) carried it, or where it was placed.  A walk
+;;;; moves the character for good; a hop or a crouch a script animates does
+;;;; not.  Both are replayed, like the scripts, so scrubbing back gives the
+;;;; same frames.
 
 (in-package #:player.performance)
 
 (defstruct (settle-target (:constructor make-settle-target (time angles position rotation)))
   "From TIME on, the first character's settled pose is ANGLES (a full pose),
-at POSITION (a vec3, or NIL: stay where it is) turned by ROTATION (a quat)."
+at POSITION (a vec3, or NIL: its resting place, see RESTING-POSITION) turned
+by ROTATION (a quat)."
   (time 0d0 :type double-float) angles position rotation)
 
 (defparameter *settle-metres-as-degrees* 180d0
@@ -19,8 +24,9 @@ timing its settling: half a metre a second at *SETTLE-SPEED*.")
 
 (defun performance-settle-to (performance angles position rotation time)
   "From TIME on, PERFORMANCE's first character settles to the pose ANGLES
-\(a full pose of its skeleton), standing at POSITION (a vec3, or NIL to stay
-where it is) turned by ROTATION (a quat).  Returns the SETTLE-TARGET."
+\(a full pose of its skeleton), standing at POSITION (a vec3, or NIL for its
+resting place: where root motion left it, else where it was placed) turned by
+ROTATION (a quat).  Returns the SETTLE-TARGET."
   (check-argument 'performance-settle-to 'performance performance #'performance-p
                   "a performance (from make-performance)")
   (check-seconds 'performance-settle-to 'time time)
@@ -36,11 +42,10 @@ where it is) turned by ROTATION (a quat).  Returns the SETTLE-TARGET."
 
 (defun initial-settle-target (performance)
   "The settled place at the start: where the starting pose puts the first
-character (else where it was placed), turned as it was placed."
+character (else its resting place), turned as it was placed."
   (let ((start (performance-starting-pose performance))
         (character (first (performance-characters performance))))
-    (make-settle-target 0d0 nil (or (and start (pose-when-position (starting-pose-entry start)))
-                                    (character-spec-position character))
+    (make-settle-target 0d0 nil (and start (pose-when-position (starting-pose-entry start)))
                         (character-spec-rotation character))))
 
 (defun run-end-time (run)
@@ -113,20 +118,42 @@ TRAVEL degrees take to settle, unless a script drives it or it is there."
                                (replay-bindings performance))
                     (list binding))))))
 
+(defun root-motion-binding-p (binding body time)
+  "Is BINDING a root motion (a :clip item's :root :move) carrying BODY, started by TIME?"
+  (and (eq (binding-object binding) body)
+       (typep (binding-control binding) 'root-motion-control)
+       (<= (binding-start binding) time)))
+
+(defun resting-position (performance body time)
+  "Where BODY, the first character, rests at TIME when its settled pose gives
+no position: where the latest root motion started by then carried it (at its
+end, or at TIME if it goes on), else where the character was placed.  Each
+root motion starts where the body stands, so the latest holds every walk's
+travel."
+  (let ((latest nil))
+    (dolist (run (replay-runs performance))
+      (dolist (binding (script-run-bindings run))
+        (when (and (root-motion-binding-p binding body time)
+                   (or (null latest) (>= (binding-start binding) (binding-start latest))))
+          (setf latest binding))))
+    (if latest
+        (control-value (binding-control latest)
+                       (- (min time (or (binding-end latest) time)) (binding-start latest)))
+        (character-spec-position (first (performance-characters performance))))))
+
 (defun settle-place (performance time)
-  "Settle the first character's rotation, and its position when the settled
-pose gives one, toward the settled pose in force at TIME."
+  "Settle the first character's rotation, and its position (to the settled
+pose's, else to its resting place), toward the settled pose in force at TIME."
   (let ((target (car (replay-settle-state performance))))
     (when target
-      (let ((body (performance-body performance)))
+      (let* ((body (performance-body performance))
+             (position (or (settle-target-position target) (resting-position performance body time))))
         (settle-property performance body 'rotation (settle-target-rotation target)
                          (rotation-degrees (property-value body 'rotation) (settle-target-rotation target))
                          time)
-        (when (settle-target-position target)
-          (settle-property performance body 'position (settle-target-position target)
-                           (* *settle-metres-as-degrees*
-                              (vdistance (property-value body 'position) (settle-target-position target)))
-                           time))))))
+        (settle-property performance body 'position position
+                         (* *settle-metres-as-degrees* (vdistance (property-value body 'position) position))
+                         time)))))
 
 (defun performance-settled-time (performance time)
   "When PERFORMANCE, played to TIME, has come to rest: the latest of TIME, the

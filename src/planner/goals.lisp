@@ -1,32 +1,10 @@
 ;;;; goals.lisp -- the distinct goals a spec needs plans for.
 ;;;; Every :state argument and the precondition of every op an event or macro
 ;;;; requests is a goal. Goals that hold in the same states are one goal
-;;;; (goal-identity.lisp), planned once, however each is written.
+;;;; (goal-identity.lisp), planned once, however each is written.  The GOAL
+;;;; record is declared in records.lisp.
 
 (in-package #:player.planner)
-
-(defstruct (goal (:constructor %make-goal))
-  "A distinct goal and its plans."
-  (id 0 :type (integer 0))
-  ;; Canonical DNF.
-  (cubes '() :type list)
-  ;; Readable canonical expression.
-  (expression nil)
-  ;; The goal as written, once per distinct writing.
-  (forms '() :type list)
-  ;; PLANs in the order they are tried (breadth first, or cheapest first).
-  (plans #() :type simple-vector)
-  ;; States from which the goal is reachable.
-  (solved-count 0 :type (integer 0))
-  ;; Bitmap of those states (dense numbering).
-  (solved nil)
-  ;; True when :MAX-DEPTH cut the search short.
-  (truncatedp nil))
-
-(defmethod print-object ((goal goal) stream)
-  (print-unreadable-object (goal stream :type t)
-    (format stream "~D ~A, ~D plan~:P" (1+ (goal-id goal)) (bounded-lisp-text (goal-expression goal) 80)
-            (length (goal-plans goal)))))
 
 (defun map-directives (function directives)
   "Call FUNCTION on every directive of DIRECTIVES, inside :IF bodies too."

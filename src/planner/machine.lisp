@@ -1,6 +1,7 @@
 ;;;; machine.lisp -- a planned spec: every goal with its plan table.
 ;;;; PLAN-SPEC is the planner's whole job; a code generator then turns the
-;;;; machine into something that runs (Lisp closures, or C++ source).
+;;;; machine into something that runs (Lisp closures, or C++ source).  The
+;;;; MACHINE record is declared in records.lisp.
 
 (in-package #:player.planner)
 
@@ -10,32 +11,6 @@
 
 (defparameter *machine-designator* "a machine (from compile-spec or plan-spec), a spec or a spec's name"
   "How argument errors describe a machine designator.")
-
-(defstruct (machine (:constructor %make-machine))
-  "A spec with plans from every state to every goal, ready for a code generator."
-  (spec nil :type spec)
-  (layout nil :type layout)
-  ;; GOALs, by id.
-  (goal-table #() :type simple-vector)
-  ;; Goal AST -> GOAL.
-  (goal-of (make-hash-table :test 'eq))
-  ;; The PLANNER-OPs plans are built from.
-  (operators '() :type list)
-  ;; One-hot state of the declared initial values.
-  (initial-state 0 :type integer)
-  ;; Plannable variables some autoscript watches, in declaration order.
-  (watched-variables '() :type list)
-  ;; The one-hot fields of those variables.
-  (autoscript-mask 0 :type integer)
-  ;; How many goal rows planning built; the others were reused (plan-memo.lisp).
-  (rows-built 0 :type (integer 0))
-  (compile-seconds 0d0 :type double-float))
-
-(defmethod print-object ((machine machine) stream)
-  ;; One line at the REPL: the plan tables are for PLANS and DESCRIBE.
-  (print-unreadable-object (machine stream :type t)
-    (format stream "~A ~D goal~:P, ~D state~:P" (lisp-text (spec-name (machine-spec machine)))
-            (length (machine-goal-table machine)) (layout-state-count (machine-layout machine)))))
 
 (defun machine-state-count (machine)
   "How many states MACHINE has plans from: every plannable state of its spec,

@@ -24,18 +24,6 @@ OPS (OP-DEFs, first to run first) reaches the goal."
   (print-unreadable-object (plan stream :type t)
     (format stream "run ~A" (bounded-lisp-text (mapcar #'op-name (plan-ops plan)) 80))))
 
-(defstruct (planner-op (:constructor %make-planner-op))
-  "An operator as the planner sees it: precondition cubes and one-hot effects."
-  (op nil :type op-def)
-  ;; DNF cubes; (TOP) when unconditional.
-  (precondition '() :type list)
-  ;; Fields of the variables the op sets.
-  (effect-mask 0 :type integer)
-  ;; The value bits it sets them to.
-  (effect-bits 0 :type integer)
-  ;; Seconds, exactly, for duration-optimal plans (uniform-cost.lisp).
-  (duration 0 :type rational))
-
 (defun make-planner-op (op spec)
   "Normalise OP into a PLANNER-OP of SPEC."
   (%make-planner-op

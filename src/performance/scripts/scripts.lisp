@@ -273,7 +273,9 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
                         :items (let ((*say-items* '()))
                                  (loop for item in items
                                        for parsed = (parse-script-item item critical duration)
-                                       when (say-item-p parsed) do (push parsed *say-items*)
+                                       ;; TYPEP, not SAY-ITEM-P: audio-items.lisp,
+                                       ;; later, declares the record.
+                                       when (typep parsed 'say-item) do (push parsed *say-items*)
                                        collect parsed))
                         :documentation documentation :source source :form form))))))
 
