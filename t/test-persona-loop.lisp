@@ -75,7 +75,8 @@ order, each pattern's choice numbered apart so artists and titles vary."
            ;; The recogniser's round trip, its rejection of speech outside the
            ;; grammar off: test-speech-rejection.lisp measures that trade-off.
            (player::*rejection-margin* most-negative-single-float)
-           (player::*longest-phone* most-positive-single-float))
+           (player::*longest-phone* most-positive-single-float)
+           (player::*most-unexplained-speech* most-positive-fixnum))
       (loop for text in sentences
             for k from 1
             for wav = (speech-file (format nil "request-~2,'0D.wav" k))
