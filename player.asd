@@ -387,6 +387,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "render-simulation")
                  (:file "glfw")
                  (:file "viewer")
+                 (:file "viewer-input")
                  (:file "live-viewer")
                  (:file "view-session")))
    ;; Several characters in one scene: DEFSCENE, event addresses, ensembles, scenes simulated and drawn.
