@@ -399,14 +399,19 @@ which ones the script has; a bare trace presenter says it needs a library."
   "A search on the wings and legs; a glance and a nod of the head; a shrug
 that declares no channels.")
 
-(defun channel-trace (sends)
-  "The trace of SENDS ((EVENT . TIME)...) on a spec of *CHANNEL-FORMS*."
-  (let ((spec (define-spec 'channels *channel-forms* :package (find-package '#:player-tests))))
+(defun timed-trace-of-forms (name forms sends)
+  "The trace of SENDS ((EVENT . TIME)...) on a timed controller of the spec
+NAME made of FORMS, defined for the call and removed after."
+  (let ((spec (define-spec name forms :package (find-package '#:player-tests))))
     (unwind-protect
          (let ((c (make-controller spec :timed t)))
            (play-events c sends)
            (trace-of c))
-      (remove-spec 'channels))))
+      (remove-spec name))))
+
+(defun channel-trace (sends)
+  "The trace of SENDS ((EVENT . TIME)...) on a spec of *CHANNEL-FORMS*."
+  (timed-trace-of-forms 'channels *channel-forms* sends))
 
 (test disjoint-events-play-side-by-side
   "An event on other channels, touching other variables, plays at once beside

@@ -27,12 +27,7 @@ events that drop, queue and preempt.")
 
 (defun reason-trace (sends)
   "The trace of SENDS ((EVENT . TIME)...) on a spec of *REASON-FORMS*."
-  (let ((spec (define-spec 'reasons *reason-forms* :package (find-package '#:player-tests))))
-    (unwind-protect
-         (let ((c (make-controller spec :timed t)))
-           (play-events c sends)
-           (trace-of c))
-      (remove-spec 'reasons))))
+  (timed-trace-of-forms 'reasons *reason-forms* sends))
 
 (test dropped-line-names-the-clash
   "A dropped event's line says what it met the running event on: the channels
