@@ -10,7 +10,7 @@
 (declaim (inline note-instant))
 (defun note-instant (timeline time)
   "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
-  (declare (double-float time))
+  (declare (integer time))
   (if (= time (timeline-now timeline))
       (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
         (setf (timeline-instant-count timeline) 0)
@@ -54,7 +54,7 @@ besides, CONTROLLER's scheduling clock set to NOW."
     (ecase (agenda-item-kind item)
       (:op
        (unless (timeline-quiet timeline)
-         (present-op presenter (agenda-item-op item) (agenda-item-start item))))
+         (present-op presenter (agenda-item-op item) (micros->seconds (agenda-item-start item)))))
       (:delta
        (let ((bits (state-with-fields (controller-bits controller) (agenda-item-a item)
                                       (agenda-item-b item))))
@@ -71,13 +71,15 @@ besides, CONTROLLER's scheduling clock set to NOW."
          (check-triggers-if-turned timeline controller 0)))
       (:macro-start
        (unless (timeline-quiet timeline)
-         (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
+         (present-macro-start presenter (agenda-item-op item) (micros->seconds (agenda-item-start item)))))
       (:macro-end
        (unless (timeline-quiet timeline)
-         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-time item))))
+         (present-macro-end presenter (agenda-item-op item) (micros->seconds (agenda-item-start item))
+                             (micros->seconds (agenda-item-time item)))))
       (:fail
        (unless (timeline-quiet timeline)
-         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) (agenda-item-time item))))
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item)
+                          (micros->seconds (agenda-item-time item)))))
       (:finish (finish-run timeline (agenda-item-run item)))
       (:timer (fire-timer timeline (agenda-item-a item) item (agenda-item-time item))))))
 
@@ -97,11 +99,11 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 (defun advance-timeline* (timeline time dispatch until-idle)
   "ADVANCE-TIMELINE with all its arguments given."
   (let ((agenda (timeline-agenda timeline))
-        (time (if (typep time 'double-float) time (to-double time)))
+        (time time)
         (steps 0)
         ;; Read once: a special variable's value is looked up on each read.
         (step-limit (if until-idle *finish-events-limit* most-positive-fixnum)))
-    (declare (fixnum steps step-limit) (double-float time))
+    (declare (fixnum steps step-limit) (integer time))
     (loop
       (let ((item (agenda-next agenda)))
         (cond ((and until-idle (null (timeline-deferred timeline))
@@ -135,7 +137,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
     (setf (timeline-now timeline) time)
     (when (and (timeline-live-ops timeline) (<= (timeline-live-ops-end timeline) time))
       (forget-ended-ops timeline))
-    (setf (controller-clock (timeline-controller timeline)) time)
+    (setf (controller-clock-micros (timeline-controller timeline)) time)
     ;; No value: a double returned would be boxed, twice per event.
     (values)))
 
@@ -157,7 +159,7 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
                         (give-back-cons agenda (shiftf (rest cell) (cddr cell)))))
       (setf (timeline-live-ops timeline) live-ops
             (timeline-live-ops-end timeline)
-            (loop for item in live-ops minimize (agenda-item-end item) of-type double-float)))))
+            (loop for item in live-ops minimize (agenda-item-end item) of-type integer)))))
 
 (defun finish-run (timeline run)
   "RUN is over at TIMELINE's NOW: show the state, and start the waiting events

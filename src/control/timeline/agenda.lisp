@@ -41,19 +41,19 @@ says more."))
   :DELTA       set the plannable fields of mask A to the bits B
   :VALUE       set runtime variable A to B
   :MACRO-START macro-op OP's span begins at TIME (and ends at END)
-  :MACRO-END   macro-op OP's span, begun at A (a double), ends at TIME
+  :MACRO-END   macro-op OP's span, begun at A, ends at TIME (times in microseconds)
   :FAIL        the event could not achieve goal B
   :FINISH      the event RUN is over: show the state, start the next one
   :TIMER       timer state A goes off
   :FREE        none: the item is retired, in its agenda's pool (ITEM-POOL.LISP)
 AGENDA-ITEM-START is where an :OP or a macro span starts."
   (kind :op :type keyword)
-  (time 0d0 :type double-float)
+  (time 0 :type integer)
   (seq 0 :type fixnum)
   ;; The EVENT-RUN the item belongs to (NIL for a timer).
   (run nil)
   (op nil)
-  (end 0d0 :type double-float)
+  (end 0 :type integer)
   (a nil)
   (b nil)
   ;; An op's end :DELTA -> that op's :OP item; a :MACRO-START -> its :MACRO-END.
@@ -94,7 +94,7 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   "When the op or macro span of ITEM (:OP, :MACRO-START or :MACRO-END) starts."
   (declare (agenda-item item))
   (if (eq (agenda-item-kind item) :macro-end)
-      (the double-float (agenda-item-a item))
+      (the integer (agenda-item-a item))
       (agenda-item-time item)))
 
 (declaim (inline item-before-p))

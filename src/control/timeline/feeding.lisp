@@ -17,7 +17,7 @@ takes them off at the cut.)  With SKIP-OPS, when AGENDA's ops are silent, an
 then (marked :DONE): telling nobody, it need not wait its turn on the agenda,
 and no cut can fall before it (a cut comes once everything due at its instant
 has happened)."
-  (declare (agenda agenda) (list pending) (double-float time))
+  (declare (agenda agenda) (list pending) (integer time))
   (loop (let ((item (first pending)))
           (cond ((null item) (return pending))
                 ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)
