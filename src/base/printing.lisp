@@ -75,7 +75,7 @@ notation (1.0e16), as the C++ backend's shortest round-trip form does.
 A ratio of whole microseconds (a time, see EXACT-TIMES.LISP) prints exactly."
   (cond ((integerp number) (format nil "~D" number))
         ;; A time handed to a presenter: exact seconds, printed exactly.
-        ((and (micros-ratio-p number) (< (abs number) 1d16))
+        ((micros-ratio-p number)
          (format-micros (* number +micros-per-second+)))
         ((and (floatp number) (sb-ext:float-nan-p number)) "nan")
         ((and (floatp number) (sb-ext:float-infinity-p number)) (if (plusp number) "inf" "-inf"))
