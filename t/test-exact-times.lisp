@@ -31,16 +31,16 @@ and negative times: text and doubles to microseconds, and back to text."
                                ("1.5E-3" 1500) (".5" 500000) ("2." 2000000)
                                ("-0.25" -250000) ("-1.0000005" -1000000) ("-1.0000015" -1000002)
                                ("0.0000005" 0) ("0.0000015" 2) ("0.00000150001" 2))
-        do (let ((seconds (parse-decimal-seconds text)))
-             (is (eql micros (seconds->micros seconds)) "~A: ~A, not ~A" text (seconds->micros seconds) micros)
-             (is (string= (reference-time-text micros) (format-micros micros)))
-             (is (string= (format-micros micros) (format-number (micros->seconds micros))))))
+        do (let ((seconds (player.base:parse-decimal-seconds text)))
+             (is (eql micros (player.base:seconds->micros seconds)) "~A: ~A, not ~A" text (player.base:seconds->micros seconds) micros)
+             (is (string= (reference-time-text micros) (player.base:format-micros micros)))
+             (is (string= (player.base:format-micros micros) (player.base:format-number (player.base:micros->seconds micros))))))
   (dolist (text '("" "." "e5" "1e" "1.2.3" "1x" "--1" "1e-" "0x10"))
-    (is (null (parse-decimal-seconds text)) "~S is no decimal" text))
+    (is (null (player.base:parse-decimal-seconds text)) "~S is no decimal" text))
   ;; Doubles at their exact binary value: 2.5e-6 is a little above 2.5 us.
   (dolist (x (list 0d0 1d-6 2.5d-6 -2.5d-6 0.5d-6 1.5d-6 4294967296.000001d0 9d9 1d15 -1d15
                    0.1d0 0.3d0 (scale-float 1d0 -21) 12345.0000005d0))
-    (is (eql (reference-micros (rational x)) (seconds->micros x)) "~A" x)))
+    (is (eql (reference-micros (rational x)) (player.base:seconds->micros x)) "~A" x)))
 
 (test a-timed-controller-keeps-every-microsecond
   "A timed controller far from 0 keeps its events' microseconds: the trace, the
@@ -50,7 +50,7 @@ clock in microseconds, and CONTROLLER-TIME's double."
                (op stand-up :precond posture.sit :add posture.stand :duration 0.000001)
                (event ev-stand :state posture.stand))
     (let ((controller (make-controller (compile-spec spec) :timed t)))
-      (send-event controller 'ev-stand :at (parse-decimal-seconds "123456789012.000001"))
+      (send-event controller 'ev-stand :at (player.base:parse-decimal-seconds "123456789012.000001"))
       (finish-events controller)
       (is (equal '("(:event ev-stand :time 123456789012.000001)"
                    "(:op stand-up :script stand-up :start 123456789012.000001 :end 123456789012.000002)"
@@ -58,7 +58,7 @@ clock in microseconds, and CONTROLLER-TIME's double."
                  (trace-of controller)))
       (is (eql 123456789012000002 (controller-microseconds controller)))
       (is (= 123456789012.000002d0 (controller-time controller)))
-      (signals argument-error (send-event controller 'ev-stand :at (parse-decimal-seconds "123456789012.000001")))
+      (signals argument-error (send-event controller 'ev-stand :at (player.base:parse-decimal-seconds "123456789012.000001")))
       (advance controller 1d15)
       (is (eql (expt 10 21) (controller-microseconds controller))))))
 
@@ -122,16 +122,17 @@ whose event EV (no op) marks the decimal times."
 (defparameter *exact-far-forms*
   '((state-variable posture string sit (sit stand))
     (state-variable alert boolean false)
-    (op stand-up :precond posture.sit :add posture.stand :duration 0.000001)
-    (op sit-down :precond posture.stand :add posture.sit :duration 1.5)
-    (op long :duration 123456789012.000001 :interrupt (:at 4294967296.000001 9000000000.000001))
-    (op wake :add alert :duration 0.333333)
+    (op stand-up :precond posture.sit :add posture.stand :duration 0.000001d0)
+    (op sit-down :precond posture.stand :add posture.sit :duration 1.5d0)
+    (op long :duration 123456789012.000001d0 :interrupt (:at 4294967296.000001d0 9000000000.000001d0))
+    (op wake :add alert :duration 0.333333d0)
     (event ev-long :op long :op stand-up :op sit-down)
     (event ev-stand (:when-busy :queue) :state posture.stand)
     (event ev-wake (:when-busy :preempt) :op wake)
-    (timer beat :after 3333333.333333 :event ev-stand :restart-on :any)
-    (timer late :after 999999999999.999999 :event ev-wake))
-  "Timers and interruption points at large offsets from large times.")
+    (timer beat :after 3333333.333333d0 :event ev-stand :restart-on :any)
+    (timer late :after 999999999999.999999d0 :event ev-wake))
+  "Timers and interruption points at large offsets from large times (doubles,
+as a spec file reads them; the nearest doubles are not the decimals).")
 
 (defvar *exact-times-program* nil
   "(EXECUTABLE DURATIONS DURATION-MACHINE FAR-MACHINE), built once a session.")
@@ -168,7 +169,7 @@ as the exact rational reference says, and as the Lisp CLI reads them."
             for c++ in printed
             for expected = (reference-time-text (reference-micros value))
             do (is (string= expected c++) "C++ reads ~A as ~A, not ~A" text c++ expected)
-               (is (string= expected (format-micros (seconds->micros (parse-decimal-seconds text))))
+               (is (string= expected (player.base:format-micros (player.base:seconds->micros (player.base:parse-decimal-seconds text))))
                    "Lisp reads ~A differently" text)))))
 
 (test c++-converts-doubles-as-lisp-does
@@ -195,14 +196,16 @@ the same trace from both backends, every microsecond kept."
   (destructuring-bind (executable durations machine far) (exact-times-program)
     (declare (ignore durations machine))
     (loop for (events until mark)
-            in `(((ev-long . ,(parse-decimal-seconds "999999999.999999"))
-                  (ev-wake . ,(parse-decimal-seconds "4294967295.5")))
-                 ,(parse-decimal-seconds "123456789012.000001") ":time 4294967295.5")
-                 (((ev-stand . ,(parse-decimal-seconds "123456789012.000001"))
-                   (ev-long . ,(parse-decimal-seconds "123456789013")))
-                  ,(parse-decimal-seconds "999999999999999.999999") ":start 123456789012.000001 ")
-                 (((ev-wake . ,(parse-decimal-seconds "999999999999999.999999")))
-                  1000000000000000 ":time 999999999999999.999999"))
+            in (flet ((at (name text) (cons name (player.base:parse-decimal-seconds text))))
+                 (list (list (list (at 'ev-long "999999999.999999") (at 'ev-wake "4294967295.5"))
+                             (player.base:parse-decimal-seconds "123456789012.000001")
+                             "(:cut long :time 5294967296 ")
+                       (list (list (at 'ev-stand "123456789012.000001") (at 'ev-long "123456789013"))
+                             (player.base:parse-decimal-seconds "999999999999999.999999")
+                             "(:event ev-stand :time 123456789012.000001)")
+                       (list (list (at 'ev-wake "999999999999999.999999"))
+                             1000000000000000
+                             ":time 999999999999999.999999")))
           do (let ((lisp (lisp-timed-trace far nil events :until until))
                    (c++ (player.cpp::run-timed-c++-batch executable 1 far :events events :until until)))
                (is (equal lisp c++) "~A" (first-difference lisp c++))
