@@ -34,7 +34,8 @@ its exact product then lies within 1/16 of the double one, so both round alike."
         (if (< (abs product) 1d15)
             ;; Typed bounds, so rounding and subtracting compile to instructions.
             (let* ((bounded (the (double-float (-1d15) (1d15)) product))
-                   (nearest (round bounded)))
+                   ;; Half away from zero: a tie is left to the exact path anyway.
+                   (nearest (truncate (+ bounded (if (minusp bounded) -0.5d0 0.5d0)))))
               (if (< (abs (- bounded (float nearest 1d0))) 0.25d0)
                   nearest
                   (exact-seconds->micros seconds)))
@@ -45,6 +46,20 @@ its exact product then lies within 1/16 of the double one, so both round alike."
   "SECONDS, a finite real an API was handed, in whole microseconds: a rational
 exactly, a float as the double TO-DOUBLE makes of it (SECONDS->MICROS)."
   (seconds->micros (if (rationalp seconds) seconds (to-double seconds))))
+
+;; Fixnum fast paths: a time past 4.6e12 s (a bignum) takes generic arithmetic.
+(declaim (inline micros< micros<= micros+))
+(defun micros+ (a b)
+  "Time A plus duration B (whole microseconds)."
+  (if (and (typep a 'fixnum) (typep b 'fixnum)) (+ a b) (+ a b)))
+
+(defun micros< (a b)
+  "Is time A (whole microseconds) before time B?"
+  (if (and (typep a 'fixnum) (typep b 'fixnum)) (< a b) (< a b)))
+
+(defun micros<= (a b)
+  "Is time A (whole microseconds) at or before time B?"
+  (if (and (typep a 'fixnum) (typep b 'fixnum)) (<= a b) (<= a b)))
 
 (defun micros->seconds (micros)
   "MICROS as exact seconds: an integer or a ratio (what presenters are handed)."

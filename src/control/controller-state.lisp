@@ -289,7 +289,7 @@ as CHANGE-STATE does.  FIELD-MASKS are the spec's PLANNABLE-FIELD-MASKS."
 (defun note-op-end (controller end)
   "Advance the scheduling clock to END and extend the running span."
   (setf (controller-schedule controller) end)
-  (when (> end (controller-span-end controller))
+  (when (micros< (controller-span-end controller) end)
     (setf (controller-span-end controller) end)))
 
 (defmethod print-object ((controller controller) stream)

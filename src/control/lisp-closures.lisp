@@ -265,7 +265,7 @@ made along the way are internal to the macro)."
                 (setf (controller-active-macros controller)
                       (logandc2 (controller-active-macros controller) bit)
                       (controller-span-start controller) outer-start
-                      (controller-span-end controller) (max outer-end end)
+                      (controller-span-end controller) (if (micros< outer-end end) end outer-end)
                       (controller-schedule controller) end)
                 (cond ((controller-recorder controller)
                        (record-macro-end (controller-recorder controller) op start end))

@@ -11,7 +11,7 @@
 (defun note-instant (timeline time)
   "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
   (declare (integer time))
-  (if (= time (timeline-now timeline))
+  (if (eql time (timeline-now timeline))        ; integers: = is EQL
       (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
         (setf (timeline-instant-count timeline) 0)
         (stuck-instant-error time))
@@ -107,13 +107,13 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
     (loop
       (let ((item (agenda-next agenda)))
         (cond ((and until-idle (null (timeline-deferred timeline))
-                    (or (null item) (> (agenda-item-time item) (timeline-now timeline)))
+                    (or (null item) (micros< (timeline-now timeline) (agenda-item-time item)))
                     (or (null item) (not (timeline-busy-p timeline))))
                (setf time (timeline-now timeline))
                (return))
-              ((and item (<= (agenda-item-time item) time)
+              ((and item (micros<= (agenda-item-time item) time)
                     (not (and dispatch (timeline-deferred timeline)
-                              (> (agenda-item-time item) (timeline-now timeline)))))
+                              (micros< (timeline-now timeline) (agenda-item-time item)))))
                (when (> (incf steps) step-limit)
                  (never-idle-error (timeline-now timeline)))
                #-player-unchecked-engine
@@ -135,7 +135,7 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                  (mapc #'funcall sends)))
               (t (return)))))
     (setf (timeline-now timeline) time)
-    (when (and (timeline-live-ops timeline) (<= (timeline-live-ops-end timeline) time))
+    (when (and (timeline-live-ops timeline) (micros<= (timeline-live-ops-end timeline) time))
       (forget-ended-ops timeline))
     (setf (controller-clock-micros (timeline-controller timeline)) time)
     ;; No value: a double returned would be boxed, twice per event.
@@ -148,7 +148,7 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
   (let ((live-ops (timeline-live-ops timeline))
         (time (timeline-now timeline))
         (agenda (timeline-agenda timeline)))
-    (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+    (flet ((ended-p (item) (micros<= (agenda-item-end item) time)))
       (declare (inline ended-p))              ; not a local call per op
       (loop while (and live-ops (ended-p (first live-ops)))
             do (retire-item agenda (first live-ops))

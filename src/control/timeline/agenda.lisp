@@ -102,7 +102,9 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   "Is item A due before item B: an earlier time, or the same time and made earlier?"
   (declare (agenda-item a b))
   (let ((ta (agenda-item-time a)) (tb (agenda-item-time b)))
-    (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
+    (if (and (typep ta 'fixnum) (typep tb 'fixnum))   ; the usual times: machine compares
+        (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))
+        (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b)))))))
 
 (defvar *recycle-agenda-items* t
   "Do the agendas made while it is true use retired agenda items, conses and

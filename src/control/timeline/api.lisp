@@ -18,7 +18,7 @@
   "TIME (seconds) in whole microseconds (SECONDS->MICROS), at or after
 TIMELINE's NOW; else an ARGUMENT-ERROR."
   (let ((micros (and (plain-seconds-p time) (seconds->micros time))))
-    (if (and micros (>= micros (timeline-now timeline)))
+    (if (and micros (micros<= (timeline-now timeline) micros))
         micros
         (check-time-from-now-slowly function argument time timeline))))
 
@@ -26,7 +26,7 @@ TIMELINE's NOW; else an ARGUMENT-ERROR."
   "CHECK-TIME-FROM-NOW for any TIME."
   (check-seconds function argument time)
   (let ((micros (seconds-value->micros time)))
-    (when (< micros (timeline-now timeline))
+    (when (micros< micros (timeline-now timeline))
       (argument-fail function argument time
                      (format nil "a time no earlier than now (~A s): a timed controller cannot go back"
                              (format-micros (timeline-now timeline)))))

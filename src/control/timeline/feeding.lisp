@@ -33,7 +33,7 @@ has happened)."
 them (or they are none) and not made yet: a :time directive may leave
 changes due after the event's end, and they stay after it."
   (if (and (null (run-finish run)) (not (run-finished run))
-           (or (null pending) (< (run-finish-time run) (agenda-item-time (first pending)))))
+           (or (null pending) (micros< (run-finish-time run) (agenda-item-time (first pending)))))
       (spare-cons agenda (finish-item agenda run) pending)
       pending))
 

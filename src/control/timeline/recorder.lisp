@@ -115,7 +115,7 @@ last to its items."
          (tail (recorder-items-tail recorder)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
     (if tail
-        (progn (when (< time (agenda-item-time (first tail)))
+        (progn (when (micros< time (agenda-item-time (first tail)))
                  (setf (recorder-in-order recorder) nil))
                (setf (rest tail) cell))
         (setf (run-items run) cell))
@@ -140,7 +140,7 @@ microseconds (START is too)."
         (item (record-item recorder :op start)))
     (declare (integer duration))
     (setf (agenda-item-op item) op
-          (agenda-item-end item) (+ start duration)
+          (agenda-item-end item) (micros+ start duration)
           (recorder-last-op recorder) item)
     ;; What RUN-FOOTPRINT-FROM-ITEMS would find, known now: an event arriving
     ;; while this run plays asks, and need not walk its items.
@@ -199,7 +199,7 @@ is boxed between the steps."
   (when (recorder-taping recorder)
     (note-taped recorder +taped-op+ op mask bits))
   (let* ((start (controller-schedule controller))
-         (end (+ start (record-op recorder op start))))
+         (end (micros+ start (record-op recorder op start))))
     (note-op-end controller end)
     (unless (eql mask 0)
       (record-change recorder :delta controller end mask bits op)

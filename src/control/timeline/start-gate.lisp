@@ -88,7 +88,7 @@ Returns the time RUN may start, RUN planned from then, and its planning result
   "Are the ops of interrupted events still playing all over by TIME?"
   (declare (integer time))
   (loop for item in (timeline-live-ops timeline)
-        never (> (agenda-item-end item) time)))
+        never (micros< time (agenda-item-end item))))
 
 (defun start-or-wait (timeline run time &optional trial)
   "RUN passes the start gate at TIME: it starts then or later, or it waits

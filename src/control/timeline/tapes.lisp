@@ -149,7 +149,7 @@ its span closes, the clock moves to its end."
          (end (controller-span-end controller)))
     (declare (simple-vector spans) (fixnum at))
     (setf (controller-span-start controller) (aref spans (+ at 1))
-          (controller-span-end controller) (max outer-end end)
+          (controller-span-end controller) (if (micros< outer-end end) end outer-end)
           (controller-schedule controller) end)
     (record-macro-end recorder op start end)))
 

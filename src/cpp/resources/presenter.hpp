@@ -1,5 +1,6 @@
 /// What the embedding program implements: it plays ops and reports durations.
 /// Every member has a default, so a presenter overrides only what it needs.
+/// Times are exact Time values (to_double() for seconds); durations are seconds.
 class Presenter {
 public:
   virtual ~Presenter() = default;
