@@ -23,6 +23,7 @@ run the resulting state machine as Lisp closures or embedded C++."
     :components ((:file "package")
                  (:file "utilities")
                  (:file "conditions")
+                 (:file "exact-times")
                  (:file "printing")
                  (:file "structure")
                  (:file "arguments")
@@ -148,6 +149,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                   :components ((:file "conditions")
                                (:file "agenda")
                                (:file "runs")
+                               (:file "timeline-state")
                                (:file "item-pool")
                                (:file "feeding")
                                (:file "footprints")
@@ -636,5 +638,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Issue 31, what was left: stop signals, one error line, exact times
                  (:file "test-rest31")
                  ;; Leftovers tidied: model --texture errors, root motion's resting place
-                 (:file "test-tidy"))))
+                 (:file "test-tidy")
+                 ;; Issue 31 item 7: times exact to the microsecond in both backends
+                 (:file "test-exact-times"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

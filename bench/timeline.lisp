@@ -17,14 +17,13 @@ about half arrive while the previous event plays and preempt it."
   "Send STREAM to timed CONTROLLER: an interrupting event 0.3 s after now, by
 :preempt; the others once everything before has finished."
   (declare (simple-vector stream))
-  (let ((timeline (player.control::controller-timeline controller)))
-    (loop for (name . interrupts) across stream
-          do (if interrupts
-                 (player:send-event controller name :at (+ (player.control::timeline-now timeline) 0.3d0)
-                                                    :when-busy :preempt)
-                 (progn (player:finish-events controller)
-                        (player:send-event controller name))))
-    (player:finish-events controller)))
+  (loop for (name . interrupts) across stream
+        do (if interrupts
+               (player:send-event controller name :at (+ (player:controller-time controller) 0.3d0)
+                                                  :when-busy :preempt)
+               (progn (player:finish-events controller)
+                      (player:send-event controller name))))
+  (player:finish-events controller))
 
 (defun fresh-timed-controller (machine)
   "A timed controller of MACHINE on a null presenter, its timers disarmed (so

@@ -57,7 +57,7 @@
    #:presenter-result-error-value
    #:*controller* #:advance #:clear-trace #:compile-spec #:finish-trace #:compiled-machine #:controller
    #:controller-busy-p #:controller-clock #:controller-machine #:controller-presenter
-   #:controller-state #:controller-time #:event-names #:finish-events #:follow-spec
+   #:controller-state #:controller-time #:controller-microseconds #:event-names #:finish-events #:follow-spec
    #:make-controller #:make-null-presenter #:make-trace-presenter #:null-presenter
    #:play-events #:play-script #:present-event #:present-failure #:present-macro-end
    #:present-macro-start #:present-op #:present-state #:presenter #:recompile
@@ -276,7 +276,7 @@
    #:view #:stop-view #:call-in-view #:viewer-session #:view-running-p #:reload-script-library #:reload-view-scripts
    #:reload-character-skeleton
    #:start-swank #:stop-swank
-   #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:timeline-error
+   #:advance #:finish-events #:play-events #:controller-busy-p #:controller-time #:controller-microseconds #:timeline-error
    #:presenter-result-error #:presenter-result-error-presenter #:presenter-result-error-function
    #:presenter-result-error-op #:presenter-result-error-value #:deferred-sends-error
    #:*when-busy-policies*

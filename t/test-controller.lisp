@@ -68,7 +68,7 @@
     (let* ((p (make-instance 'counting-presenter))
            (c (make-controller (compile-spec spec) :presenter p)))
       (send-event c 'ev)
-      (is (equal '((set-a 0d0) (other 7d0)) (reverse (counted-ops p))))
+      (is (equal '((set-a 0) (other 7)) (reverse (counted-ops p))))
       (is (= 14 (controller-clock c))))))
 
 (test null-presenter-records-nothing

@@ -36,14 +36,14 @@ pool would hand it out twice."
   (if (unchecked-engine-p)
       (skip "the unchecked engine does not check")
       (let* ((agenda (player.control::make-agenda))
-             (item (player.control::fresh-agenda-item agenda :op 0d0 nil))
-             (other (player.control::fresh-agenda-item agenda :op 1d0 nil)))
+             (item (player.control::fresh-agenda-item agenda :op 0 nil))
+             (other (player.control::fresh-agenda-item agenda :op 1000000 nil)))
         (player.control::retire-item agenda item)
         (is (eq :free (player.control::agenda-item-status item)))
         (signals player.control::retired-item-error (player.control::retire-item agenda item))
         (signals timeline-error (player.control::retire-item-list agenda (list other item)))
         ;; Retired once, an item goes back to the pool once.
-        (is (eq item (player.control::fresh-agenda-item agenda :op 2d0 nil))))))
+        (is (eq item (player.control::fresh-agenda-item agenda :op 2000000 nil))))))
 
 (test tape-codes-are-distinct
   "The tape's codes are four different numbers, so a replay tells them apart."

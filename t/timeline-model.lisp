@@ -287,9 +287,9 @@ MACHINE plays for event NAME from its top-level directive STEP in STATE."
         ;; A resumption plans the event from directive STEP on.
         (let ((compiled (player.control::find-compiled-event controller name))
               (player::*controller* controller))
-          (setf (player.control::controller-schedule controller) 0d0
-                (player.control::controller-span-start controller) 0d0
-                (player.control::controller-span-end controller) 0d0)
+          (setf (player.control::controller-schedule controller) 0
+                (player.control::controller-span-start controller) 0
+                (player.control::controller-span-end controller) 0)
           (funcall (svref (player.control::event-suffixes compiled machine) step) controller)))
     (loop for line in (trace-lines presenter)
           when (eq (first line) :op) collect (second line))))

@@ -21,15 +21,15 @@ namespace {
 class MemberPresenter : public peedy::Presenter {
 public:
   explicit MemberPresenter(std::string name) : name_(std::move(name)) {}
-  double play(const peedy::Op& op, double start) override {
-    std::printf("%s: %6.2f  play %s (%.2f s)\n", name_.c_str(), start, op.name, op.duration);
+  double play(const peedy::Op& op, peedy::Time start) override {
+    std::printf("%s: %6.2f  play %s (%.2f s)\n", name_.c_str(), start.to_double(), op.name, op.duration);
     return op.duration;
   }
-  void event_start(const char* event, double time) override {
-    std::printf("%s: %6.2f  event %s\n", name_.c_str(), time, event);
+  void event_start(const char* event, peedy::Time time) override {
+    std::printf("%s: %6.2f  event %s\n", name_.c_str(), time.to_double(), event);
   }
-  void event_failed(const char* event, const char* goal, double time) override {
-    std::printf("%s: %6.2f  %s failed: cannot reach %s\n", name_.c_str(), time, event, goal);
+  void event_failed(const char* event, const char* goal, peedy::Time time) override {
+    std::printf("%s: %6.2f  %s failed: cannot reach %s\n", name_.c_str(), time.to_double(), event, goal);
   }
 
 private:

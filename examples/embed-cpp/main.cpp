@@ -12,25 +12,25 @@ namespace {
 
 class ConsolePresenter : public peedy::Presenter {
 public:
-  double play(const peedy::Op& op, double start) override {
-    std::printf("%7.2f  play %-14s (script %s, %.2f s)\n", start, op.name, op.script, op.duration);
+  double play(const peedy::Op& op, peedy::Time start) override {
+    std::printf("%7.2f  play %-14s (script %s, %.2f s)\n", start.to_double(), op.name, op.script, op.duration);
     return op.duration;
   }
-  void macro_start(const peedy::Op& op, double start) override {
-    std::printf("%7.2f  begin %s\n", start, op.name);
+  void macro_start(const peedy::Op& op, peedy::Time start) override {
+    std::printf("%7.2f  begin %s\n", start.to_double(), op.name);
   }
   void start_autoscript(const char* proc, const char* variable, const char* value,
-                        double time) override {
-    std::printf("%7.2f  start autoscript %s (%s = %s)\n", time, proc, variable, value);
+                        peedy::Time time) override {
+    std::printf("%7.2f  start autoscript %s (%s = %s)\n", time.to_double(), proc, variable, value);
   }
-  void stop_autoscript(const char* proc, const char*, const char*, double time) override {
-    std::printf("%7.2f  stop autoscript %s\n", time, proc);
+  void stop_autoscript(const char* proc, const char*, const char*, peedy::Time time) override {
+    std::printf("%7.2f  stop autoscript %s\n", time.to_double(), proc);
   }
-  void event_start(const char* event, double time) override {
-    std::printf("%7.2f  event %s\n", time, event);
+  void event_start(const char* event, peedy::Time time) override {
+    std::printf("%7.2f  event %s\n", time.to_double(), event);
   }
-  void event_failed(const char* event, const char* goal, double time) override {
-    std::printf("%7.2f  %s failed: cannot reach %s\n", time, event, goal);
+  void event_failed(const char* event, const char* goal, peedy::Time time) override {
+    std::printf("%7.2f  %s failed: cannot reach %s\n", time.to_double(), event, goal);
   }
 };
 

@@ -27,6 +27,9 @@
    #:state-transfer-error #:string-designator-p #:tail #:to-double #:truncate-text
    #:type-error-in-spec #:unknown-event #:unknown-event-name #:unknown-name-error #:unquote
    #:untrusted-code-error #:write-list-text
+   ;; exact-times.lisp: a timed controller's times as integer microseconds
+   #:micros #:+micros-per-second+ #:+never-micros+ #:seconds->micros #:exact-seconds->micros
+   #:seconds-value->micros #:micros< #:micros<= #:micros+ #:micros->seconds #:micros->double #:format-micros #:micros-ratio-p #:parse-decimal-seconds
    ;; files.lisp, cleanup.lisp, outputs.lisp: files written whole, inputs checked, children killed
    #:io-error #:io-error-file #:io-error-reason #:io-error-action #:io-fail #:condition-reason
    #:errno-reason #:file-kind #:check-regular-file #:regular-file-or-nil #:open-input-file

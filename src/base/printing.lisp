@@ -71,8 +71,12 @@ tail) by WRITE-ELEMENT, a function of the element and STREAM."
 to six decimals (rounded half up at the microsecond), trailing zeros dropped.
 The C++ backend formats the same way, so traces compare as text.  NaN and the
 infinities print as nan, inf and -inf; from 1e16 on, reals print in exponent
-notation (1.0e16), as the C++ backend's shortest round-trip form does."
+notation (1.0e16), as the C++ backend's shortest round-trip form does.
+A ratio of whole microseconds (a time, see EXACT-TIMES.LISP) prints exactly."
   (cond ((integerp number) (format nil "~D" number))
+        ;; A time handed to a presenter: exact seconds, printed exactly.
+        ((micros-ratio-p number)
+         (format-micros (* number +micros-per-second+)))
         ((and (floatp number) (sb-ext:float-nan-p number)) "nan")
         ((and (floatp number) (sb-ext:float-infinity-p number)) (if (plusp number) "inf" "-inf"))
         ((and (rationalp number) (> (abs number) most-positive-double-float))

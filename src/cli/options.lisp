@@ -106,9 +106,12 @@ TEXT does not fit."))
   (split-list text))
 
 (defun read-seconds-text (text)
-  "TEXT as a number of seconds from 0 to *MAX-SECONDS*, or NIL."
-  (let ((value (read-cli-value text)))
-    (and (realp value) (finite-real-p value) (<= 0 value *max-seconds*) (to-double value))))
+  "TEXT as a number of seconds from 0 to *MAX-SECONDS*, or NIL: an exact
+decimal (123456789012.000001, 1e15, 1.5E-3) read exactly, never through a
+double, so times keep every microsecond; else any real Lisp reads (1/3)."
+  (let ((value (or (parse-decimal-seconds text) (read-cli-value text))))
+    (and (realp value) (finite-real-p value) (<= 0 value *max-seconds*)
+         (if (floatp value) (to-double value) value))))
 
 (defmethod read-option-value ((type (eql :timed-events)) text option)
   ;; EV or EV@SECONDS, comma-separated: names, and (NAME . SECONDS) for a timed

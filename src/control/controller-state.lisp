@@ -17,16 +17,16 @@ controller planning one ahead): a SEND-EVENT to it then is deferred
   (bits 0 :type integer)
   ;; Runtime numbers and times, by slot.
   (values #() :type simple-vector)
-  (labels (make-array 0 :element-type 'double-float)
-   :type (simple-array double-float (*)))
+  ;; Times, like every time below, in whole microseconds (EXACT-TIMES.LISP).
+  (labels (vector) :type simple-vector)
   ;; When the next event starts: the end of the last one.
-  (clock 0d0 :type double-float)
+  (clock-micros 0 :type integer)
   ;; The scheduling clock of the running event.
-  (schedule 0d0 :type double-float)
+  (schedule 0 :type integer)
   ;; Start of the running event or macro.
-  (span-start 0d0 :type double-float)
+  (span-start 0 :type integer)
   ;; Latest end of an op in the running event or macro.
-  (span-end 0d0 :type double-float)
+  (span-end 0 :type integer)
   ;; Bit per macro-op now running, against re-entry.
   (active-macros 0 :type integer)
   (presenter nil)
@@ -54,6 +54,23 @@ controller planning one ahead): a SEND-EVENT to it then is deferred
   ;; The sends to it from inside its own running event, deferred till that
   ;; is over (DEFERRED-SENDS.LISP), oldest first: (EVENT . AT) pairs.
   (deferred-sends '() :type list))
+
+(declaim (inline micros->seconds-double))
+(defun micros->seconds-double (micros)
+  "MICROS as the double nearest its seconds, what the API's functions answer."
+  (if (typep micros '(integer -9007199254740992 9007199254740992))
+      (/ (coerce micros 'double-float) 1d6)
+      (coerce (micros->seconds micros) 'double-float)))
+
+(defun controller-clock (controller)
+  "When CONTROLLER's next event starts (a timed controller: its clock), in
+seconds as a double; CONTROLLER-MICROSECONDS is the exact value."
+  (micros->seconds-double (controller-clock-micros controller)))
+
+(defun (setf controller-clock) (seconds controller)
+  "Move CONTROLLER's clock to SECONDS (converted to the nearest microsecond)."
+  (setf (controller-clock-micros controller) (seconds->micros seconds))
+  seconds)
 
 (declaim (inline silent-p))
 (defun silent-p (controller)
@@ -125,11 +142,11 @@ OLD and NEW are value indices (plannable) or numbers."
     (dolist (auto (spec-autoscripts (spec-of controller)))
       (when (and (eq (autoscript-variable auto) var) (eql (autoscript-value-index auto) old))
         (dolist (proc (autoscript-procs auto))
-          (stop-autoscript presenter proc (var-name var) (autoscript-value auto) time))))
+          (stop-autoscript presenter proc (var-name var) (autoscript-value auto) (micros->seconds time)))))
     (dolist (auto (spec-autoscripts (spec-of controller)))
       (when (and (eq (autoscript-variable auto) var) (eql (autoscript-value-index auto) new))
         (dolist (proc (autoscript-procs auto))
-          (start-autoscript presenter proc (var-name var) (autoscript-value auto) time))))))
+          (start-autoscript presenter proc (var-name var) (autoscript-value auto) (micros->seconds time)))))))
 
 (defstruct (watch (:constructor %make-watch (variable mask offset size by-value)))
   "A plannable VARIABLE some autoscript watches, as TRANSITION-STATE needs it:
@@ -167,11 +184,11 @@ NOTIFY-AUTOSCRIPTS does, from the table)."
     (when (>= old 0)
       (dolist (auto (svref (watch-by-value watch) old))
         (dolist (proc (autoscript-procs auto))
-          (stop-autoscript presenter proc (var-name var) (autoscript-value auto) time))))
+          (stop-autoscript presenter proc (var-name var) (autoscript-value auto) (micros->seconds time)))))
     (when (>= new 0)
       (dolist (auto (svref (watch-by-value watch) new))
         (dolist (proc (autoscript-procs auto))
-          (start-autoscript presenter proc (var-name var) (autoscript-value auto) time))))))
+          (start-autoscript presenter proc (var-name var) (autoscript-value auto) (micros->seconds time)))))))
 
 (defun transition-state (controller new-bits time)
   "Make NEW-BITS CONTROLLER's plannable state at TIME, telling autoscripts."
@@ -186,7 +203,7 @@ NOTIFY-AUTOSCRIPTS does, from the table)."
         (when (logtest watched (watch-mask watch))
           (notify-watch controller watch old-bits new-bits time))))
     (unless (eql old-bits new-bits)
-      (present-state-change (controller-presenter controller) controller time))
+      (present-state-change (controller-presenter controller) controller (micros->seconds time)))
     new-bits))
 
 (declaim (inline state-with-fields))
@@ -265,14 +282,14 @@ as CHANGE-STATE does.  FIELD-MASKS are the spec's PLANNABLE-FIELD-MASKS."
                      (svref (controller-values controller) (var-slot var))))
         (dolist (proc (autoscript-procs auto))
           (start-autoscript (controller-presenter controller) proc (var-name var)
-                            (autoscript-value auto) time))))))
+                            (autoscript-value auto) (micros->seconds time)))))))
 
 ;; Inline: every op of every event runs it, and a call would box END.
 (declaim (inline note-op-end))
 (defun note-op-end (controller end)
   "Advance the scheduling clock to END and extend the running span."
   (setf (controller-schedule controller) end)
-  (when (> end (controller-span-end controller))
+  (when (micros< (controller-span-end controller) end)
     (setf (controller-span-end controller) end)))
 
 (defmethod print-object ((controller controller) stream)
@@ -280,7 +297,7 @@ as CHANGE-STATE does.  FIELD-MASKS are the spec's PLANNABLE-FIELD-MASKS."
   (print-unreadable-object (controller stream :type t)
     (let* ((spec (spec-of controller))
            (text (format nil "~A t=~A~{ ~A~}" (lisp-text (spec-name spec))
-                         (format-number (controller-clock controller))
+                         (format-micros (controller-clock-micros controller))
                          (loop for var in (spec-variables spec)
                                collect (format nil "~A=~A" (lisp-text (var-name var))
                                                (let ((value (variable-value controller var)))

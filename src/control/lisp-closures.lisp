@@ -210,7 +210,9 @@ effects. Its precondition is the caller's business."
       (compile-macro-executor op machine)
       (with-state-bits (machine)
         (let ((mask (state-bits (op-effect-mask op))) (bits (state-bits (op-effect-bits op)))
-              (code (and (eq (op-kind op) :code) (compile-code (op-code op)))))
+              (code (and (eq (op-kind op) :code) (compile-code (op-code op))))
+              ;; Times are whole microseconds (EXACT-TIMES.LISP); presenters see seconds.
+              (duration (seconds->micros (op-duration op))))
           (lambda (controller)
             (when code (funcall (the function code)))
             (let ((recorder (controller-recorder controller)))
@@ -222,10 +224,11 @@ effects. Its precondition is the caller's business."
                          ;; A silent presenter's PRESENT-OP answers the
                          ;; declared duration: no need to ask it.
                          (end (+ start (if (silent-p controller)
-                                           (op-duration op)
+                                           duration
                                            (let ((presenter (controller-presenter controller)))
-                                             (presenter-seconds (present-op presenter op start)
-                                                                presenter 'present-op op))))))
+                                             (seconds->micros
+                                              (presenter-seconds (present-op presenter op (micros->seconds start))
+                                                                 presenter 'present-op op)))))))
                     (note-op-end controller end)
                     (unless (zerop mask)
                       (set-state controller
@@ -252,7 +255,7 @@ made along the way are internal to the macro)."
                   (before (controller-bits controller)))
               (cond ((controller-recorder controller)
                      (record-macro-start (controller-recorder controller) op start))
-                    ((not (silent-p controller)) (present-macro-start presenter op start)))
+                    ((not (silent-p controller)) (present-macro-start presenter op (micros->seconds start))))
               (setf (controller-span-start controller) start
                     (controller-span-end controller) start
                     (controller-active-macros controller)
@@ -262,11 +265,12 @@ made along the way are internal to the macro)."
                 (setf (controller-active-macros controller)
                       (logandc2 (controller-active-macros controller) bit)
                       (controller-span-start controller) outer-start
-                      (controller-span-end controller) (max outer-end end)
+                      (controller-span-end controller) (if (micros< outer-end end) end outer-end)
                       (controller-schedule controller) end)
                 (cond ((controller-recorder controller)
                        (record-macro-end (controller-recorder controller) op start end))
-                      ((not (silent-p controller)) (present-macro-end presenter op start end)))
+                      ((not (silent-p controller))
+                       (present-macro-end presenter op (micros->seconds start) (micros->seconds end))))
                 (when (eq result t)
                   (change-state-to controller (state-with-fields before mask bits) end field-masks op))
                 result)))))))

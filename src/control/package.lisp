@@ -10,7 +10,7 @@
    #:*controller* #:*initial-state-phrase* #:advance #:clear-trace #:compile-spec #:finish-trace
    #:compiled-machine #:controller #:controller-bits #:controller-busy-p #:controller-clock
    #:controller-machine #:controller-p #:controller-presenter #:controller-state
-   #:controller-time #:controller-timeline #:critical-time #:deferred-sends-error
+   #:controller-time #:controller-microseconds #:controller-timeline #:critical-time #:deferred-sends-error
    #:event-names #:event-target
    #:find-compiled-event #:finish-events #:follow-spec #:initial-state-p #:make-controller
    #:make-null-presenter #:make-trace-presenter #:null-presenter #:op-channel-set

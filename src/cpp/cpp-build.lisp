@@ -109,9 +109,9 @@ value as Player prints them, values checked and canonical."
         collect (subseq text start end)))
 
 (defun seconds-argument (seconds)
-  "SECONDS as the driver reads it: the double, in digits that read back to it."
-  (let ((*read-default-float-format* 'double-float))
-    (prin1-to-string (to-double seconds))))
+  "SECONDS as the driver reads it: its whole microseconds (SECONDS-VALUE->MICROS)
+as an exact decimal, which the driver reads exactly."
+  (format-micros (seconds-value->micros seconds)))
 
 (defun check-timed-scenario (events until)
   "Signal an ARGUMENT-ERROR of RUN-C++-TRACE unless EVENTS are scenario entries

@@ -86,7 +86,9 @@ no underscore followed by a capital (reserved to the implementation); not in
     "format_number" "field_index" "kOps" "kEventNames" "same_value" "exponent_form"
     ;; The one-hot state's type and helpers (cpp-words.lisp), and the timed layer's.
     "StateBits" "kStateWords" "with_delta" "bits_meet" "add_bits" "common_bits"
-    "differing_bits" "notify_autoscripts_" "changed_fields")
+    "differing_bits" "notify_autoscripts_" "changed_fields"
+    ;; Exact times (time.hpp, time.cpp).
+    "Time" "to_string" "parse_time" "from_micros" "from_seconds" "never" "to_double")
   "Names the generated code uses itself, so no Lisp name may take them.")
 
 (defun make-identifier-table ()
@@ -204,6 +206,17 @@ for long long."
   (if (= integer (first *int64-range*))
       "(-9223372036854775807LL - 1)"
       (format nil "~DLL" integer)))
+
+(defun c++-micros (micros)
+  "C++ for MICROS whole microseconds, a Time (time.hpp) literal: {SECONDS, MICROS}
+in its floor form, exact whatever its size."
+  (multiple-value-bind (seconds rest) (floor micros +micros-per-second+)
+    (format nil "Time{~D, ~D}" seconds rest)))
+
+(defun c++-time (seconds)
+  "C++ for SECONDS (a spec's duration or time) as a Time literal, converted as
+the Lisp backend converts it (SECONDS->MICROS of its double)."
+  (c++-micros (seconds->micros (to-double seconds))))
 
 (defun c++-double (number)
   "NUMBER as a C++ double literal that reads back to the same double; HUGE_VAL

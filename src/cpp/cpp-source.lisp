@@ -37,6 +37,7 @@
           (mapcar (lambda (e) (c++-string (lisp-text (event-name e)))) (spec-events spec)))
     (emit "}  // namespace~%")
     (emit-resource "format-number.cpp")  ; printing exactly as FORMAT-NUMBER does
+    (emit-resource "time.cpp")           ; exact times, as EXACT-TIMES.LISP
     (emit "const char* event_name(Event e) { return kEventNames[static_cast<int>(e)]; }~%")
     (emit "bool find_event(const std::string& name, Event& out) {")
     (emit "  for (int i = 0; i < event_count; ++i)")
@@ -136,10 +137,10 @@ type, in range (a long long, or a finite double)."
 (defun emit-controller-basics (machine)
   "Constructor, send, accessors and state_line."
   (let ((spec (machine-spec machine)))
-    (emit "Controller::Controller(Presenter& presenter, const State& state, double clock)")
+    (emit "Controller::Controller(Presenter& presenter, const State& state, Time clock)")
     (emit "    : presenter_(presenter), state_(state), clock_(clock) {")
     (emit "  start_initial_autoscripts(clock);~%}~%")
-    (emit "bool Controller::send_at(Event e, double at) {")
+    (emit "bool Controller::send_at(Event e, Time at) {")
     (emit "  schedule_ = span_start_ = span_end_ = at;")
     (emit "  failed_goal_ = \"\";")
     (emit "  presenter_.event_start(event_name(e), at);")
@@ -148,7 +149,7 @@ type, in range (a long long, or a finite double)."
     (dolist (event (spec-events spec))
       (emit "    case Event::~A:" (event-enum event))
       (dolist (var (event-time-variables event))
-        (emit "      state_.~A = at;" (var-id var)))
+        (emit "      state_.~A = at.to_double();" (var-id var)))
       (emit "      result = ~A();~%      break;" (event-id event)))
     (emit "  }")
     (emit "  if (result != 1) presenter_.event_failed(event_name(e), failed_goal_, schedule_);")
@@ -259,7 +260,7 @@ any state change (a macro's end, the timed layer's changes); small enough to
 inline: a store and, when a watched field changed, the call of
 notify_autoscripts_(). An op's own change is STATE-CHANGE-LINES'."
   (let ((watched (watched-plannable-vars machine)))
-    (emit "void Controller::transition(~A, double time) {" (c++-bits-parameter "next"))
+    (emit "void Controller::transition(~A, Time time) {" (c++-bits-parameter "next"))
     (if watched
         (progn
           (emit "  const StateBits before = state_.bits;")
@@ -270,7 +271,7 @@ notify_autoscripts_(). An op's own change is STATE-CHANGE-LINES'."
     (emit "}~%")
     (when watched
       (emit "// Stop the autoscripts of the values watched fields left, start those of the values they took.")
-      (emit "void Controller::notify_autoscripts_(~A, ~A, double time) {"
+      (emit "void Controller::notify_autoscripts_(~A, ~A, Time time) {"
             (c++-bits-parameter "before") (c++-bits-parameter "next"))
       (dolist (var watched)
         (dolist (line (autoscript-change-lines machine var "before" "next" "time"))
@@ -278,7 +279,7 @@ notify_autoscripts_(). An op's own change is STATE-CHANGE-LINES'."
       (emit "}~%")))
   (dolist (var (runtime-vars machine))
     (when (eq (var-kind var) :number)
-      (emit "void Controller::set_~A(~A value, double time) {" (var-id var) (runtime-c++-type var))
+      (emit "void Controller::set_~A(~A value, Time time) {" (var-id var) (runtime-c++-type var))
       (emit "  const ~A old_value = state_.~A;" (runtime-c++-type var) (var-id var))
       (emit "  state_.~A = value;" (var-id var))
       (emit "  if (same_value(old_value, value)) return;")
@@ -287,7 +288,7 @@ notify_autoscripts_(). An op's own change is STATE-CHANGE-LINES'."
       (dolist (line (autoscript-calls machine var "stop_autoscript" "old_value")) (emit "  ~A" line))
       (dolist (line (autoscript-calls machine var "start_autoscript" "new_value")) (emit "  ~A" line))
       (emit "}~%")))
-  (emit "void Controller::start_initial_autoscripts(double time) {")
+  (emit "void Controller::start_initial_autoscripts(Time time) {")
   (emit "  (void)time;")
   (dolist (auto (spec-autoscripts (machine-spec machine)))
     (let* ((var (autoscript-variable auto))
@@ -335,8 +336,8 @@ embedder's hook (the whole-event procedure and its timed planning twin alike)."
         (emit-macro-executor op index machine)
         (progn
           (emit-op-procedure-opening op (op-id op))
-          (emit "  const double start = schedule_;")
-          (emit "  const double end = start + presenter_.~A(kOps[~D], start);"
+          (emit "  const Time start = schedule_;")
+          (emit "  const Time end = start + Time::from_seconds(presenter_.~A(kOps[~D], start));"
                 (if (eq (op-kind op) :director) "run_director" "play") index)
           (emit "  note_op_end(end);")
           (when (op-effects op)
@@ -349,13 +350,13 @@ embedder's hook (the whole-event procedure and its timed planning twin alike)."
   (emit "int Controller::~A() {" (op-id op))
   (emit "  if (active_[~D]) return fail(~A);" index (c++-string (lisp-text (op-name op))))
   (when (op-c++ op) (emit "  ~A" (op-c++ op)))
-  (emit "  const double start = schedule_, outer_start = span_start_, outer_end = span_end_;")
+  (emit "  const Time start = schedule_, outer_start = span_start_, outer_end = span_end_;")
   (emit "  const StateBits before = state_.bits;")
   (emit "  presenter_.macro_start(kOps[~D], start);" index)
   (emit "  span_start_ = span_end_ = start;")
   (emit "  active_[~D] = true;" index)
   (emit "  const int result = ~A_seq();" (op-id op))
-  (emit "  const double end = span_end_;")
+  (emit "  const Time end = span_end_;")
   (emit "  active_[~D] = false;" index)
   (emit "  span_start_ = outer_start;")
   (emit "  span_end_ = outer_end > end ? outer_end : end;")

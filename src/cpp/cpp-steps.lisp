@@ -66,8 +66,8 @@ generated name ends in an underscore after a name that is not a C++ keyword)."
 (defmethod emit-step ((step time-step) machine)
   (destructuring-bind (kind argument) (time-step-time step)
     (if (eq kind :relative)
-        (emit-line "schedule_ = span_start_ + ~A;" (c++-double argument))
-        (emit-line "{ const double t = ~A; if (!std::isnan(t)) { if (!(std::fabs(t) <= ~A)) return fail(~A); schedule_ = t; } }"
+        (emit-line "schedule_ = span_start_ + ~A;" (c++-time argument))
+        (emit-line "{ const double t = ~A; if (!std::isnan(t)) { if (!(std::fabs(t) <= ~A)) return fail(~A); schedule_ = Time::from_seconds(t); } }"
                    (c++-number argument machine) (c++-double *max-seconds*)
                    (c++-string "(:overflow :time)")))))
 
@@ -177,8 +177,8 @@ subtraction, since it has no literal."
   "C++ (a double expression; NaN for a time never set) for numeric AST."
   (ecase (first ast)
     (:num (c++-double (second ast)))
-    (:now "schedule_")
-    (:label (format nil "state_.labels[~D]" (second ast)))
+    (:now "schedule_.to_double()")
+    (:label (format nil "state_.labels[~D].to_double()" (second ast)))
     (:value (let ((var (second ast)))
               (if (plannable-p var)
                   (format nil "static_cast<double>(~A)"

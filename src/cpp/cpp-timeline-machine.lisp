@@ -10,8 +10,8 @@
   "OP's planning twin: record the op (and its end's state change) instead of playing it."
   (let ((index (op-index op machine)))
     (emit-op-procedure-opening op (planning-id (op-id op)))
-    (emit "  const double start = schedule_;")
-    (emit "  const double end = start + presenter_.planned_duration(kOps[~D], start);" index)
+    (emit "  const Time start = schedule_;")
+    (emit "  const Time end = start + Time::from_seconds(presenter_.planned_duration(kOps[~D], start));" index)
     (emit "  record_op_(~D, start, end);" index)
     (emit "  note_op_end(end);")
     (unless (zerop (op-effect-mask op))
@@ -24,13 +24,13 @@
     (emit "int Controller::~A() {" (planning-id (op-id op)))
     (emit "  if (active_[~D]) return fail(~A);" index (c++-string (lisp-text (op-name op))))
     (when (op-c++ op) (emit "  ~A" (op-c++ op)))
-    (emit "  const double start = schedule_, outer_start = span_start_, outer_end = span_end_;")
+    (emit "  const Time start = schedule_, outer_start = span_start_, outer_end = span_end_;")
     (emit "  const StateBits before = state_.bits;")
     (emit "  record_macro_start_(~D, start);" index)
     (emit "  span_start_ = span_end_ = start;")
     (emit "  active_[~D] = true;" index)
     (emit "  const int result = ~A();" (planning-id (macro-seq-id op)))
-    (emit "  const double end = span_end_;")
+    (emit "  const Time end = span_end_;")
     (emit "  active_[~D] = false;" index)
     (emit "  span_start_ = outer_start;")
     (emit "  span_end_ = outer_end > end ? outer_end : end;")
@@ -62,7 +62,7 @@ case braced, so a directive's C++ is its own scope)."
   "The planning twins of the number setters: record the value, set it silently."
   (dolist (var (runtime-vars machine))
     (when (eq (var-kind var) :number)
-      (emit "void Controller::~A(~A value, double time) {"
+      (emit "void Controller::~A(~A value, Time time) {"
             (planning-id (var-setter-id var)) (runtime-c++-type var))
       (emit "  record_value_(~D, value, time);" (runtime-slot var))
       (emit "  state_.~A = value;~%}~%" (var-id var)))))
@@ -78,15 +78,15 @@ case braced, so a directive's C++ is its own scope)."
 
 (defun emit-record-time-variables (machine)
   "record_time_variables_(): the time variables an event sets when it starts, as value items."
-  (emit "void Controller::record_time_variables_(int event, double time) {")
+  (emit "void Controller::record_time_variables_(int event, Time time) {")
   (emit "  switch (event) {")
   (loop for event in (spec-events (machine-spec machine))
         for i from 0
         when (event-time-variables event)
           do (emit "    case ~D:" i)
              (dolist (var (event-time-variables event))
-               (emit "      record_value_(~D, time, time);" (runtime-slot var))
-               (emit "      state_.~A = time;" (var-id var)))
+               (emit "      record_value_(~D, time.to_double(), time);" (runtime-slot var))
+               (emit "      state_.~A = time.to_double();" (var-id var)))
              (emit "      break;"))
   (emit "    default:~%      (void)time;~%      break;~%  }~%}~%"))
 
@@ -115,11 +115,11 @@ case braced, so a directive's C++ is its own scope)."
 
 (defun op-cut-points (op)
   "OP's numeric interruption points, in seconds, sorted."
-  (sort (mapcar #'to-double (op-interrupt op)) #'<))
+  (sort (mapcar (lambda (point) (seconds->micros (to-double point))) (op-interrupt op)) #'<))
 
 (defun emit-op-cut-time (machine)
   "op_cut_time_(): when an op running at TIME can stop (its next interruption point, else its end)."
-  (emit "double Controller::op_cut_time_(const Item& item, double time) const {")
+  (emit "Time Controller::op_cut_time_(const Item& item, Time time) const {")
   (emit "  switch (item.op) {")
   (dolist (op (spec-ops-of machine))
     (let ((interrupt (op-interrupt op)))
@@ -130,9 +130,9 @@ case braced, so a directive's C++ is its own scope)."
             ((listp interrupt)
              (emit "    case ~D: {  // ~A: :interrupt (:at ...)" (op-index op machine)
                    (c++-comment-text (lisp-text (op-name op))))
-             (emit "      static const double points[] = {~{~A~^, ~}};" (mapcar #'c++-double (op-cut-points op)))
-             (emit "      for (const double point : points) {")
-             (emit "        const double at = item.start + point;")
+             (emit "      static const Time points[] = {~{~A~^, ~}};" (mapcar #'c++-micros (op-cut-points op)))
+             (emit "      for (const Time point : points) {")
+             (emit "        const Time at = item.start + point;")
              (emit "        if (at >= time && at <= item.end) return at;")
              (emit "      }")
              (emit "      return item.end;")
@@ -166,7 +166,7 @@ case braced, so a directive's C++ is its own scope)."
           for i from 0
           do (emit "  arm_timer_(~D, now_);  // ~A" i (c++-comment-text (lisp-text (timer-name timer)))))
     (emit "}~%")
-    (emit "void Controller::note_event_for_timers_(int event, int source, double time) {")
+    (emit "void Controller::note_event_for_timers_(int event, int source, Time time) {")
     (emit "  (void)event;~%  (void)source;~%  (void)time;")
     (loop for timer in (spec-timers spec)
           for i from 0
@@ -189,7 +189,7 @@ case braced, so a directive's C++ is its own scope)."
     (loop for i below (length triggers)
           do (emit "  trigger_held_[~D] = trigger_holds_(~D);" i i))
     (emit "}~%")
-    (emit "void Controller::check_triggers_(double time) {")
+    (emit "void Controller::check_triggers_(Time time) {")
     (if (null triggers)
         (emit "  (void)time;")
         (progn

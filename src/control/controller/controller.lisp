@@ -46,18 +46,18 @@ spec planned for its reachable states only, without (:unplanned-states :search))
   (check-argument 'make-controller :initial-state initial-state #'initial-state-p *initial-state-phrase*)
   (check-argument 'make-controller :presenter presenter #'presenter-p
                   "a presenter (from make-trace-presenter or make-null-presenter, say)")
-  (let* ((clock (check-seconds 'make-controller :clock clock))
+  (check-seconds 'make-controller :clock clock)
+  (let* ((clock (seconds-value->micros clock))
          (machine (ensure-compiled-machine machine))
          (spec (machine-spec machine))
          (assignments (initial-assignments spec initial-state))
          (controller (%make-controller
-                      :machine machine :presenter presenter :clock clock
-                      :labels (make-array (spec-label-count spec) :element-type 'double-float
-                                                                  :initial-element 0d0))))
+                      :machine machine :presenter presenter :clock-micros clock
+                      :labels (make-array (spec-label-count spec) :initial-element 0))))
     (install-assignments controller assignments)
     (check-planned-state machine (controller-bits controller))
     (present-initial-state presenter controller)
-    (start-initial-autoscripts controller (controller-clock controller))
+    (start-initial-autoscripts controller (controller-clock-micros controller))
     (when timed
       (setf (controller-timeline controller) (make-timeline controller)))
     controller))
@@ -197,7 +197,7 @@ FORM, left to SEND-EVENT."
   (when when-busy
     (argument-fail 'send-event :when-busy when-busy
                    "NIL: only a timed controller (make-controller ... :timed t) resolves busy events"))
-  (let* ((start (if at (check-seconds 'send-event :at at) (controller-clock controller)))
+  (let* ((start (if at (progn (check-seconds 'send-event :at at) (seconds-value->micros at)) (controller-clock-micros controller)))
          (compiled (find-compiled-event controller event))
          (event (compiled-event-event compiled))
          (presenter (controller-presenter controller))
@@ -207,16 +207,16 @@ FORM, left to SEND-EVENT."
           (controller-span-start controller) start
           (controller-span-end controller) start)
     (unless (silent-p controller)
-      (present-event presenter (event-name event) start))
+      (present-event presenter (event-name event) (micros->seconds start)))
     (dolist (var (event-time-variables event))
-      (set-runtime-value controller var start start))
+      (set-runtime-value controller var (micros->double start) start))
     ;; No macro-op is open as an event starts, even one an error left open.
     (setf (controller-active-macros controller) 0)
     (let ((result (funcall (the function (compiled-event-run compiled)) controller)))
       (unless (or (eq result t) (silent-p controller))
         (present-failure presenter (event-name event) (failure-goal-form result)
-                         (controller-schedule controller)))
-      (setf (controller-clock controller) (controller-span-end controller))
+                         (micros->seconds (controller-schedule controller))))
+      (setf (controller-clock-micros controller) (controller-span-end controller))
       (unless (silent-p controller)
         (present-state presenter controller))
       (when (controller-deferred-sends controller)

@@ -308,8 +308,13 @@ prints it."
                  (list :start start :end end))))
 
 (defmethod present-op ((presenter trace-presenter) op start)
+  ;; START is exact seconds (whole microseconds): so is the end, its
+  ;; duration converted as the controller converts it.
   (let ((duration (call-next-method)))
-    (record-line presenter (op-line op start (+ start duration)))
+    (record-line presenter (op-line op start (if (micros-ratio-p start)
+                                                 (micros->seconds (+ (seconds->micros start)
+                                                                     (seconds->micros duration)))
+                                                 (+ start duration))))
     duration))
 
 (defmethod present-macro-start ((presenter trace-presenter) op start)

@@ -56,12 +56,11 @@ changing nothing, when a current value does not exist in the new spec."
   (let* ((assignments (transferred-assignments controller machine))
          (new-spec (machine-spec machine))
          (before (active-autoscripts controller))
-         (time (controller-time controller))
+         (time (micros->seconds (controller-microseconds controller)))
          (presenter (controller-presenter controller)))
     (setf (controller-machine controller) machine
           (controller-pending controller) nil
-          (controller-labels controller) (make-array (spec-label-count new-spec)
-                                                     :element-type 'double-float :initial-element 0d0))
+          (controller-labels controller) (make-array (spec-label-count new-spec) :initial-element 0))
     (install-assignments controller assignments)
     (let ((after (active-autoscripts controller)))
       (flet ((same-autoscript-p (a b)

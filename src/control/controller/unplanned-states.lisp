@@ -124,6 +124,6 @@ Called while the machine compiles (*PROCEDURES* is its table of boxes)."
                      (refuse-unplanned-state machine state goal))
                     (t (let ((ops (remembered-search memo state goal machine)))
                          (present-search (controller-presenter controller) form ops
-                                         (controller-schedule controller))
+                                         (micros->seconds (controller-schedule controller)))
                          (and (not (eq ops :none))
                               (run-searched-plan controller ops procedures)))))))))))

@@ -10,8 +10,8 @@
 (declaim (inline note-instant))
 (defun note-instant (timeline time)
   "Count items applied at TIME; signal a TIMELINE-ERROR when they never end."
-  (declare (double-float time))
-  (if (= time (timeline-now timeline))
+  (declare (integer time))
+  (if (eql time (timeline-now timeline))        ; integers: = is EQL
       (when (> (incf (timeline-instant-count timeline)) *max-items-per-instant*)
         (setf (timeline-instant-count timeline) 0)
         (stuck-instant-error time))
@@ -54,7 +54,7 @@ besides, CONTROLLER's scheduling clock set to NOW."
     (ecase (agenda-item-kind item)
       (:op
        (unless (timeline-quiet timeline)
-         (present-op presenter (agenda-item-op item) (agenda-item-start item))))
+         (present-op presenter (agenda-item-op item) (micros->seconds (agenda-item-start item)))))
       (:delta
        (let ((bits (state-with-fields (controller-bits controller) (agenda-item-a item)
                                       (agenda-item-b item))))
@@ -71,13 +71,15 @@ besides, CONTROLLER's scheduling clock set to NOW."
          (check-triggers-if-turned timeline controller 0)))
       (:macro-start
        (unless (timeline-quiet timeline)
-         (present-macro-start presenter (agenda-item-op item) (agenda-item-start item))))
+         (present-macro-start presenter (agenda-item-op item) (micros->seconds (agenda-item-start item)))))
       (:macro-end
        (unless (timeline-quiet timeline)
-         (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-time item))))
+         (present-macro-end presenter (agenda-item-op item) (micros->seconds (agenda-item-start item))
+                             (micros->seconds (agenda-item-time item)))))
       (:fail
        (unless (timeline-quiet timeline)
-         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item) (agenda-item-time item))))
+         (present-failure presenter (run-name (agenda-item-run item)) (agenda-item-b item)
+                          (micros->seconds (agenda-item-time item)))))
       (:finish (finish-run timeline (agenda-item-run item)))
       (:timer (fire-timer timeline (agenda-item-a item) item (agenda-item-time item))))))
 
@@ -97,21 +99,21 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
 (defun advance-timeline* (timeline time dispatch until-idle)
   "ADVANCE-TIMELINE with all its arguments given."
   (let ((agenda (timeline-agenda timeline))
-        (time (if (typep time 'double-float) time (to-double time)))
+        (time time)
         (steps 0)
         ;; Read once: a special variable's value is looked up on each read.
         (step-limit (if until-idle *finish-events-limit* most-positive-fixnum)))
-    (declare (fixnum steps step-limit) (double-float time))
+    (declare (fixnum steps step-limit) (integer time))
     (loop
       (let ((item (agenda-next agenda)))
         (cond ((and until-idle (null (timeline-deferred timeline))
-                    (or (null item) (> (agenda-item-time item) (timeline-now timeline)))
+                    (or (null item) (micros< (timeline-now timeline) (agenda-item-time item)))
                     (or (null item) (not (timeline-busy-p timeline))))
                (setf time (timeline-now timeline))
                (return))
-              ((and item (<= (agenda-item-time item) time)
+              ((and item (micros<= (agenda-item-time item) time)
                     (not (and dispatch (timeline-deferred timeline)
-                              (> (agenda-item-time item) (timeline-now timeline)))))
+                              (micros< (timeline-now timeline) (agenda-item-time item)))))
                (when (> (incf steps) step-limit)
                  (never-idle-error (timeline-now timeline)))
                #-player-unchecked-engine
@@ -133,9 +135,9 @@ waits (NOW is then that instant), signalling a TIMELINE-ERROR after
                  (mapc #'funcall sends)))
               (t (return)))))
     (setf (timeline-now timeline) time)
-    (when (and (timeline-live-ops timeline) (<= (timeline-live-ops-end timeline) time))
+    (when (and (timeline-live-ops timeline) (micros<= (timeline-live-ops-end timeline) time))
       (forget-ended-ops timeline))
-    (setf (controller-clock (timeline-controller timeline)) time)
+    (setf (controller-clock-micros (timeline-controller timeline)) time)
     ;; No value: a double returned would be boxed, twice per event.
     (values)))
 
@@ -146,7 +148,7 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
   (let ((live-ops (timeline-live-ops timeline))
         (time (timeline-now timeline))
         (agenda (timeline-agenda timeline)))
-    (flet ((ended-p (item) (<= (agenda-item-end item) time)))
+    (flet ((ended-p (item) (micros<= (agenda-item-end item) time)))
       (declare (inline ended-p))              ; not a local call per op
       (loop while (and live-ops (ended-p (first live-ops)))
             do (retire-item agenda (first live-ops))
@@ -157,7 +159,7 @@ NOW, and retire them: their runs are over, so nothing else reaches them."
                         (give-back-cons agenda (shiftf (rest cell) (cddr cell)))))
       (setf (timeline-live-ops timeline) live-ops
             (timeline-live-ops-end timeline)
-            (loop for item in live-ops minimize (agenda-item-end item) of-type double-float)))))
+            (loop for item in live-ops minimize (agenda-item-end item) of-type integer)))))
 
 (defun finish-run (timeline run)
   "RUN is over at TIMELINE's NOW: show the state, and start the waiting events

@@ -41,19 +41,19 @@ says more."))
   :DELTA       set the plannable fields of mask A to the bits B
   :VALUE       set runtime variable A to B
   :MACRO-START macro-op OP's span begins at TIME (and ends at END)
-  :MACRO-END   macro-op OP's span, begun at A (a double), ends at TIME
+  :MACRO-END   macro-op OP's span, begun at A, ends at TIME (times in microseconds)
   :FAIL        the event could not achieve goal B
   :FINISH      the event RUN is over: show the state, start the next one
   :TIMER       timer state A goes off
   :FREE        none: the item is retired, in its agenda's pool (ITEM-POOL.LISP)
 AGENDA-ITEM-START is where an :OP or a macro span starts."
   (kind :op :type keyword)
-  (time 0d0 :type double-float)
+  (time 0 :type integer)
   (seq 0 :type fixnum)
   ;; The EVENT-RUN the item belongs to (NIL for a timer).
   (run nil)
   (op nil)
-  (end 0d0 :type double-float)
+  (end 0 :type integer)
   (a nil)
   (b nil)
   ;; An op's end :DELTA -> that op's :OP item; a :MACRO-START -> its :MACRO-END.
@@ -94,7 +94,7 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   "When the op or macro span of ITEM (:OP, :MACRO-START or :MACRO-END) starts."
   (declare (agenda-item item))
   (if (eq (agenda-item-kind item) :macro-end)
-      (the double-float (agenda-item-a item))
+      (the integer (agenda-item-a item))
       (agenda-item-time item)))
 
 (declaim (inline item-before-p))
@@ -102,7 +102,9 @@ AGENDA-ITEM-START is where an :OP or a macro span starts."
   "Is item A due before item B: an earlier time, or the same time and made earlier?"
   (declare (agenda-item a b))
   (let ((ta (agenda-item-time a)) (tb (agenda-item-time b)))
-    (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))))
+    (if (and (typep ta 'fixnum) (typep tb 'fixnum))   ; the usual times: machine compares
+        (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b))))
+        (or (< ta tb) (and (= ta tb) (< (agenda-item-seq a) (agenda-item-seq b)))))))
 
 (defvar *recycle-agenda-items* t
   "Do the agendas made while it is true use retired agenda items, conses and

@@ -11,26 +11,26 @@
   (or (controller-timeline controller)
       (argument-fail function 'controller controller "a timed controller (make-controller ... :timed t)")))
 
-;; Inline, its usual case: a double from now on, taken as it is.  The rest,
+;; Inline, its usual case: a double from now on, converted.  The rest,
 ;; and the error, are CHECK-TIME-FROM-NOW-SLOWLY's.
 (declaim (inline check-time-from-now))
 (defun check-time-from-now (function argument time timeline)
-  "TIME as seconds, at or after TIMELINE's NOW; else an ARGUMENT-ERROR."
-  (if (and (plain-seconds-p time) (>= time (timeline-now timeline)))
-      time
-      (check-time-from-now-slowly function argument time timeline)))
+  "TIME (seconds) in whole microseconds (SECONDS->MICROS), at or after
+TIMELINE's NOW; else an ARGUMENT-ERROR."
+  (let ((micros (and (plain-seconds-p time) (seconds->micros time))))
+    (if (and micros (micros<= (timeline-now timeline) micros))
+        micros
+        (check-time-from-now-slowly function argument time timeline))))
 
 (defun check-time-from-now-slowly (function argument time timeline)
   "CHECK-TIME-FROM-NOW for any TIME."
-  ;; CHECK-SECONDS returns a double or signals: compared as doubles.
-  (let ((seconds (if (plain-seconds-p time)
-                     time
-                     (the double-float (check-seconds function argument time)))))
-    (when (< seconds (timeline-now timeline))
+  (check-seconds function argument time)
+  (let ((micros (seconds-value->micros time)))
+    (when (micros< micros (timeline-now timeline))
       (argument-fail function argument time
                      (format nil "a time no earlier than now (~A s): a timed controller cannot go back"
-                             (format-number (timeline-now timeline)))))
-    seconds))
+                             (format-micros (timeline-now timeline)))))
+    micros))
 
 ;; Inline, its usual case: no policy given, or one of *WHEN-BUSY-POLICIES*.
 (declaim (inline timed-event-policy))
@@ -53,7 +53,7 @@ if given (an ARGUMENT-ERROR unless it names a policy), else the event's or the s
 (defun send-timed-event (controller event at when-busy)
   "SEND-EVENT on a timed controller (see there)."
   (let* ((timeline (controller-timeline controller))
-         (time (if at (check-time-from-now 'send-event :at at timeline) (boxed-now timeline)))
+         (time (if at (check-time-from-now 'send-event :at at timeline) (timeline-now timeline)))
          (compiled (find-compiled-event controller event))
          (policy (timed-event-policy compiled when-busy)))
     (advance-timeline* timeline time t nil)
@@ -83,7 +83,7 @@ otherwise).  Returns (VALUES NIL :DEFERRED)."
     (when (> time (timeline-now timeline))
       (argument-fail 'send-event :at at
                      (format nil "NIL or now (~A s): an event sent from inside the controller's own event arrives when that one is planned; send later events from outside"
-                             (format-number (timeline-now timeline)))))
+                             (format-micros (timeline-now timeline)))))
     (push (lambda ()
             (dispatch-event timeline compiled (timeline-now timeline) policy :user))
           (timeline-deferred timeline))
@@ -95,14 +95,14 @@ in time order what falls due: op starts, state changes with their autoscripts,
 event ends (a :state line), waiting events starting, timers and triggers; then
 a redefinition waiting for the controller to be idle (REDEFINE-CONTROLLER)
 happens, if it is.
-Returns TIME. Signals an ARGUMENT-ERROR for an untimed controller or a time
-in the past."
+Returns TIME (as a double). Signals an ARGUMENT-ERROR for an untimed controller
+or a time in the past."
   (let* ((timeline (check-timed-controller 'advance controller))
-         (time (check-time-from-now 'advance 'time time timeline)))
-    (advance-timeline* timeline time t nil)
+         (micros (check-time-from-now 'advance 'time time timeline)))
+    (advance-timeline* timeline micros t nil)
     (when (controller-pending controller)
       (install-pending-machine controller))
-    time))
+    (micros->seconds-double micros)))
 
 (declaim (inline controller-time*))
 (defun controller-time* (controller)
@@ -118,7 +118,7 @@ the time it stopped at. Signals a
 TIMELINE-ERROR, at the time reached, when events never stop coming (a timer
 that repeats faster than its event plays, say): ADVANCE to a time instead."
   (let ((timeline (check-timed-controller 'finish-events controller)))
-    (advance-timeline* timeline most-positive-double-float t t)
+    (advance-timeline* timeline +never-micros+ t t)
     (when (controller-pending controller)
       (install-pending-machine controller))
     ;; CONTROLLER-TIME without checking CONTROLLER again.
@@ -129,10 +129,19 @@ that repeats faster than its event plays, say): ADVANCE to a time instead."
   (timeline-busy-p (check-timed-controller 'controller-busy-p controller)))
 
 (defun controller-time (controller)
-  "CONTROLLER's current time: a timed controller's clock, or else when the
-next event would start (the end of the last one)."
+  "CONTROLLER's current time in seconds (a double): a timed controller's clock,
+or else when the next event would start (the end of the last one)."
   (check-argument 'controller-time 'controller controller #'controller-p "a controller (from make-controller)")
   (controller-time* controller))
+
+(defun controller-microseconds (controller)
+  "CONTROLLER-TIME exactly, as the whole number of microseconds a controller
+keeps its times in (up to 1e21 for 1e15 s: an integer, a bignum past 4.6e12 s)."
+  (check-argument 'controller-microseconds 'controller controller #'controller-p
+                  "a controller (from make-controller)")
+  (if (controller-timeline controller)
+      (timeline-now (controller-timeline controller))
+      (controller-clock-micros controller)))
 
 ;;;# A scenario of events
 

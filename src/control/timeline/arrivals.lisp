@@ -55,14 +55,14 @@ planning result (T or a FAILURE; T when it waits)."
     (ecase policy
       (:queue
        (unless (timeline-quiet timeline)
-         (present-queued (timeline-presenter timeline) name time
+         (present-queued (timeline-presenter timeline) name (micros->seconds time)
                          (run-name (if (timeline-queue timeline)
                                        (first (timeline-queue-tail timeline))
                                        (first met)))))
        (enqueue-run timeline run)
        (values :queued t))
       (:override
-       (present-dropped (timeline-presenter timeline) name time (run-name (first met))
+       (present-dropped (timeline-presenter timeline) name (micros->seconds time) (run-name (first met))
                         (footprint-clash footprint (run-footprint* timeline (first met))
                                          (spec-of (timeline-controller timeline))))
        (values :dropped nil))

@@ -19,23 +19,24 @@
         when (eq (first tail) item) return tail))
 
 (defun resolve-cut-points (timeline)
-  "Give each op with (:at POINT...) its points in seconds (doubles), sorted; names are
+  "Give each op with (:at POINT...) its points in microseconds, sorted; names are
 asked of the presenter (CRITICAL-TIME), which signals for an unknown one."
   (let ((presenter (timeline-presenter timeline)))
     (dolist (op (spec-ops (spec-of (timeline-controller timeline))))
       (when (listp (op-interrupt op))
         (setf (gethash op (timeline-cut-points timeline))
               (sort (mapcar (lambda (point)
-                              (if (realp point)
-                                  (to-double point)
-                                  (presenter-seconds (critical-time presenter op point)
-                                                     presenter 'critical-time op)))
+                              (seconds->micros
+                               (if (realp point)
+                                   (to-double point)
+                                   (presenter-seconds (critical-time presenter op point)
+                                                      presenter 'critical-time op))))
                             (op-interrupt op))
                     #'<))))))
 
 ;; Typed, so CUT-RUN compares the times it returns as doubles; inline, so
 ;; they are not boxed to be returned.
-(declaim (ftype (function (t agenda-item double-float) (values double-float &optional)) op-cut-time)
+(declaim (ftype (function (t agenda-item integer) (values integer &optional)) op-cut-time)
          (inline op-cut-time))
 (defun op-cut-time (timeline item time)
   "When the op of :OP ITEM, running at TIME, can stop: its next interruption
@@ -45,23 +46,23 @@ point at or after TIME, else its end."
          (end (agenda-item-end item))
          (interrupt (op-interrupt op)))
     (cond ((eq interrupt :never) end)
-          ((eq interrupt :anytime) (max time start))
-          (t (or (loop for point of-type double-float in (gethash op (timeline-cut-points timeline))
-                       for at of-type double-float = (+ start point)
-                       when (and (>= at time) (<= at end)) return at)
+          ((eq interrupt :anytime) (if (micros< time start) start time))
+          (t (or (loop for point of-type integer in (gethash op (timeline-cut-points timeline))
+                       for at of-type integer = (+ start point)
+                       when (and (micros<= time at) (micros<= at end)) return at)
                  end)))))
 
-(declaim (ftype (function (t t double-float t) (values double-float &optional)) settled-time)
+(declaim (ftype (function (t t integer t) (values integer &optional)) settled-time)
          (inline settled-time))
 (defun settled-time (timeline run time footprint)
   "The earliest moment from TIME when the ops of earlier, already cut runs that
 meet FOOTPRINT (the interrupting event's) are all over.  RUN's own are cut
 below; runs playing beside it on other channels do not matter."
   (let ((settled time))
-    (declare (double-float settled))
+    (declare (integer settled))
     (dolist (item (timeline-live-ops timeline) settled)
       (let ((other (agenda-item-run item)))
-        (when (and (> (agenda-item-end item) settled)
+        (when (and (micros< settled (agenda-item-end item))
                    (not (eq other run)) (run-finished other)
                    (footprints-meet-p footprint (run-footprint* timeline other)))
           (setf settled (agenda-item-end item)))))))
@@ -73,12 +74,12 @@ below; runs playing beside it on other channels do not matter."
 whether RUN has a macro-op."
   ;; Newest first as before the run fed the agenda lazily (RUN-ITEMS was then
   ;; newest first): the cut state changes get their sequence numbers in that order.
-  (declare (double-float time))
+  (declare (integer time))
   (let ((running '()) (macros nil))
     (dolist (item (run-items run) (values running macros))
       (case (agenda-item-kind item)
         (:macro-end (setf macros t))
-        (:op (when (and (item-status-p item :done) (> (agenda-item-end item) time))
+        (:op (when (and (item-status-p item :done) (micros< time (agenda-item-end item)))
                (setf running (spare-cons agenda item running))))))))
 
 (defun cut-run (timeline run time by footprint)
@@ -100,7 +101,7 @@ was left to do)."
         (macros nil))
     ;; RESUME typed, and RESUME-AT inline: the steps compare as fixnums, not
     ;; by a generic MIN in a local call, for each item the cut cancels.
-    (declare (double-float time cut-time) (type (or null fixnum) resume))
+    (declare (integer time cut-time) (type (or null fixnum) resume))
     (flet ((resume-at (item)
              (let ((step (agenda-item-step item)))
                (when (or (null resume) (< step resume))
@@ -110,8 +111,8 @@ was left to do)."
       (multiple-value-setq (running macros) (running-ops agenda run time))
       (dolist (item running)
         (let ((at (op-cut-time timeline item time)))
-          (setf cut-time (max cut-time at))
-          (if (< at (agenda-item-end item))
+          (when (micros< cut-time at) (setf cut-time at))
+          (if (micros< at (agenda-item-end item))
               (multiple-value-bind (mask bits) (cut-effect-fields (agenda-item-op item))
                 (setf (agenda-item-end item) at)
                 (resume-at item)
@@ -146,13 +147,16 @@ was left to do)."
     ;; Close the macros the cut falls in, innermost first.
     (unless (timeline-quiet timeline)
       (dolist (item (and macros (cut-macro-starts run)))
-        (present-macro-end presenter (agenda-item-op item) (agenda-item-start item) cut-time)))
+        (present-macro-end presenter (agenda-item-op item) (micros->seconds (agenda-item-start item))
+                           (micros->seconds cut-time))))
     (cond ((timeline-quiet timeline))
           (shown
            (dolist (item (reverse shown))
-             (present-cut presenter (agenda-item-op item) (agenda-item-start item) (agenda-item-end item) by)))
+             (present-cut presenter (agenda-item-op item) (micros->seconds (agenda-item-start item))
+                          (micros->seconds (agenda-item-end item)) by)))
           (t (present-cut presenter (and finishing (agenda-item-op finishing))
-                          (if finishing (agenda-item-start finishing) time) cut-time by)))
+                          (micros->seconds (if finishing (agenda-item-start finishing) time))
+                          (micros->seconds cut-time) by)))
     (retire-played-items agenda run running keep)
     ;; Lists of this cut alone (the live ops have their own conses).
     (give-back-list agenda running)
@@ -249,7 +253,7 @@ cut, so the macro ends then, declared effects and all."
   (let ((items (run-items run)))
     (dolist (item items keep)
       (when (and (eq (agenda-item-kind item) :macro-end) (item-status-p item :pending)
-                 (<= (agenda-item-time item) cut-time))
+                 (micros<= (agenda-item-time item) cut-time))
         (let ((opening (find item items :key #'agenda-item-owner)))
           (when (and opening
                      (every (lambda (inner)

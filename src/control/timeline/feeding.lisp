@@ -17,7 +17,7 @@ takes them off at the cut.)  With SKIP-OPS, when AGENDA's ops are silent, an
 then (marked :DONE): telling nobody, it need not wait its turn on the agenda,
 and no cut can fall before it (a cut comes once everything due at its instant
 has happened)."
-  (declare (agenda agenda) (list pending) (double-float time))
+  (declare (agenda agenda) (list pending) (integer time))
   (loop (let ((item (first pending)))
           (cond ((null item) (return pending))
                 ((and skip-ops (agenda-silent-ops agenda) (eq (agenda-item-kind item) :op)
@@ -33,7 +33,7 @@ has happened)."
 them (or they are none) and not made yet: a :time directive may leave
 changes due after the event's end, and they stay after it."
   (if (and (null (run-finish run)) (not (run-finished run))
-           (or (null pending) (< (run-finish-time run) (agenda-item-time (first pending)))))
+           (or (null pending) (micros< (run-finish-time run) (agenda-item-time (first pending)))))
       (spare-cons agenda (finish-item agenda run) pending)
       pending))
 

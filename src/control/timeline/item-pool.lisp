@@ -35,7 +35,7 @@
 (defun fresh-agenda-item (agenda kind time run &optional (seq (agenda-next-seq agenda)))
   "A pending item of KIND due at TIME for RUN, with sequence number SEQ
 (AGENDA's next): one from AGENDA's pool, every slot set again, or a new one."
-  (declare (agenda agenda) (double-float time) (fixnum seq))
+  (declare (agenda agenda) (integer time) (fixnum seq))
   (let ((item (agenda-free agenda)))
     (when run
       (incf (run-live-items run)))
@@ -51,7 +51,7 @@
                 (agenda-item-a item) nil
                 (agenda-item-b item) nil
                 (agenda-item-owner item) nil
-                (agenda-item-end item) 0d0
+                (agenda-item-end item) 0
                 (agenda-item-step item) 0
                 (agenda-item-status item) :pending)
           item))))

@@ -11,13 +11,13 @@
 (defun project-state (timeline time)
   "Put into the controller the state it will have at TIME (after NOW): the
 pending state changes due by then, applied without telling anyone."
-  (declare (double-float time))
+  (declare (integer time))
   (let ((controller (timeline-controller timeline))
         (agenda (timeline-agenda timeline))
         (due '()))
     (map-agenda (lambda (item)
                   (when (and (member (agenda-item-kind item) '(:delta :value))
-                             (<= (agenda-item-time item) time))
+                             (micros<= (agenda-item-time item) time))
                     (setf due (spare-cons agenda item due))))
                 agenda)
     (setf due (if (rest due) (sort due #'item-before-p) due))
@@ -39,7 +39,7 @@ from the state due at TIME, then put the controller's state back.  The
 recorded items end with a :FAIL (if the plan failed) and the :FINISH.  With
 ALL-DUE, the changes due at TIME = NOW not applied yet count too (a run
 starting while the items of the instant are being applied)."
-  (declare (double-float time))
+  (declare (integer time))
   (let* ((controller (timeline-controller timeline))
          (recorder (timeline-recorder timeline))
          (bits (controller-bits controller))
@@ -51,7 +51,7 @@ starting while the items of the instant are being applied)."
              (setf (controller-values controller)
                    (replace (the simple-vector (timeline-scratch-values timeline))
                             (the simple-vector values))))
-           (when (or all-due (> time (timeline-now timeline)))
+           (when (or all-due (micros< (timeline-now timeline) time))
              (project-state timeline time))
            (start-recording recorder run)
            (setf (controller-presenter controller) (timeline-recording-presenter timeline)
@@ -61,7 +61,7 @@ starting while the items of the instant are being applied)."
                  (controller-span-start controller) time
                  (controller-span-end controller) time)
            (dolist (var (event-time-variables (run-event run)))
-             (set-runtime-value controller var time time))
+             (set-runtime-value controller var (micros->double time) time))
            (setf result (run-event-plan timeline run controller))
            (unless (eq result t)
              (record-failure recorder (failure-goal-form result) (controller-schedule controller)))

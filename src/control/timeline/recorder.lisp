@@ -50,8 +50,8 @@
   ;; Where a replay keeps the spans of the MACRO-DEPTH macros open (three
   ;; doubles a macro, grown as macros nest deeper), so it conses none
   ;; (REPLAY-MACRO-START).
-  (macro-spans (make-array 12 :element-type 'double-float :initial-element 0d0)
-   :type (simple-array double-float (*)))
+  (macro-spans (make-array 12 :initial-element 0)
+   :type simple-vector)
   (macro-depth 0 :type fixnum))
 
 ;;; What a tape says the closures did, one code per call they made to the
@@ -110,13 +110,12 @@ directive moved the clock back."
   "A new pending item of KIND at TIME for the run RECORDER is planning, added
 last to its items."
   (let* ((run (recorder-run recorder))
-         (time (if (typep time 'double-float) time (to-double time)))
          (item (fresh-agenda-item (recorder-agenda recorder) kind time run))
          (cell (fresh-item-cons (recorder-agenda recorder) item))
          (tail (recorder-items-tail recorder)))
     (setf (agenda-item-step item) (controller-step (recorder-controller recorder)))
     (if tail
-        (progn (when (< time (agenda-item-time (first tail)))
+        (progn (when (micros< time (agenda-item-time (first tail)))
                  (setf (recorder-in-order recorder) nil))
                (setf (rest tail) cell))
         (setf (run-items run) cell))
@@ -125,21 +124,23 @@ last to its items."
 
 (declaim (inline planned-duration))
 (defun planned-duration (recorder op start)
-  "How long OP played from START will take, as the real presenter says."
+  "How long OP played from START will take, as the real presenter says, in
+microseconds (START is too)."
   (if (recorder-declared-durations recorder)
-      (op-duration op)
+      (seconds->micros (op-duration op))
       (let ((presenter (controller-presenter* (recorder-timeline recorder))))
-        (presenter-seconds (planned-op-duration presenter op start) presenter 'planned-op-duration op))))
+        (seconds->micros (presenter-seconds (planned-op-duration presenter op (micros->seconds start))
+                                            presenter 'planned-op-duration op)))))
 
 (declaim (inline record-op))
 (defun record-op (recorder op start)
   "Record OP playing from START; return its duration (what PRESENT-OP would)."
-  (declare (double-float start))
+  (declare (integer start))
   (let ((duration (planned-duration recorder op start))
         (item (record-item recorder :op start)))
-    (declare (double-float duration))
+    (declare (integer duration))
     (setf (agenda-item-op item) op
-          (agenda-item-end item) (+ start duration)
+          (agenda-item-end item) (micros+ start duration)
           (recorder-last-op recorder) item)
     ;; What RUN-FOOTPRINT-FROM-ITEMS would find, known now: an event arriving
     ;; while this run plays asks, and need not walk its items.
@@ -162,9 +163,9 @@ last to its items."
     (note-taped recorder +taped-macro-end+ op 0 0))
   (let ((opening (pop (recorder-open-macros recorder)))
         (item (record-item recorder :macro-end end)))
-    (setf (agenda-item-op item) op (agenda-item-a item) (to-double start)
-          (agenda-item-end item) (to-double end)
-          (agenda-item-end opening) (to-double end)
+    (setf (agenda-item-op item) op (agenda-item-a item) start
+          (agenda-item-end item) end
+          (agenda-item-end opening) end
           (agenda-item-owner opening) item
           (recorder-last-macro-end recorder) item)
     item))
@@ -198,7 +199,7 @@ is boxed between the steps."
   (when (recorder-taping recorder)
     (note-taped recorder +taped-op+ op mask bits))
   (let* ((start (controller-schedule controller))
-         (end (+ start (record-op recorder op start))))
+         (end (micros+ start (record-op recorder op start))))
     (note-op-end controller end)
     (unless (eql mask 0)
       (record-change recorder :delta controller end mask bits op)
@@ -250,15 +251,16 @@ made: a method defined later is not seen by timelines made before.)"
   (:documentation "The presenter of a controller while it plans an event ahead:
 it forwards to its RECORDER, so what is presented then becomes agenda items."))
 
+;; Presenters are handed seconds; the recorder keeps microseconds.
 (defmethod present-op ((presenter recording-presenter) op start)
-  (record-op (presenter-recorder presenter) op (to-double start)))
+  (micros->seconds (record-op (presenter-recorder presenter) op (seconds->micros start))))
 
 (defmethod present-macro-start ((presenter recording-presenter) op start)
-  (record-macro-start (presenter-recorder presenter) op start))
+  (record-macro-start (presenter-recorder presenter) op (seconds->micros start)))
 
 (defmethod present-macro-end ((presenter recording-presenter) op start end)
-  (record-macro-end (presenter-recorder presenter) op start end))
+  (record-macro-end (presenter-recorder presenter) op (seconds->micros start) (seconds->micros end)))
 
 (defmethod present-failure ((presenter recording-presenter) event goal time)
   (declare (ignore event))
-  (record-failure (presenter-recorder presenter) goal time))
+  (record-failure (presenter-recorder presenter) goal (seconds->micros time)))

@@ -33,7 +33,7 @@ directive it starts from (above 0 when it resumes an interrupted run)."
   ;; When it ends and the sequence number its :FINISH item gets: that item is
   ;; made only when the run gets there (FINISH-ITEM), so a run that is cut
   ;; short, or planned on trial and dropped, never makes one.
-  (finish-time 0d0 :type double-float)
+  (finish-time 0 :type integer)
   (finish-seq 0 :type fixnum)
   (finish nil))
 

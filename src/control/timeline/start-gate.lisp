@@ -19,8 +19,8 @@ items on the agenda."
   (unless (timeline-quiet timeline)
     (let ((presenter (timeline-presenter timeline)))
       (if (run-resumed run)
-          (present-resume presenter (run-name run) time)
-          (present-event presenter (run-name run) time))))
+          (present-resume presenter (run-name run) (micros->seconds time))
+          (present-event presenter (run-name run) (micros->seconds time)))))
   (setf (timeline-runs timeline) (cond ((timeline-runs timeline)
                                         (append (timeline-runs timeline) (list run)))
                                        ((timeline-spare-runs-cons timeline)
@@ -59,7 +59,7 @@ items on the agenda."
 is the result of RUN's plan already made from TIME (its plan on trial).
 Returns the time RUN may start, RUN planned from then, and its planning result
 (two values); or NIL, RUN holding no plan, when a running event is in its way."
-  (declare (double-float time)
+  (declare (integer time)
            ;; Defined (inline, for CUT-RUN) in cuts.lisp, compiled after this file.
            (notinline settled-time))
   (when (untried-p timeline run)
@@ -75,7 +75,7 @@ Returns the time RUN may start, RUN planned from then, and its planning result
         (forget-plan timeline run)
         (return nil))
       (let ((settled (settled-time timeline nil time (run-footprint run))))
-        (declare (double-float settled))
+        (declare (integer settled))
         (when (= settled time)
           (return (values time result)))
         ;; Ops still playing are in its way: plan again from when they are over.
@@ -86,16 +86,16 @@ Returns the time RUN may start, RUN planned from then, and its planning result
 (declaim (inline live-ops-over-p))
 (defun live-ops-over-p (timeline time)
   "Are the ops of interrupted events still playing all over by TIME?"
-  (declare (double-float time))
+  (declare (integer time))
   (loop for item in (timeline-live-ops timeline)
-        never (> (agenda-item-end item) time)))
+        never (micros< time (agenda-item-end item))))
 
 (defun start-or-wait (timeline run time &optional trial)
   "RUN passes the start gate at TIME: it starts then or later, or it waits
 first in the queue.  TRIAL, if given, is the result of RUN's plan on trial
 from TIME, which meets no running event.  Returns :STARTED and its planning
 result, or :QUEUED and T."
-  (declare (double-float time))
+  (declare (integer time))
   (if (and (or trial (null (timeline-runs timeline))) (live-ops-over-p timeline time))
       ;; Nothing can be in its way (the usual case, a preemptor after its
       ;; cuts included: the ops it cut end when it starts): it starts now.

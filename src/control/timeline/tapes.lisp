@@ -127,9 +127,9 @@ doubles, three a macro open: START, OUTER-START, OUTER-END)."
   (let* ((spans (recorder-macro-spans recorder))
          (at (* 3 (recorder-macro-depth recorder)))
          (start (controller-schedule controller)))
-    (declare (type (simple-array double-float (*)) spans) (fixnum at))
+    (declare (simple-vector spans) (fixnum at))
     (when (> (+ at 3) (length spans))
-      (setf spans (replace (make-array (* 2 (length spans)) :element-type 'double-float) spans)
+      (setf spans (replace (make-array (* 2 (length spans)) :initial-element 0) spans)
             (recorder-macro-spans recorder) spans))
     (setf (aref spans at) start
           (aref spans (+ at 1)) (controller-span-start controller)
@@ -147,9 +147,9 @@ its span closes, the clock moves to its end."
          (start (aref spans at))
          (outer-end (aref spans (+ at 2)))
          (end (controller-span-end controller)))
-    (declare (type (simple-array double-float (*)) spans) (fixnum at))
+    (declare (simple-vector spans) (fixnum at))
     (setf (controller-span-start controller) (aref spans (+ at 1))
-          (controller-span-end controller) (max outer-end end)
+          (controller-span-end controller) (if (micros< outer-end end) end outer-end)
           (controller-schedule controller) end)
     (record-macro-end recorder op start end)))
 

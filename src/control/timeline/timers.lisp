@@ -12,7 +12,7 @@ Re-arming only moves DUE later; the item, when its old time comes, goes back
 on the agenda for the new one, so a timer restarted by every event keeps one
 item on the agenda, not one per restart."
   (def nil :type timer-def)
-  (due nil :type (or null double-float))
+  (due nil :type (or null integer))
   (seq 0 :type fixnum)
   (item nil))
 
@@ -28,7 +28,7 @@ numbers (then any change may turn it)."
 
 (defun arm-timer (timeline state time)
   "Make STATE's timer go off its :after seconds after TIME."
-  (setf (timer-state-due state) (+ time (timer-after (timer-state-def state)))
+  (setf (timer-state-due state) (+ time (seconds->micros (timer-after (timer-state-def state))))
         (timer-state-seq state) (next-seq timeline))
   (unless (timer-state-item state)
     (let ((item (make-agenda-item :timer (timer-state-due state) (timer-state-seq state) nil)))
@@ -73,7 +73,7 @@ re-armed for later: show it, re-arm it if it repeats, send its event."
   "STATE's timer goes off at TIME: show it, re-arm it if it repeats, send its event."
   (let ((def (timer-state-def state)))
     (setf (timer-state-due state) nil)
-    (present-timer (timeline-presenter timeline) (timer-name def) time)
+    (present-timer (timeline-presenter timeline) (timer-name def) (micros->seconds time))
     (when (timer-repeat def)
       (arm-timer timeline state time))
     (send-own-event timeline (timer-event def) time :timer)))
@@ -138,6 +138,7 @@ become true."
           (when (and holds (not (trigger-state-held state)))
             (setf (trigger-state-held state) t)
             (let ((time (timeline-now timeline)))
-              (present-trigger (timeline-presenter timeline) (trigger-name (trigger-state-def state)) time)
+              (present-trigger (timeline-presenter timeline) (trigger-name (trigger-state-def state))
+                               (micros->seconds time))
               (send-own-event timeline (trigger-event (trigger-state-def state)) time :trigger)))
           (setf (trigger-state-held state) holds))))))

@@ -11,17 +11,22 @@ public:
   /// dropped, when it started and its plan failed (failed_goal() names the
   /// goal), when AT lies before now(), or when the timeline has stopped
   /// (timeline_error()).
-  bool send_timed(Event e, double at, WhenBusy policy = WhenBusy::as_declared);
+  bool send_timed(Event e, Time at, WhenBusy policy = WhenBusy::as_declared);
+  /// The same, AT in seconds (Time::from_seconds: the nearest microsecond).
+  bool send_timed(Event e, double at, WhenBusy policy = WhenBusy::as_declared) {
+    return send_timed(e, Time::from_seconds(at), policy);
+  }
   /// Move the clock to TIME (not before now()), presenting what falls due: op
   /// starts, state changes with their autoscripts, event ends, waiting events,
   /// timers and triggers.  False when TIME lies before now() or the timeline stopped.
-  bool advance(double time);
+  bool advance(Time time);
+  bool advance(double seconds) { return advance(Time::from_seconds(seconds)); }
   /// Advance until no event runs or waits (armed timers stay armed); returns now().
-  double finish_events();
+  Time finish_events();
   /// Is an event running (or waiting)?
   bool busy() const { return !runs_.empty() || !queue_.empty(); }
   /// The timed clock.
-  double now() const { return timeline_started_ ? now_ : clock_; }
+  Time now() const { return timeline_started_ ? now_ : clock_; }
   /// Empty, or why the timeline stopped (over 100000 things at one instant:
   /// triggers firing each other, or zero-length ops in a loop).
   const std::string& timeline_error() const { return timeline_error_; }

@@ -9,6 +9,6 @@ void check_timeline(const ctl::Controller& controller) {
 // UNTIL (seconds, or - to play until no event runs or waits), POLICY (0 for
 // each event's own, else 1 + the policy's position in WhenBusy's list) for
 // the timed entries, then the entries: INDEX (sent when the events before it
-// have ended) or INDEX@SECONDS.
+// have ended) or INDEX@SECONDS, seconds an exact decimal (ctl::parse_time).
 int main(int argc, char** argv) {
 

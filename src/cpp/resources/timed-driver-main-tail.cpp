@@ -20,7 +20,11 @@
       check_timeline(controller);
       controller.send_timed(event, controller.now());
     } else {
-      const double time = std::strtod(entry.c_str() + at + 1, nullptr);
+      ctl::Time time;
+      if (!ctl::parse_time(entry.substr(at + 1), time)) {
+        std::fprintf(stderr, "bad time in %s\n", argv[next]);
+        return 2;
+      }
       if (time < controller.now()) {
         std::fprintf(stderr, "%s arrives at %s, before now (%s): a timed controller cannot go back\n",
                      ctl::event_name(event), number(time).c_str(), number(controller.now()).c_str());
@@ -33,7 +37,11 @@
   if (until == "-") {
     controller.finish_events();
   } else {
-    const double time = std::strtod(until.c_str(), nullptr);
+    ctl::Time time;
+    if (!ctl::parse_time(until, time)) {
+      std::fprintf(stderr, "bad time %s\n", until.c_str());
+      return 2;
+    }
     if (time < controller.now()) {
       std::fprintf(stderr, "until %s lies before now (%s): a timed controller cannot go back\n",
                    number(time).c_str(), number(controller.now()).c_str());

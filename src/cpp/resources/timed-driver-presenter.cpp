@@ -1,22 +1,22 @@
-  void cut(const ctl::Op* op, double, double time, const char* by) override {
+  void cut(const ctl::Op* op, ctl::Time, ctl::Time time, const char* by) override {
     // An op's line gave its planned end: :end says where it stopped.
     add(std::string("(:cut ") + (op ? op->name : "nil") + " :time " + number(time) + " :by " + by +
         (op ? " :end " + number(time) : std::string()) + ")");
   }
-  void dropped(const char* event, double time, const char* busy_with, const std::string& clash) override {
+  void dropped(const char* event, ctl::Time time, const char* busy_with, const std::string& clash) override {
     add(std::string("(:dropped ") + event + " :time " + number(time) + " :busy-with " + busy_with +
         " :clash " + clash + ")");
   }
-  void queued(const char* event, double time, const char* behind) override {
+  void queued(const char* event, ctl::Time time, const char* behind) override {
     add(std::string("(:queued ") + event + " :time " + number(time) + " :behind " + behind + ")");
   }
-  void resumed(const char* event, double time) override {
+  void resumed(const char* event, ctl::Time time) override {
     add(std::string("(:resume ") + event + " :time " + number(time) + ")");
   }
-  void timer(const char* name, double time) override {
+  void timer(const char* name, ctl::Time time) override {
     add(std::string("(:timer ") + name + " :time " + number(time) + ")");
   }
-  void trigger(const char* name, double time) override {
+  void trigger(const char* name, ctl::Time time) override {
     add(std::string("(:trigger ") + name + " :time " + number(time) + ")");
   }
   // At the end of a scenario stopped midway: the lines still waiting, an open

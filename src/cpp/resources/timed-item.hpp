@@ -3,12 +3,12 @@ private:
   // Something due on the timeline (see src/control/timeline/agenda.lisp).
   struct Item {
     int kind = 0;
-    double time = 0;
+    Time time;
     long long seq = 0;
     std::shared_ptr<Run> run;    // the Run it belongs to (null for a timer)
     int event = 0;               // its Run's event
     int op = 0;
-    double start = 0, end = 0;
+    Time start, end;
     StateBits mask{}, bits{};    // a state change: fields MASK become BITS
     int var = 0;                 // a runtime value: variable VAR becomes INTEGER or NUMBER
     long long integer = 0;

@@ -11,7 +11,7 @@ Controller::~Controller() {
   for (const std::shared_ptr<Run>& run : runs_) run->items.clear();
 }
 
-bool Controller::send_timed(Event e, double at, WhenBusy policy) {
+bool Controller::send_timed(Event e, Time at, WhenBusy policy) {
   start_timeline_();
   if (!timeline_error_.empty() || !(at >= now_) || !advance_to_(at)) return false;
   failed_goal_ = "";
@@ -20,13 +20,13 @@ bool Controller::send_timed(Event e, double at, WhenBusy policy) {
   return dispatch_(event, at, chosen, kFromOutside) == 1 && timeline_error_.empty();
 }
 
-bool Controller::advance(double time) {
+bool Controller::advance(Time time) {
   start_timeline_();
   if (!timeline_error_.empty() || !(time >= now_)) return false;
   return advance_to_(time);
 }
 
-double Controller::finish_events() {
+Time Controller::finish_events() {
   start_timeline_();
   while (busy() && timeline_error_.empty()) {
     const std::shared_ptr<Item> item = next_item_();
@@ -39,7 +39,7 @@ double Controller::finish_events() {
 // TIME.  The events timers and triggers send at an instant are dispatched
 // once everything else due then has happened (unless DISPATCH is false: then
 // they wait for the advance_to_ that called this one).
-bool Controller::advance_to_(double time, bool dispatch) {
+bool Controller::advance_to_(Time time, bool dispatch) {
   for (;;) {
     const std::shared_ptr<Item> item = next_item_();
     if (item && item->time <= time && !(dispatch && !deferred_.empty() && item->time > now_)) {
@@ -68,21 +68,21 @@ bool Controller::advance_to_(double time, bool dispatch) {
 }
 
 // Count the items applied at TIME; stop when they never end.
-bool Controller::note_instant_(double time) {
+bool Controller::note_instant_(Time time) {
   if (time != now_) {
     instant_count_ = 0;
     return true;
   }
   if (++instant_count_ <= kMaxItemsPerInstant) return true;
   instant_count_ = 0;
-  timeline_error_ = "the timeline does not move on at time " + format_number(time) +
+  timeline_error_ = "the timeline does not move on at time " + to_string(time) +
                     ": over 100000 things happen at that instant (triggers firing each other, "
                     "or zero-length ops in a loop)";
   return false;
 }
 
 void Controller::apply_item_(const std::shared_ptr<Item>& item) {
-  const double time = item->time;
+  const Time time = item->time;
   switch (item->kind) {
     case kItemOp:
       live_ops_.push_back(item);
@@ -119,7 +119,7 @@ void Controller::apply_item_(const std::shared_ptr<Item>& item) {
 
 // RUN is over at TIME: show the state, and start the waiting events that no
 // running event meets any more, first first.
-void Controller::finish_run_(std::shared_ptr<Run> run, double time) {
+void Controller::finish_run_(std::shared_ptr<Run> run, Time time) {
   run->finished = true;
   presenter_.event_end(*this);
   runs_.erase(std::remove(runs_.begin(), runs_.end(), run), runs_.end());
@@ -129,10 +129,10 @@ void Controller::finish_run_(std::shared_ptr<Run> run, double time) {
 
 // Start the waiting runs, first first, each at TIME or when the start gate
 // lets it (gate_run_), until one finds a running event in its way.
-void Controller::start_waiting_runs_(double time) {
+void Controller::start_waiting_runs_(Time time) {
   while (!queue_.empty()) {
     const std::shared_ptr<Run> next = queue_.front();
-    double start = time;
+    Time start = time;
     int result = 0;
     if (!gate_run_(next, start, result, 0)) return;
     queue_.pop_front();
@@ -143,7 +143,7 @@ void Controller::start_waiting_runs_(double time) {
 // Make TIMER go off its :after seconds after TIME.  Re-arming only moves its
 // due time later; its item, when the old time comes, goes back on the agenda
 // for the new one (so a timer restarted by every event keeps one item).
-void Controller::arm_timer_(int timer, double time) {
+void Controller::arm_timer_(int timer, Time time) {
   timer_due_[timer] = time + kTimerAfter[timer];
   timer_seq_[timer] = ++seq_;
   if (timer_items_[timer]) return;
@@ -157,7 +157,7 @@ void Controller::arm_timer_(int timer, double time) {
 }
 
 // A timer's ITEM has come up at TIME: it goes off, unless it was re-armed for later.
-void Controller::fire_timer_(const std::shared_ptr<Item>& item, double time) {
+void Controller::fire_timer_(const std::shared_ptr<Item>& item, Time time) {
   const int timer = item->timer;
   if (!(timer_due_[timer] == time && timer_seq_[timer] == item->seq)) {
     item->time = timer_due_[timer];

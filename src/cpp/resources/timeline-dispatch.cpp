@@ -1,4 +1,4 @@
-int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
+int Controller::start_run_(const std::shared_ptr<Run>& run, Time time) {
   const int result = plan_run_(run, time);
   install_run_(run, time);
   return result;
@@ -6,7 +6,7 @@ int Controller::start_run_(const std::shared_ptr<Run>& run, double time) {
 
 // RUN, planned ahead from TIME, starts: show it, note its footprint, put its
 // items on the agenda.
-void Controller::install_run_(const std::shared_ptr<Run>& run, double time) {
+void Controller::install_run_(const std::shared_ptr<Run>& run, Time time) {
   if (run->resumed)
     presenter_.resumed(kEventNames[run->event], time);
   else
@@ -20,7 +20,7 @@ void Controller::install_run_(const std::shared_ptr<Run>& run, double time) {
 // EVENT arrives at TIME (now) from SOURCE: planned on trial, it starts
 // (start_or_wait_) when it meets none of the running events, else POLICY
 // resolves it against those it meets.  1 accepted, 0 dropped, 2 its plan failed.
-int Controller::dispatch_(int event, double time, int policy, int source) {
+int Controller::dispatch_(int event, Time time, int policy, int source) {
   note_event_for_timers_(event, source, time);
   const std::shared_ptr<Run> run = std::make_shared<Run>();
   run->event = event;
@@ -40,7 +40,7 @@ int Controller::dispatch_(int event, double time, int policy, int source) {
 // RESULT its planning result; false, RUN holding no plan, when a running
 // event is in its way.  TRIAL, unless 0, is the result of RUN's plan already
 // made from TIME.
-bool Controller::gate_run_(const std::shared_ptr<Run>& run, double& time, int& result, int trial) {
+bool Controller::gate_run_(const std::shared_ptr<Run>& run, Time& time, int& result, int trial) {
   if (untried_(*run)) {
     // Taken to meet everything: planned (once: it may run code) only when
     // nothing plays, after every op still playing.
@@ -57,7 +57,7 @@ bool Controller::gate_run_(const std::shared_ptr<Run>& run, double& time, int& r
       forget_plan_(*run);
       return false;
     }
-    const double settled = settled_time_(nullptr, time, run->footprint);
+    const Time settled = settled_time_(nullptr, time, run->footprint);
     if (settled == time) return true;
     // Ops still playing are in its way: plan again from when they are over.
     forget_plan_(*run);
@@ -69,7 +69,7 @@ bool Controller::gate_run_(const std::shared_ptr<Run>& run, double& time, int& r
 // RUN (planned from TIME on trial with result TRIAL, a plan meeting no running
 // event, unless TRIAL is 0) passes the start gate at TIME: it starts then or
 // later, or waits first in the queue.  Its planning result, or 1 when it waits.
-int Controller::start_or_wait_(const std::shared_ptr<Run>& run, double time, int trial) {
+int Controller::start_or_wait_(const std::shared_ptr<Run>& run, Time time, int trial) {
   bool clear = trial != 0 || runs_.empty();
   for (const std::shared_ptr<Item>& op : live_ops_)
     if (op->run->finished && op->end > time) clear = false;
@@ -89,7 +89,7 @@ int Controller::start_or_wait_(const std::shared_ptr<Run>& run, double time, int
 }
 
 // RUN arrives at TIME while events it meets play: do what POLICY says.
-int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int policy) {
+int Controller::resolve_busy_(const std::shared_ptr<Run>& run, Time time, int policy) {
   std::vector<std::shared_ptr<Run>> met;
   for (const std::shared_ptr<Run>& other : runs_)
     if (!run->planned || footprints_meet_(run->footprint, other->footprint)) met.push_back(other);
@@ -107,11 +107,11 @@ int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int 
                        clash_text_(footprint, met.front()->footprint));
     return 0;
   }
-  double cut_time = time;
+  Time cut_time = time;
   std::vector<std::shared_ptr<Run>> resumptions;
   for (const std::shared_ptr<Run>& other : met) {
     int resume = -1;
-    const double at = cut_run_(*other, time, run->event, footprint, resume);
+    const Time at = cut_run_(*other, time, run->event, footprint, resume);
     if (at > cut_time) cut_time = at;
     if (policy == kInterleave && resume >= 0) {
       const std::shared_ptr<Run> again = std::make_shared<Run>();
@@ -136,7 +136,7 @@ int Controller::resolve_busy_(const std::shared_ptr<Run>& run, double time, int 
 
 // A timer or trigger sends EVENT at TIME by its own policy, once everything
 // else due at TIME has happened.
-void Controller::send_own_(int event, double time, int source) {
+void Controller::send_own_(int event, Time time, int source) {
   Send send;
   send.event = event;
   send.time = time;
@@ -146,8 +146,8 @@ void Controller::send_own_(int event, double time, int source) {
 
 // The earliest moment from TIME when the ops of earlier, already cut runs
 // (not RUN) that meet FOOTPRINT are all over.
-double Controller::settled_time_(const Run* run, double time, const Footprint& footprint) const {
-  double settled = time;
+Time Controller::settled_time_(const Run* run, Time time, const Footprint& footprint) const {
+  Time settled = time;
   for (const std::shared_ptr<Item>& op : live_ops_) {
     const Run* other = op->run.get();
     if (other != run && other->finished && footprints_meet_(footprint, other->footprint) && op->end > settled)
@@ -160,8 +160,8 @@ double Controller::settled_time_(const Run* run, double time, const Footprint& f
 // ops stop at their next interruption point, the rest is cancelled.  Returns
 // when the new event can start; RESUME is the directive RUN would resume
 // from (-1: nothing left).
-double Controller::cut_run_(Run& run, double time, int by, const Footprint& footprint, int& resume) {
-  double cut_time = settled_time_(&run, time, footprint);
+Time Controller::cut_run_(Run& run, Time time, int by, const Footprint& footprint, int& resume) {
+  Time cut_time = settled_time_(&run, time, footprint);
   std::vector<std::shared_ptr<Item>> keep;
   std::vector<const Item*> shown;
   const Item* finishing = nullptr;
@@ -172,7 +172,7 @@ double Controller::cut_run_(Run& run, double time, int by, const Footprint& foot
   for (auto it = run.items.rbegin(); it != run.items.rend(); ++it) {
     Item& item = **it;
     if (item.kind != kItemOp || item.status != kDone || !(item.end > time)) continue;
-    const double at = op_cut_time_(item, time);
+    const Time at = op_cut_time_(item, time);
     if (at > cut_time) cut_time = at;
     if (at < item.end) {
       StateBits mask{}, bits{};
@@ -234,7 +234,7 @@ double Controller::cut_run_(Run& run, double time, int by, const Footprint& foot
 // CUT_TIME with every pending item inside it kept: its last sub-op runs to
 // its end through the cut, so the macro ends then, declared effects and all.
 void Controller::keep_finished_macros_(const Run& run, std::vector<std::shared_ptr<Item>>& keep,
-                                       double cut_time) {
+                                       Time cut_time) {
   const auto kept = [&keep](const Item* item) {
     for (const std::shared_ptr<Item>& other : keep)
       if (other.get() == item) return true;

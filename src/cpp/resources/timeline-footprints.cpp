@@ -96,12 +96,12 @@ bool Controller::untried_(const Run& run) const {
 
 // Plan RUN ahead from TIME to learn its footprint: its plan's result, or -1
 // (untried, see untried_).
-int Controller::plan_on_trial_(const std::shared_ptr<Run>& run, double time) {
+int Controller::plan_on_trial_(const std::shared_ptr<Run>& run, Time time) {
   return untried_(*run) ? -1 : plan_footprint_(run, time, false);
 }
 
 // Plan RUN ahead from TIME (ALL_DUE: see plan_run_) and note its footprint.
-int Controller::plan_footprint_(const std::shared_ptr<Run>& run, double time, bool all_due) {
+int Controller::plan_footprint_(const std::shared_ptr<Run>& run, Time time, bool all_due) {
   const int result = plan_run_(run, time, all_due);
   note_footprint_(*run);
   return result;

@@ -1,4 +1,4 @@
-Controller::Item& Controller::record_(int kind, double time) {
+Controller::Item& Controller::record_(int kind, Time time) {
   const std::shared_ptr<Item> item = std::make_shared<Item>();
   item->kind = kind;
   item->time = time;
@@ -10,7 +10,7 @@ Controller::Item& Controller::record_(int kind, double time) {
   return *item;
 }
 
-void Controller::record_op_(int op, double start, double end) {
+void Controller::record_op_(int op, Time start, Time end) {
   Item& item = record_(kItemOp, start);
   item.op = op;
   item.start = start;
@@ -18,7 +18,7 @@ void Controller::record_op_(int op, double start, double end) {
   last_op_ = &item;
 }
 
-void Controller::record_delta_(const StateBits& mask, const StateBits& bits, double time, Item* owner) {
+void Controller::record_delta_(const StateBits& mask, const StateBits& bits, Time time, Item* owner) {
   Item& item = record_(kItemDelta, time);
   item.mask = mask;
   item.bits = bits;
@@ -27,31 +27,31 @@ void Controller::record_delta_(const StateBits& mask, const StateBits& bits, dou
 }
 
 // A macro's end: the fields its effects change.
-void Controller::record_state_(const StateBits& next, double time) {
+void Controller::record_state_(const StateBits& next, Time time) {
   const StateBits mask = changed_fields(state_.bits, next);
   record_delta_(mask, common_bits(next, mask), time, last_macro_end_);
 }
 
-void Controller::record_value_(int var, long long value, double time) {
+void Controller::record_value_(int var, long long value, Time time) {
   Item& item = record_(kItemValue, time);
   item.var = var;
   item.integer = value;
 }
 
-void Controller::record_value_(int var, double value, double time) {
+void Controller::record_value_(int var, double value, Time time) {
   Item& item = record_(kItemValue, time);
   item.var = var;
   item.number = value;
 }
 
-void Controller::record_macro_start_(int op, double start) {
+void Controller::record_macro_start_(int op, Time start) {
   Item& item = record_(kItemMacroStart, start);
   item.op = op;
   item.start = start;
   open_macros_.push_back(&item);
 }
 
-void Controller::record_macro_end_(int op, double start, double end) {
+void Controller::record_macro_end_(int op, Time start, Time end) {
   Item* opening = open_macros_.back();
   open_macros_.pop_back();
   Item& item = record_(kItemMacroEnd, end);
@@ -64,7 +64,7 @@ void Controller::record_macro_end_(int op, double start, double end) {
 }
 
 // Put into the state the pending changes due by TIME, telling no one.
-void Controller::project_state_(double time) {
+void Controller::project_state_(Time time) {
   std::vector<const Item*> due;
   for (const std::shared_ptr<Item>& item : agenda_)
     if (item->status == kPending && (item->kind == kItemDelta || item->kind == kItemValue) &&
@@ -82,7 +82,7 @@ void Controller::project_state_(double time) {
 // Plan RUN ahead from TIME: its items, then the state put back (labels stay).
 // With ALL_DUE, the changes due at TIME = now_ not applied yet count too (a
 // run starting while the items of the instant are being applied).
-int Controller::plan_run_(const std::shared_ptr<Run>& run, double time, bool all_due) {
+int Controller::plan_run_(const std::shared_ptr<Run>& run, Time time, bool all_due) {
   const State saved = state_;
   if (all_due || time > now_) project_state_(time);
   recording_ = run;
