@@ -17,12 +17,19 @@
 (in-package #:player.speech)
 
 (defvar *sphinx-decoder* nil
-  "The decoder, made on first use: making one loads the model (a few tenths of
-a second); grammars and learnt words are kept in it.")
+  "The decoder of whole utterances, made on first use: making one loads the
+model (a few tenths of a second); grammars and learnt words are kept in it.")
 
 (defvar *phone-loop-decoder* nil
-  "A second decoder, searching the phone loop only, made on first use: kept
-apart from the grammars' so the two can hear a microphone side by side.")
+  "A second decoder of whole utterances, searching the phone loop only, made
+on first use.")
+
+(defvar *listening-decoders* nil
+  "The grammar's decoder and the phone loop's (a cons) that hear a microphone
+side by side, made on first use.  Kept apart from the decoders of whole
+utterances: a decoder fed a stream piece by piece normalises its cepstra by
+a running mean from then on, which would make what a whole utterance is
+heard as depend on what was heard before.")
 
 (defparameter *rejection-margin* -32.0
   "The least SCORE (the grammar's acoustic score less the phone loop's, per
@@ -59,11 +66,14 @@ fifth of the sound's length, so a longer one is refused rather than decoded.")
                               (directory-pathname tmp)
                               #p"/tmp/"))))
 
-(defun grammar-decoder (grammar)
-  "The decoder, searching the JSGF text GRAMMAR, having learnt how espeak-ng
-says the grammar's words its dictionary lacks.  A SPEECH-ERROR names the
-words it could learn no pronunciation for."
-  (let ((decoder (or *sphinx-decoder* (setf *sphinx-decoder* (make-sphinx-decoder)))))
+(defun grammar-decoder (grammar &key listening)
+  "The decoder of whole utterances (of a microphone's stream when LISTENING),
+searching the JSGF text GRAMMAR, having learnt how espeak-ng says the
+grammar's words its dictionary lacks.  A SPEECH-ERROR names the words it
+could learn no pronunciation for."
+  (let ((decoder (if listening
+                     (car (listening-decoders))
+                     (or *sphinx-decoder* (setf *sphinx-decoder* (make-sphinx-decoder))))))
     (unless (gethash grammar (sphinx-decoder-searches decoder))
       (let ((unknown (remove-if (lambda (word) (sphinx-knows-word-p decoder word)) (grammar-words grammar))))
         (dolist (word unknown)
@@ -76,6 +86,13 @@ words it could learn no pronunciation for."
                 (speech-fail "pocketsphinx's dictionary lacks ~A, and espeak-ng gives it no pronunciation" word))))))
     (sphinx-use-grammar decoder grammar)
     decoder))
+
+(defun listening-decoders ()
+  "*LISTENING-DECODERS*, made on first use: (GRAMMAR-DECODER . PHONE-LOOP-DECODER)."
+  (or *listening-decoders*
+      (let ((phones (make-sphinx-decoder)))
+        (sphinx-use-phone-loop phones)
+        (setf *listening-decoders* (cons (make-sphinx-decoder) phones)))))
 
 (defun jsgf-text-p (x)
   "Is X a string that starts like a JSGF grammar (#JSGF)?"
