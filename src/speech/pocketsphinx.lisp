@@ -133,6 +133,16 @@ Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
       (%ckd-free phones)
       t)))
 
+(defun sphinx-pronunciations (decoder word)
+  "The pronunciations DECODER's dictionary gives WORD (its own, then WORD(2),
+WORD(3)...), each CMU phones separated by spaces."
+  (loop for k from 1
+        for phones = (%ps-lookup-word (sphinx-decoder-handle decoder)
+                                      (if (= k 1) word (format nil "~A(~D)" word k)))
+        until (cffi:null-pointer-p phones)
+        collect (prog1 (string-trim " " (cffi:foreign-string-to-lisp phones))
+                  (%ckd-free phones))))
+
 (defun sphinx-add-word (decoder word phones)
   "Teach DECODER WORD, pronounced PHONES (CMU phones separated by spaces, such
 as \"HH AH L OW\"); a SPEECH-ERROR when it refuses them."
