@@ -17,12 +17,25 @@
             until (eq form in)
             when (string-equal (symbol-name (first form)) name) return (rest form)))))
 
+(defun spoken-sound (text voice)
+  "TEXT said by espeak-ng's VOICE at Player's speech rate, by the espeak-ng
+program: a process of its own starts from espeak-ng's initial state each
+time, so the sound is always the same.  (The library carries its state,
+such as its pitch flutter's phase, from one sentence to the next: the same
+text sounds a little different after other sentences, enough to change
+what is heard.)"
+  (let ((wav (speech-file "spoken-sentence.wav")))
+    (sb-ext:run-program "espeak-ng" (list "-v" voice "-s" (princ-to-string player.speech::*default-speech-rate*)
+                                          "-w" wav text)
+                        :search t)
+    (read-wav wav)))
+
 (defun spoken-turn-event (dialogue text voice)
-  "The input event and slots a turn takes when VOICE says TEXT and the
-jukebox grammar hears it, rejection included, and the recognition's score:
-(VALUES EVENT SLOTS SCORE HEARD)."
+  "The input event and slots a turn takes when VOICE says TEXT (SPOKEN-SOUND)
+and the jukebox grammar hears it, rejection included, and the recognition's
+score: (VALUES EVENT SLOTS SCORE HEARD)."
   (multiple-value-bind (heard score sentence)
-      (recognize-sound (utterance-sound (synthesize-speech text :voice voice)) :grammar (dialogue-jsgf dialogue))
+      (recognize-sound (spoken-sound text voice) :grammar (dialogue-jsgf dialogue))
     (let ((turn (conversation-hear (make-conversation dialogue) heard)))
       (values (turn-event turn) (turn-slots turn) score sentence))))
 
@@ -53,53 +66,60 @@ among the *TUNING-SENTENCES*."
     (format nil "~{~D of ~D~} (tuning ~{~D of ~D~}, held out ~{~D of ~D~})"
             (counts results) (counts (remove-if #'fifth results)) (counts (remove-if-not #'fifth results)))))
 
-(defun share-right (results)
-  "The share of RESULTS that are right."
-  (/ (count-if #'second results) (max 1 (length results))))
+(defun nine-in-ten-p (results)
+  "Are at least 9 in 10 of RESULTS right (the issue's target)?  The fast
+tier's sample of 7 sentences per set only checks the machinery, all but two
+right: the sample takes the sets' last sentences, where the misses are."
+  (<= (count-if-not #'second results) (sweep-count (max 1 (floor (length results) 10)) 2)))
 
-(defun call-with-fresh-recognisers (function)
-  "Call FUNCTION with new decoders, freed after: a decoder adapts to what it
-heard before (its running cepstral mean, its dither's random sequence), so the
-suites run before this one would otherwise change what it measures."
-  (let ((player.speech::*sphinx-decoder* nil)
-        (player.speech::*phone-loop-decoder* nil))
-    (unwind-protect (funcall function)
-      (dolist (decoder (list player.speech::*sphinx-decoder* player.speech::*phone-loop-decoder*))
-        (when decoder
-          (sb-int:with-float-traps-masked (:overflow :invalid :divide-by-zero :inexact :underflow)
-            (player.speech::%ps-free (player.speech::sphinx-decoder-handle decoder))))))))
+(defmacro with-espeak-program ((what) &body body)
+  "Run BODY when espeak-ng (library and program) and pocketsphinx are
+installed; otherwise skip, saying WHAT is not tested."
+  `(with-speech-libraries (,what)
+     (if (probe-file "/usr/bin/espeak-ng")
+         (progn ,@body)
+         (skip "the espeak-ng program is not installed (Debian espeak-ng): ~A not tested" ,what))))
 
-(defmacro with-fresh-recognisers (() &body body)
-  "Run BODY with new decoders (see CALL-WITH-FRESH-RECOGNISERS)."
-  `(call-with-fresh-recognisers (lambda () ,@body)))
+(defun recognition-of (text voice grammar)
+  "All RECOGNIZE-SOUND says of TEXT said by VOICE, heard with GRAMMAR."
+  (multiple-value-list (recognize-sound (utterance-sound (synthesize-speech text :voice voice)) :grammar grammar)))
+
+(test recognition-does-not-depend-on-what-was-heard-before
+  ;; Same sound, same grammar: same sentence and score, whatever was decoded
+  ;; before, by these decoders or others (pocketsphinx's dither generator is
+  ;; one per process, its noise estimate one per decoder).
+  (with-speech-libraries ("recognition's independence of history")
+    (let* ((grammar (dialogue-jsgf (jukebox)))
+           (first (recognition-of "play something by madonna" "en" grammar)))
+      (recognition-of "what is the weather like today" "en-us" grammar)
+      (recognition-of "hello" "en" grammar)
+      (is (equal first (recognition-of "play something by madonna" "en" grammar)))
+      ;; New decoders hear it as the old ones did.
+      (let ((player.speech::*sphinx-decoder* nil)
+            (player.speech::*phone-loop-decoder* nil))
+        (unwind-protect (is (equal first (recognition-of "play something by madonna" "en" grammar)))
+          (dolist (decoder (list player.speech::*sphinx-decoder* player.speech::*phone-loop-decoder*))
+            (when decoder (player.speech::free-sphinx-decoder decoder))))))))
 
 (test out-of-domain-speech-is-bad-speech
-  (with-speech-libraries ("rejecting out-of-domain speech")
-   (with-fresh-recognisers ()
-    (let ((results (append (spoken-set-results "out-of-domain" "en") (spoken-set-results "out-of-domain" "en-us"))))
-      (format t "~&; out-of-domain speech rejected: ~A~%" (split-counts results))
-      ;; The issue asks 9 in 10.  The phone loop's margin, stretch and the speech
-      ;; a sentence leaves unexplained reject 40 of 40 (the tuning two thirds
-      ;; 26 of 26, the held-out third 14 of 14) in a process that has heard
-      ;; nothing before, but 35 of 40 after the persona-loop suite, even with
-      ;; fresh decoders and the same audio and grammar: some state outside the
-      ;; decoders (not found yet) carries over.  The bound is what holds in
-      ;; `make test`'s order, 4 in 5; the gap is the issue's, still open.
-      (is (>= (share-right results) 4/5) "accepted as commands: ~S" (remove-if #'second results))))))
+  (with-espeak-program ("rejecting out-of-domain speech")
+    (let ((british (spoken-set-results "out-of-domain" "en"))
+          (us (spoken-set-results "out-of-domain" "en-us")))
+      (format t "~&; out-of-domain speech rejected: en ~A, en-us ~A~%" (split-counts british) (split-counts us))
+      ;; The issue's target, 9 in 10, for each voice.
+      (is (nine-in-ten-p british) "en accepted as commands: ~S" (remove-if #'second british))
+      (is (nine-in-ten-p us) "en-us accepted as commands: ~S" (remove-if #'second us)))))
 
 (test in-grammar-speech-reaches-its-input
-  (with-speech-libraries ("in-grammar speech with rejection")
-   (with-fresh-recognisers ()
+  (with-espeak-program ("in-grammar speech with rejection")
     (let ((us (spoken-set-results "in-grammar" "en-us"))
           (british (spoken-set-results "in-grammar" "en")))
       (format t "~&; in-grammar speech right: en-us ~A, en ~A~%" (split-counts us) (split-counts british))
-      ;; 20 of 20 in the full tier; the decoder adapts to what it heard before,
-      ;; so one of the fast tier's 7 can be misheard ("eric clapton" as "raitt").
-      (is (>= (share-right us) 5/6) "en-us wrong: ~S" (remove-if #'second us))
-      ;; espeak-ng's British voice is heard worse by the en-us model, rejection or not
-      ;; (thank you -> stop, hello -> play lennon): 9 of 20 (tuning 4 of 13, held
-      ;; out 5 of 7), 12 of 20 with rejection off; the issue's 9 in 10 is not reached.
-      (is (>= (share-right british) 1/4) "en wrong: ~S" (remove-if #'second british))))))
+      ;; The issue's target, 9 in 10, for each voice: the British one is
+      ;; heard through the accent variants of the grammar's words
+      ;; (pronunciation.lisp).
+      (is (nine-in-ten-p us) "en-us wrong: ~S" (remove-if #'second us))
+      (is (nine-in-ten-p british) "en wrong: ~S" (remove-if #'second british)))))
 
 (test every-recognition-carries-a-score
   (with-speech-libraries ("recognition scores")

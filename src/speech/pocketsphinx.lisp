@@ -15,6 +15,7 @@
 (cffi:defcfun ("cmd_ln_free_r" %cmd-ln-free-r) :int (config :pointer))
 (cffi:defcfun ("ps_init" %ps-init) :pointer (config :pointer))
 (cffi:defcfun ("ps_free" %ps-free) :int (decoder :pointer))
+(cffi:defcfun ("ps_start_stream" %ps-start-stream) :int (decoder :pointer))
 (cffi:defcfun ("ps_start_utt" %ps-start-utt) :int (decoder :pointer))
 (cffi:defcfun ("ps_process_raw" %ps-process-raw) :int
   (decoder :pointer) (data :pointer) (count :size) (no-search :int) (full-utterance :int))
@@ -35,6 +36,30 @@
 (cffi:defcfun ("ps_seg_frames" %ps-seg-frames) :void (segment :pointer) (start :pointer) (end :pointer))
 (cffi:defcfun ("ps_seg_prob" %ps-seg-prob) :int32
   (segment :pointer) (acoustic :pointer) (language :pointer) (backoff :pointer))
+
+;;;# Dither
+
+(defconstant +dither-seed+ 1
+  "The state the dither's generator starts every utterance from.")
+
+(defun dither-samples (samples end out state)
+  "Write into OUT the SAMPLES below END, each raised by one step with odds
+of 1 in 4 (sphinxbase's dither), the odds drawn from a xorshift generator
+in STATE (a nonzero 32-bit integer); returns the generator's next state.
+Synthesised speech and the silence padded around it hold runs of exact
+zeros, whose log energy breaks the features (\"hello\" was heard as
+\"no\"); the generator is ours, started from +DITHER-SEED+ at each
+utterance, so an utterance is always dithered the same."
+  (declare (type (simple-array (signed-byte 16) (*)) samples out)
+           (type (unsigned-byte 32) state)
+           (type fixnum end))
+  (dotimes (i end state)
+    (setf state (logxor state (ldb (byte 32 0) (ash state 13)))
+          state (logxor state (ash state -17))
+          state (logxor state (ldb (byte 32 0) (ash state 5))))
+    (setf (aref out i) (if (zerop (ldb (byte 2 7) state))
+                           (min 32767 (1+ (aref samples i)))
+                           (aref samples i)))))
 
 ;;;# Decoders
 
@@ -73,9 +98,11 @@ pocketsphinx's command line; a SPEECH-ERROR when they are refused."
 
 (defstruct (sphinx-decoder (:constructor %make-sphinx-decoder (handle config)))
   "A pocketsphinx decoder (HANDLE) and its configuration (CONFIG), both foreign,
-with the JSGF grammars it has been given as searches (text -> name)."
+with the JSGF grammars it has been given as searches (text -> name), and the
+state of the generator dithering the utterance it hears (see DITHER-SAMPLES)."
   handle config
-  (searches (make-hash-table :test #'equal)))
+  (searches (make-hash-table :test #'equal))
+  (dither +dither-seed+ :type (unsigned-byte 32)))
 
 (defun make-sphinx-decoder ()
   "A decoder of the en-us model and its dictionary, with no search yet.
@@ -83,15 +110,21 @@ Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
   (load-pocketsphinx-library)
   (multiple-value-bind (hmm dict) (pocketsphinx-model-files)
     (%err-set-logfp (cffi:null-pointer))    ; its log is long and says nothing to a user
-    ;; Dither: synthesised speech and the padding around it hold runs of exact
-    ;; zeros, whose log energy breaks the features ("hello" was heard as "no",
-    ;; "stop" as "hello"); a fixed seed keeps recognition deterministic.
-    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict "-dither" "yes" "-seed" "1" "-allphone_ci" "yes")))
+    ;; No dither of pocketsphinx's own: its noise comes from one generator per
+    ;; process, which every decoder made re-seeds and every frame any decoder
+    ;; hears advances, so what one utterance is heard as would depend on all
+    ;; that was heard before.  SPHINX-FEED dithers instead (DITHER-SAMPLES).
+    (let* ((config (make-sphinx-config (list "-hmm" hmm "-dict" dict "-dither" "no" "-allphone_ci" "yes")))
            (handle (with-speech-traps-masked (%ps-init config))))
       (when (cffi:null-pointer-p handle)
         (%cmd-ln-free-r config)
         (speech-fail "pocketsphinx could not load its model from ~A" hmm))
       (%make-sphinx-decoder handle config))))
+
+(defun free-sphinx-decoder (decoder)
+  "Free DECODER's foreign decoder; DECODER must not be used after."
+  (with-speech-traps-masked (%ps-free (sphinx-decoder-handle decoder)))
+  (setf (sphinx-decoder-handle decoder) nil))
 
 (defun sphinx-knows-word-p (decoder word)
   "Is WORD in DECODER's dictionary?"
@@ -99,6 +132,16 @@ Signals SPEECH-UNAVAILABLE when pocketsphinx or its model is missing."
     (unless (cffi:null-pointer-p phones)
       (%ckd-free phones)
       t)))
+
+(defun sphinx-pronunciations (decoder word)
+  "The pronunciations DECODER's dictionary gives WORD (its own, then WORD(2),
+WORD(3)...), each CMU phones separated by spaces."
+  (loop for k from 1
+        for phones = (%ps-lookup-word (sphinx-decoder-handle decoder)
+                                      (if (= k 1) word (format nil "~A(~D)" word k)))
+        until (cffi:null-pointer-p phones)
+        collect (prog1 (string-trim " " (cffi:foreign-string-to-lisp phones))
+                  (%ckd-free phones))))
 
 (defun sphinx-add-word (decoder word phones)
   "Teach DECODER WORD, pronounced PHONES (CMU phones separated by spaces, such
@@ -168,18 +211,30 @@ SPEECH-FRAMES PHONES SEGMENTS)."
               last-frame (cffi:mem-ref end :int))))
     (values score (if first-frame (max 1 (1+ (- last-frame first-frame))) 0) speech phones (nreverse segments))))
 
+(defun sphinx-start-stream (decoder)
+  "Begin a new stream of sound in DECODER: it forgets the noise level its
+noise removal and voice-activity detection learnt from the sound before,
+which would otherwise change how the next utterance is heard."
+  (unless (>= (with-speech-traps-masked (%ps-start-stream (sphinx-decoder-handle decoder))) 0)
+    (speech-fail "pocketsphinx could not start a stream")))
+
 (defun sphinx-start (decoder)
-  "Begin an utterance in DECODER."
+  "Begin an utterance in DECODER, its dither started from the same seed."
+  (setf (sphinx-decoder-dither decoder) +dither-seed+)
   (unless (>= (with-speech-traps-masked (%ps-start-utt (sphinx-decoder-handle decoder))) 0)
     (speech-fail "pocketsphinx could not start an utterance")))
 
 (defun sphinx-feed (decoder samples &key (end (length samples)) whole)
-  "Give DECODER the SAMPLES (16 kHz) below END: WHOLE when they are the whole
-utterance, else a piece of a stream (whose speech and silence its
-voice-activity detection tells apart).  Returns whether it hears speech now."
-  (let ((handle (sphinx-decoder-handle decoder)))
+  "Give DECODER the SAMPLES (16 kHz) below END, dithered (DITHER-SAMPLES):
+WHOLE when they are the whole utterance, else a piece of a stream (whose
+speech and silence its voice-activity detection tells apart).  Returns
+whether it hears speech now."
+  (let ((handle (sphinx-decoder-handle decoder))
+        (dithered (make-samples end)))
+    (setf (sphinx-decoder-dither decoder)
+          (dither-samples samples end dithered (sphinx-decoder-dither decoder)))
     (with-speech-traps-masked
-      (cffi:with-pointer-to-vector-data (data samples)
+      (cffi:with-pointer-to-vector-data (data dithered)
         (when (minusp (%ps-process-raw handle data end 0 (if whole 1 0)))
           (speech-fail "pocketsphinx could not process the audio")))
       (plusp (%ps-get-in-speech handle)))))
@@ -201,7 +256,9 @@ and its segments (see SPHINX-ACOUSTIC-SCORE)."
 (defun sphinx-decode (decoder samples)
   "The sentence DECODER hears in SAMPLES (16 kHz, one utterance), or NIL when
 it matches nothing in its search, as SPHINX-FINISH's (VALUES TEXT
-ACOUSTIC-SCORE FRAMES SPEECH-FRAMES PHONES SEGMENTS)."
+ACOUSTIC-SCORE FRAMES SPEECH-FRAMES PHONES SEGMENTS): a function of SAMPLES
+and the search alone, whatever DECODER or any other heard before."
+  (sphinx-start-stream decoder)
   (sphinx-start decoder)
   (sphinx-feed decoder samples :whole t)
   (sphinx-finish decoder))

@@ -1,7 +1,9 @@
 ;;;; pronunciation.lisp -- words a grammar uses that pocketsphinx's
 ;;;; dictionary lacks (an invented artist, an album title), pronounced by
 ;;;; espeak-ng and written in the dictionary's CMU phones, so a dialogue can
-;;;; name anything espeak-ng can say.
+;;;; name anything espeak-ng can say; and every word of a grammar as a
+;;;; British voice says it, a variant beside the dictionary's American
+;;;; pronunciations, as recognisers do for accents.
 
 (in-package #:player.speech)
 
@@ -18,17 +20,50 @@
   "(ESPEAK-PHONEME CMU-PHONES): espeak-ng's English phoneme mnemonics in the
 phone set of cmudict-en-us (ARPAbet without stress).")
 
-(defun cmu-phones (phoneme)
-  "The CMU phones (a string) of the espeak-ng PHONEME, or NIL for a pause or an unknown one."
-  (flet ((lookup (name) (second (assoc name *espeak-cmu-phones* :test #'string=))))
+(defparameter *british-cmu-phones*
+  '(("a" "AA") ("oU" "EH UW"))
+  "(ESPEAK-PHONEME CMU-PHONES) where espeak-ng's British voice (en) sounds
+to the en-us acoustic model unlike *ESPEAK-CMU-PHONES* says: its short a
+(\"thank\", \"have\", \"clapton\") is open, nearer AA than AE, and its
+o (\"no\", \"hello\", \"wrote\") starts from a central vowel.  Chosen on
+the first two thirds of each set of t/fixtures/spoken-sentences.lisp:
+\"thank you\" was heard as \"stop the tune\", \"have you got\" as \"can you\".")
+
+(defparameter *accent-voices* '(("en" . *british-cmu-phones*))
+  "(VOICE . TABLE): the espeak-ng voices whose accent every grammar word is
+also learnt in, TABLE (a symbol) naming the phones that voice's phonemes
+sound like where they differ from *ESPEAK-CMU-PHONES*.")
+
+(defun cmu-phones (phoneme &optional overrides)
+  "The CMU phones (a string) of the espeak-ng PHONEME, or NIL for a pause or
+an unknown one; OVERRIDES, a table like *ESPEAK-CMU-PHONES*, is looked in first."
+  (flet ((lookup (name)
+           (second (or (assoc name overrides :test #'string=) (assoc name *espeak-cmu-phones* :test #'string=)))))
     (unless (or (zerop (length phoneme)) (char= (char phoneme 0) #\_))
       (or (lookup phoneme) (lookup (string-right-trim "#:-/;0123456789" phoneme))))))
 
-(defun word-pronunciation (word)
-  "WORD as espeak-ng says it, in CMU phones separated by spaces; NIL when it says nothing known."
-  (let ((phones (remove nil (mapcar (lambda (entry) (cmu-phones (first entry)))
-                                    (utterance-phonemes (synthesize-speech word))))))
+(defun word-pronunciation (word &key (voice *default-voice*) overrides)
+  "WORD as espeak-ng's VOICE says it, in CMU phones separated by spaces (see
+CMU-PHONES for OVERRIDES); NIL when it says nothing known."
+  (let ((phones (remove nil (mapcar (lambda (entry) (cmu-phones (first entry) overrides))
+                                    (utterance-phonemes (synthesize-speech word :voice voice))))))
     (and phones (format nil "~{~A~^ ~}" phones))))
+
+(defvar *accent-pronunciations* (make-hash-table :test #'equal)
+  "(WORD . VOICE) -> its pronunciation in that accent (see ACCENT-PRONUNCIATIONS),
+kept: each word costs a synthesis, about 2 ms.")
+
+(defun accent-pronunciations (word)
+  "WORD's pronunciations in the accents of *ACCENT-VOICES*, CMU phones, each once."
+  (remove-duplicates
+   (remove nil (loop for (voice . table) in *accent-voices*
+                     collect (let ((key (cons word voice)))
+                               (multiple-value-bind (phones known) (gethash key *accent-pronunciations*)
+                                 (if known
+                                     phones
+                                     (setf (gethash key *accent-pronunciations*)
+                                           (word-pronunciation word :voice voice :overrides (symbol-value table))))))))
+   :test #'string=))
 
 (defun strip-delimited (text open close)
   "TEXT with every span from OPEN to the next CLOSE (strings) replaced by a space."
