@@ -132,6 +132,7 @@ run the resulting state machine as Lisp closures or embedded C++."
     :components ((:file "package")
                  (:file "controller-state")
                  (:file "presenter-results")
+                 (:file "code-forms")
                  (:file "lisp-closures")
                  (:file "lisp-steps")
                  (:module "controller"
@@ -636,5 +637,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Issue 31, what was left: stop signals, one error line, exact times
                  (:file "test-rest31")
                  ;; Leftovers tidied: model --texture errors, root motion's resting place
-                 (:file "test-tidy"))))
+                 (:file "test-tidy")
+                 ;; Polish: root motion at loop seams, scenes clear of the set, :code errors, many drivers
+                 (:file "test-polish-code"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -26,7 +26,7 @@
    #:spec-syntax-error #:split-list #:state-outside-planned-set #:state-space-too-large
    #:state-transfer-error #:string-designator-p #:tail #:to-double #:truncate-text
    #:type-error-in-spec #:unknown-event #:unknown-event-name #:unknown-name-error #:unquote
-   #:untrusted-code-error #:write-list-text
+   #:untrusted-code-error #:code-error #:write-list-text
    ;; files.lisp, cleanup.lisp, outputs.lisp: files written whole, inputs checked, children killed
    #:io-error #:io-error-file #:io-error-reason #:io-error-action #:io-fail #:condition-reason
    #:errno-reason #:file-kind #:check-regular-file #:regular-file-or-nil #:open-input-file
