@@ -639,5 +639,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Leftovers tidied: model --texture errors, root motion's resting place
                  (:file "test-tidy")
                  ;; Polish: root motion at loop seams, scenes clear of the set, :code errors, many drivers
-                 (:file "test-polish-code"))))
+                 (:file "test-polish-code")
+                 (:file "test-polish-drivers"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
