@@ -640,5 +640,6 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-tidy")
                  ;; Polish: root motion at loop seams, scenes clear of the set, :code errors, many drivers
                  (:file "test-polish-code")
-                 (:file "test-polish-drivers"))))
+                 (:file "test-polish-drivers")
+                 (:file "test-polish-scenes"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -16,7 +16,9 @@ the last member's end."
   ;; The performance of the scene's own set, or NIL (the first member's
   ;; world is the set), and the set's copies of its objects (scene-set.lisp).
   (set nil)
-  (proxies (make-hash-table :test 'eq :weakness :key)))
+  (proxies (make-hash-table :test 'eq :weakness :key))
+  ;; The names of the props the members' scripts carry: each member's own.
+  (carried '()))
 
 (defun member-presenters (cast scripts body seed)
   "A table from each member's name in CAST to a body presenter placing its
@@ -73,7 +75,19 @@ every member's frames (and BVH) cover that whole time."
     (dolist (member members)
       (setf (simulation-end (cdr member)) end))
     (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end
-                            :set (set-performance (ensemble-cast ensemble)))))
+                            :set (set-performance (ensemble-cast ensemble))
+                            :carried (members-carried-objects ensemble))))
+
+(defun members-carried-objects (ensemble)
+  "The names of the props the scripts of ENSEMBLE's members carry (see
+LIBRARY-CARRIED-OBJECTS), each library asked once."
+  (let ((libraries (remove-duplicates
+                    (loop for performer in (ensemble-performers ensemble)
+                          for presenter = (controller-presenter (performer-controller performer))
+                          when (typep presenter 'body-presenter)
+                            collect (presenter-library presenter)))))
+    (remove-duplicates (mapcan #'library-carried-objects libraries)
+                       :test #'string= :key #'symbol-name)))
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
@@ -90,7 +104,8 @@ every member's frames (and BVH) cover that whole time."
         (set (scene-simulation-set simulation)))
     (setf (scene-objects composite)
           (gather-scene-objects (if set (performance-frame set time) (first members)) members
-                                (scene-simulation-proxies simulation)))
+                                (scene-simulation-proxies simulation)
+                                (scene-simulation-carried simulation)))
     composite))
 
 (defmethod simulation-critical-times ((simulation scene-simulation))
