@@ -401,6 +401,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "scene-files")
                  (:file "ensemble")
                  (:file "scene-set")
+                 (:file "placement")
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
    ;; A performance exported as glTF: each frame's poses baked, each body a model, one animation.

@@ -44,28 +44,50 @@ member's own (those hang from a member's stage or body)."
                         (> (second (nth-value 1 (world-box object))) 0.005)))
                  (player.body:scene-objects frame)))
 
+(defun check-members-clear-of-the-set (cast label)
+  "Check each member's body of CAST at rest, stretched toward the camera (so
+a piece in front of him counts), meets none of the set's pieces; LABEL
+names the case in failures."
+  (let* ((frame (player.performance:simulation-scene-at (player.cast:simulate-scene cast :fps 10) 0d0))
+         (pieces (set-pieces frame))
+         (bodies (remove-if-not (lambda (o) (typep o 'player:body)) (player.body:scene-objects frame))))
+    (is (>= (length pieces) 2) "~A: only ~D set pieces: no test" label (length pieces))
+    (is (= (length (player.cast:cast-members cast)) (length bodies)))
+    (dolist (body bodies)
+      (multiple-value-bind (low high) (player.render::body-rest-extent body)
+        (let ((low (list (player.body:vec3-x low) (player.body:vec3-y low) (player.body:vec3-z low)))
+              (high (list (player.body:vec3-x high) (player.body:vec3-y high) 100d0)))
+          (dolist (piece pieces)
+            (multiple-value-bind (piece-low piece-high) (world-box piece)
+              (is (not (boxes-meet-p low high piece-low piece-high))
+                  "~A: ~A stands in or behind ~A (~A..~A against ~A..~A)"
+                  label (player.body:object-name body) (player.body:object-name piece)
+                  low high piece-low piece-high))))))))
+
 (test shipped-scenes-place-their-members-clear-of-the-set
-  "In every shipped scene, each member's body at rest -- stretched toward the
-camera, so a piece in front of him counts -- meets none of the set's pieces."
+  "In every shipped scene, no member stands in one of the set's pieces or
+behind one, and the members stay where its :at puts them."
   (let ((files (shipped-scene-files)))
     (is (plusp (length files)) "no shipped scene: no test")
     (dolist (file files)
       (dolist (cast (load-scene-file file))
-        (let* ((frame (player.performance:simulation-scene-at (player.cast:simulate-scene cast :fps 10) 0d0))
-               (pieces (set-pieces frame))
-               (bodies (remove-if-not (lambda (o) (typep o 'player:body)) (player.body:scene-objects frame))))
-          (is (>= (length pieces) 2) "~A: only ~D set pieces: no test" (file-namestring file) (length pieces))
-          (is (= (length (player.cast:cast-members cast)) (length bodies)))
-          (dolist (body bodies)
-            (multiple-value-bind (low high) (player.render::body-rest-extent body)
-              (let ((low (list (player.body:vec3-x low) (player.body:vec3-y low) (player.body:vec3-z low)))
-                    (high (list (player.body:vec3-x high) (player.body:vec3-y high) 100d0)))
-                (dolist (piece pieces)
-                  (multiple-value-bind (piece-low piece-high) (world-box piece)
-                    (is (not (boxes-meet-p low high piece-low piece-high))
-                        "~A: ~A stands in or behind ~A (~A..~A against ~A..~A)"
-                        (file-namestring file) (player.body:object-name body) (player.body:object-name piece)
-                        low high piece-low piece-high)))))))))))
+        (let ((places (mapcar #'player.cast:cast-member-position (player.cast:cast-members cast))))
+          (check-members-clear-of-the-set cast (file-namestring file))
+          (is (equal places (mapcar #'player.cast:cast-member-position (player.cast:cast-members cast)))
+              "~A: members placed with :at were moved" (file-namestring file)))))))
+
+(test members-in-a-row-stand-clear-of-the-set
+  "Peedys placed in a row (--cast peedy:N, no :at), which at 0.6 m apart
+about the origin would stand in the jukebox or behind the panel, are moved
+clear of them, the row kept whole: its spacing is unchanged."
+  (load-spec (checkout-file "specs/peedy.lisp"))
+  (dolist (count '(2 3))
+    (let ((cast (player.cast:replicate-cast 'peedy count)))
+      (check-members-clear-of-the-set cast (format nil "peedy:~D" count))
+      (let ((xs (mapcar (lambda (member) (first (player.cast:cast-member-position member)))
+                        (player.cast:cast-members cast))))
+        (is (every (lambda (a b) (< (abs (- (- b a) 0.6d0)) 1d-9)) xs (rest xs))
+            "peedy:~D: the row is no longer 0.6 m apart: ~A" count xs)))))
 
 (defun visible-notes (frame)
   "The notes FRAME draws."

@@ -23,20 +23,20 @@ the last member's end."
 (defun member-presenters (cast scripts body seed)
   "A table from each member's name in CAST to a body presenter placing its
 world at the member's position (SCRIPTS, BODY and SEED as for
-MAKE-BODY-PRESENTER).  The first member of each spec reads and checks the
-spec's library; the others reuse it, so a big cast reads it once."
-  (let ((firsts (make-hash-table :test 'eq))
+MAKE-BODY-PRESENTER), the members placed in a row first moved clear of the
+set (PLACE-CAST-CLEAR-OF-SET).  Each spec's library is read and checked
+once (MEMBER-PROBES), so a big cast reads it once."
+  (let ((probes (member-probes cast scripts body seed))
         (presenters (make-hash-table :test 'eq)))
+    (place-cast-clear-of-set cast probes)
     (dolist (member (cast-members cast) presenters)
-      (let* ((spec (find-spec (cast-member-spec member)))
-             (first (gethash spec firsts))
-             (presenter (make-body-presenter spec :scripts (if first (presenter-library first) scripts)
-                                                  :body body :seed seed
-                                                  :name (cast-member-name member)
-                                                  :origin (apply #'vec3 (cast-member-position member))
-                                                  :check (not first))))
-        (unless first (setf (gethash spec firsts) presenter))
-        (setf (gethash (cast-member-name member) presenters) presenter)))))
+      (let ((spec (find-spec (cast-member-spec member))))
+        (setf (gethash (cast-member-name member) presenters)
+              (make-body-presenter spec :scripts (presenter-library (gethash spec probes))
+                                        :body body :seed seed
+                                        :name (cast-member-name member)
+                                        :origin (apply #'vec3 (cast-member-position member))
+                                        :check nil))))))
 
 (defun simulate-scene (cast &key initial events until when-busy (fps 30) (seed 0) scripts body)
   "Play EVENTS (addresses as for PLAY-SCENE-EVENTS) on every member of CAST (a
