@@ -114,20 +114,3 @@ cannot go into PROPERTY of TYPE (NIL when unknown: anything goes)."
                 (notevery (lambda (x) (<= 0 x 1)) (list (vec3-x value) (vec3-y value) (vec3-z value))))
            (script-fail item "~A is a colour: each of red, green and blue must lie in [0, 1]"
                         (lisp-text property))))))
-
-(defun library-carried-objects (library)
-  "The names of the objects LIBRARY's scripts hang from a character (an
-:attach to :SELF or to a body's joint): what its character picks up and
-carries about, the rest of its objects standing where they are declared.
-A scene of several members gives each member his own (src/cast/scene-set.lisp)."
-  (let ((names '()))
-    (maphash (lambda (key script)
-               (declare (ignore key))
-               (dolist (item (script-items script))
-                 (when (and (attach-item-p item)
-                            (not (eq (attach-item-object item) :self))
-                            (let ((parent (attach-item-parent item)))
-                              (or (eq parent :self) (consp parent))))
-                   (pushnew (attach-item-object item) names))))
-             (script-library-scripts library))
-    (sort names #'string< :key #'symbol-name)))
