@@ -314,8 +314,11 @@ is an ARGUMENT-ERROR: make a fresh body to go back."
            (take-channel-sets body driver))
           (:finish (finish-driver body driver when)))
         (lose-channel-sets body when)
-        (refresh-owners body when))))
-  (compose-pose body time))
+        (refresh-owners body when)))
+    ;; Composed at TIME already, before what started then, and unchanged by it.
+    (if (and composed (= time composed) (not (body-recompose-p body)))
+        (body-pose body)
+        (compose-pose body time))))
 
 (defun body-joint-position (body joint-name)
   "Where BODY's joint JOINT-NAME (or the joint of a role keyword) is, at the last evaluation."
