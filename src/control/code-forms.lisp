@@ -37,7 +37,11 @@ stderr is for the one error line."
                                                 (let ((problem (warning-problem warning)))
                                                   (when problem (pushnew problem problems :test #'string=)))
                                                 (muffle-warning warning))))
-                        (compile nil `(lambda () ,form))))))
+                        ;; A unit of its own: inside another (ASDF's, a
+                        ;; caller's), undefined functions are reported
+                        ;; only when that one ends.
+                        (with-compilation-unit (:override t)
+                          (compile nil `(lambda () ,form)))))))
       (values function (nreverse problems)))))
 
 (defun checked-code-function (form spec)
