@@ -308,8 +308,11 @@ to the arbitrator's clock, BLEND to its blend time."
                           (setf (gethash channel (arbitrator-channels arbitrator))
                                 (make-channel-state))))
                (old-owner (channel-owner arbitrator channel))
-               (request (find driver (channel-state-requests state)
-                              :key #'channel-request-driver)))
+               ;; Only a channel the driver's record holds has its request
+               ;; (the record is short; the channel's requests may be many).
+               (request (and (member channel (driver-record-channels record) :test #'equal)
+                             (find driver (channel-state-requests state)
+                                   :key #'channel-request-driver))))
           (if request
               (setf (channel-request-priority request) priority)
               (progn
