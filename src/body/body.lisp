@@ -135,13 +135,14 @@ its rest pose, placed at POSITION with ROTATION, added to SCENE when given."
                   (lambda (x) (and (typep x 'driver) (eq (driver-body x) body)))
                   "a driver made for this body (by make-driver)")
   (check-seconds 'body-stop-driver 'time time)
-  (setf (driver-stop driver) (if (driver-stop driver) (min time (driver-stop driver)) time)))
+  (setf (driver-stop driver) (if (driver-stop driver) (min time (driver-stop driver)) time)
+        (driver-finish driver) (driver-finish-time driver)))
 
 (defun next-body-event (body time)
   "The next start or finish at or before TIME, as (values KIND DRIVER WHEN), finishes first."
   (let ((finish nil) (finish-time nil))
     (dolist (driver (body-active body))
-      (let ((when (driver-finish-time driver)))
+      (let ((when (driver-finish driver)))
         (when (and when (<= when time) (or (null finish-time) (< when finish-time)))
           (setf finish driver finish-time when))))
     (let ((start (first (body-pending body))))
@@ -175,7 +176,8 @@ too) and joins the active drivers."
                    (or (driver-arg driver :blend) (driver-default-blend driver) (body-blend-time body)))))
     (dolist (d (cons driver (slave-drivers driver)))
       ;; A slave sorts just before its master, so a master sees its slave's angles.
-      (setf (driver-sequence d) (+ (incf (body-serial body)) (if (eq d driver) 0.5 0)))
+      (setf (driver-sequence d) (+ (incf (body-serial body)) (if (eq d driver) 0.5 0))
+            (driver-finish d) (driver-finish-time d))
       (unless (eq d driver)
         (add-slave arbitrator driver d))
       (unless (driver-additive-p d)
