@@ -224,10 +224,11 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
               (and (performance-time performance) (< time (performance-time performance))))
       (rebuild-scene performance))
     ;; The time the scene was last brought to when only motor items have
-    ;; played since: they only schedule drivers, so the next cue at that time
-    ;; finds the scene as it was, and the drivers start together at the next
-    ;; evaluation (in order), rather than each cue evaluating every body again
-    ;; (which made a script starting many drivers at once quadratic).
+    ;; played since: they only schedule drivers, so the next motor cue at that
+    ;; time finds the scene as it was, and the drivers start together at the
+    ;; next evaluation (in order), rather than each cue evaluating every body
+    ;; again (which made a script starting many drivers at once quadratic).
+    ;; Any other item sees them started.
     (let ((brought nil))
       (loop
         (expand-runs performance time)
@@ -246,7 +247,7 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
                  (pop (replay-cues performance))
                  (when (or (null (script-run-stop (cue-run cue)))
                            (< (cue-time cue) (script-run-stop (cue-run cue))))
-                   (unless (eql brought (cue-time cue))
+                   (unless (and (eql brought (cue-time cue)) (typep (cue-item cue) 'motor-item))
                      (bring-to performance (cue-time cue)))
                    (play-cue performance cue)
                    (setf brought (and (typep (cue-item cue) 'motor-item) (cue-time cue)))))))))
