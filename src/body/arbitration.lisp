@@ -242,14 +242,11 @@ one usurping, or the earlier one when the later does not usurp?"
 return value, not from ON-CHANNEL-GRANT.")
 
 (defun settle-channel (arbitrator channel state old-owner time blend &key sort)
-  "With SORT (a request's priority changed), sort STATE's requests (else they
-are in order: a new one was put in its place, a withdrawn one taken out);
-if CHANNEL's owner is no longer OLD-OWNER, stamp the handover at TIME with
-BLEND seconds and return the notifications due, as a list of (:loss|:grant
-RECIPIENT CHANNEL OTHER SUBJECT) for NOTIFY."
+  "Sort STATE's requests when SORT (else they are in order); if CHANNEL's owner is no
+longer OLD-OWNER, stamp the handover at TIME with BLEND seconds and return the notifications
+due, as a list of (:loss|:grant RECIPIENT CHANNEL OTHER SUBJECT) for NOTIFY."
   (when sort
-    (setf (channel-state-requests state)
-          (stable-sort (channel-state-requests state) #'request-better-p)))
+    (setf (channel-state-requests state) (stable-sort (channel-state-requests state) #'request-better-p)))
   (let ((new-owner (and (channel-state-requests state)
                         (channel-request-driver (first (channel-state-requests state))))))
     (unless (eq new-owner old-owner)
@@ -308,19 +305,13 @@ to the arbitrator's clock, BLEND to its blend time."
                           (setf (gethash channel (arbitrator-channels arbitrator))
                                 (make-channel-state))))
                (old-owner (channel-owner arbitrator channel))
-               ;; Only a channel the driver's record holds has its request
-               ;; (the record is short; the channel's requests may be many).
-               (request (and (member channel (driver-record-channels record) :test #'equal)
-                             (find driver (channel-state-requests state)
-                                   :key #'channel-request-driver))))
+               (request (and (member channel (driver-record-channels record) :test #'equal) ; short
+                             (find driver (channel-state-requests state) :key #'channel-request-driver))))
           (if request
               (setf (channel-request-priority request) priority)
               (progn
-                ;; Into its place among the sorted requests: sorting them all
-                ;; again for each made many requests of one channel quadratic.
-                (setf (channel-state-requests state)
-                      (merge 'list (list (make-channel-request driver priority
-                                                               (incf (arbitrator-serial arbitrator)) usurp))
+                (setf (channel-state-requests state) ; in its place: sorting all made many quadratic
+                      (merge 'list (list (make-channel-request driver priority (incf (arbitrator-serial arbitrator)) usurp))
                              (channel-state-requests state) #'request-better-p))
                 (push channel (driver-record-channels record))))
           (setf notifications
