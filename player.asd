@@ -133,6 +133,7 @@ run the resulting state machine as Lisp closures or embedded C++."
     :components ((:file "package")
                  (:file "controller-state")
                  (:file "presenter-results")
+                 (:file "code-forms")
                  (:file "lisp-closures")
                  (:file "lisp-steps")
                  (:module "controller"
@@ -402,6 +403,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "scene-files")
                  (:file "ensemble")
                  (:file "scene-set")
+                 (:file "placement")
                  (:file "scene-simulation")
                  (:file "scene-viewer")))
    ;; A performance exported as glTF: each frame's poses baked, each body a model, one animation.
@@ -640,5 +642,9 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Leftovers tidied: model --texture errors, root motion's resting place
                  (:file "test-tidy")
                  ;; Issue 31 item 7: times exact to the microsecond in both backends
-                 (:file "test-exact-times"))))
+                 (:file "test-exact-times")
+                 ;; Polish: root motion at loop seams, scenes clear of the set, :code errors, many drivers
+                 (:file "test-polish-code")
+                 (:file "test-polish-drivers")
+                 (:file "test-polish-scenes"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

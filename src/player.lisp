@@ -12,7 +12,7 @@
    #:reachable-space-too-large #:spec-error #:spec-error-form #:spec-error-position
    #:spec-error-spec #:spec-reader-error #:spec-syntax-error #:state-outside-planned-set
    #:state-space-too-large #:state-transfer-error #:type-error-in-spec #:unknown-event
-   #:unknown-event-name #:unknown-name-error #:untrusted-code-error
+   #:unknown-event-name #:unknown-name-error #:untrusted-code-error #:code-error
    #:io-error #:io-error-file #:io-error-reason)
   (:import-from #:player.spec
    #:*default-max-depth* #:*when-busy-policies* #:define-spec #:defspec #:find-spec
@@ -295,7 +295,7 @@
    #:spec-error-position #:spec-syntax-error #:unknown-name-error
    #:domain-error #:type-error-in-spec #:duplicate-definition
    #:class-cycle-error #:label-error #:effect-error #:goal-error
-   #:spec-reader-error #:untrusted-code-error #:unknown-event #:unknown-event-name
+   #:spec-reader-error #:untrusted-code-error #:code-error #:unknown-event #:unknown-event-name
    #:state-space-too-large #:state-transfer-error
    #:reachable-space-too-large #:state-outside-planned-set
    ;; Command line

@@ -22,12 +22,15 @@ as spec.lisp in DIRECTORY; return the spec."
 " out))
     (first (player:load-spec path))))
 
-(defun body-position-at (spec time &rest simulate-arguments)
-  "Where the body of SPEC, sent ev-walk, stands at TIME seconds (a vec3)."
-  (let* ((simulation (apply #'player:simulate spec :events '(ev-walk) :silent t simulate-arguments))
-         (scene (player.performance::simulation-scene-at simulation (float time 1d0))))
+(defun simulated-position (simulation time)
+  "Where the body of SIMULATION stands at TIME seconds (a vec3)."
+  (let ((scene (player.performance::simulation-scene-at simulation (float time 1d0))))
     (player:property-value (find-if (lambda (o) (typep o 'player:body)) (player:scene-objects scene))
                            'player.body::position)))
+
+(defun body-position-at (spec time &rest simulate-arguments)
+  "Where the body of SPEC, sent ev-walk, stands at TIME seconds (a vec3)."
+  (simulated-position (apply #'player:simulate spec :events '(ev-walk) :silent t simulate-arguments) time))
 
 (defun bvh-hips-travel (seconds)
   "How far the hips of 01_01.bvh travel, horizontally (x z, file units), in its first SECONDS."
@@ -124,3 +127,65 @@ as far, but at right angles to the clip's own travel."
             "the turned body is at ~A, the clip travels ~A" at travel)
         (is (< (abs (player.body::vdot at travel)) 1d-6)
             "the turned body went ~A, not at right angles to the clip's ~A" at travel)))))
+
+;;; Loop seams: a looping clip carries the body steadily
+
+(defun walk-loop-spec (directory library)
+  "Write LIBRARY as lib.lisp and a spec in DIRECTORY whose ev-walk, after a
+0.2 s op, goes to a walking gait playing LIBRARY's script WALK-LOOP; return
+the spec."
+  (write-library directory library)
+  (let ((path (merge-pathnames "spec.lisp" directory)))
+    (with-open-file (out path :direction :output :if-exists :supersede)
+      (write-string "(in-package :player-user)
+(defspec looper \"Walks on.\" (:scripts \"lib.lisp\")
+  (state-variable gait string rest (rest walk))
+  (op start-walking :precond gait.rest :add gait.walk :duration 0.2)
+  (autoscript gait walk (walk-loop))
+  (event ev-walk :state gait.walk))
+" out))
+    (first (player:load-spec path))))
+
+(defun check-steady-across-seams (simulation direction start seams)
+  "Check the body of SIMULATION, walking from START seconds, moves monotonely
+along the unit vec3 DIRECTION (sampled every 10 ms to the last of SEAMS plus
+0.2 s), and that its speed at each of SEAMS (times) is its speed mid-way
+between the walk's start and the first seam, within 5%."
+  (flet ((along (time) (player.body::vdot (simulated-position simulation time) direction)))
+    (flet ((speed (time) (/ (- (along (+ time 0.02)) (along (- time 0.02))) 0.04)))
+      (is (< (abs (along (- start 0.05))) 1d-9) "the body moved before the walk began at ~A s" start)
+      (let ((middle (speed (/ (+ start (first seams)) 2))))
+        (is (> middle 0.5) "the walk's speed is only ~A: no test" middle)
+        (loop for time from start to (+ (car (last seams)) 0.2) by 0.01
+              for before = (along time) then now
+              for now = (along (+ time 0.01))
+              count (< now (- before 1d-9)) into backwards
+              finally (is (zerop backwards) "the body went back in ~D of its 10 ms steps" backwards))
+        (dolist (seam seams)
+          (let ((at-seam (speed seam)))
+            (is (< (abs (- at-seam middle)) (* 0.05 middle))
+                "at the seam at ~,3F s the speed is ~,3F, mid-clip ~,3F" seam at-seam middle)))))))
+
+(test looping-root-move-advances-steadily-across-seams
+  "CMU's 01_01 looped with :root :move (played 24 times as fast, so three
+of its cycles take 2.9 s) keeps advancing at each seam where the clip starts
+again, as fast as mid-cycle: its travel is each cycle's, spread evenly (the
+file's hips go back before each jump, so its keys would take the body back at
+every seam).  A script looping every 0.5 s, restarting the looped clip,
+likewise."
+  (with-assimp-models
+    (with-rig-directory (dir)
+      (let* ((bvh (assimp-model "BVH/01_01.bvh"))
+             (fast (walk-loop-spec dir (format nil "(model ~S)
+(defscript walk-loop (:loop t :duration 10) (:at 0 :clip motion :root :move :loop t :speed 24 :fade 0))" bvh)))
+             (clip (library-clip dir "motion"))
+             (cycle (/ (player.rig::clip-duration clip) 24))
+             (travel (player.rig:clip-travel clip (player.rig::clip-duration clip) t))
+             (direction (player.body::v* travel (/ (player.body::vdistance travel (player.body::vec3))))))
+        (is (> (player.body::vdistance travel (player.body::vec3)) 10) "a cycle travels only ~A: no test" travel)
+        (check-steady-across-seams (player:simulate fast :events '(ev-walk) :silent t :until 3.5)
+                                   direction 0.2 (loop for k from 1 to 3 collect (+ 0.2 (* k cycle))))
+        (let ((restarted (walk-loop-spec dir (format nil "(model ~S)
+(defscript walk-loop (:loop t :duration 0.5) (:at 0 :clip motion :root :move :loop t :fade 0))" bvh))))
+          (check-steady-across-seams (player:simulate restarted :events '(ev-walk) :silent t :until 2.5)
+                                     direction 0.2 '(0.7 1.2 1.7)))))))

@@ -107,6 +107,7 @@ place the error was given (the form around it), or NIL."
     goal-error "A goal or precondition mentions a runtime-only variable."
     spec-reader-error "The Lisp reader could not read a spec file."
     untrusted-code-error "A spec holds :code or :c++, and code was refused (--no-code)."
+    code-error "A :code form does not compile cleanly: it calls an undefined function, names an undefined variable, or draws another compiler warning."
     inexact-macro-error "Under (:macros :exact), a macro-op's :seq leaves a state other than the one its declared effects promise the planner."))
 
 (defvar *form-places* nil

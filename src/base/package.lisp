@@ -26,7 +26,7 @@
    #:spec-syntax-error #:split-list #:state-outside-planned-set #:state-space-too-large
    #:state-transfer-error #:string-designator-p #:tail #:to-double #:truncate-text
    #:type-error-in-spec #:unknown-event #:unknown-event-name #:unknown-name-error #:unquote
-   #:untrusted-code-error #:write-list-text
+   #:untrusted-code-error #:code-error #:write-list-text
    ;; exact-times.lisp: a timed controller's times as integer microseconds
    #:micros #:+micros-per-second+ #:+never-micros+ #:seconds->micros #:exact-seconds->micros
    #:seconds-value->micros #:micros< #:micros<= #:micros+ #:micros->seconds #:micros->double #:format-micros #:micros-ratio-p #:parse-decimal-seconds

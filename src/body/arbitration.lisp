@@ -241,12 +241,12 @@ one usurping, or the earlier one when the later does not usurp?"
   "The driver whose REQUEST-CHANNELS is running: it learns of its grants from the
 return value, not from ON-CHANNEL-GRANT.")
 
-(defun settle-channel (arbitrator channel state old-owner time blend)
-  "Sort STATE's requests; if CHANNEL's owner is no longer OLD-OWNER, stamp the
-handover at TIME with BLEND seconds and return the notifications due, as a
-list of (:loss|:grant RECIPIENT CHANNEL OTHER SUBJECT) for NOTIFY."
-  (setf (channel-state-requests state)
-        (stable-sort (channel-state-requests state) #'request-better-p))
+(defun settle-channel (arbitrator channel state old-owner time blend &key sort)
+  "Sort STATE's requests when SORT (else they are in order); if CHANNEL's owner is no
+longer OLD-OWNER, stamp the handover at TIME with BLEND seconds and return the notifications
+due, as a list of (:loss|:grant RECIPIENT CHANNEL OTHER SUBJECT) for NOTIFY."
+  (when sort
+    (setf (channel-state-requests state) (stable-sort (channel-state-requests state) #'request-better-p)))
   (let ((new-owner (and (channel-state-requests state)
                         (channel-request-driver (first (channel-state-requests state))))))
     (unless (eq new-owner old-owner)
@@ -305,18 +305,18 @@ to the arbitrator's clock, BLEND to its blend time."
                           (setf (gethash channel (arbitrator-channels arbitrator))
                                 (make-channel-state))))
                (old-owner (channel-owner arbitrator channel))
-               (request (find driver (channel-state-requests state)
-                              :key #'channel-request-driver)))
+               (request (and (member channel (driver-record-channels record) :test #'equal) ; short
+                             (find driver (channel-state-requests state) :key #'channel-request-driver))))
           (if request
               (setf (channel-request-priority request) priority)
               (progn
-                (push (make-channel-request driver priority
-                                            (incf (arbitrator-serial arbitrator)) usurp)
-                      (channel-state-requests state))
+                (setf (channel-state-requests state) ; in its place: sorting all made many quadratic
+                      (merge 'list (list (make-channel-request driver priority (incf (arbitrator-serial arbitrator)) usurp))
+                             (channel-state-requests state) #'request-better-p))
                 (push channel (driver-record-channels record))))
           (setf notifications
                 (nconc notifications
-                       (settle-channel arbitrator channel state old-owner time blend))))))
+                       (settle-channel arbitrator channel state old-owner time blend :sort (and request t)))))))
     (notify arbitrator notifications)
     (remove-if-not (lambda (channel) (eq (channel-owner arbitrator channel) driver))
                    channels)))

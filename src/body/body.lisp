@@ -30,6 +30,10 @@
    (sharers :reader body-sharers
             :documentation "Per channel, the drivers of equal priority its owner blends with (itself first), or NIL.")
    (shared :initform nil :accessor body-shared-p :documentation "True when some channel has sharers.")
+   (sharing :initform (make-hash-table :test 'eq) :reader body-sharing
+            :documentation "SHARERS-CHANNELS' table: each driver among some channel's sharers -> those channels.")
+   (sharing-stale :initform t :accessor body-sharing-stale-p
+                  :documentation "True when the sharers changed since SHARING was made.")
    (share-sums :reader body-share-sums :documentation "Per channel, the weighted sum of its sharers' angles.")
    (share-weights :reader body-share-weights :documentation "Per channel, the sum of its sharers' weights.")
    (scratch :reader body-scratch :documentation "Per channel, room for an angle an idle driver is about to change.")
@@ -37,6 +41,14 @@
    (pending :initform '() :accessor body-pending :documentation "Drivers not yet started, by start time.")
    (active :initform '() :accessor body-active :documentation "Started drivers, least precedence first.")
    (serial :initform 0 :accessor body-serial)
+   (recompose :initform nil :accessor body-recompose-p
+              :documentation "True when the pose at the time last composed changed since:
+a channel handed over or let go with no crossfade, an additive driver started or ended.")
+   (gaze-starts :initform (make-array 8 :element-type 'double-float :adjustable t :fill-pointer 0)
+                :reader body-gaze-starts
+                :documentation "When each gaze driver started, increasing, each time once: a
+blink driver blinks at those after its own start (one record, read by every blink driver
+with a binary search, where each scanning the active drivers made many blinks cubic).")
    (seed :initarg :seed :initform 0 :accessor body-seed
          :documentation "Mixed into the seeds of random drivers (blink), so a run can be varied.")
    (reports :initform '() :accessor body-reports :documentation "(TIME DRIVER TEXT) of finished drivers, newest first.")
@@ -123,13 +135,14 @@ its rest pose, placed at POSITION with ROTATION, added to SCENE when given."
                   (lambda (x) (and (typep x 'driver) (eq (driver-body x) body)))
                   "a driver made for this body (by make-driver)")
   (check-seconds 'body-stop-driver 'time time)
-  (setf (driver-stop driver) (if (driver-stop driver) (min time (driver-stop driver)) time)))
+  (setf (driver-stop driver) (if (driver-stop driver) (min time (driver-stop driver)) time)
+        (driver-finish driver) (driver-finish-time driver)))
 
 (defun next-body-event (body time)
   "The next start or finish at or before TIME, as (values KIND DRIVER WHEN), finishes first."
   (let ((finish nil) (finish-time nil))
     (dolist (driver (body-active body))
-      (let ((when (driver-finish-time driver)))
+      (let ((when (driver-finish driver)))
         (when (and when (<= when time) (or (null finish-time) (< when finish-time)))
           (setf finish driver finish-time when))))
     (let ((start (first (body-pending body))))
@@ -152,15 +165,19 @@ usurps; a slave just before its master."
 (defun start-driver (body driver time)
   "Start DRIVER at TIME: it captures the pose, requests its channels (its slaves
 too) and joins the active drivers."
-  (setf (body-pending body) (remove driver (body-pending body)))
+  (setf (body-pending body) (if (eq driver (first (body-pending body)))
+                                (rest (body-pending body))
+                                (remove driver (body-pending body))))
   (driver-begin driver (body-base body) time)
+  (note-gaze-start body driver time)
   (let ((arbitrator (body-arbitrator body))
         (blend (if (and (body-birth body) (= time (body-birth body)))
                    0d0
                    (or (driver-arg driver :blend) (driver-default-blend driver) (body-blend-time body)))))
     (dolist (d (cons driver (slave-drivers driver)))
       ;; A slave sorts just before its master, so a master sees its slave's angles.
-      (setf (driver-sequence d) (+ (incf (body-serial body)) (if (eq d driver) 0.5 0)))
+      (setf (driver-sequence d) (+ (incf (body-serial body)) (if (eq d driver) 0.5 0))
+            (driver-finish d) (driver-finish-time d))
       (unless (eq d driver)
         (add-slave arbitrator driver d))
       (unless (driver-additive-p d)
@@ -170,6 +187,21 @@ too) and joins the active drivers."
       (setf (body-active body)
             (merge 'list (body-active body) (list d)
                    (lambda (a b) (driver-precedes-p body a b)))))))
+
+(defun note-gaze-start (body driver time)
+  "Record TIME among BODY's gaze starts when DRIVER is a gaze driver."
+  (when (eq (motor-call-function (driver-call driver)) :gaze)
+    (let ((starts (body-gaze-starts body))
+          (time (float time 1d0)))
+      (unless (and (plusp (fill-pointer starts)) (= time (aref starts (1- (fill-pointer starts)))))
+        (vector-push-extend time starts)))))
+
+(defun note-instant-change (body channel time)
+  "CHANNEL of BODY was just stamped at TIME: when it moves at once (no
+crossfade, or one stamped before TIME), the pose composed at TIME is stale."
+  (when (or (<= (aref (body-blends body) channel) 0d0)
+            (/= (aref (body-handovers body) channel) time))
+    (setf (body-recompose-p body) t)))
 
 (defun finish-driver (body driver time)
   "End DRIVER (and its slaves) at TIME, releasing their channels."
@@ -198,7 +230,8 @@ until told to settle; one let go while settling starts settling now."
                                (svref (body-settling body) i) nil))
                   ((svref (body-settling body) i)
                    (setf (aref (body-blends body) i)
-                         (settle-seconds (channel-travel body i)))))))))
+                         (settle-seconds (channel-travel body i)))))
+            (note-instant-change body i time)))))
     (refresh-sharers body time)))
 
 ;;;# Composition
@@ -265,17 +298,29 @@ is an ARGUMENT-ERROR: make a fresh body to go back."
     (argument-fail 'body-evaluate 'time time
                    (format nil "a time not before ~A, when body ~A was last evaluated (make a fresh body to go back)"
                            (format-number (body-time body)) (lisp-text (object-name body)))))
-  (loop
-    (multiple-value-bind (kind driver when) (next-body-event body time)
-      (unless kind (return))
-      (compose-pose body when)
-      (ecase kind
-        (:start (start-driver body driver when)
-         (take-channel-sets body driver))
-        (:finish (finish-driver body driver when)))
-      (lose-channel-sets body when)
-      (refresh-owners body when)))
-  (compose-pose body time))
+  (let ((composed nil))
+    (loop
+      (multiple-value-bind (kind driver when) (next-body-event body time)
+        (unless kind (return))
+        ;; Many drivers starting at one instant: composing again at the same
+        ;; time gives the same pose (drivers are pure in time), unless what
+        ;; happened since changed it there (RECOMPOSE-P); composing for each
+        ;; made them quadratic.
+        (unless (and composed (= when composed) (not (body-recompose-p body)))
+          (compose-pose body when)
+          (setf composed when (body-recompose-p body) nil))
+        (when (driver-additive-p driver)
+          (setf (body-recompose-p body) t))
+        (ecase kind
+          (:start (start-driver body driver when)
+           (take-channel-sets body driver))
+          (:finish (finish-driver body driver when)))
+        (lose-channel-sets body when)
+        (refresh-owners body when)))
+    ;; Composed at TIME already, before what started then, and unchanged by it.
+    (if (and composed (= time composed) (not (body-recompose-p body)))
+        (body-pose body)
+        (compose-pose body time))))
 
 (defun body-joint-position (body joint-name)
   "Where BODY's joint JOINT-NAME (or the joint of a role keyword) is, at the last evaluation."

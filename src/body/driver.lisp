@@ -16,6 +16,9 @@
           :documentation "Absolute time (seconds) it starts.")
    (stop :initarg :stop :initform nil :accessor driver-stop
          :documentation "Absolute time its script stops it, or NIL.")
+   (finish :initform nil :accessor driver-finish
+           :documentation "DRIVER-FINISH-TIME, kept from its start (and its stop's change), so
+a body looking for the next end among many drivers reads a slot, not a generic function.")
    (channels :initform '() :accessor driver-channels
              :documentation "The pose indices it drives, from DRIVER-SETUP.")
    (sequence :initform 0 :accessor driver-sequence

@@ -33,11 +33,13 @@ so a driver joining or leaving a blend never makes the channel jump."
       (let ((now (channel-sharers arbitrator i)))
         (when now (setf any t))
         (unless (equal now (svref sharers i))
+          (setf (body-sharing-stale-p body) t)
           (unless (= (aref (body-handovers body) i) time)
             ;; A new owner was stamped already by REFRESH-OWNERS.
             (setf (aref (body-held body) i) (aref (body-base body) i)
                   (aref (body-handovers body) i) (float time 1d0)
-                  (aref (body-blends body) i) (float (body-blend-time body) 1d0)))
+                  (aref (body-blends body) i) (float (body-blend-time body) 1d0))
+            (note-instant-change body i time))
           (setf (svref sharers i) now))))
     (setf (body-shared-p body) any)))
 
@@ -51,12 +53,27 @@ handed over with their set undone."
           (driver-drive driver time pose)
           (loop for i in released for angle in saved do (setf (aref pose i) angle))))))
 
+(defun sharers-channels (body)
+  "A table from each driver among some channel's sharers in BODY to those
+channels, so composing asks it rather than searching every channel's
+sharers for every driver (which made many equals cubic); made again only
+when the sharers changed."
+  (let ((table (body-sharing body))
+        (sharers (body-sharers body)))
+    (when (body-sharing-stale-p body)
+      (clrhash table)
+      (dotimes (i (length sharers))
+        (dolist (driver (svref sharers i))
+          (push i (gethash driver table))))
+      (setf (body-sharing-stale-p body) nil))
+    table))
+
 (defun drive-sharing (body time base)
   "Every non-additive driver of BODY writes into BASE in order; a shared
 channel then takes its sharers' weighted mean."
   (let ((sums (body-share-sums body))
         (weights (body-share-weights body))
-        (sharers (body-sharers body)))
+        (sharing (sharers-channels body)))
     (declare (type pose sums weights))
     (fill sums 0d0)
     (fill weights 0d0)
@@ -64,7 +81,7 @@ channel then takes its sharers' weighted mean."
       (unless (driver-additive-p driver)
         (drive-owned driver time base)
         (dolist (i (driver-channels driver))
-          (when (member driver (svref sharers i))
+          (when (member i (gethash driver sharing))
             (let ((weight (driver-weight driver)))
               (incf (aref sums i) (* weight (aref base i)))
               (incf (aref weights i) weight))))))

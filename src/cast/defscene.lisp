@@ -22,8 +22,9 @@ row along x, centred on the origin.")
   "One character of a scene: its NAME (a symbol, unique in the scene), the SPEC
 it plays (a spec's name), its POSITION in the world (a vec3), the INITIAL
 values its controller starts from (an alist, as for MAKE-CONTROLLER) and the
-FORM it was written as."
-  name spec position initial form)
+FORM it was written as.  EXPLICIT when the form places it (:at); else it
+stands in a row, which playing moves clear of the set (placement.lisp)."
+  name spec position initial form explicit)
 
 (defstruct (cast (:constructor %make-cast))
   "A scene of several characters, as DEFSCENE defines it: its NAME, DOCUMENTATION,
@@ -118,7 +119,7 @@ malformed form, a MISSING-MEMBER-SPEC-ERROR when SPEC is not defined."
                     (lisp-text as) (lisp-text spec-name) (car *source-position*) (lisp-text spec-name)
                     (mapcar #'lisp-text (list-specs))))
       (%make-cast-member :name as :spec (spec-name (find-spec spec-name))
-                         :position (and at (mapcar (lambda (x) (float x 1d0)) at))
+                         :position (and at (mapcar (lambda (x) (float x 1d0)) at)) :explicit (and at t)
                          :initial initial :form form))))
 
 (defun place-members (members)

@@ -16,25 +16,27 @@ the last member's end."
   ;; The performance of the scene's own set, or NIL (the first member's
   ;; world is the set), and the set's copies of its objects (scene-set.lisp).
   (set nil)
-  (proxies (make-hash-table :test 'eq :weakness :key)))
+  (proxies (make-hash-table :test 'eq :weakness :key))
+  ;; The names of the props the members' scripts carry: each member's own.
+  (carried '()))
 
 (defun member-presenters (cast scripts body seed)
   "A table from each member's name in CAST to a body presenter placing its
 world at the member's position (SCRIPTS, BODY and SEED as for
-MAKE-BODY-PRESENTER).  The first member of each spec reads and checks the
-spec's library; the others reuse it, so a big cast reads it once."
-  (let ((firsts (make-hash-table :test 'eq))
+MAKE-BODY-PRESENTER), the members placed in a row first moved clear of the
+set (PLACE-CAST-CLEAR-OF-SET).  Each spec's library is read and checked
+once (MEMBER-PROBES), so a big cast reads it once."
+  (let ((probes (member-probes cast scripts body seed))
         (presenters (make-hash-table :test 'eq)))
+    (place-cast-clear-of-set cast probes)
     (dolist (member (cast-members cast) presenters)
-      (let* ((spec (find-spec (cast-member-spec member)))
-             (first (gethash spec firsts))
-             (presenter (make-body-presenter spec :scripts (if first (presenter-library first) scripts)
-                                                  :body body :seed seed
-                                                  :name (cast-member-name member)
-                                                  :origin (apply #'vec3 (cast-member-position member))
-                                                  :check (not first))))
-        (unless first (setf (gethash spec firsts) presenter))
-        (setf (gethash (cast-member-name member) presenters) presenter)))))
+      (let ((spec (find-spec (cast-member-spec member))))
+        (setf (gethash (cast-member-name member) presenters)
+              (make-body-presenter spec :scripts (presenter-library (gethash spec probes))
+                                        :body body :seed seed
+                                        :name (cast-member-name member)
+                                        :origin (apply #'vec3 (cast-member-position member))
+                                        :check nil))))))
 
 (defun simulate-scene (cast &key initial events until when-busy (fps 30) (seed 0) scripts body)
   "Play EVENTS (addresses as for PLAY-SCENE-EVENTS) on every member of CAST (a
@@ -73,7 +75,19 @@ every member's frames (and BVH) cover that whole time."
     (dolist (member members)
       (setf (simulation-end (cdr member)) end))
     (%make-scene-simulation :ensemble ensemble :members members :fps fps :end end
-                            :set (set-performance (ensemble-cast ensemble)))))
+                            :set (set-performance (ensemble-cast ensemble))
+                            :carried (members-carried-objects ensemble))))
+
+(defun members-carried-objects (ensemble)
+  "The names of the props the scripts of ENSEMBLE's members carry (see
+LIBRARY-CARRIED-OBJECTS), each library asked once."
+  (let ((libraries (remove-duplicates
+                    (loop for performer in (ensemble-performers ensemble)
+                          for presenter = (controller-presenter (performer-controller performer))
+                          when (typep presenter 'body-presenter)
+                            collect (presenter-library presenter)))))
+    (remove-duplicates (mapcan #'library-carried-objects libraries)
+                       :test #'string= :key #'symbol-name)))
 
 (defun scene-simulation-member (simulation member)
   "The SIMULATION of SIMULATION's MEMBER (a member's name), or NIL."
@@ -90,7 +104,8 @@ every member's frames (and BVH) cover that whole time."
         (set (scene-simulation-set simulation)))
     (setf (scene-objects composite)
           (gather-scene-objects (if set (performance-frame set time) (first members)) members
-                                (scene-simulation-proxies simulation)))
+                                (scene-simulation-proxies simulation)
+                                (scene-simulation-carried simulation)))
     composite))
 
 (defmethod simulation-critical-times ((simulation scene-simulation))

@@ -45,7 +45,7 @@ it lacks and the ops whose :duration differs from their script's. Exit status
   "Print SPEC's diagnostics (with the script library SCRIPTS, else its own),
 errors first, or that it has none; return how many errors there were."
   (let* ((behaviour (graph-spec-diagnostics spec)) ; (:graph ...) specs: stuck states, goals no path reaches
-         (others (append (check-spec spec) (script-diagnostics spec scripts)))
+         (others (append (code-diagnostics spec) (check-spec spec) (script-diagnostics spec scripts)))
          (diagnostics (append behaviour others))
          (errors (append behaviour (remove-if-not #'diagnostic-error-p others)))
          (warnings (remove-if #'diagnostic-error-p others)))

@@ -210,7 +210,7 @@ effects. Its precondition is the caller's business."
       (compile-macro-executor op machine)
       (with-state-bits (machine)
         (let ((mask (state-bits (op-effect-mask op))) (bits (state-bits (op-effect-bits op)))
-              (code (and (eq (op-kind op) :code) (compile-code (op-code op))))
+              (code (and (eq (op-kind op) :code) (compile-code (op-code op) (machine-spec machine))))
               ;; Times are whole microseconds (EXACT-TIMES.LISP); presenters see seconds.
               (duration (seconds->micros (op-duration op))))
           (lambda (controller)
@@ -274,16 +274,3 @@ made along the way are internal to the macro)."
                 (when (eq result t)
                   (change-state-to controller (state-with-fields before mask bits) end field-masks op))
                 result)))))))
-
-(defun compile-code (form)
-  "A function of no arguments evaluating FORM. FORM is compiled the first time
-it runs, so machines with :code compile as fast as those without.  The
-compiler's notes and warnings are not printed: stderr is for the one error
-line (an undefined function still fails when the code runs)."
-  (let ((function nil))
-    (lambda ()
-      (funcall (or function
-                   (setf function
-                         (let ((*error-output* (make-broadcast-stream)))
-                           (handler-bind ((warning #'muffle-warning))
-                             (compile nil `(lambda () ,form))))))))))

@@ -125,8 +125,7 @@ long long and double)."
             overflow)))))
 
 (defmethod compile-step ((step code-step) next machine)
-  (declare (ignore machine))
-  (let ((code (compile-code (code-step-form step))))
+  (let ((code (compile-code (code-step-form step) (machine-spec machine))))
     (lambda (controller)
       (funcall (the function code))
       (funcall (the function next) controller))))

@@ -7,7 +7,7 @@
                 #:with-gensyms #:once-only #:appendf #:read-file-into-string)
   (:documentation "Running a machine: the controller, the presenter and recorder protocol, the Lisp closures, the timed controller.")
   (:export
-   #:*controller* #:*initial-state-phrase* #:advance #:clear-trace #:compile-spec #:finish-trace
+   #:*controller* #:*initial-state-phrase* #:advance #:clear-trace #:code-diagnostics #:compile-spec #:finish-trace
    #:compiled-machine #:controller #:controller-bits #:controller-busy-p #:controller-clock
    #:controller-machine #:controller-p #:controller-presenter #:controller-state
    #:controller-time #:controller-microseconds #:controller-timeline #:critical-time #:deferred-sends-error

@@ -14,7 +14,7 @@
    #:make-performance #:map-simulation-frames #:perform-director #:perform-script
    #:performance #:performance-audio #:performance-body #:performance-clips
    #:performance-frame #:performance-library #:performance-p #:performance-play-sound
-   #:performance-say #:performance-scene #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:presenter-library #:presenter-performance
+   #:performance-say #:performance-scene #:performance-sent-events #:performance-signal #:performance-play-music #:performance-stop-music #:performance-set-tempo #:performance-tempo #:presenter-library #:presenter-performance #:library-carried-objects
    #:performance-set-mood
    #:reload-script-library #:replay-clips #:script #:script-critical-time
    #:reload-character-skeleton #:script-library-poses

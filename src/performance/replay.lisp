@@ -223,24 +223,34 @@ start.  Returns the scene (PERFORMANCE-SCENE; its objects change with the next c
     (when (or (replay-stale performance)
               (and (performance-time performance) (< time (performance-time performance))))
       (rebuild-scene performance))
-    (loop
-      (expand-runs performance time)
-      (let ((cue (first (replay-cues performance)))
-            (settle-time (next-settle-time performance)))
-        (cond ((and settle-time (<= settle-time time)
-                    (or (null cue) (< settle-time (cue-time cue))))
-               ;; A script over, or a new settled pose, before the next cue (cues at
-               ;; the same instant first: a channel a new script takes then never settles).
-               (bring-to performance settle-time)
-               (settle-due performance settle-time))
-              ((not (and cue (<= (cue-time cue) time)))
-               (return))
-              (t
-               (pop (replay-cues performance))
-               (when (or (null (script-run-stop (cue-run cue)))
-                         (< (cue-time cue) (script-run-stop (cue-run cue))))
-                 (bring-to performance (cue-time cue))
-                 (play-cue performance cue))))))
+    ;; The time the scene was last brought to when only motor items have
+    ;; played since: they only schedule drivers, so the next motor cue at that
+    ;; time finds the scene as it was, and the drivers start together at the
+    ;; next evaluation (in order), rather than each cue evaluating every body
+    ;; again (which made a script starting many drivers at once quadratic).
+    ;; Any other item sees them started.
+    (let ((brought nil))
+      (loop
+        (expand-runs performance time)
+        (let ((cue (first (replay-cues performance)))
+              (settle-time (next-settle-time performance)))
+          (cond ((and settle-time (<= settle-time time)
+                      (or (null cue) (< settle-time (cue-time cue))))
+                 ;; A script over, or a new settled pose, before the next cue (cues at
+                 ;; the same instant first: a channel a new script takes then never settles).
+                 (bring-to performance settle-time)
+                 (settle-due performance settle-time)
+                 (setf brought nil))
+                ((not (and cue (<= (cue-time cue) time)))
+                 (return))
+                (t
+                 (pop (replay-cues performance))
+                 (when (or (null (script-run-stop (cue-run cue)))
+                           (< (cue-time cue) (script-run-stop (cue-run cue))))
+                   (unless (and (eql brought (cue-time cue)) (typep (cue-item cue) 'motor-item))
+                     (bring-to performance (cue-time cue)))
+                   (play-cue performance cue)
+                   (setf brought (and (typep (cue-item cue) 'motor-item) (cue-time cue)))))))))
     (bring-to performance time)
     (check-property-reactions performance time)
     (setf (scene-caption (performance-scene performance)) (caption-at performance time))

@@ -22,7 +22,7 @@
 ;;;# Severity
 
 (defparameter *error-diagnostic-kinds*
-  '(:script-library :missing-scripts :motor-call :scene-name)
+  '(:script-library :missing-scripts :motor-call :scene-name :code)
   "The DIAGNOSTIC kinds that are errors: what playing the spec would fail on.
 Every other kind (:unreachable-goal, :unused-op, :truncated,
 :unreachable-states, :shared-channel, :duration-mismatch) is a warning.
@@ -36,7 +36,9 @@ Every other kind (:unreachable-goal, :unused-op, :truncated,
   :MOTOR-CALL      a motor call the spec's body cannot perform (an unknown
                    pose, joint, role or DOF, a written angle past its limit);
   :SCENE-NAME      an item or target naming an object, joint or role the
-                   scene playing the spec would not have.")
+                   scene playing the spec would not have;
+  :CODE            a :code form the compiler warns of (an undefined
+                   function), which fails when it runs (CODE-DIAGNOSTICS).")
 
 (defun diagnostic-severity (diagnostic)
   "DIAGNOSTIC's severity: :ERROR when its kind is one of *ERROR-DIAGNOSTIC-KINDS*

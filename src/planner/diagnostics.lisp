@@ -7,7 +7,8 @@
 (defstruct (diagnostic (:constructor make-diagnostic (kind message &optional details)))
   "One finding of CHECK-SPEC. KIND is :UNREACHABLE-GOAL, :UNUSED-OP,
 :TRUNCATED, :UNREACHABLE-STATES, :INEXACT-MACRO, :SHARED-CHANNEL or
-:SIDE-EFFECT (side-effects.lisp)."
+:SIDE-EFFECT (side-effects.lisp), or :CODE (a :code form the compiler warns
+of, src/control/code-forms.lisp)."
   (kind nil :type keyword)
   (message "" :type string)
   (details nil))

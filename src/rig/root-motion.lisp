@@ -1,8 +1,9 @@
 ;;;; root-motion.lisp -- a clip played with :root :move carries its character:
 ;;;; the body's position follows the horizontal travel of the clip's root
 ;;;; from where the body stood when the clip started, turned by the body's
-;;;; rotation.  (:in-place, the default, drops the travel: the clip driver
-;;;; only writes joint angles.)
+;;;; rotation; a looping clip carries it steadily, at its cycle's average
+;;;; velocity (CLIP-TRAVEL says why).  (:in-place, the default, drops the
+;;;; travel: the clip driver only writes joint angles.)
 ;;;;
 ;;;; A driver writes a pose, not the body's place, so the travel is a CONTROL
 ;;;; of the body's POSITION property, which the performance binds for the
@@ -18,14 +19,18 @@
 
 (defun clip-travel (clip local loop)
   "How far CLIP has carried its root, horizontally, LOCAL seconds into it
-\(from its root at the clip's start, a vec3 in the skeleton's frame): held
-after its end, or, when LOOP, each cycle going on from where the last ended."
+\(from its root at the clip's start, a vec3 in the skeleton's frame): the
+root's own keys, held after the clip's end; or, when LOOP, steadily: each
+cycle's travel (the root's end less its start) spread evenly over the cycle.
+A clip cut from capture seldom starts moving as it ends (CMU's 01_01 crouches
+back before each jump), so following the keys of a loop would take the body
+back at every seam and change its speed there; its average velocity carries
+it on.  The wobble within a cycle is dropped, as :in-place drops it all."
   (let* ((duration (clip-duration clip))
          (start (clip-root-offset clip 0d0)))
     (flet ((travel (at) (horizontal (v- (clip-root-offset clip at) start))))
       (if (and loop (> duration 0d0))
-          (multiple-value-bind (cycles within) (floor local duration)
-            (v+ (v* (travel duration) (float cycles 1d0)) (travel within)))
+          (v* (travel duration) (/ (float local 1d0) duration))
           (travel (max 0d0 (min local duration)))))))
 
 (defstruct (root-motion-control (:include control (kind :vec3))

@@ -66,7 +66,7 @@
     (:if (list (parse-if argument form allowed)))
     (:add (parse-assignments argument t form))
     (:sub (parse-assignments argument nil form))
-    (:code (list (list :code argument)))
+    (:code (list (list :code (note-code-form argument))))
     (:c++ (list (list :c++ (parse-c++ argument form))))))
 
 (defun parse-if (argument form allowed)

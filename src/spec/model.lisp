@@ -35,6 +35,9 @@
   ;; Its top-level forms -> (FILE . POSITION), so errors found after parsing
   ;; (when it is planned) still name the line of the form at fault.
   (form-places (make-hash-table :test 'eq))
+  ;; Each :code form -> ((FILE . POSITION) . LABEL): where it is written and
+  ;; the label of the form holding it, for errors found when it is compiled.
+  (code-places (make-hash-table :test 'eq))
   ;; Package the spec's forms were read in.
   (package *package*))
 

@@ -249,7 +249,7 @@ about FORM for a dotted list."
            (setf (op-kind op) :director
                  (op-director op) (require-name (getf options :director) form "a director name")))
           ((member :code options)
-           (setf (op-kind op) :code (op-code op) (getf options :code)))
+           (setf (op-kind op) :code (op-code op) (note-code-form (getf options :code))))
           ((member :script options)
            (setf (op-script op) (require-name (getf options :script) form "a script name"))))
     (setf (op-precond-form op) (getf options :precond)

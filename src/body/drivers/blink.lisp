@@ -39,9 +39,7 @@ SEED and MEAN-INTERVAL, as a list."
 lid's close DOF's limit, or 1 for a morph target that closes the eyes.")
    (open :accessor blink-open :documentation "Each lid's angle between blinks.")
    (times :initform (make-array 16 :adjustable t :fill-pointer 0) :reader blink-reflex-times
-          :documentation "The reflex blinks' absolute times found so far, increasing.")
-   (gaze-starts :initform '() :accessor blink-gaze-starts
-                :documentation "The start times of gaze shifts seen since it began."))
+          :documentation "The reflex blinks' absolute times found so far, increasing."))
   (:documentation "Performs :blink: blinks at seeded exponential intervals from
 its start, and at the start of each later gaze shift, until stopped."))
 
@@ -106,15 +104,20 @@ cumulative sums of its intervals from its start, computed once and cached."
     times))
 
 (defun note-gaze-shifts (driver time)
-  "Remember the start of each gaze driver of DRIVER's body that started after
-DRIVER, at or before TIME; return every start remembered."
+  "The starts of the gaze drivers of DRIVER's body that started after DRIVER,
+at or before TIME, increasing (from the body's record, BODY-GAZE-STARTS)."
   (when (driver-arg driver :on-gaze-shift)
-    (dolist (other (body-active (driver-body driver)))
-      (let ((start (driver-start other)))
-        (when (and (eq (motor-call-function (driver-call other)) :gaze)
-                   (> start (driver-start driver)) (<= start time))
-          (pushnew start (blink-gaze-starts driver))))))
-  (blink-gaze-starts driver))
+    (let* ((starts (body-gaze-starts (driver-body driver)))
+           (after (driver-start driver))
+           ;; Binary search for the first start after DRIVER's own.
+           (first (let ((lo 0) (hi (fill-pointer starts)))
+                    (loop while (< lo hi)
+                          do (let ((mid (floor (+ lo hi) 2)))
+                               (if (<= (aref starts mid) after) (setf lo (1+ mid)) (setf hi mid))))
+                    lo)))
+      (loop for i from first below (fill-pointer starts)
+            while (<= (aref starts i) time)
+            collect (aref starts i)))))
 
 (defun blink-times (driver until)
   "Every blink of DRIVER that starts by UNTIL, reflex and gaze shift, increasing."

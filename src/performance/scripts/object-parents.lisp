@@ -1,7 +1,8 @@
 ;;;; object-parents.lisp -- a script library's declared objects may hang from
 ;;;; each other (:parent), but not in a cycle.  Checked when the library is
 ;;;; loaded, each object's chain of parents walked once, so 20,000 objects in
-;;;; one chain load in linear time (issue 31).
+;;;; one chain load in linear time (issue 31).  Which objects its scripts
+;;;; hang from a character, to carry about, is LIBRARY-CARRIED-OBJECTS.
 
 (in-package #:player.performance)
 
@@ -29,3 +30,20 @@ chain is known to end is not walked again."
                    (setf (gethash o on-chain) t)
                    (push o chain))
           (dolist (o chain) (setf (gethash o ends) t)))))))
+
+(defun library-carried-objects (library)
+  "The names of the objects LIBRARY's scripts hang from a character (an
+:attach to :SELF or to a body's joint): what its character picks up and
+carries about, the rest of its objects standing where they are declared.
+A scene of several members gives each member his own (src/cast/scene-set.lisp)."
+  (let ((names '()))
+    (maphash (lambda (key script)
+               (declare (ignore key))
+               (dolist (item (script-items script))
+                 (when (and (attach-item-p item)
+                            (not (eq (attach-item-object item) :self))
+                            (let ((parent (attach-item-parent item)))
+                              (or (eq parent :self) (consp parent))))
+                   (pushnew (attach-item-object item) names))))
+             (script-library-scripts library))
+    (sort names #'string< :key #'symbol-name)))
