@@ -52,10 +52,10 @@
   :documentation "Headphones lying on the table by his left foot.")
 
 (defobject jukebox
-  :kind :prop :position (-0.45 0 -0.15)
+  :kind :prop :position (-0.45 0.2 -0.15)
   :properties ((colour :colour (0.7 0.2 0.15)) (size :vector (0.25 0.4 0.2))
                (playing :boolean nil))
-  :documentation "The CD jukebox behind him to his right; PLAYING while music plays.")
+  :documentation "The CD jukebox standing on the table behind him to his right (its centre half its height up); PLAYING while music plays.")
 
 (defobject cd-title
   :kind :prop :position (0.3 0.25 0.1)
