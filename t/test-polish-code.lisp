@@ -104,3 +104,37 @@ spec, the form and the undefined function when the event runs."
                (is (search "polish-no-such-function" text) "~A" text)
                (is (search "event ev-go" text) "~A" text))))
       (player:remove-spec 'polish-undef))))
+
+(defparameter *signalling-code* "(defspec boom \"Code that signals an error when it runs.\"
+  (state-variable done boolean false)
+  (op finish :add done :duration 1)
+  (event ev-go
+    :code (error \"the jukebox is ~A\" 'jammed)
+    :op finish))"
+  "A spec whose event's :code, on line 6 of its file, signals an error when it runs.")
+
+(test run-time-errors-in-code-name-their-line
+  "An error the code signals as it runs is one line naming the code's file and
+line, and what it signalled."
+  (with-temporary-directory (dir)
+    (multiple-value-bind (out err code) (player-command "run" (write-code-spec dir "boom" *signalling-code*)
+                                                        "--events" "ev-go")
+      (is (= 1 code) "exit ~D: ~A" code err)
+      (is (search "(:event ev-go :time 0)" out) "~A" out)
+      (check-code-error-line err "player: error: boom.lisp:6: event ev-go: :code signalled an error: the jukebox is JAMMED"))))
+
+(test run-time-errors-in-code-reach-the-caller-unchanged
+  "From Lisp the code's own condition arrives as it was signalled (a handler
+for it still works); only its one-line report names the code's place."
+  (let* ((spec (player:define-spec 'polish-boom '((state-variable done boolean false)
+                                                  (op finish :add done :duration 1)
+                                                  (event ev-go :code (error 'division-by-zero) :op finish))))
+         (controller (player:make-controller spec)))
+    (unwind-protect
+         (handler-case (progn (player:send-event controller 'ev-go)
+                              (fail "no error from the code"))
+           (division-by-zero (condition)
+             (let ((line (player.base:condition-line condition)))
+               (is (search "event ev-go: :code signalled an error: " line) "~A" line)
+               (is (search "division-by-zero" line) "~A" line))))
+      (player:remove-spec 'polish-boom))))

@@ -172,9 +172,23 @@ is asked to start from, a state outside them, and may not search at run time."))
              (write-string (state-transfer-message condition) stream)))
   (:documentation "RECOMPILE or :INITIAL-STATE cannot express a state in the new machine."))
 
+(defvar *condition-places* (make-hash-table :test 'eq :weakness :key :synchronized t)
+  "Conditions a spec's own code signalled (a :code form), each mapped to the
+line that says where that code is written and what it signalled.  The
+condition itself is left as it is, so the code's own handlers and the REPL
+see what the code signalled; the CLI's one error line says where.")
+
+(defun note-condition-place (condition line)
+  "Remember LINE as what CONDITION-LINE says of CONDITION, unless a place is
+already known (the innermost code, whose handler runs first, names it)."
+  (unless (nth-value 1 (gethash condition *condition-places*))
+    (setf (gethash condition *condition-places*) line)))
+
 (defun condition-line (condition)
   "CONDITION's report on one line (as the CLI prints errors), or a plain
-description when reporting it fails."
-  (let ((text (handler-case (princ-to-string condition)
-                (error () (format nil "~(~A~)" (type-of condition))))))
-    (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text))))
+description when reporting it fails.  A condition a spec's :code signalled
+is reported with the place of that code (NOTE-CONDITION-PLACE)."
+  (or (values (gethash condition *condition-places*))
+      (let ((text (handler-case (princ-to-string condition)
+                    (error () (format nil "~(~A~)" (type-of condition))))))
+        (substitute #\Space #\Newline (string-trim '(#\Space #\Newline) text)))))

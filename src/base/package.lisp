@@ -13,7 +13,7 @@
    #:argument-error-expected #:argument-error-function #:argument-error-value
    #:argument-fail #:argument-value-text #:bounded-form-p #:bounded-lisp-text
    #:check-argument #:check-form-structure #:check-real #:check-seconds #:check-spec-number
-   #:class-cycle-error #:condition-line #:directory-pathname #:domain-error
+   #:class-cycle-error #:condition-line #:note-condition-place #:directory-pathname #:domain-error
    #:duplicate-definition #:effect-error #:find-executable #:finite-form-p
    #:finite-number-p #:finite-real-p #:form #:form-label #:format-number #:goal-error
    #:head #:inexact-macro-error #:int64-p #:label-error #:lisp-text

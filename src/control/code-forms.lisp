@@ -58,7 +58,19 @@ the first time it runs (when the functions it calls should be defined);
 then, what the compiler warns of is a CODE-ERROR (see CHECKED-CODE-FUNCTION)."
   (let ((function nil))
     (lambda ()
-      (funcall (or function (setf function (checked-code-function form spec)))))))
+      (let ((compiled (or function (setf function (checked-code-function form spec)))))
+        ;; Not HANDLER-CASE: the code's error is left as it is for its own
+        ;; handlers; only the line the CLI prints learns where the code is.
+        (handler-bind ((error (lambda (condition) (note-code-failure condition form spec))))
+          (funcall (the function compiled)))))))
+
+(defun note-code-failure (condition form spec)
+  "Remember, for CONDITION-LINE, that CONDITION escaped the :code FORM of SPEC:
+the line names FORM's file and line and says what it signalled."
+  (unless (typep condition 'code-error)
+    (note-condition-place condition
+                          (condition-line (code-condition spec form ":code signalled an error: ~A"
+                                                          (condition-line condition))))))
 
 (defun code-diagnostics (spec)
   "CHECK's findings about SPEC's :code forms, compiled now: a :CODE

@@ -65,9 +65,13 @@ of its macro-ops and events, in definition order."
           (loop for event in (spec-events spec)
                 append (directive-code-forms (event-directives event)))))
 
-(defun code-fail (spec form control &rest arguments)
-  "Signal a CODE-ERROR about the :code FORM of SPEC, naming the file, line
-and form it is written in, with a message from CONTROL and ARGUMENTS."
+(defun code-condition (spec form control &rest arguments)
+  "A CODE-ERROR about the :code FORM of SPEC, naming the file, line and form
+it is written in, with a message from CONTROL and ARGUMENTS; not signalled."
   (destructuring-bind (&optional place . label) (gethash form (spec-code-places spec))
-    (error 'code-error :form form :position place :label label :spec (spec-name spec)
-                       :message (apply #'format nil control arguments))))
+    (make-condition 'code-error :form form :position place :label label :spec (spec-name spec)
+                                :message (apply #'format nil control arguments))))
+
+(defun code-fail (spec form control &rest arguments)
+  "Signal a CODE-ERROR about the :code FORM of SPEC (see CODE-CONDITION)."
+  (error (apply #'code-condition spec form control arguments)))
