@@ -67,6 +67,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "uniform-cost")
                  (:file "goal-identity")
                  (:file "goals")
+                 (:file "macro-proof-budget")
                  (:file "macro-exactness")
                  (:file "plan-memo")
                  (:file "machine")
@@ -636,5 +637,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Issue 31, what was left: stop signals, one error line, exact times
                  (:file "test-rest31")
                  ;; Leftovers tidied: model --texture errors, root motion's resting place
-                 (:file "test-tidy"))))
+                 (:file "test-tidy")
+                 ;; Issue 31, item 8 audited: the exact-macro proof's budget, causes without a test
+                 (:file "test-adversarial-audit"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))
