@@ -172,3 +172,26 @@ stderr one player: error: line holding FRAGMENT (or empty when FRAGMENT is NIL).
       (let ((shown (get-output-stream-string out)))
         (is (search "Hi!\\x1B]0;PWNED\\x07\\x1B[2J What?" shown) "~A" shown)
         (is (notany (lambda (c) (member (char-code c) '(7 27))) shown))))))
+
+(defun doubling-director-files (levels)
+  "A spec and library whose directors D<i> (:on EV<i>) each send EV<i+1> twice."
+  (list (cons "fz.lisp"
+              (format nil "(defspec fz (:scripts \"fz-scripts.lisp\") (:body parrot) (state-variable x boolean false)
+  (op s :duration 0.1 :add x)~{ (event ev~D)~} (event go :op s))" (loop for i to levels collect i)))
+        (cons "fz-scripts.lisp"
+              (with-output-to-string (s)
+                (format s "(defscript s (:duration 0.1) (:at 0 :motor (:blink)))~%")
+                (format s "(defdirector d-go (:on go) (:send ev0 :at 0) (:send ev0 :at 0))~%")
+                (loop for i below levels
+                      do (format s "(defdirector d~D (:on ev~D) (:send ev~D :at 0) (:send ev~:*~D :at 0))~%"
+                                 i i (1+ i)))))))
+
+(test directors-multiplying-each-other-are-capped
+  ;; "What to build" 3, directors: 40 levels each sending the next event
+  ;; twice start 2^41 times, in a chain only 41 deep; simulate hung.
+  (check-bounded-case (1 "reactive directors started over 10,000 times in one performance" :seconds 10)
+      (doubling-director-files 40)
+    "simulate" "fz.lisp" "--events" "go" "--fps" "5" "--frames" "fz.frames")
+  ;; Ten levels (2,047 starts) play.
+  (check-bounded-case (0 nil :seconds 10) (doubling-director-files 10)
+    "simulate" "fz.lisp" "--events" "go" "--fps" "5" "--frames" "fz.frames"))
