@@ -195,3 +195,13 @@ stderr one player: error: line holding FRAGMENT (or empty when FRAGMENT is NIL).
   ;; Ten levels (2,047 starts) play.
   (check-bounded-case (0 nil :seconds 10) (doubling-director-files 10)
     "simulate" "fz.lisp" "--events" "go" "--fps" "5" "--frames" "fz.frames"))
+
+(test argument-values-too-small-for-microseconds-are-shown-in-full
+  (is (string= "1.0e-9" (player.base:argument-value-text 1d-9)))
+  (is (string= "-1.0e-7" (player.base:argument-value-text -1d-7)))
+  (is (string= "0.5" (player.base:argument-value-text 0.5d0)))
+  (is (string= "0" (player.base:argument-value-text 0)))
+  (sb-int:with-float-traps-masked (:invalid :overflow :divide-by-zero)
+    (let ((nan (- sb-ext:double-float-positive-infinity sb-ext:double-float-positive-infinity)))
+      (is (string= "nan" (player.base:argument-value-text nan)))
+      (is (string= "inf" (player.base:argument-value-text sb-ext:double-float-positive-infinity))))))

@@ -44,7 +44,9 @@ so that a NaN prints as nan instead of trapping when compared.  A number too
 small for the microseconds LISP-TEXT keeps is written in full: an error about
 1d-9 must not say 0."
   (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
-    (if (and (realp value) (not (zerop value)) (< (abs value) 1/1000000))
+    (if (and (realp value)
+             (not (and (floatp value) (or (sb-ext:float-nan-p value) (sb-ext:float-infinity-p value))))
+             (not (zerop value)) (< (abs value) 1d-6))
         (let ((*read-default-float-format* 'double-float))
           (string-downcase (prin1-to-string (float value 1d0))))
         (bounded-lisp-text value 80))))
