@@ -68,6 +68,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "uniform-cost")
                  (:file "goal-identity")
                  (:file "goals")
+                 (:file "macro-proof-budget")
                  (:file "macro-exactness")
                  (:file "plan-memo")
                  (:file "machine")
@@ -646,5 +647,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  ;; Polish: root motion at loop seams, scenes clear of the set, :code errors, many drivers
                  (:file "test-polish-code")
                  (:file "test-polish-drivers")
-                 (:file "test-polish-scenes"))))
+                 (:file "test-polish-scenes")
+                 ;; Issue 31, item 8 audited: the exact-macro proof's budget, causes without a test
+                 (:file "test-adversarial-audit"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -1,7 +1,8 @@
 ;;;; fuzz-bounds.lisp -- hostile but short inputs for the bounds of issue 31:
 ;;;; huge-but-short reader forms, fast clocks, fan-out (macro-ops, :play,
-;;;; pose :include), exponential phrases, odd WAVs and control-character
-;;;; names.  Each case is a small file run through bin/player under a time and
+;;;; pose :include), exponential phrases, odd WAVs, control-character
+;;;; names and exact macro-ops whose proof splits their start states finely.
+;;;; Each case is a small file run through bin/player under a time and
 ;;;; memory watch: it must finish or give its one "player: error: ..." line
 ;;;; within *FZB-SECONDS* seconds and *FZB-MEGABYTES* MB of resident memory.
 ;;;; `make fuzz` runs FUZZ_BOUNDS_CASES (200) of them (fuzz-main.lisp); the
@@ -70,12 +71,27 @@
               :bits (fzb-pick state '(8 16))
               :data (loop repeat (* 2 (random 20 state)) collect (random 256 state))))
 
+(defun fzb-proof (state)
+  "A spec whose exact macro-op's proof splits its start states VALUES ways at
+each of STEPS sub-ops, then may walk a long :seq (SPLITTING-MACRO-SPEC).  Its
+states times ops stay under 5 x 10^8, so planning it is quick and the proof
+does the work (planning takes about a nanosecond per state and op)."
+  (let* ((steps (+ 2 (random 5 state)))
+         (most (loop for v from 2
+                     while (< (* (expt (* 2 v) steps) 16 (* steps (1+ v))) 500000000)
+                     finally (return (1- v))))
+         (values (+ 2 (random (max 1 (1- most)) state))))
+    (splitting-macro-spec steps values :name "fz" :semantics (fzb-pick state '(:exact :exact :declared))
+                                       :tail (fzb-pick state '(0 0 10 1000 5000))
+                                       :copies (fzb-pick state '(1 1 2 5))
+                                       :wrappers (zerop (random 2 state)))))
+
 (defun fzb-case (seed index)
   "Case INDEX of SEED: (VALUES KIND FILES ARGUMENTS INPUT), FILES an alist of a
 file name to its text or octets, ARGUMENTS bin/player's (FILE names relative
 to the case's folder), INPUT standard input's text or NIL."
   (let* ((state (sb-ext:seed-random-state (+ (* seed 1000003) index)))
-         (kind (fzb-pick state '(:reader :clock :fan-out :phrases :wav :name))))
+         (kind (fzb-pick state '(:reader :clock :fan-out :phrases :wav :name :proof))))
     (flet ((spec-case (text arguments)
              ;; A ;;; fz-scripts.lisp line splits a spec from its script library.
              (let ((split (search ";;; fz-scripts.lisp" text)))
@@ -90,6 +106,7 @@ to the case's folder), INPUT standard input's text or NIL."
         (:clock (spec-case (fzb-fast-clock state)
                            (list "run" "fz.lisp" "--events" "ev@0" "--at" (fzb-pick state '("1" "10" "100")))))
         (:fan-out (spec-case (fzb-fan-out state) (list (fzb-pick state '("check" "plans")) "fz.lisp")))
+        (:proof (spec-case (fzb-proof state) (list (fzb-pick state '("check" "plans")) "fz.lisp")))
         (:name (spec-case (fzb-control-name state) (list "run" "fz.lisp" "--events" "ev")))
         (:wav (values kind (list (cons "fz.wav" (coerce (fzb-odd-wav state) '(vector (unsigned-byte 8)))))
                       (list "chat" (namestring (checkout-file "specs/peedy-dialogue.lisp")) "--wav" "fz.wav") nil))
@@ -163,7 +180,7 @@ to the case's folder), INPUT standard input's text or NIL."
   "Print RESULTS of FUZZ-BOUNDS by kind, the slowest and largest, and every failure; the number of failures."
   (format stream "~&~%Bounds: ~D hostile short inputs~%  ~10A ~6@A ~8@A ~10@A ~8@A~%" (length results)
           "kind" "cases" "failed" "slowest s" "most MB")
-  (dolist (kind '(:reader :clock :fan-out :phrases :wav :name))
+  (dolist (kind '(:reader :clock :fan-out :phrases :wav :name :proof))
     (let ((mine (remove kind results :key #'second :test-not #'eq)))
       (when mine
         (format stream "  ~10A ~6D ~8D ~10,1F ~8,0F~%" (string-downcase kind) (length mine)

@@ -154,7 +154,7 @@ precondition by the first plan whose condition holds, or NIL when one fails."
     (is (< 0 inexact macros))))
 
 (test a-macro-the-proof-gives-up-on-is-a-check-warning
-  "Past *MACRO-BRANCH-LIMIT* branches the proof stops: under :exact planning
+  "Past *MACRO-PROOF-BUDGET* steps the proof stops: under :exact planning
 refuses the spec, under the default CHECK-SPEC warns instead of failing."
   (with-spec (spec exact-wake-limited
               (state-variable alert string sleep (sleep drowsy awake))
@@ -162,8 +162,92 @@ refuses the spec, under the default CHECK-SPEC warns instead of failing."
               (op open-eyes :precond alert.drowsy :add alert.awake)
               (macro-op wake :precond (not alert.awake) :add alert.awake
                         :seq (:op stir :op open-eyes)))
-    (let ((player.planner::*macro-branch-limit* 0))
+    (let ((player.planner::*macro-proof-budget* 0))
       (let ((warnings (remove :inexact-macro (check-spec (compile-spec spec))
                               :key #'player::diagnostic-kind :test-not #'eq)))
         (is (= 1 (length warnings)))
         (is (search "cannot be proved exact" (player::diagnostic-message (first warnings))))))))
+
+;;; The proof's budget: counted as it goes, shared, naming the chain.
+
+(defun splitting-macro-spec (steps values &key (semantics :exact) (name "split") (tail 0) (copies 1) wrappers)
+  "A spec whose macro-op M runs STEPS sub-ops USE<i> (then TAIL ticks); each
+one's precondition X<i> is achieved by one of VALUES ops VIA<i>-<v>, chosen by
+the value of A<i>, so the exactness proof splits M's start states VALUES ways
+at every sub-op: VALUES^STEPS cases, over 2 (2 VALUES)^STEPS states.  COPIES
+more of M (M2, ...) share the proof's budget; WRAPPERS adds MID running M and
+TOP running MID."
+  (with-output-to-string (s)
+    (format s "(defspec ~A (:macros :~(~A~))~%" name semantics)
+    (loop for i from 1 to steps
+          do (format s "  (state-variable a~D string v0 (~{v~D~^ ~}))~%" i (loop for v below values collect v))
+             (format s "  (state-variable x~D boolean false)~%" i)
+             (loop for v below values do (format s "  (op via~D-~D :precond a~D.v~D :add x~D)~%" i v i v i))
+             (format s "  (op use~D :precond x~D :sub x~D)~%" i i i))
+    (format s "  (state-variable y boolean false)~%  (op tick :add y)~%")
+    (loop for copy from 1 to copies
+          do (format s "  (macro-op m~@[~D~] :precond (and (not y)~{ (not x~D)~}) :add y~%    :seq (~{:op use~D~^ ~}~{ :op ~A~}))~%"
+                     (and (> copy 1) copy) (loop for i from 1 to steps collect i) (loop for i from 1 to steps collect i)
+                     (loop repeat tail collect "tick")))
+    (when wrappers
+      (format s "  (state-variable z boolean false)~%  (state-variable w boolean false)~%")
+      (format s "  (macro-op mid :precond (and (not z) (not y)~{ (not x~D)~}) :add (z y) :seq (:op m))~%"
+              (loop for i from 1 to steps collect i))
+      (format s "  (macro-op top :precond (and (not w) (not z) (not y)~{ (not x~D)~}) :add (w z y) :seq (:op mid))~%"
+              (loop for i from 1 to steps collect i)))
+    (format s "  (event ev :op m))~%")))
+
+(defun proof-failure (text &key (budget player.planner::*macro-proof-budget*))
+  "The message of planning the spec file TEXT under a proof BUDGET, or NIL when it plans."
+  (let ((player.planner::*macro-proof-budget* budget))
+    (handler-case (progn (compile-spec (first (load-spec (scratch-file text :name "proof")))) nil)
+      (player-error (e) (princ-to-string e)))))
+
+(defun proof-steps (text)
+  "How many steps the exactness proof of the spec file TEXT takes."
+  (let* ((spec (first (load-spec (scratch-file text :name "proof"))))
+         (machine (progn (setf (getf (player.spec::spec-options spec) :macros) :declared)
+                         (compile-spec spec)))
+         (player.planner::*proof-steps-left* most-positive-fixnum))
+    (is (null (player.planner::inexact-macros machine)))
+    (- most-positive-fixnum player.planner::*proof-steps-left*)))
+
+(test the-proof-budget-names-the-chain
+  ;; 8, 64, 512 cases: a budget of 1,000 steps runs out at the third sub-op.
+  (let ((message (proof-failure (splitting-macro-spec 3 8 :wrappers t) :budget 1000)))
+    (is (search "proof.lisp:" message) "~A" message)
+    (is (search "macro-op m: cannot be proved exact within 1,000 steps" message) "~A" message)
+    (is (search "run by top -> mid, its :seq splits its start states at use1 (8 cases), use2 (64 cases)" message)
+        "~A" message)
+    (is (search "and was at sub-op use3; split it into smaller macro-ops" message) "~A" message))
+  ;; The same spec within the default budget is exact.
+  (is (null (proof-failure (splitting-macro-spec 3 8 :wrappers t)))))
+
+(test macro-proofs-share-one-budget
+  ;; One macro fits in a budget of 1.5 times its steps; two identical ones
+  ;; do not, and the second is the one named.
+  (let* ((steps (proof-steps (splitting-macro-spec 3 6)))
+         (budget (floor (* 3 steps) 2)))
+    (is (< 100 steps 10000) "~D steps" steps)
+    (is (null (proof-failure (splitting-macro-spec 3 6) :budget budget)))
+    (let ((message (proof-failure (splitting-macro-spec 3 6 :copies 2) :budget budget)))
+      (is (search "macro-op m2: cannot be proved exact" message) "~A" message))))
+
+(test the-proof-stops-when-the-budget-is-spent
+  ;; Every step is paid before it is taken: the steps spent never pass the
+  ;; budget, whether the cases multiply (3 x 40 values) or a long :seq
+  ;; walks many cases (3 x 8 values, then 2,000 ticks).
+  (dolist (text (list (splitting-macro-spec 3 40) (splitting-macro-spec 3 8 :tail 2000)))
+    (let* ((spec (first (load-spec (scratch-file text :name "proof"))))
+           (machine (progn (setf (getf (player.spec::spec-options spec) :macros) :declared)
+                           (compile-spec spec)))
+           (player.planner::*macro-proof-budget* 20000)
+           (left nil))
+      (handler-case (handler-bind ((player.base::inexact-macro-error
+                                     (lambda (e) (declare (ignore e)) (setf left player.planner::*proof-steps-left*))))
+                      (player.planner::inexact-macros machine)
+                      (is nil "the proof did not stop"))
+        (player.base::inexact-macro-error (e)
+          (is (search "within 20,000 steps" (princ-to-string e)))))
+      ;; What was spent past the budget is the one payment that passed it.
+      (is (<= -3000 left -1) "~A steps left" left))))

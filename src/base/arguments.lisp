@@ -40,9 +40,16 @@ ARGUMENT-ERROR first among its superclasses, so the report is this one."))
 
 (defun argument-value-text (value)
   "VALUE as a message shows it: BOUNDED-LISP-TEXT, with the float traps masked
-so that a NaN prints as nan instead of trapping when compared."
+so that a NaN prints as nan instead of trapping when compared.  A number too
+small for the microseconds LISP-TEXT keeps is written in full: an error about
+1d-9 must not say 0."
   (sb-int:with-float-traps-masked (:invalid :overflow :inexact :divide-by-zero)
-    (bounded-lisp-text value 80)))
+    (if (and (realp value)
+             (not (and (floatp value) (or (sb-ext:float-nan-p value) (sb-ext:float-infinity-p value))))
+             (not (zerop value)) (< (abs value) 1d-6))
+        (let ((*read-default-float-format* 'double-float))
+          (string-downcase (prin1-to-string (float value 1d0))))
+        (bounded-lisp-text value 80))))
 
 (declaim (notinline argument-fail))
 (defun argument-fail (function argument value expected &optional (class 'argument-error))

@@ -33,6 +33,7 @@
    #:make-vec3 #:mat4 #:motor-arg #:motor-call-args #:motor-call-frame
    #:motor-call-function #:motor-error #:motor-function-names #:object-kind #:object-name
    #:object-parent #:object-world-position #:object-world-transform #:on-channel-grant
+   #:with-world-transforms-memoised
    #:on-channel-loss #:parrot #:parrot-root #:parse-control #:parse-motor-frame
    #:parse-value #:pose #:pose-library-name #:pose-library-names #:pose-within-limits-p
    #:pose-world-transforms #:property-type #:property-type-p #:property-value #:q* #:qnorm

@@ -19,8 +19,10 @@ that sends a Player event (the body presenter's controller); SENT lists
 \(TIME EVENT) sent, newest first.  WATCHES holds the property watches, each
 \(DIRECTOR . HELD), checked up to HORIZON seconds; STATE-WATCHES the state
 ones, each (DIRECTOR CUBES . HELD), BITS the state they were last checked
-in.  DEPTH counts directors starting each other in one chain."
-  (send nil) (sent '()) (watches :unset) (horizon nil) (state-watches '()) (depth 0) (bits nil))
+in.  DEPTH counts directors starting each other in one chain, STARTS every
+reactive start so far."
+  (send nil) (sent '()) (watches :unset) (horizon nil) (state-watches '()) (depth 0) (bits nil)
+  (starts 0))
 
 (defun performance-reactions (performance)
   "PERFORMANCE's REACTIONS, made on first use."
@@ -99,12 +101,21 @@ and (OPERATOR ARGUMENT...) with the operators of *PROPERTY-OPERATORS*."
   "How many directors may start each other in one chain (:after, :on with
 :send) before the chain is taken for an endless loop.")
 
+(defparameter *most-director-starts* 10000
+  "How many times reactive directors may start in one performance: directors
+each sending the next one's event twice start 2^N times (issue 31), while
+the chain stays short.")
+
 (defun start-reactive-director (performance director time)
   "Start the reactive DIRECTOR at TIME on PERFORMANCE's first character."
   (let ((reactions (performance-reactions performance)))
     (when (>= (reactions-depth reactions) *longest-director-chain*)
       (script-fail (director-form director) "directors start each other without end (over ~D in one chain)"
                    *longest-director-chain*))
+    (when (>= (reactions-starts reactions) *most-director-starts*)
+      (script-fail (director-form director) "reactive directors started over ~:D times in one performance (directors whose :send or :after start several others multiply)"
+                   *most-director-starts*))
+    (incf (reactions-starts reactions))
     (incf (reactions-depth reactions))
     (unwind-protect (perform-director performance (director-name director) time :settle t)
       (decf (reactions-depth reactions)))))

@@ -162,7 +162,9 @@ other object's parent, position and rotation."
                                                                   append (list (body-dof-name dof)
                                                                                (first (numbers (aref pose i))))))))))
           :objects
-          (loop for object in (scene-objects scene)
+          ;; Read only: each world transform once, however long the chains.
+          (with-world-transforms-memoised ()
+           (loop for object in (scene-objects scene)
                 unless (typep object 'body)
                   collect (let ((parent (object-parent object)))
                             (list (object-name object)
@@ -171,7 +173,7 @@ other object's parent, position and rotation."
                                             (scene-object (object-name parent))
                                             (cons (list (object-name (car parent)) (cdr parent))))
                                   :position (apply #'numbers (vector-list (object-world-position object)))
-                                  :rotation (apply #'numbers (quat-list (transform-rotation (object-world-transform object))))))))))
+                                  :rotation (apply #'numbers (quat-list (transform-rotation (object-world-transform object)))))))))))
 
 (defun simulation-duration (simulation)
   "The seconds SIMULATION's frames span: its frame count over its frame rate."

@@ -119,7 +119,10 @@ geom for every other prop with a shape, and the floor."
   (let* ((world (make-ode-world :step-size *physics-step*))
          (physics (%make-scene-physics scene world))
          (floor-found nil))
-    (dolist (object (scene-objects scene))
+    ;; Nothing moves here: each world transform is computed once, so a long
+    ;; chain of objects costs its length, not its length squared.
+    (with-world-transforms-memoised ()
+     (dolist (object (scene-objects scene))
       (let ((shape (and (eq (object-kind object) :prop) (prop-shape object))))
         (cond ((null shape))
               ((eq (first shape) :plane)
@@ -141,7 +144,7 @@ geom for every other prop with a shape, and the floor."
               (t (let ((static (make-physics-static object (make-ode-geom world shape :data object))))
                    (setf (physics-static-reach static) (static-reach shape)
                          (physics-static-box static) (static-box shape))
-                   (push static (scene-physics-statics physics)))))))
+                   (push static (scene-physics-statics physics))))))))
     (dolist (prop (scene-physics-props physics))
       (when (hanging-prop-p (physics-prop-object prop))
         (hang-prop world prop)))

@@ -56,8 +56,10 @@ a group, which is a frame or a pendulum's pivot)?"
       (read-prop-change prop elapsed))))
 
 (defun place-statics (physics)
-  "Put PHYSICS's static geoms where their props are now (a script may move them)."
-  (dolist (static (scene-physics-statics physics))
+  "Put PHYSICS's static geoms where their props are now (a script may move
+them).  Only geoms move here, so each world transform is computed once."
+  (with-world-transforms-memoised ()
+   (dolist (static (scene-physics-statics physics))
     (let* ((object (physics-static-object static))
            (parent (object-parent object))
            (position (property-value object 'position))
@@ -71,7 +73,7 @@ a group, which is a frame or a pendulum's pivot)?"
           (setf (physics-static-placed static) (list parent position rotation)
                 (physics-static-centre static) (apply #'make-vec3 world-position))
           (when (physics-static-box static)
-            (apply #'set-box-rotation (physics-static-box static) world-rotation)))))))
+            (apply #'set-box-rotation (physics-static-box static) world-rotation))))))))
 
 (defun read-prop-change (prop elapsed)
   "Set PROP's mode and body from its object after ELAPSED seconds: held or

@@ -152,7 +152,8 @@ already refused it.) A macro the proof gives up on is reported as such."
                                              (lisp-text (op-name macro)) why)
                                      (op-name macro)))
     (inexact-macro-error (condition)
-      (list (make-diagnostic :inexact-macro (spec-error-message condition)
+      (list (make-diagnostic :inexact-macro (format nil "~@[~A ~]~A" (spec-error-label condition)
+                                                    (spec-error-message condition))
                              (spec-error-form condition))))))
 
 (defun channel-diagnostics (spec)

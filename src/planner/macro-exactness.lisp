@@ -22,11 +22,6 @@
 
 (in-package #:player.planner)
 
-(defparameter *macro-branch-limit* 100000
-  "Most branches the exactness proof follows for one macro before it gives up
-with an error (a :seq whose achieved preconditions split the states that finely
-is better split into smaller macros).")
-
 (defstruct (macro-branch (:constructor make-macro-branch (cube &optional (mask 0) (bits 0))))
   "Start states CUBE of a macro, and what its :seq has done to them so far:
 the fields MASK set to the one-hot BITS."
@@ -71,15 +66,19 @@ CONDITION, as a cube (to be met with BRANCH's cube), or NIL when the values the
         (when (zerop (logand rest mask))
           (return (nreverse pieces)))))))
 
-(defun branch-after-goal (branch goal spec)
+(defun branch-after-goal (branch goal machine)
   "The branches BRANCH becomes when the controller achieves GOAL: each part of
 its start states runs the first of GOAL's plans whose condition its current
-state meets. Start states no plan serves are dropped."
-  (let ((remaining (list (macro-branch-cube branch)))
+state meets. Start states no plan serves are dropped. Each plan tried on each
+part, and each branch made, is a step of the proof's budget, paid before it
+is taken."
+  (let ((spec (machine-spec machine))
+        (remaining (list (macro-branch-cube branch)))
         (result '()))
     (loop for plan across (goal-plans goal)
           while remaining
-          do (let ((pulled (pulled-back-condition (plan-condition plan) branch)))
+          do (spend-proof-steps (length remaining) machine)
+             (let ((pulled (pulled-back-condition (plan-condition plan) branch)))
                (when pulled
                  (let ((left '()))
                    (dolist (cube remaining)
@@ -88,28 +87,32 @@ state meets. Start states no plan serves are dropped."
                            (push cube left)
                            (let ((served (make-macro-branch part (macro-branch-mask branch)
                                                             (macro-branch-bits branch))))
+                             (spend-proof-steps (+ 2 (length (plan-ops plan))) machine)
                              (push (reduce #'branch-after-op (plan-ops plan) :initial-value served) result)
                              (setf left (revappend (cube-difference cube pulled spec) left))))))
                    (setf remaining left)))))
     result))
 
 (defun macro-seq-branches (macro machine)
-  "The branches MACRO's :seq ends in, from the start states its precondition allows."
+  "The branches MACRO's :seq ends in, from the start states its precondition
+allows; an INEXACT-MACRO-ERROR naming the chain when that passes the proof's
+budget.  Called inside PROVING-MACRO, which names MACRO to that error."
   (let* ((spec (machine-spec machine))
-         (branches (mapcar #'make-macro-branch (expression-cubes (op-precond macro) spec))))
+         (branches (mapcar #'make-macro-branch (expression-cubes (op-precond macro) spec)))
+         (count (length branches)))
+    (spend-proof-steps count machine)
     (dolist (directive (op-seq macro) branches)
       (when (eq (first directive) :op)
         (let ((sub (second directive)))
+          (setf *proof-sub-op* sub)
           (when (op-precond sub)
-            (setf branches (loop for branch in branches
-                                 nconc (branch-after-goal branch (machine-goal-for machine (op-precond sub))
-                                                          spec)))
-            (when (> (length branches) *macro-branch-limit*)
-              (error 'inexact-macro-error
-                     :form (op-form macro) :spec (spec-name spec) :label (form-label (op-form macro))
-                     :position (gethash (op-form macro) (spec-form-places spec))
-                     :message (format nil "macro-op ~A cannot be proved exact: its :seq splits its start states into more than ~:D cases"
-                                      (lisp-text (op-name macro)) *macro-branch-limit*))))
+            (let ((goal (machine-goal-for machine (op-precond sub)))
+                  (before count))
+              (setf branches (loop for branch in branches
+                                   nconc (branch-after-goal branch goal machine))
+                    count (length branches))
+              (note-proof-split sub before count)))
+          (spend-proof-steps count machine)
           (setf branches (mapcar (lambda (branch) (branch-after-op branch sub)) branches)))))))
 
 (defun cube-witness (cube spec)
@@ -123,16 +126,23 @@ state meets. Start states no plan serves are dropped."
 every variable it does not declare an effect on as it found it; else a witness:
 (VALUES START-STATE VARIABLE VALUE-BIT), a one-hot start state from which the
 :seq leaves VARIABLE at VALUE-BIT, a value it did not have."
+  (with-macro-proof-budget ((machine-spec machine))
+    (proving-macro (macro)
+      (macro-inexactness-of-branches macro (macro-seq-branches macro machine) machine))))
+
+(defun macro-inexactness-of-branches (macro branches machine)
+  "MACRO-INEXACTNESS, from the BRANCHES its :seq ends in."
   (let* ((spec (machine-spec machine))
          (declared (op-effect-mask macro)))
-    (dolist (branch (macro-seq-branches macro machine))
+    (spend-proof-steps (length branches) machine)
+    (dolist (branch branches)
       (dolist (var (plannable-variables spec))
         (let ((mask (var-field-mask var)))
           (when (and (logtest mask (macro-branch-mask branch)) (not (logtest mask declared)))
             (let* ((value (logand (macro-branch-bits branch) mask))
                    (changed (logandc2 (macro-branch-cube branch) value)))
               (unless (zerop (logand changed mask))
-                (return-from macro-inexactness
+                (return-from macro-inexactness-of-branches
                   (values (cube-witness changed spec) var value))))))))))
 
 (defun value-bit-expression (var bit spec)
@@ -147,13 +157,15 @@ every variable it does not declare an effect on as it found it; else a witness:
           (lisp-text (value-bit-expression var (logand start (var-field-mask var)) spec))))
 
 (defun inexact-macros (machine)
-  "Every macro-op of MACHINE's spec that is not exact, as (MACRO . WHY)."
+  "Every macro-op of MACHINE's spec that is not exact, as (MACRO . WHY); the
+proofs share one budget (macro-proof-budget.lisp)."
   (let ((spec (machine-spec machine)))
-    (loop for op in (spec-ops spec)
+    (with-macro-proof-budget (spec)
+     (loop for op in (spec-ops spec)
           when (eq (op-kind op) :macro)
             nconc (multiple-value-bind (start var value) (macro-inexactness op machine)
                     (when start
-                      (list (cons op (inexact-macro-message start var value spec))))))))
+                      (list (cons op (inexact-macro-message start var value spec)))))))))
 
 (defun check-exact-macros (machine)
   "Under (:macros :exact), signal an INEXACT-MACRO-ERROR naming the first

@@ -265,7 +265,7 @@ until the library resolves them.  Signals SCRIPT-ERROR naming the bad part."
             (script-fail form ":loop must be T or NIL, not ~A" (lisp-text loop)))
           (when (and loop duration (< duration *shortest-loop*))
             (script-fail form "a looping script must last some time (at least ~A s), not ~A"
-                         (format-number *shortest-loop*) (format-number duration)))
+                         (format-number *shortest-loop*) (argument-value-text duration)))
           (unless (typep documentation '(or null string))
             (script-fail form ":documentation must be a string"))
           (%make-script :name name :duration duration :loop loop :critical critical
