@@ -203,3 +203,17 @@ stderr one player: error: line holding FRAGMENT (or empty when FRAGMENT is NIL).
   (is (string= "0" (player.base:argument-value-text 0)))
   (is (string= "nan" (player.base:argument-value-text (fz-nan))))
   (is (string= "inf" (player.base:argument-value-text sb-ext:double-float-positive-infinity))))
+
+;;;# Command-line values ask the reader no more than a data file may
+
+(test command-line-values-are-read-within-the-reader-limits
+  ;; #100000000A() as --at took 10 s and 2 GB before it was refused; a
+  ;; 120,000-digit time took 4 s of bignum arithmetic.
+  (let ((spec (list (cons "fz.lisp" "(defspec fz (state-variable x boolean false) (op o :add x) (event ev :op o))"))))
+    (check-bounded-case (2 "a reader count larger than 1,000,000") spec "run" "fz.lisp" "--at" "#100000000A()")
+    (check-bounded-case (2 "a reader count larger than 1,000,000") spec "run" "fz.lisp" "--at" "#4000000000*1")
+    (check-bounded-case (2 "a token is longer than 4,096 characters" :seconds 2)
+        spec "run" "fz.lisp" "--at" (format nil "25.~A" (make-string 120000 :initial-element #\7)))
+    (check-bounded-case (2 "a token is longer than 4,096 characters" :seconds 2)
+        spec "run" "fz.lisp" "--events" (format nil "ev@1.~A" (make-string 120000 :initial-element #\7)))
+    (check-bounded-case (0 nil) spec "run" "fz.lisp" "--events" "ev@1/3" "--at" "1.000000000000000000001")))

@@ -90,21 +90,27 @@ with trailing zeros dropped (1.5, 123456789012.000001, -0.25)."
 to a presenter), so that it prints exactly?"
   (and (rationalp number) (integerp (* number +micros-per-second+))))
 
+(defparameter *most-decimal-digits* 100
+  "Most digits PARSE-DECIMAL-SECONDS reads in a number: far more than a time to
+the microsecond up to 1e15 s needs (22), few enough to read at once.")
+
 (defun parse-decimal-seconds (text)
   "TEXT, an exact decimal -- optional sign, digits with an optional fraction,
 an optional exponent (1e15, 1.5E-3, .5, 2.) -- as an exact rational; NIL when
 it is not one.  Never goes through a double, so 123456789012.000001 stays
-exact.  An exponent beyond +-400 gives NIL (no time is that far)."
+exact.  An exponent beyond +-400 gives NIL (no time is that far), and so do
+more than *MOST-DECIMAL-DIGITS* digits: each digit multiplies a growing
+integer, so a command line of 100,000 digits took seconds."
   (let* ((length (length text)) (at 0) (sign 1) (digits 0) (count 0) (scale 0) (exponent 0))
     (flet ((peek () (and (< at length) (char text at))))
       (case (peek) (#\- (setf sign -1) (incf at)) (#\+ (incf at)))
-      (loop for char = (peek) while (and char (digit-char-p char))
+      (loop for char = (peek) while (and char (digit-char-p char) (<= count *most-decimal-digits*))
             do (setf digits (+ (* digits 10) (digit-char-p char))) (incf count) (incf at))
       (when (eql (peek) #\.)
         (incf at)
-        (loop for char = (peek) while (and char (digit-char-p char))
+        (loop for char = (peek) while (and char (digit-char-p char) (<= count *most-decimal-digits*))
               do (setf digits (+ (* digits 10) (digit-char-p char))) (incf count) (incf scale) (incf at)))
-      (when (zerop count) (return-from parse-decimal-seconds nil))
+      (when (or (zerop count) (> count *most-decimal-digits*)) (return-from parse-decimal-seconds nil))
       (when (member (peek) '(#\e #\E #\d #\D))
         (incf at)
         (let ((exponent-sign 1) (exponent-count 0))

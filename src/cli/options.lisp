@@ -66,7 +66,12 @@ with overrides (\"--fps\" :default 24, :help \"...\"), or a full (NAME TYPE META
 
 (defun read-cli-value (text)
   "The value TEXT denotes on the command line: a number, or a symbol in
-PLAYER-USER.  Never evaluates anything; a USAGE-ERROR when TEXT is not one datum."
+PLAYER-USER.  Never evaluates anything; a USAGE-ERROR when TEXT is not one datum.
+TEXT asks the reader for no more than a data file may (READER-LIMIT-PROBLEM):
+#100000000A() took 10 s and 2 GB to read before it was refused as no number."
+  (multiple-value-bind (position problem) (reader-limit-problem text)
+    (when position
+      (usage-fail "cannot read the value ~A: ~A" (bounded-lisp-text text 40) problem)))
   (let ((*package* (find-package '#:player-user))
         (*read-eval* nil)
         (*read-default-float-format* 'double-float))

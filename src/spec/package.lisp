@@ -23,7 +23,7 @@
    #:op-variable-fields #:parse-expression #:plannable-p #:plannable-variables
    #:proper-list-p #:read-data-file #:refuse-code #:regular-file-p #:remove-spec #:spec
    #:spec-autoscripts #:spec-bit-count #:spec-designator-p #:spec-documentation
-   #:spec-events #:spec-forms #:spec-file-fail #:spec-form-places #:spec-code-forms #:code-fail #:code-condition #:spec-label-count #:spec-max-depth
+   #:spec-events #:spec-forms #:spec-file-fail #:spec-form-places #:spec-code-forms #:code-fail #:code-condition #:reader-limit-problem #:spec-label-count #:spec-max-depth
    #:spec-name #:spec-ops #:spec-options #:spec-p #:spec-package #:spec-source-file
    #:spec-start-state-asts #:spec-state-space #:spec-timers #:spec-triggers
    #:spec-unplanned-states #:spec-variables #:start #:state-assignments #:state-in-cube-p
