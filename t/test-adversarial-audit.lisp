@@ -216,4 +216,9 @@ stderr one player: error: line holding FRAGMENT (or empty when FRAGMENT is NIL).
         spec "run" "fz.lisp" "--at" (format nil "25.~A" (make-string 120000 :initial-element #\7)))
     (check-bounded-case (2 "a token is longer than 4,096 characters" :seconds 2)
         spec "run" "fz.lisp" "--events" (format nil "ev@1.~A" (make-string 120000 :initial-element #\7)))
-    (check-bounded-case (0 nil) spec "run" "fz.lisp" "--events" "ev@1/3" "--at" "1.000000000000000000001")))
+    (check-bounded-case (0 nil) spec "run" "fz.lisp" "--events" "ev@1/3" "--at" "1.000000000000000000001")
+    ;; Every option read as a Lisp datum: --goal, --formula, dot's --goal.
+    (check-bounded-case (2 "cannot read --goal \"#100000000A()\": #100000000...: a reader count larger than 1,000,000")
+        spec "explain" "fz.lisp" "--goal" "#100000000A()")
+    (check-bounded-case (2 "cannot read --formula \"#100000000A()\"") spec "verify-graph" "fz.lisp" "--formula" "#100000000A()")
+    (check-bounded-case (2 "cannot read --goal \"#4000000000*1\"") spec "dot" "fz.lisp" "--goal" "#4000000000*1")))

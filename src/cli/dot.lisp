@@ -5,6 +5,7 @@
 (defmethod read-option-value ((type (eql :state-expression)) text option)
   ;; One datum read as spec files are (no #., no #S, symbols in PLAYER-USER);
   ;; whether it is a state expression of the spec is for the spec to say.
+  (check-reader-limits text (option-name option))
   (let ((form (handler-case
                   (with-standard-io-syntax
                     (let ((*readtable* *data-readtable*)

@@ -6,6 +6,7 @@
 (defun read-goal-text (text)
   "The state expression TEXT (--goal's value) holds, read as data in
 PLAYER-USER, never evaluated; a USAGE-ERROR when TEXT is not one form."
+  (check-reader-limits text "--goal")
   (let ((*package* (find-package '#:player-user))
         (*read-eval* nil))
     (handler-case (multiple-value-bind (form end) (read-from-string text)

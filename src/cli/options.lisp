@@ -64,14 +64,20 @@ with overrides (\"--fps\" :default 24, :help \"...\"), or a full (NAME TYPE META
 
 ;;;# Reading values
 
+(defun check-reader-limits (text what)
+  "A USAGE-ERROR naming WHAT (\"the value\", \"--goal\") when the command-line
+TEXT asks the Lisp reader for more than a data file may (READER-LIMIT-PROBLEM):
+every command-line datum is checked so before it is read."
+  (multiple-value-bind (position problem) (reader-limit-problem text)
+    (when position
+      (usage-fail "cannot read ~A ~A: ~A" what (bounded-lisp-text text 40) problem))))
+
 (defun read-cli-value (text)
   "The value TEXT denotes on the command line: a number, or a symbol in
 PLAYER-USER.  Never evaluates anything; a USAGE-ERROR when TEXT is not one datum.
 TEXT asks the reader for no more than a data file may (READER-LIMIT-PROBLEM):
 #100000000A() took 10 s and 2 GB to read before it was refused as no number."
-  (multiple-value-bind (position problem) (reader-limit-problem text)
-    (when position
-      (usage-fail "cannot read the value ~A: ~A" (bounded-lisp-text text 40) problem)))
+  (check-reader-limits text "the value")
   (let ((*package* (find-package '#:player-user))
         (*read-eval* nil)
         (*read-default-float-format* 'double-float))

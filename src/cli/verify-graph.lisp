@@ -5,6 +5,7 @@
 
 (defmethod read-option-value ((type (eql :formula)) text option)
   ;; One s-expression, read as data in PLAYER-USER (never evaluated).
+  (check-reader-limits text (option-name option))
   (let ((*package* (find-package '#:player-user))
         (*read-eval* nil))
     (handler-case (multiple-value-bind (value end) (read-from-string text)
