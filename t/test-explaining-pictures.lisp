@@ -105,3 +105,15 @@ seen through VIEW, in front of the eye?"
                     (loop for done from 1 to 5 do (player.render::show-progress stream done 5 t)))))
     (is (= 5 (count #\Return terminal)))
     (is (= 1 (count #\Newline terminal)))))
+
+(test progress-in-a-log-waits-until-the-render-has-worked-two-seconds
+  "A render begun just now writes no progress line in a log; one begun three
+seconds ago writes its line every tenth.  On a terminal the bar shows at once."
+  (let ((now (get-internal-real-time))
+        (earlier (- (get-internal-real-time) (* 3 internal-time-units-per-second))))
+    (flet ((log-of (since terminal)
+             (with-output-to-string (stream)
+               (loop for done from 1 to 20 do (player.render::show-progress stream done 20 terminal since)))))
+      (is (string= "" (log-of now nil)))
+      (is (= 10 (length (lines (log-of earlier nil)))))
+      (is (= 20 (count #\Return (log-of now t)))))))

@@ -75,12 +75,17 @@ stdout, stderr, exit code, in time."
               ("a.glb"))
     ("render" ,(lambda (d) (list "render" (fixture "anim.lisp") "--events" "ev-wave" "--fps" "2"
                                  "--size" "64x48" "--out" (funcall d "")))
-              ("frame-0001.png" "frame-0002.png" "sheet.png")))
+              ("frame-0001.png" "frame-0002.png" "sheet.png"))
+    ;; The frames go to a folder with room (on a tmpfs), so ffmpeg itself meets the full disk.
+    ("render --video" ,(lambda (d) (list "render" (fixture "anim.lisp") "--events" "ev-wave" "--fps" "2" "--silent"
+                                         "--size" "64x48" "--out" (namestring (scratch-folder "video-frames"))
+                                         "--video" (funcall d "v.mp4")))
+                      ("v.mp4")))
   "Each command that writes: its name, its arguments given a function from a
 file name to its path in the full folder, the old files it would replace,
 and optionally what the old memory user is called and the standard input.")
 
-(defparameter *unavailable-fragments* '("libespeak" "OSMesa" "libosmesa" "ffmpeg" "not installed")
+(defparameter *unavailable-fragments* '("libespeak" "OSMesa" "libosmesa" "not installed")
   "Errors that mean the machine lacks a tool, not that the disk was full.")
 
 (defun old-content (name)
@@ -129,7 +134,8 @@ and optionally what the old memory user is called and the standard input.")
                       (is (search "cannot write standard output" err) "~S" err))))
       (when (eq mode :tmpfs)
         (sb-ext:run-program "/bin/umount" (list (namestring folder)) :output nil :error nil))
-      (uiop:delete-directory-tree folder :validate t :if-does-not-exist :ignore))))
+      (uiop:delete-directory-tree folder :validate t :if-does-not-exist :ignore)
+      (uiop:delete-directory-tree (scratch-folder "video-frames") :validate t :if-does-not-exist :ignore))))
 
 ;;;# The C++ build cache
 

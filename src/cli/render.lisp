@@ -9,7 +9,8 @@ of evenly spaced frames and, with --video, a video made by ffmpeg (Debian
 package ffmpeg).  What the character says and the sounds its scripts play go
 to DIR/speech.wav and into the video (--silent: nothing sounds, and espeak-ng
 is not needed).  A progress bar goes to standard error, redrawn in place
-on a terminal; in a log or a pipe, a line every 10 %."
+on a terminal; in a log or a pipe, once the render has worked 2 s, a line
+every 10 %."
      :arguments ("SPEC-FILE")
      :options ("--spec" "--no-code" "--initial" "--events" "--at" "--when-busy" ("--fps" :default 24) "--seed" "--scripts" "--body" "--silent"
                "--size" "--cast"

@@ -79,17 +79,26 @@ directory otherwise."
   (let ((filled (floor (* 30 done) (max 1 total))))
     (format nil "[~v,,,'#A~v,,,'.A] ~D/~D frames" filled "" (- 30 filled) "" done total)))
 
-(defun show-progress (stream done total &optional (terminal (and stream (terminal-stream-p stream))))
+(defparameter *quiet-progress-seconds* 2
+  "Seconds a render works before its progress lines start where they cannot be
+redrawn in place: a short render in a script leaves its stderr empty (or
+holding only its one error line), as the CLI's other progress does.")
+
+(defun show-progress (stream done total &optional (terminal (and stream (terminal-stream-p stream))) since)
   "Show that DONE of TOTAL frames are drawn on STREAM (NIL: nowhere).  On a
 TERMINAL the line is redrawn in place (a newline when done); elsewhere (a log,
 a pipe) a line is written each time another tenth is done, so a log holds
-*PROGRESS-STEPS* lines, not one per frame."
+*PROGRESS-STEPS* lines, not one per frame -- and, given SINCE (the internal
+real time the render began), only once it has worked *QUIET-PROGRESS-SECONDS*."
   (when stream
     (cond (terminal
            (format stream "~C~A" #\Return (progress-text done total))
            (when (= done total) (terpri stream)))
-          ((> (floor (* *progress-steps* done) (max 1 total))
-              (floor (* *progress-steps* (1- done)) (max 1 total)))
+          ((and (or (null since)
+                    (>= (- (get-internal-real-time) since)
+                        (* *quiet-progress-seconds* internal-time-units-per-second)))
+                (> (floor (* *progress-steps* done) (max 1 total))
+                   (floor (* *progress-steps* (1- done)) (max 1 total))))
            (write-line (progress-text done total) stream)))
     (force-output stream)))
 
@@ -258,6 +267,7 @@ arguments of the wrong kind."
            (chosen (sheet-frame-indices count))
            (factor (max 1 (ceiling width *thumbnail-width*)))
            (terminal (and progress (terminal-stream-p progress)))
+           (started (get-internal-real-time))
            (frames '()) (thumbnails '()) (process nil) (drawn nil) (audio nil))
       ;; Every file is made in a private folder inside FINAL, then they replace
       ;; the old render's files as a set: a failed render leaves the old one whole.
@@ -283,7 +293,7 @@ arguments of the wrong kind."
                                   (push (list (thumbnail pixels width height factor) time) thumbnails))
                                 (when process
                                   (write-sequence pixels (sb-ext:process-input process)))))
-                            (show-progress progress (1+ index) count terminal))
+                            (show-progress progress (1+ index) count terminal started))
                           (delete-renderer renderer)
                           (setf drawn t)))
                    ;; A frame failed: do not leave ffmpeg waiting for the rest.
