@@ -88,7 +88,7 @@ no underscore followed by a capital (reserved to the implementation); not in
     "StateBits" "kStateWords" "with_delta" "bits_meet" "add_bits" "common_bits"
     "differing_bits" "notify_autoscripts_" "changed_fields"
     ;; Exact times (time.hpp, time.cpp).
-    "Time" "to_string" "parse_time" "from_micros" "from_seconds" "never" "to_double")
+    "Time" "to_string" "parse_time" "from_micros" "from_seconds" "from_seconds_exact" "never" "to_double")
   "Names the generated code uses itself, so no Lisp name may take them.")
 
 (defun make-identifier-table ()

@@ -1,5 +1,5 @@
 // Exact times (time.hpp), by the rules of src/base/exact-times.lisp.
-Time Time::from_seconds(double seconds) {
+Time Time::from_seconds_exact(double seconds) {
   // SECONDS = WHOLE + FRACTION exactly (modf), |FRACTION| < 1.  FRACTION * 1e6 =
   // PRODUCT + ERROR exactly (fma gives the rounding error), so a product that
   // lands on a half is resolved by the exact value's side of it, as Lisp's

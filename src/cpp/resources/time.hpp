@@ -12,7 +12,20 @@ struct Time {
     return Time{whole, static_cast<std::int32_t>(rest)};
   }
   /// SECONDS (finite) as the nearest microsecond of its exact binary value, ties to even.
-  static Time from_seconds(double seconds);
+  /// Inline for the usual case (a duration a presenter returns, per op): under 1e9 s
+  /// the product with 1e6 is within 1/16 of the exact one, so when it lies within
+  /// 1/4 of a whole microsecond that is the nearest; the rest go the exact way.
+  static Time from_seconds(double seconds) {
+    const double product = seconds * 1e6;
+    if (product > -1e15 && product < 1e15) {
+      const std::int64_t nearest = static_cast<std::int64_t>(product + (product < 0 ? -0.5 : 0.5));
+      const double off = product - static_cast<double>(nearest);
+      if (off < 0.25 && off > -0.25) return from_micros(nearest);
+    }
+    return from_seconds_exact(seconds);
+  }
+  /// FROM_SECONDS the exact way: modf and fma, for large values and near-ties.
+  static Time from_seconds_exact(double seconds);
   /// Later than any time a controller reaches.
   static constexpr Time never() { return Time{INT64_C(4000000000000000000), 0}; }
   /// Seconds as a double: whole seconds plus micros / 1e6, as Player's Lisp converts them.
