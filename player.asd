@@ -62,6 +62,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "bitmaps")
                  (:file "encoding")
                  (:file "records")
+                 (:file "planning-budget")
                  (:file "solved-states")
                  (:file "reachable")
                  (:file "regression")
