@@ -104,6 +104,7 @@ PLANNING-BUDGET-EXCEEDED."
         (when (and *planning-limit* (> now *planning-limit*))
           (planning-budget-passed))))))
 
+(declaim (inline spend-planning-units spend-scanned-words))
 (defun spend-planning-units (units)
   "Pay for UNITS units (words read) of the planning under way, if it is counted."
   (let ((work *planning-work*))
