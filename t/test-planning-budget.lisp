@@ -2,23 +2,12 @@
 ;;;; work (src/planner/planning-budget.lisp, issue 31): past *PLANNING-BUDGET*
 ;;;; or the spec's (:planning-budget N) it stops with one error naming the
 ;;;; spec, its file and how far it got; the count is deterministic, and a
-;;;; lifted budget plans as an unbudgeted run does.
+;;;; lifted budget plans as an unbudgeted run does.  (TOKEN-RING-SPEC is in
+;;;; fuzz-bounds.lisp, whose :planning cases draw from it.)
 
 (in-package #:player-tests)
 
 (def-suite* planning-budget :in player-tests)
-
-(defun token-ring-spec (count &key (name "ring") option)
-  "A spec of COUNT booleans, a token moving around them, and an event
-achieving each: COUNT goals over COUNT reachable states of 2 x COUNT bits, so
-its planning work grows as COUNT cubed (PLANNING-STEP-COST grows with COUNT).
-OPTION, a string, is put in the defspec's head."
-  (with-output-to-string (s)
-    (format s "(defspec ~A (:state-space :reachable)~@[ ~A~]~%  (state-variable b0 boolean true)~%" name option)
-    (loop for i from 1 below count do (format s "  (state-variable b~D boolean false)~%" i))
-    (loop for i below count do (format s "  (op mv~D :precond b~D :sub b~D :add b~D)~%" i i i (mod (1+ i) count)))
-    (loop for i below count do (format s "  (event e~D :state b~D)~%" i i))
-    (format s ")~%")))
 
 (defun planning-budget-file (text)
   "Write TEXT to a fresh spec file; its pathname."
