@@ -56,7 +56,7 @@
         (is (search (format nil "~:D" (floor work 2)) message) "names the budget: ~A" message)
         (is (search "of 14 goals over 14 states" message) "says how far it got: ~A" message)
         (is (search "(:planning-budget N)" message) "says what to do: ~A" message)
-        (is (search ":unplanned-states :search" message))))
+        (is (search "make fewer states reachable" message) "reachable already: ~A" message)))
     ;; exactly at its work, the spec plans
     (let ((player:*planning-budget* work))
       (is (= work (player:machine-planning-work (plan-spec-text text)))))))
@@ -112,3 +112,11 @@
              (is (< seconds 10) "took ~,1F s" seconds)
              (is (or (null megabytes) (< megabytes 2048)) "used ~,0F MB" megabytes)))
       (uiop:delete-directory-tree directory :validate t :if-does-not-exist :ignore))))
+
+(test planning-budget-error-in-the-full-space-suggests-the-reachable-regime
+  (let ((player:*planning-budget* 1000))
+    (handler-case (progn (plan-spec-text (domain-grid-spec 30 2)) (fail "planned within 1,000 units"))
+      (player:planning-budget-exceeded (c)
+        (let ((message (princ-to-string c)))
+          (is (search "over 900 states" message) "~A" message)
+          (is (search "(:state-space :reachable) and (:unplanned-states :search)" message) "~A" message))))))

@@ -114,6 +114,7 @@ name's last planning that have the same inputs.  Returns how many rows were buil
   (let* ((signature (planning-signature spec layout operators))
          (rows (previous-plan-rows spec signature))
          (built 0))
+    (note-planning-regime layout)
     (noting-goals-planned (0 (length goals) (layout-state-count layout))
       (loop for goal across goals
             unless (reuse-plan-row goal rows operators)

@@ -35,6 +35,9 @@ synthetic family at 26 variables 70 million.")
 
 (defvar *planning-spec* nil "The spec being planned (WITH-PLANNING-BUDGET binds it).")
 
+(defvar *planning-reachable* nil
+  "True while the spec under way is planned for its reachable states only.")
+
 (defvar *planning-stage* nil
   "How far the planning under way got: NIL while its reachable states are
 searched, else (GOALS-PLANNED GOAL-COUNT STATE-COUNT).")
@@ -45,12 +48,15 @@ searched, else (GOALS-PLANNED GOAL-COUNT STATE-COUNT).")
          :documentation "The file the spec was loaded from, as text, or NIL.")
    (budget :initarg :budget :reader planning-budget-budget :documentation "The budget passed, in units.")
    (stage :initarg :stage :initform nil :reader planning-budget-stage
-          :documentation "NIL when the reachable search passed it, else (PLANNED GOALS STATES)."))
+          :documentation "NIL when the reachable search passed it, else (PLANNED GOALS STATES).")
+   (reachable :initarg :reachable :initform nil :reader planning-budget-reachable
+              :documentation "True when the spec was planned for its reachable states only."))
   (:report (lambda (condition stream)
              (destructuring-bind (&optional planned goals states) (planning-budget-stage condition)
-               (format stream "spec ~A~@[ (~A)~] passed its planning budget of ~:D units ~:[while searching its reachable states~;~:*after planning ~:D of ~:D goal~:P over ~:D state~:P~]; raise it with (:planning-budget N) or (:planning-budget :unlimited), or plan fewer states with (:state-space :reachable) and (:unplanned-states :search)"
+               (format stream "spec ~A~@[ (~A)~] passed its planning budget of ~:D units ~:[while searching its reachable states~;~:*after planning ~:D of ~:D goal~:P over ~:D state~:P~]; raise it with (:planning-budget N) or (:planning-budget :unlimited)~:[, or plan fewer states with (:state-space :reachable) and (:unplanned-states :search)~;, or make fewer states reachable or fewer goals~]"
                        (planning-budget-spec condition) (planning-budget-file condition)
-                       (planning-budget-budget condition) planned goals states))))
+                       (planning-budget-budget condition) planned goals states
+                       (planning-budget-reachable condition)))))
   (:documentation "Planning a spec did more work than its planning budget allows
 (*PLANNING-BUDGET*, or the spec's (:planning-budget N))."))
 
@@ -78,7 +84,8 @@ Returns BODY's value and, second, the units of work it did."
          (*planning-limit* (spec-planning-budget ,spec))
          (*planning-step-cost* (planning-step-cost ,spec))
          (*planning-spec* ,spec)
-         (*planning-stage* nil))
+         (*planning-stage* nil)
+         (*planning-reachable* nil))
      (values (progn ,@body) *planning-work*)))
 
 (defmacro noting-goals-planned ((planned goals states) &body body)
@@ -86,6 +93,10 @@ Returns BODY's value and, second, the units of work it did."
 stage budget errors report; PLANNED is a place BODY updates through the stage."
   `(let ((*planning-stage* (list ,planned ,goals ,states)))
      ,@body))
+
+(defun note-planning-regime (layout)
+  "Remember whether LAYOUT, the planning under way's, holds reachable states only."
+  (setf *planning-reachable* (and (layout-reachable layout) t)))
 
 (defun note-goal-planned ()
   "Count one more goal of the planning under way as planned."
@@ -134,4 +145,5 @@ a local counter and pay once, so the count costs nothing per word."
     (error 'planning-budget-exceeded
            :spec (lisp-text (spec-name spec))
            :file (and file (if (pathnamep file) (sb-ext:native-namestring file) (princ-to-string file)))
-           :budget *planning-limit* :stage stage)))
+           :budget *planning-limit* :stage stage
+           :reachable (or (null stage) *planning-reachable*))))
