@@ -69,6 +69,13 @@ about 15 ns per 64-bit word of the state (its cubes are bignums that wide,
 made anew by each LOGAND); a word read takes 1.5-4 ns."
   (+ 20 (* 2 (length (plannable-variables spec))) (* 6 (ceiling (1+ (spec-bit-count spec)) 64))))
 
+(defun state-expansion-cost (roots transitions)
+  "What the reachable search pays to expand a state, from ROOTS (one-hot
+states) under TRANSITIONS: each transition tests its precondition and applies
+its effects on integers as wide as the state, then looks the state up."
+  (* (length transitions)
+     (+ 10 (ceiling (integer-length (reduce #'logior roots :initial-value 0)) 64))))
+
 (defun spec-planning-budget (spec)
   "The units planning SPEC may do: its (:planning-budget N) option, NIL under
 (:planning-budget :unlimited), else *PLANNING-BUDGET*."

@@ -162,11 +162,8 @@ spec's initial state, then the states of each :start-states expression."
 applied where their preconditions hold), ROOTS included, as a hash table
 whose keys they are; NIL as soon as there are more than LIMIT.  (The order of
 the search does not matter: only the set is kept.)"
-  (let ((seen (make-hash-table))
-        (queue '())
-        ;; each transition tests its precondition and applies its effects
-        ;; on integers as wide as the state, then looks the state up
-        (expansion-cost (* (length transitions) (+ 10 (ceiling (integer-length (reduce #'logior roots :initial-value 0)) 64)))))
+  (let ((seen (make-hash-table)) (queue '())
+        (expansion-cost (state-expansion-cost roots transitions)))
     (flet ((add (state)
              (unless (gethash state seen)
                (when (>= (hash-table-count seen) limit)
@@ -359,15 +356,13 @@ its bit per full word up to date; return how many were not in it before."
           (setf (bitmap-word bitmap word) now)
           (when (= now (if (= word last) last-states +full-word+))
             (setf (bitmap-bit full word) 1)))))
-    (spend-scanned-words scanned)
-    new))
+    (spend-scanned-words scanned new)))
 
 (defun reachable-cube-has-unmarked-p (solved-states cube layout)
   "CUBE-HAS-UNMARKED-P over a reachable index: does CUBE hold a state not in
 SOLVED-STATES?"
   (declare (optimize speed))
-  (let ((bitmap (solved-states-bits solved-states))
-        (scanned 0))
+  (let ((bitmap (solved-states-bits solved-states)) (scanned 0))
     (declare (type bitmap bitmap) (type fixnum scanned))
     ;; Starting from the clear bits, a word that is already full costs one read.
     (do-cube-words (word pattern cube layout (the bitmap (solved-states-full-words solved-states))
