@@ -21,8 +21,9 @@ a step of the search is.  A spec raises or lifts it with (:planning-budget N)
 or (:planning-budget :unlimited).  Chosen by measurement on this project's
 2-core machine, where a unit takes 0.4-5 ns: the specs slowest to plan for
 their units (6 million states and a 860-value variable; 300 booleans in the
-reachable regime) pass it in about 4 s.  Peedy uses 350,000 units, the
-synthetic family at 26 variables 70 million.")
+reachable regime) pass it in about 4 s.  Peedy uses about 400,000 units,
+the synthetic family at 26 variables 70 million, the random 26-variable spec
+of `make bench` 770 million.")
 
 (defvar *planning-work* nil
   "Units of work the planning under way has done, or NIL when none is counted.")
@@ -31,7 +32,7 @@ synthetic family at 26 variables 70 million.")
   "Most units the planning under way may do, or NIL for no limit.")
 
 (defvar *planning-step-cost* 1
-  "What one unit of the planning under way costs: more for a wider state.")
+  "How many units one step of the planning under way costs (PLANNING-STEP-COST).")
 
 (defvar *planning-spec* nil "The spec being planned (WITH-PLANNING-BUDGET binds it).")
 
@@ -96,8 +97,8 @@ Returns BODY's value and, second, the units of work it did."
      (values (progn ,@body) *planning-work*)))
 
 (defmacro noting-goals-planned ((planned goals states) &body body)
-  "Run BODY with PLANNED of GOALS goals over STATES states as the planning
-stage budget errors report; PLANNED is a place BODY updates through the stage."
+  "Run BODY with PLANNED of GOALS goals over STATES states as the stage a
+budget error reports; NOTE-GOAL-PLANNED counts each goal BODY plans."
   `(let ((*planning-stage* (list ,planned ,goals ,states)))
      ,@body))
 
