@@ -62,6 +62,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "bitmaps")
                  (:file "encoding")
                  (:file "records")
+                 (:file "planning-budget")
                  (:file "solved-states")
                  (:file "reachable")
                  (:file "regression")
@@ -649,5 +650,7 @@ run the resulting state machine as Lisp closures or embedded C++."
                  (:file "test-polish-drivers")
                  (:file "test-polish-scenes")
                  ;; Issue 31, item 8 audited: the exact-macro proof's budget, causes without a test
-                 (:file "test-adversarial-audit"))))
+                 (:file "test-adversarial-audit")
+                 ;; Issue 31: planning a spec has a work budget, (:planning-budget N)
+                 (:file "test-planning-budget"))))
   :perform (test-op (o c) (symbol-call :player-tests '#:run-tests-and-report)))

@@ -88,14 +88,16 @@ STATE-SPACE), its compile time (CPU seconds) and the heap its machine holds."
 
 (defun strips-scale-table (&optional (cases *strips-scale-cases*))
   "Print the README's table: for each case, variables, product space,
-planned states, plans, compile time and heap held, as Markdown rows."
+planned states, plans, compile time and heap held, as Markdown rows; with
+the planning budget lifted, as the largest cases pass it."
   (format t "~&| spec | regime | variables | product space | planned states | plans | compile | memory held |~%")
   (format t "|---|---|---|---|---|---|---|---|~%")
-  (loop for (label thunk state-space max-depth) in cases
-        do (multiple-value-bind (machine seconds bytes)
-               (compile-strips (funcall thunk) :state-space state-space :max-depth (or max-depth 40))
-             (format t "| ~A | ~(~A~) | ~D | ~A | ~:D | ~:D | ~A | ~A |~%"
-                     label state-space (length (player.spec::plannable-variables (player:machine-spec machine)))
-                     (space-text machine) (player:machine-state-count machine) (machine-plan-count machine)
-                     (format-seconds seconds) (format-bytes bytes))
-             (finish-output))))
+  (let ((player:*planning-budget* nil))   ; blocks-7, gripper-11, ... pass it
+    (loop for (label thunk state-space max-depth) in cases
+          do (multiple-value-bind (machine seconds bytes)
+                 (compile-strips (funcall thunk) :state-space state-space :max-depth (or max-depth 40))
+               (format t "| ~A | ~(~A~) | ~D | ~A | ~:D | ~:D | ~A | ~A |~%"
+                       label state-space (length (player.spec::plannable-variables (player:machine-spec machine)))
+                       (space-text machine) (player:machine-state-count machine) (machine-plan-count machine)
+                       (format-seconds seconds) (format-bytes bytes))
+               (finish-output)))))

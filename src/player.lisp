@@ -22,7 +22,8 @@
   (:import-from #:player.planner
    #:*plan-rows-built* #:check-spec #:diagnostic #:diagnostic-details #:diagnostic-kind
    #:diagnostic-message #:machine #:machine-goals #:machine-rows-built #:machine-spec
-   #:machine-state-count #:plan-spec #:plans)
+   #:machine-state-count #:plan-spec #:plans
+   #:*planning-budget* #:planning-budget-exceeded #:machine-planning-work)
   (:import-from #:player.inspect
    #:*dot-program* #:build-state-graph #:explain-plan #:explained-goal
    #:explained-goal-holds #:explained-goal-p #:explained-op #:explained-op-literals
@@ -298,6 +299,7 @@
    #:spec-reader-error #:untrusted-code-error #:code-error #:unknown-event #:unknown-event-name
    #:state-space-too-large #:state-transfer-error
    #:reachable-space-too-large #:state-outside-planned-set
+   #:planning-budget-exceeded #:*planning-budget* #:machine-planning-work
    ;; Command line
    #:main #:usage-error
    ;; Argument checking of the Lisp API (issue 11): every exported function

@@ -1,7 +1,8 @@
 ;;;; fuzz-bounds.lisp -- hostile but short inputs for the bounds of issue 31:
 ;;;; huge-but-short reader forms, fast clocks, fan-out (macro-ops, :play,
 ;;;; pose :include), exponential phrases, odd WAVs, control-character
-;;;; names and exact macro-ops whose proof splits their start states finely.
+;;;; names, exact macro-ops whose proof splits their start states finely, and
+;;;; wide or large-domain specs whose planning passes its budget.
 ;;;; Each case is a small file run through bin/player under a time and
 ;;;; memory watch: it must finish or give its one "player: error: ..." line
 ;;;; within *FZB-SECONDS* seconds and *FZB-MEGABYTES* MB of resident memory.
@@ -86,12 +87,47 @@ does the work (planning takes about a nanosecond per state and op)."
                                        :copies (fzb-pick state '(1 1 2 5))
                                        :wrappers (zerop (random 2 state)))))
 
+(defun token-ring-spec (count &key (name "ring") option)
+  "A spec of COUNT booleans, a token moving around them, and an event
+achieving each: COUNT goals over COUNT reachable states of 2 x COUNT bits, so
+its planning work grows as COUNT cubed (PLANNING-STEP-COST grows with COUNT).
+OPTION, a string, is put in the defspec's head."
+  (with-output-to-string (s)
+    (format s "(defspec ~A (:state-space :reachable)~@[ ~A~]~%  (state-variable b0 boolean true)~%" name option)
+    (loop for i from 1 below count do (format s "  (state-variable b~D boolean false)~%" i))
+    (loop for i below count do (format s "  (op mv~D :precond b~D :sub b~D :add b~D)~%" i i i (mod (1+ i) count)))
+    (loop for i below count do (format s "  (event e~D :state b~D)~%" i i))
+    (format s ")~%")))
+
+(defun domain-grid-spec (values variables)
+  "A spec of VARIABLES variables of VALUES values each, an op per value moving
+each along its values, and up to 40 events each achieving one value of all:
+large domains, so wide states with few variables."
+  (with-output-to-string (s)
+    (format s "(defspec fz~%")
+    (loop for k below variables
+          do (format s "  (state-variable a~D string v0 (~{v~D~^ ~}))~%" k (loop for v below values collect v))
+             (loop for v below values
+                   do (format s "  (op set~D-~D :precond a~D.v~D :add a~D.v~D)~%" k v k (mod (1+ v) values) k v)))
+    (loop for v below values by (max 1 (floor values 40))
+          do (format s "  (event e~D :state (and~{ a~D.v~D~}))~%" v (loop for k below variables append (list k v))))
+    (format s ")~%")))
+
+(defun fzb-planning (state)
+  "A spec whose planning is long: a token ring of up to 600 booleans (the
+reachable regime, its work growing as the cube of its size), or 1 to 3
+variables of up to 4,000 values (wide states, the full space)."
+  (if (zerop (random 2 state))
+      (token-ring-spec (+ 50 (random 550 state)) :name "fz")
+      (let ((variables (+ 1 (random 3 state))))
+        (domain-grid-spec (+ 20 (random (ecase variables (1 4000) (2 400) (3 60)) state)) variables))))
+
 (defun fzb-case (seed index)
   "Case INDEX of SEED: (VALUES KIND FILES ARGUMENTS INPUT), FILES an alist of a
 file name to its text or octets, ARGUMENTS bin/player's (FILE names relative
 to the case's folder), INPUT standard input's text or NIL."
   (let* ((state (sb-ext:seed-random-state (+ (* seed 1000003) index)))
-         (kind (fzb-pick state '(:reader :clock :fan-out :phrases :wav :name :proof))))
+         (kind (fzb-pick state '(:reader :clock :fan-out :phrases :wav :name :proof :planning))))
     (flet ((spec-case (text arguments)
              ;; A ;;; fz-scripts.lisp line splits a spec from its script library.
              (let ((split (search ";;; fz-scripts.lisp" text)))
@@ -107,6 +143,7 @@ to the case's folder), INPUT standard input's text or NIL."
                            (list "run" "fz.lisp" "--events" "ev@0" "--at" (fzb-pick state '("1" "10" "100")))))
         (:fan-out (spec-case (fzb-fan-out state) (list (fzb-pick state '("check" "plans")) "fz.lisp")))
         (:proof (spec-case (fzb-proof state) (list (fzb-pick state '("check" "plans")) "fz.lisp")))
+        (:planning (spec-case (fzb-planning state) (list (fzb-pick state '("check" "plans")) "fz.lisp")))
         (:name (spec-case (fzb-control-name state) (list "run" "fz.lisp" "--events" "ev")))
         (:wav (values kind (list (cons "fz.wav" (coerce (fzb-odd-wav state) '(vector (unsigned-byte 8)))))
                       (list "chat" (namestring (checkout-file "specs/peedy-dialogue.lisp")) "--wav" "fz.wav") nil))
@@ -180,7 +217,7 @@ to the case's folder), INPUT standard input's text or NIL."
   "Print RESULTS of FUZZ-BOUNDS by kind, the slowest and largest, and every failure; the number of failures."
   (format stream "~&~%Bounds: ~D hostile short inputs~%  ~10A ~6@A ~8@A ~10@A ~8@A~%" (length results)
           "kind" "cases" "failed" "slowest s" "most MB")
-  (dolist (kind '(:reader :clock :fan-out :phrases :wav :name :proof))
+  (dolist (kind '(:reader :clock :fan-out :phrases :wav :name :proof :planning))
     (let ((mine (remove kind results :key #'second :test-not #'eq)))
       (when mine
         (format stream "  ~10A ~6D ~8D ~10,1F ~8,0F~%" (string-downcase kind) (length mine)

@@ -93,11 +93,30 @@ under :reachable."
   (if (typep cube 'fixnum)
       (loop for mask across (layout-masks layout)
               thereis (zerop (logand cube mask)))
-      ;; Past 62 bits LOGAND makes a bignum per field; LOGBITP makes none.
+      ;; Past 62 bits LOGAND makes a bignum per field; LOGBITP makes none,
+      ;; nor does reading a large field's 64-bit digits, a digit at a time.
       (loop for offset of-type fixnum across (layout-offsets layout)
             for size of-type fixnum across (layout-sizes layout)
-              thereis (loop for bit of-type fixnum from offset below (+ offset size)
-                              never (logbitp bit cube)))))
+              thereis (if (< size 16)
+                          (loop for bit of-type fixnum from offset below (+ offset size)
+                                never (logbitp bit cube))
+                          (bignum-field-zero-p cube offset size)))))
+
+(defun bignum-field-zero-p (integer offset size)
+  "True when bits [OFFSET, OFFSET+SIZE) of the non-negative bignum INTEGER are
+all clear, read a 64-bit digit at a time."
+  (declare (type unsigned-byte integer) (type fixnum offset size) (optimize speed))
+  (let ((length (sb-bignum:%bignum-length integer))
+        (end (+ offset size)))
+    (declare (type fixnum length end))
+    (loop for digit of-type fixnum from (floor offset 64) to (floor (1- end) 64)
+          while (< digit length)
+          never (let* ((base (* digit 64))
+                       (low (max 0 (- offset base)))
+                       (high (min 64 (- end base))))
+                  (declare (type fixnum base low high))
+                  (logtest (sb-bignum:%bignum-ref integer digit)
+                           (ldb (byte 64 0) (ash (ldb (byte (- high low) 0) -1) low)))))))
 
 (defun dense-to-state (dense layout)
   "The one-hot state numbered DENSE."

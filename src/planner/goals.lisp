@@ -58,6 +58,8 @@ or :DURATION, their total duration; SPEC's (:optimize CRITERION) option."
 (defun solve-goal (goal operators layout spec)
   "Plan GOAL for SPEC, filling in its plans and coverage: fewest operators
 breadth first (regression.lisp), or least total duration (uniform-cost.lisp)."
+  ;; SolvedStates is made, then counted, a word at a time
+  (spend-planning-units (* 2 (ceiling (layout-state-count layout) 64)))
   (multiple-value-bind (plans solved truncatedp)
       (funcall (ecase (spec-optimize spec)
                  (:steps #'plan-goal)

@@ -36,7 +36,6 @@ may extend the struct).  Goal rows whose planning inputs are those of the
 spec name's last planning are reused, not searched again (plan-memo.lisp).
 Under (:macros :exact), every macro-op is proved exact (macro-exactness.lisp)."
   (let* ((spec (designated-spec spec 'plan-spec))
-         (layout (make-layout spec))
          (operators (planner-ops spec))
          (goal-of (make-hash-table :test 'eq))
          (goals '()))
@@ -44,14 +43,19 @@ Under (:macros :exact), every macro-op is proved exact (macro-exactness.lisp)."
           do (multiple-value-bind (goal all) (intern-goal ast form goals spec)
                (setf goals all
                      (gethash ast goal-of) goal)))
-    (let* ((goals (coerce (reverse goals) 'simple-vector))
-           (built (plan-goals goals operators layout spec)))
-      (check-exact-macros
-       (funcall constructor :spec spec :rows-built built :layout layout :goal-table goals :goal-of goal-of
-                     :operators operators :initial-state (initial-state spec)
-                     :watched-variables (watched-plannable-variables spec)
-                     :autoscript-mask (reduce #'logior (watched-plannable-variables spec)
-                                              :key #'var-field-mask :initial-value 0))))))
+    (let ((goals (coerce (reverse goals) 'simple-vector)))
+      (multiple-value-bind (planned work)
+          (with-planning-budget (spec)
+            (let ((layout (make-layout spec)))
+              (cons layout (plan-goals goals operators layout spec))))
+        (destructuring-bind (layout . built) planned
+          (check-exact-macros
+           (funcall constructor :spec spec :rows-built built :planning-work work :layout layout
+                                :goal-table goals :goal-of goal-of
+                                :operators operators :initial-state (initial-state spec)
+                                :watched-variables (watched-plannable-variables spec)
+                                :autoscript-mask (reduce #'logior (watched-plannable-variables spec)
+                                                         :key #'var-field-mask :initial-value 0))))))))
 
 (defun ensure-machine (designator &optional (function 'ensure-machine))
   "DESIGNATOR as a MACHINE: itself, or the planned machine of a spec or a

@@ -16,7 +16,9 @@
    #:goal-plans #:goal-solved-count #:initial-state #:layout #:layout-reachable
    #:layout-state-count #:machine #:machine-autoscript-mask #:machine-compile-seconds
    #:machine-designator-p #:machine-goal-for #:machine-goal-table #:machine-goal-with-cubes
-   #:machine-goals #:machine-initial-state #:machine-layout #:machine-operators #:machine-p
+   #:machine-goals #:machine-initial-state #:machine-layout #:machine-operators #:machine-p #:machine-planning-work #:*planning-budget*
+   #:planning-budget-exceeded #:planning-budget-spec #:planning-budget-file
+   #:planning-budget-budget #:planning-budget-stage
    #:machine-rows-built #:machine-spec #:machine-state-count #:machine-watched-variables
    #:make-cost-queue #:make-diagnostic #:make-layout #:make-plan #:make-queue
    #:op-applies-p #:plan #:plan-condition #:plan-ops #:plan-spec #:planned-state-p

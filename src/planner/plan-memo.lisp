@@ -114,10 +114,13 @@ name's last planning that have the same inputs.  Returns how many rows were buil
   (let* ((signature (planning-signature spec layout operators))
          (rows (previous-plan-rows spec signature))
          (built 0))
-    (loop for goal across goals
-          unless (reuse-plan-row goal rows operators)
-            do (solve-goal goal operators layout spec)
-               (incf built))
+    (note-planning-regime layout)
+    (noting-goals-planned (0 (length goals) (layout-state-count layout))
+      (loop for goal across goals
+            unless (reuse-plan-row goal rows operators)
+              do (solve-goal goal operators layout spec)
+                 (incf built)
+            do (note-goal-planned)))
     (incf *plan-rows-built* built)
     (remember-plan-rows spec signature goals operators)
     built))

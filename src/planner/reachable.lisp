@@ -162,8 +162,8 @@ spec's initial state, then the states of each :start-states expression."
 applied where their preconditions hold), ROOTS included, as a hash table
 whose keys they are; NIL as soon as there are more than LIMIT.  (The order of
 the search does not matter: only the set is kept.)"
-  (let ((seen (make-hash-table))
-        (queue '()))
+  (let ((seen (make-hash-table)) (queue '())
+        (expansion-cost (state-expansion-cost roots transitions)))
     (flet ((add (state)
              (unless (gethash state seen)
                (when (>= (hash-table-count seen) limit)
@@ -174,6 +174,7 @@ the search does not matter: only the set is kept.)"
       (setf queue (nreverse queue))
       (loop while queue
             do (let ((state (pop queue)))
+                 (spend-planning-units expansion-cost)
                  (dolist (op transitions)
                    (when (op-applies-p op state)
                      (add (apply-effects state op)))))))
@@ -300,18 +301,19 @@ variable with a value CUBE excludes."
           (coerce (cons first (remove first sets :test #'eq)) 'simple-vector))
         (vector (reachable-index-all index)))))
 
-(defmacro do-cube-words ((word pattern cube layout full &key (within '+full-word+)) &body body)
+(defmacro do-cube-words ((word pattern cube layout full &key (within '+full-word+) scanned) &body body)
   "Run BODY with WORD bound to each word index of the reachable bitmaps and
 PATTERN to the 64-bit mask of CUBE's states in it that are also in WITHIN (a
 form of WORD giving a 64-bit mask), for the words where there are some.
 Words are taken 64 at a time: only those where every set of the cube has
 states and whose bit in FULL (a bitmap of a bit per word, set when the word
-is full) is clear are read."
+is full) is clear are read.  SCANNED, a fixnum variable, counts the words read."
   (with-gensyms (sets count k group open low position)
     `(let* ((,sets (cube-sets ,cube ,layout))
             (,count (length ,sets)))
        (declare (type simple-vector ,sets) (type fixnum ,count))
        (dotimes (,group (length (state-set-words (svref ,sets 0))))
+         (incf ,scanned ,count)
          (let ((,open (logandc2 +full-word+ (bitmap-word ,full ,group))))
            (declare (type (unsigned-byte 64) ,open))
            (loop for ,k of-type fixnum from 0 below ,count
@@ -325,6 +327,7 @@ is full) is clear are read."
                                              (bitmap-word (state-set-bits (svref ,sets 0)) ,word))))
                       (declare (type (unsigned-byte 64) ,low ,pattern) (type fixnum ,position ,word))
                       (setf ,open (logxor ,open ,low))
+                      (incf ,scanned ,count)
                       (loop for ,k of-type fixnum from 1 below ,count
                             until (zerop ,pattern)
                             do (setf ,pattern (logand ,pattern (bitmap-word (state-set-bits (svref ,sets ,k)) ,word))))
@@ -341,10 +344,10 @@ its bit per full word up to date; return how many were not in it before."
          ;; the bits of the last word that stand for states
          (last-states (let ((rest (mod (layout-state-count layout) 64)))
                         (if (zerop rest) +full-word+ (1- (ash 1 rest)))))
-         (new 0))
-    (declare (type bitmap bitmap full) (type fixnum new last)
+         (new 0) (scanned 0))
+    (declare (type bitmap bitmap full) (type fixnum new last scanned)
              (type (unsigned-byte 64) last-states))
-    (do-cube-words (word pattern cube layout full)
+    (do-cube-words (word pattern cube layout full :scanned scanned)
       (let* ((old (bitmap-word bitmap word))
              (now (logior old pattern)))
         (declare (type (unsigned-byte 64) now))
@@ -353,19 +356,19 @@ its bit per full word up to date; return how many were not in it before."
           (setf (bitmap-word bitmap word) now)
           (when (= now (if (= word last) last-states +full-word+))
             (setf (bitmap-bit full word) 1)))))
-    new))
+    (spend-scanned-words scanned new)))
 
 (defun reachable-cube-has-unmarked-p (solved-states cube layout)
   "CUBE-HAS-UNMARKED-P over a reachable index: does CUBE hold a state not in
 SOLVED-STATES?"
   (declare (optimize speed))
-  (let ((bitmap (solved-states-bits solved-states)))
-    (declare (type bitmap bitmap))
+  (let ((bitmap (solved-states-bits solved-states)) (scanned 0))
+    (declare (type bitmap bitmap) (type fixnum scanned))
     ;; Starting from the clear bits, a word that is already full costs one read.
     (do-cube-words (word pattern cube layout (the bitmap (solved-states-full-words solved-states))
-                    :within (logandc2 +full-word+ (bitmap-word bitmap word)))
-      (return-from reachable-cube-has-unmarked-p (plusp pattern))))
-  nil)
+                    :within (logandc2 +full-word+ (bitmap-word bitmap word)) :scanned scanned)
+      (return-from reachable-cube-has-unmarked-p (spend-scanned-words scanned (plusp pattern))))
+    (spend-scanned-words scanned nil)))
 
 ;;; The planned set
 

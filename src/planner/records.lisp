@@ -58,6 +58,8 @@
   (autoscript-mask 0 :type integer)
   ;; How many goal rows planning built; the others were reused (plan-memo.lisp).
   (rows-built 0 :type (integer 0))
+  ;; The units of work planning did (planning-budget.lisp).
+  (planning-work 0 :type (integer 0))
   (compile-seconds 0d0 :type double-float))
 
 (defmethod print-object ((machine machine) stream)

@@ -106,16 +106,19 @@ MAX-DEPTH cut off plans for states still unsolved."
 (defun sub-plan (result-q working-q solved-states operators layout max-depth)
   "Expand WORKING-Q breadth first until it is empty, adding every plan for a
 not yet solved start state to RESULT-Q. Returns true if MAX-DEPTH truncated the search."
-  (let ((truncatedp nil))
+  (let ((truncatedp nil)
+        (operator-count (length operators)))
     (loop until (queue-empty-p working-q)
           do (let* ((root-plan (dequeue working-q))
                     (root-state (plan-condition root-plan))
                     (root-ops (plan-ops root-plan)))
+               (spend-planning-work operator-count)
                (if (>= (length root-ops) max-depth)
                    (unless truncatedp
                      (setf truncatedp (could-extend-p root-state solved-states operators layout)))
                    (dolist (operator operators)
                      (dolist (new-state (regress root-state operator layout))
+                       (spend-planning-work 1)
                        (unless (subsumed-by-solved-states-p new-state root-state solved-states layout)
                          (mark-cube solved-states new-state layout)
                          (let ((new-plan (make-plan new-state

@@ -153,7 +153,7 @@ search stops there."
     (loop until (cost-queue-empty-p working-q)
           do (let* ((root (dequeue-cheapest working-q))
                     (root-state (plan-condition (costed-plan-plan root)))
-                    (length (costed-plan-length root))
+                    (length (progn (spend-planning-work 1) (costed-plan-length root)))
                     (newp (cube-has-unmarked-p (solved-levels-all solved-states) root-state layout))
                     (shortestp (and (< length max-depth)
                                     (or newp (cube-has-unmarked-p (solved-within solved-states length)
@@ -178,7 +178,9 @@ start state holds states no plan as short already solves."
          (root-state (plan-condition root-plan))
          (length (1+ (costed-plan-length root))))
     (dolist (operator operators)
+      (spend-planning-work 1)
       (dolist (new-state (regress root-state operator layout))
+        (spend-planning-work 1)
         (unless (subsumed-by-solved-states-p new-state root-state
                                              (solved-within solved-states length) layout)
           (enqueue-by-cost (make-plan new-state (cons (planner-op-op operator) (plan-ops root-plan)))

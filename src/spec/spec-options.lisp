@@ -6,7 +6,7 @@
 (in-package #:player.spec)
 
 (defparameter *spec-option-keys* '(:max-depth :optimize :macros :scripts :body :when-busy
-                                   :state-space :unplanned-states)
+                                   :state-space :unplanned-states :planning-budget)
   "Options a DEFSPEC may give as (:KEY VALUE) lists before its forms.")
 
 (defparameter *expanding-option-keys* '(:graph)
@@ -31,6 +31,18 @@ operators (the paper's, the default), or their total :duration.")
 state with the declared effects (the paper's, the default), or, :EXACT, the
 state its :seq produced with the declared effects on top -- checked, when the
 spec is planned, to be the state the planner assumed (macro-exactness.lisp).")
+
+(defparameter *planning-budget-ceiling* (expt 10 12)
+  "The largest (:planning-budget N): a spec that needs more says :unlimited.")
+
+(defun parse-planning-budget (option)
+  "The value of OPTION, (:planning-budget N|:unlimited): a positive integer up
+to *PLANNING-BUDGET-CEILING*, or :UNLIMITED."
+  (let ((value (unquote (second option))))
+    (cond ((and (symbolp value) (word-p value "UNLIMITED")) :unlimited)
+          ((typep value `(integer 1 ,*planning-budget-ceiling*)) value)
+          (t (spec-fail 'type-error-in-spec option ":planning-budget must be a positive integer up to ~:D, or :unlimited"
+                        *planning-budget-ceiling*)))))
 
 (defun parse-spec-header (body)
   "Read the docstring and (:KEY VALUE) options at the head of BODY; return the
@@ -73,6 +85,8 @@ rest, after the forms options such as (:graph EXPR) stand for."
      (setf (getf (spec-options *spec*) :macros) (parse-keyword-choice option *macro-semantics*)))
     (:state-space
      (setf (getf (spec-options *spec*) :state-space) (parse-keyword-choice option *state-space-regimes*)))
+    (:planning-budget
+     (setf (getf (spec-options *spec*) :planning-budget) (parse-planning-budget option)))
     (:unplanned-states
      (setf (getf (spec-options *spec*) :unplanned-states)
            (parse-keyword-choice option *unplanned-state-policies*)))
