@@ -222,3 +222,16 @@ stderr one player: error: line holding FRAGMENT (or empty when FRAGMENT is NIL).
         spec "explain" "fz.lisp" "--goal" "#100000000A()")
     (check-bounded-case (2 "cannot read --formula \"#100000000A()\"") spec "verify-graph" "fz.lisp" "--formula" "#100000000A()")
     (check-bounded-case (2 "cannot read --goal \"#4000000000*1\"") spec "dot" "fz.lisp" "--goal" "#4000000000*1")))
+
+(test command-line-forms-are-read-as-data-files-are
+  "A command-line datum is read with a data file's syntax: #S, which would
+call a structure's constructor, and #. are refused; blanks after one datum
+are allowed, a second datum is not."
+  (is (null (player.cli::read-cli-form "#S(sb-impl::hash-table)" "--formula")))
+  (is (null (player.cli::read-cli-form "#.(list 1)" "--goal")))
+  (is (null (player.cli::read-cli-form "a b" "--goal")))
+  (multiple-value-bind (form one) (player.cli::read-cli-form " (and a.x b) " "--goal")
+    (is-true one)
+    (is (equal '("AND" "A.X" "B") (mapcar #'symbol-name form)))
+    (is (eq (find-package '#:player-user) (symbol-package (second form)))))
+  (is (eql 1.5d0 (player.cli::read-cli-value "1.5"))))

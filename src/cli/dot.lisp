@@ -3,19 +3,10 @@
 (in-package #:player.cli)
 
 (defmethod read-option-value ((type (eql :state-expression)) text option)
-  ;; One datum read as spec files are (no #., no #S, symbols in PLAYER-USER);
-  ;; whether it is a state expression of the spec is for the spec to say.
-  (check-reader-limits text (option-name option))
-  (let ((form (handler-case
-                  (with-standard-io-syntax
-                    (let ((*readtable* *data-readtable*)
-                          (*read-eval* nil)
-                          (*package* (find-package '#:player-user)))
-                      (multiple-value-bind (form end) (read-from-string text)
-                        (if (string= "" (string-trim '(#\Space #\Tab) (subseq text end)))
-                            form
-                            (error "more than one form")))))
-                (error () (bad-option-value option text "one state expression, e.g. posture.sit or (and a b)")))))
+  ;; One datum read as spec files are (READ-CLI-FORM); whether it is a state
+  ;; expression of the spec is for the spec to say.
+  (multiple-value-bind (form one) (read-cli-form text (option-name option))
+    (unless one (bad-option-value option text "one state expression, e.g. posture.sit or (and a b)"))
     (check-form-structure form :what (option-name option))
     form))
 

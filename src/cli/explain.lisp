@@ -4,18 +4,13 @@
 (in-package #:player.cli)
 
 (defun read-goal-text (text)
-  "The state expression TEXT (--goal's value) holds, read as data in
-PLAYER-USER, never evaluated; a USAGE-ERROR when TEXT is not one form."
-  (check-reader-limits text "--goal")
-  (let ((*package* (find-package '#:player-user))
-        (*read-eval* nil))
-    (handler-case (multiple-value-bind (form end) (read-from-string text)
-                    (if (string= "" (string-trim '(#\Space #\Tab #\Newline) (subseq text end)))
-                        form
-                        (error "more than one form")))
-      (error ()
+  "The state expression TEXT (--goal's value) holds, read as data
+\(READ-CLI-FORM), never evaluated; a USAGE-ERROR when TEXT is not one form."
+  (multiple-value-bind (form one) (read-cli-form text "--goal")
+    (if one
+        form
         (usage-fail "--goal takes one state expression, e.g. posture.sit or \"(and alert.awake (not wing-at-ear))\", not ~S"
-                    text)))))
+                    text))))
 
 (define-command "explain" (file &key spec no-code initial goal event)
     (:summary "explain the plan from a state to a goal, or through an event"

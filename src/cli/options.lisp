@@ -72,20 +72,34 @@ every command-line datum is checked so before it is read."
     (when position
       (usage-fail "cannot read ~A ~A: ~A" what (bounded-lisp-text text 40) problem))))
 
+(defun read-cli-form (text what)
+  "The one datum the command-line TEXT holds, read as a data file's forms are
+\(symbols in PLAYER-USER, doubles, no #. and no #S), never evaluated:
+\(VALUES FORM T END), END where the datum ends, or NIL when TEXT holds no
+datum, a datum that cannot be read, or more than one.  First a USAGE-ERROR
+naming WHAT when TEXT asks the reader for more than a data file may:
+#100000000A() took 10 s and 2 GB to read before it was refused."
+  (check-reader-limits text what)
+  (handler-case
+      (with-standard-io-syntax
+        (let ((*readtable* *data-readtable*)
+              (*read-eval* nil)
+              (*read-default-float-format* 'double-float)
+              (*package* (find-package '#:player-user)))
+          (multiple-value-bind (form end) (read-from-string text)
+            (if (string= "" (string-trim '(#\Space #\Tab #\Newline) (subseq text end)))
+                (values form t end)
+                nil))))
+    (error () nil)))
+
 (defun read-cli-value (text)
   "The value TEXT denotes on the command line: a number, or a symbol in
-PLAYER-USER.  Never evaluates anything; a USAGE-ERROR when TEXT is not one datum.
-TEXT asks the reader for no more than a data file may (READER-LIMIT-PROBLEM):
-#100000000A() took 10 s and 2 GB to read before it was refused as no number."
-  (check-reader-limits text "the value")
-  (let ((*package* (find-package '#:player-user))
-        (*read-eval* nil)
-        (*read-default-float-format* 'double-float))
-    (handler-case (multiple-value-bind (value end) (read-from-string text)
-                    (if (and (= end (length text)) (or (realp value) (symbolp value)))
-                        value
-                        (error "not one number or name")))
-      (error () (usage-fail "cannot read the value ~S: give a number or a name" text)))))
+PLAYER-USER, and nothing after it (READ-CLI-FORM).  Never evaluates
+anything; a USAGE-ERROR when TEXT is not one number or name."
+  (multiple-value-bind (value one end) (read-cli-form text "the value")
+    (if (and one (= end (length text)) (or (realp value) (symbolp value)))
+        value
+        (usage-fail "cannot read the value ~S: give a number or a name" text))))
 
 (defgeneric read-option-value (type text option)
   (:documentation "The value TEXT gives OPTION, whose type is TYPE (a keyword,

@@ -4,15 +4,9 @@
 (in-package #:player.cli)
 
 (defmethod read-option-value ((type (eql :formula)) text option)
-  ;; One s-expression, read as data in PLAYER-USER (never evaluated).
-  (check-reader-limits text (option-name option))
-  (let ((*package* (find-package '#:player-user))
-        (*read-eval* nil))
-    (handler-case (multiple-value-bind (value end) (read-from-string text)
-                    (if (= end (length (string-right-trim " " text)))
-                        value
-                        (error "more than one formula")))
-      (error () (bad-option-value option text "one formula, e.g. \"(AG (EX t))\"")))))
+  ;; One s-expression, read as data (READ-CLI-FORM), never evaluated.
+  (multiple-value-bind (formula one) (read-cli-form text (option-name option))
+    (if one formula (bad-option-value option text "one formula, e.g. \"(AG (EX t))\""))))
 
 (define-command "verify-graph" (file &key spec no-code formula dot)
     (:summary "model-check a CTL formula on the spec's behaviour"
